@@ -1,0 +1,443 @@
+"""Event-driven integration of model BC: the one numba core every workflow rule shares.
+
+The trajectory is cut into smooth pieces. A piece ends exactly at a contact onset or exit,
+at v = 0 (where |v|^n3 and the friction switch live) and at the Hunt-Crossley cut, so no
+step of the 8th-order explicit method straddles a non-smooth point. Inside a piece the sign
+of v is fixed, hence x is monotone: an obstacle crossing cannot come in an unseen pair, and
+the only pair to guard against is v touching zero twice in a step (checked on the dense
+output whenever an acceleration bound cannot exclude it). When v = 0 falls where the net
+force cannot overcome dry friction (sticking) or barely can (slow reversal), the piece is
+handed to the implicit Radau solver until |v| leaves the friction band again.
+
+Steps also land exactly on every Poincare time t_i = i * (2 pi / w) (one multiplication,
+no accumulated time) and on the end of the run, so a run can be split into chunks that
+resume from the saved state (``st``) without changing a single step.
+
+Event rows written to ``ev`` are (kind, t, a, b):
+    IMPACT (t, v at onset), PENETRATION (t, h = x - xI at v = 0), NEAR_MISS (t, gap = xI - x
+    at a free-flight maximum), POINCARE (t_i, x, v).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from . import dop853, radau
+from .model import CONTACT, CUT, EPS, FREE, M, T, XI, accel, stick_force
+
+IMPACT, PENETRATION, NEAR_MISS, POINCARE = 0, 1, 2, 3
+EVENT_NAMES = ("impacts", "penetrations", "near_misses", "poincare")
+
+# Layout of the resumable state vector.
+S_T, S_X, S_V, S_PHASE, S_SLOW, S_H, S_PDIR, S_PT, S_PX, S_ISEC, S_WIN, S_TSLOW, S_VCUT = range(13)
+N_STATE = 13
+# Counters.
+C_STEPS, C_REJECT, C_RHS, C_SLOW_STEPS, C_STICK, C_SLOW_TRANSIT, C_DENSE, C_NEWTON, C_DIP = range(9)
+N_COUNT = 9
+
+BAND = 100.0  # the implicit phase ends when |v| > BAND * eps (friction slope then < 1e-6 T/eps)
+SLOW_FACTOR = 1.5  # v = 0 with |net force| < 1.5 T: stick or slow reversal -> implicit phase
+DIP_SAMPLES = 32
+RESTART_FRACTION = 1e-3  # first step after an event, as a fraction of the step that held it
+APPROACH_BAND = 1e4  # within |v| < APPROACH_BAND * eps of a reversal ...
+APPROACH_FRACTION = 0.5  # ... a step covers at most this fraction of the time left to v = 0
+
+# event candidates inside one explicit step
+_EV_NONE, _EV_X_UP, _EV_X_DOWN, _EV_V, _EV_CUT_ON, _EV_CUT_OFF = range(6)
+
+
+@njit(cache=True)
+def _push(ev, n, kind, t, a, b):
+    if n >= ev.shape[0]:
+        grown = np.empty((2 * ev.shape[0], 4))
+        grown[:n] = ev[:n]
+        ev = grown
+    ev[n, 0] = kind
+    ev[n, 1] = t
+    ev[n, 2] = a
+    ev[n, 3] = b
+    return ev, n + 1
+
+
+@njit(cache=True)
+def _sign(a):
+    return 1.0 if a > 0.0 else (-1.0 if a < 0.0 else 0.0)
+
+
+@njit(cache=True)
+def _bisect(F, y0, c, level, lo, hi, sign_lo):
+    """Crossing of component c through `level` in (lo, hi]; returns the first theta past it."""
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        g = dop853.dense_eval(F, y0, mid, c) - level
+        if g * sign_lo > 0.0:
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
+@njit(cache=True)
+def _phase_of(p, x, v, vcut):
+    if x - p[XI] >= 0.0:
+        return CONTACT if v > -vcut else CUT
+    return FREE
+
+
+@njit(cache=True)
+def _sample_window(F, x0, v0, t0, h, t1, st, win_t0, win_dt, win_x, win_v):
+    """Fill the window samples due in (t0, t1] from the step's dense output."""
+    j = int(st[S_WIN])
+    n = win_x.shape[0]
+    while j < n:
+        ts = win_t0 + j * win_dt
+        if ts > t1:
+            break
+        th = (ts - t0) / h
+        win_x[j] = dop853.dense_eval(F, x0, th, 0)
+        win_v[j] = dop853.dense_eval(F, v0, th, 1)
+        j += 1
+    st[S_WIN] = j
+
+
+@njit(cache=True)
+def _sample_linear(t0, x0, v0, t1, x1, v1, st, win_t0, win_dt, win_x, win_v):
+    """Window samples inside an implicit (sticking) step: x moves by < band * eps * h there."""
+    j = int(st[S_WIN])
+    n = win_x.shape[0]
+    while j < n:
+        ts = win_t0 + j * win_dt
+        if ts > t1:
+            break
+        th = (ts - t0) / (t1 - t0) if t1 > t0 else 1.0
+        win_x[j] = x0 + th * (x1 - x0)
+        win_v[j] = v0 + th * (v1 - v0)
+        j += 1
+    st[S_WIN] = j
+
+
+@njit(cache=True)
+def _window_due(st, win_t0, win_dt, win_x, t1):
+    j = int(st[S_WIN])
+    return j < win_x.shape[0] and win_t0 + j * win_dt <= t1
+
+
+@njit(cache=True)
+def _enter_slow(p, st, cnt, t, x, v, direction):
+    """Start the implicit phase; `direction` is the sign v had before it reached the band."""
+    fs = stick_force(p, int(st[S_PHASE]), t, x)
+    if abs(fs) < p[T]:
+        cnt[C_STICK] += 1
+    else:
+        cnt[C_SLOW_TRANSIT] += 1
+    st[S_SLOW] = 1.0
+    st[S_PDIR] = direction
+    st[S_PT] = t
+    st[S_PX] = x
+    st[S_H] = 0.0
+
+
+@njit(cache=True)
+def _record_extremum(p, ev, n, flags, t_record, phase, t, x, direction):
+    """A maximum of x (direction +1) is a penetration in contact, a near miss in flight."""
+    if direction > 0.0 and t >= t_record:
+        if phase == CONTACT and flags & 2:
+            ev, n = _push(ev, n, PENETRATION, t, x - p[XI], 0.0)
+        elif phase == FREE and flags & 4:
+            ev, n = _push(ev, n, NEAR_MISS, t, p[XI] - x, 0.0)
+    return ev, n
+
+
+@njit(cache=True)
+def _slow_locate(p, phase, t, x, v, h, rtol, atol, work, cnt, c, level, sign_lo):
+    """Crossing of component c through level inside an implicit step, by re-stepping."""
+    lo = 0.0
+    hi = 1.0
+    xe, ve = x, v
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        ok, xm, vm = radau.step(p, phase, t, x, v, mid * h, rtol, atol, work, cnt)
+        if not ok:
+            break
+        g = (xm if c == 0 else vm) - level
+        if g * sign_lo > 0.0:
+            lo = mid
+        else:
+            hi = mid
+            xe, ve = xm, vm
+    if hi == 1.0:
+        ok, xe, ve = radau.step(p, phase, t, x, v, h, rtol, atol, work, cnt)
+    return hi, xe, ve
+
+
+@njit(cache=True)
+def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0, win_dt, win_x, win_v):
+    """Integrate from the state ``st`` to ``t_end``; events at t >= t_record go to ``ev``.
+
+    flags: bit 1 impacts, 2 penetrations, 4 near misses, 8 Poincare points.
+    Returns (ev, n_ev) (ev may be reallocated when it grows). ``st`` and ``cnt`` are
+    updated in place so the next call continues the same trajectory.
+    """
+    K = np.zeros((16, 2))
+    F = np.zeros((7, 2))
+    work = np.zeros((8, 6))
+    eps = p[EPS]
+    vband = BAND * eps
+    vcut = st[S_VCUT]
+    t = st[S_T]
+    x = st[S_X]
+    v = st[S_V]
+    phase = int(st[S_PHASE])
+    h = st[S_H]
+    ax = accel(p, phase, t, x, v)
+    cnt[C_RHS] += 1
+    friction_jump = 2.0 * p[T] / p[M]
+
+    while True:
+        i_sec = st[S_ISEC]
+        t_sec = i_sec * period
+        if t >= t_sec:  # landed on a Poincare time (steps are clamped to it)
+            if flags & 8 and t_sec >= t_record:
+                ev, n_ev = _push(ev, n_ev, POINCARE, t_sec, x, v)
+            st[S_ISEC] = i_sec + 1.0
+            continue
+        if t >= t_end:
+            break
+        t_target = min(t_end, t_sec)
+        if st[S_SLOW] != 0.0:
+            # ---------------- implicit phase: sticking or slow reversal ----------------
+            if h <= 0.0:
+                h = 0.1 * p[M] * eps / p[T]
+            clamped = h >= t_target - t
+            hs = t_target - t if clamped else h
+            ok, x1, v1, err = radau.doubled_step(p, phase, t, x, v, hs, rtol, atol, work, cnt)
+            cnt[C_SLOW_STEPS] += 1
+            if not ok or err > 1.0:
+                cnt[C_REJECT] += 1
+                fac = 0.25 if not ok else max(0.2, 0.9 * err ** (-1.0 / 6.0))
+                h = hs * fac
+                if h < 1e-14 * max(1.0, abs(t)):
+                    raise RuntimeError("implicit step size underflow in the sticking phase")
+                continue
+            fac = 5.0 if err == 0.0 else min(5.0, 0.9 * err ** (-1.0 / 6.0))
+            h_next = hs * fac if not clamped else max(h, hs * fac)
+            t1 = t_target if clamped else t + hs
+            # events inside the step: obstacle crossing, v changing sign (not from v = 0 exactly)
+            g0 = x - p[XI]
+            g1 = x1 - p[XI]
+            hit_x = (phase == FREE and g1 > 0.0) or (phase == CONTACT and g1 < 0.0)
+            hit_v = v != 0.0 and v1 != 0.0 and _sign(v1) != _sign(v)
+            if hit_x or hit_v:
+                th_x = 2.0
+                th_v = 2.0
+                xe_x, ve_x, xe_v, ve_v = x, v, x, v
+                if hit_x:
+                    th_x, xe_x, ve_x = _slow_locate(p, phase, t, x, v, hs, rtol, atol, work, cnt, 0, p[XI], -1.0 if phase == FREE else 1.0)
+                if hit_v:
+                    th_v, xe_v, ve_v = _slow_locate(p, phase, t, x, v, hs, rtol, atol, work, cnt, 1, 0.0, _sign(v))
+                th = min(th_x, th_v)
+                te = min(t + th * hs, t1)
+                if _window_due(st, win_t0, win_dt, win_x, te):
+                    xe = xe_x if th_x <= th_v else xe_v
+                    ve = ve_x if th_x <= th_v else ve_v
+                    _sample_linear(t, x, v, te, xe, ve, st, win_t0, win_dt, win_x, win_v)
+                st[S_TSLOW] += te - t
+                if th_x <= th_v:
+                    if phase == FREE:
+                        if flags & 1 and te >= t_record:
+                            ev, n_ev = _push(ev, n_ev, IMPACT, te, ve_x, 0.0)
+                        phase = CONTACT
+                        st[S_PDIR] = 0.0  # the pending free-flight maximum became a contact
+                    else:
+                        phase = FREE
+                    t, x, v = te, p[XI], ve_x
+                else:
+                    if _sign(v) == st[S_PDIR]:  # reversal against the pre-stick direction
+                        st[S_PT] = te
+                        st[S_PX] = xe_v
+                    t, x, v = te, xe_v, 0.0
+                st[S_PHASE] = phase
+                h = h_next
+                continue
+            if _window_due(st, win_t0, win_dt, win_x, t1):
+                _sample_linear(t, x, v, t1, x1, v1, st, win_t0, win_dt, win_x, win_v)
+            st[S_TSLOW] += t1 - t
+            t, x, v = t1, x1, v1
+            h = h_next
+            if abs(v) > vband:
+                if _sign(v) == -st[S_PDIR]:
+                    ev, n_ev = _record_extremum(p, ev, n_ev, flags, t_record, phase, st[S_PT], st[S_PX], st[S_PDIR])
+                st[S_SLOW] = 0.0
+                st[S_PDIR] = 0.0
+                ax = accel(p, phase, t, x, v)
+                cnt[C_RHS] += 1
+                h = 0.0
+            continue
+
+        # ---------------- explicit phase: DOP853 on one smooth piece ----------------
+        if h <= 0.0:
+            h0 = dop853.initial_step(p, phase, t, x, v, ax, dop853.ORDER, rtol, atol)
+            cnt[C_RHS] += 1
+            h = h0 if h == 0.0 else min(h0, -h)
+        if v * ax < 0.0 and abs(v) < APPROACH_BAND * eps:
+            # approaching v = 0, where the friction switches over a time eps/|a|: close in
+            # geometrically instead of letting the controller overshoot and reject
+            h = min(h, max(APPROACH_FRACTION * abs(v), 0.25 * eps) / abs(ax))
+        clamped = h >= t_target - t
+        hs = t_target - t if clamped else h
+        x1, v1, err = dop853.step(p, phase, t, x, v, ax, hs, rtol, atol, K)
+        cnt[C_RHS] += 12
+        if err > 1.0:
+            cnt[C_REJECT] += 1
+            h = hs * dop853.new_step_factor(err, False)
+            if h < 4e-16 * max(1.0, abs(t)):
+                raise RuntimeError("explicit step size underflow")
+            continue
+        cnt[C_STEPS] += 1
+        fac = dop853.new_step_factor(err, False)
+        h_next = hs * fac if not clamped else max(h, hs * fac)
+        t1 = t_target if clamped else t + hs
+        built = False
+
+        # --- candidate events in this step ---
+        sgn0 = _sign(v) if v != 0.0 else _sign(ax)
+        if sgn0 == 0.0:
+            sgn0 = _sign(v1)
+        v_cross = v1 != 0.0 and _sign(v1) != sgn0 and sgn0 != 0.0
+        if not v_cross and sgn0 != 0.0:
+            # v keeps its sign at both ends; can it have touched zero in between?
+            amax = 0.0
+            for s in range(13):
+                amax = max(amax, abs(K[s, 1]))
+            if abs(v) + abs(v1) - (2.0 * amax + friction_jump) * hs <= 0.0:
+                cnt[C_DIP] += 1
+                dop853.dense_prepare(p, phase, t, x, v, x1, v1, hs, K, F)
+                cnt[C_RHS] += 3
+                cnt[C_DENSE] += 1
+                built = True
+                for k in range(1, DIP_SAMPLES):
+                    if dop853.dense_eval(F, v, k / DIP_SAMPLES, 1) * sgn0 < 0.0:
+                        v_cross = True
+                        break
+        g0 = x - p[XI]
+        g1 = x1 - p[XI]
+        x_up = phase == FREE and g1 > 0.0
+        x_down = phase != FREE and g1 < 0.0
+        cut_on = phase == CONTACT and v1 <= -vcut
+        cut_off = phase == CUT and v1 > -vcut
+        if v_cross or x_up or x_down or cut_on or cut_off:
+            if not built:
+                dop853.dense_prepare(p, phase, t, x, v, x1, v1, hs, K, F)
+                cnt[C_RHS] += 3
+                cnt[C_DENSE] += 1
+                built = True
+            th = 2.0
+            kind = _EV_NONE
+            if v_cross:
+                th_v = _bisect(F, v, 1, 0.0, 0.0, 1.0, sgn0)
+                th = th_v
+                kind = _EV_V
+                if phase == FREE and sgn0 > 0.0 and dop853.dense_eval(F, x, th_v, 0) >= p[XI]:
+                    x_up = True  # the maximum lies at or past the obstacle: contact came first
+            if x_up:
+                hi = th if th <= 1.0 else 1.0
+                th_x = _bisect(F, x, 0, p[XI], 0.0, hi, -1.0)
+                if th_x <= th:
+                    th = th_x
+                    kind = _EV_X_UP
+            if x_down:
+                th_x = _bisect(F, x, 0, p[XI], 0.0, 1.0, 1.0)
+                if th_x < th:
+                    th = th_x
+                    kind = _EV_X_DOWN
+            if cut_on:
+                th_c = _bisect(F, v, 1, -vcut, 0.0, 1.0, 1.0)
+                if th_c < th:
+                    th = th_c
+                    kind = _EV_CUT_ON
+            if cut_off:
+                th_c = _bisect(F, v, 1, -vcut, 0.0, 1.0, -1.0)
+                if th_c < th:
+                    th = th_c
+                    kind = _EV_CUT_OFF
+            te = t1 if th >= 1.0 else min(t + th * hs, t1)
+            xe = dop853.dense_eval(F, x, th, 0)
+            ve = dop853.dense_eval(F, v, th, 1)
+            if _window_due(st, win_t0, win_dt, win_x, te):
+                _sample_window(F, x, v, t, hs, te, st, win_t0, win_dt, win_x, win_v)
+            if kind == _EV_X_UP:
+                xe = p[XI]
+                if flags & 1 and te >= t_record:
+                    ev, n_ev = _push(ev, n_ev, IMPACT, te, ve, 0.0)
+                phase = CONTACT if ve > -vcut else CUT
+            elif kind == _EV_X_DOWN:
+                xe = p[XI]
+                phase = FREE
+            elif kind == _EV_CUT_ON:
+                ve = -vcut
+                phase = CUT
+            elif kind == _EV_CUT_OFF:
+                ve = -vcut
+                phase = CONTACT
+            else:  # v = 0: an extremum of x; sticking or slow reversal goes implicit
+                ve = 0.0
+                fs = stick_force(p, phase, te, xe)
+                st[S_PHASE] = phase
+                if abs(fs) < SLOW_FACTOR * p[T]:
+                    _enter_slow(p, st, cnt, te, xe, ve, sgn0)
+                else:
+                    ev, n_ev = _record_extremum(p, ev, n_ev, flags, t_record, phase, te, xe, sgn0)
+            t, x, v = te, xe, ve
+            st[S_PHASE] = phase
+            ax = accel(p, phase, t, x, v)
+            cnt[C_RHS] += 1
+            # restart the step-size selection on the new piece, from a small first step: the
+            # friction switch (width eps/|a| in time) or |v|^n3 start right at v = 0, and the
+            # h^1.5 contact onset, are resolved by growing steps (x10 each) far more cheaply
+            # than by rejecting a large guess (x0.2 each, 12 evaluations lost every time).
+            h = -RESTART_FRACTION * hs
+            continue
+
+        # --- no event: accept the step ---
+        if _window_due(st, win_t0, win_dt, win_x, t1):
+            if not built:
+                dop853.dense_prepare(p, phase, t, x, v, x1, v1, hs, K, F)
+                cnt[C_RHS] += 3
+                cnt[C_DENSE] += 1
+                built = True
+            _sample_window(F, x, v, t, hs, t1, st, win_t0, win_dt, win_x, win_v)
+        t, x, v = t1, x1, v1
+        ax = K[12, 1]
+        h = h_next
+        if abs(v) < vband and abs(stick_force(p, phase, t, x)) < SLOW_FACTOR * p[T]:
+            _enter_slow(p, st, cnt, t, x, v, _sign(v))
+            h = 0.0
+
+    st[S_T] = t
+    st[S_X] = x
+    st[S_V] = v
+    st[S_PHASE] = phase
+    st[S_H] = h
+    return ev, n_ev
+
+
+def initial_state(p, t0, x0, v0, period, vcut):
+    """Resumable state vector for a run that starts at (t0, x0, v0)."""
+    st = np.zeros(N_STATE)
+    st[S_T], st[S_X], st[S_V] = t0, x0, v0
+    st[S_VCUT] = vcut
+    st[S_PHASE] = _phase_of(p, x0, v0, vcut)
+    # next Poincare index strictly after t0 (t0 itself is the initial condition)
+    i = math.floor(t0 / period) + 1
+    st[S_ISEC] = float(i)
+    if v0 == 0.0 and abs(stick_force(p, int(st[S_PHASE]), t0, x0)) < SLOW_FACTOR * p[T]:
+        cnt = np.zeros(N_COUNT, dtype=np.int64)
+        _enter_slow(p, st, cnt, t0, x0, v0, 0.0)
+    return st

@@ -1,0 +1,145 @@
+"""Model BC of the forced impacting oscillator (paper eq. 1) and its right-hand side.
+
+    m x'' + k x + c x' + T x'/sqrt(x'^2 + eps^2) + F_I(x, x') = m0e w^2 sin(w t)
+    F_I = kI ((x - xI)^n1 + b (x - xI)^n2 sgn(x') |x'|^n3)   if x >= xI and the bracket >= 0
+
+The parameters travel into the numba core as one float64 array (index constants below),
+so compiled functions never close over Python objects and stay cacheable on disk.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, fields
+
+import numpy as np
+from numba import njit
+
+# Index of each parameter in the array the numba core receives.
+M, M0E, K, C, T, EPS, KI, B, N1, N2, N3, XI, OMEGA = range(13)
+N_PARAMS = 13
+
+# Integration phases: which smooth vector field is active on the current piece.
+FREE, CONTACT, CUT = 0, 1, 2
+
+
+@dataclass(frozen=True)
+class ModelParams:
+    """Physical parameters of model BC (SI units). Defaults are the paper's values."""
+
+    m: float = 8.735  # kg, moving mass
+    m0e: float = 0.01805  # kg m, unbalance
+    k: float = 1418.9  # N/m, spring stiffness
+    c: float = 6.6511  # N s/m, viscous damping
+    T: float = 0.63133  # N, dry-friction level
+    eps: float = 1e-6  # m/s, friction regularisation velocity
+    kI: float = 2.3983e8  # N/m^1.5, contact stiffness
+    b: float = 0.8485  # (s/m)^n3, Hunt-Crossley damping factor
+    n1: float = 1.5
+    n2: float = 1.5
+    n3: float = 0.18667
+    xI: float = -2.086e-3  # m, obstacle position
+
+    def __post_init__(self):
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise ValueError(f"model parameter {f.name} must be a finite number, got {value!r}")
+        for name in ("m", "k", "eps", "kI", "n1", "n2"):
+            if getattr(self, name) <= 0:
+                raise ValueError(f"model parameter {name} must be > 0, got {getattr(self, name)}")
+        for name in ("m0e", "c", "T", "b", "n3"):
+            if getattr(self, name) < 0:
+                raise ValueError(f"model parameter {name} must be >= 0, got {getattr(self, name)}")
+
+    def as_array(self, omega: float) -> np.ndarray:
+        """Pack the parameters and the forcing frequency for the numba core."""
+        p = np.empty(N_PARAMS)
+        p[M], p[M0E], p[K], p[C], p[T], p[EPS] = self.m, self.m0e, self.k, self.c, self.T, self.eps
+        p[KI], p[B], p[N1], p[N2], p[N3], p[XI] = self.kI, self.b, self.n1, self.n2, self.n3, self.xI
+        p[OMEGA] = omega
+        return p
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    @property
+    def cut_velocity(self) -> float:
+        """|v| beyond which the restitution bracket turns negative (F_I = 0): b^(-1/n3)."""
+        if self.b == 0 or self.n3 == 0:
+            return math.inf
+        return self.b ** (-1.0 / self.n3)
+
+
+@njit(cache=True)
+def _pow(h, n):
+    # h**1.5 is the common case; h*sqrt(h) is faster and exact to rounding.
+    if n == 1.5:
+        return h * math.sqrt(h)
+    return h**n
+
+
+@njit(cache=True)
+def contact_force(p, x, v):
+    """Hunt-Crossley force kI*max(bracket, 0) for penetration x - xI > 0, else 0."""
+    h = x - p[XI]
+    if h <= 0.0:
+        return 0.0
+    av = abs(v)
+    damp = 0.0
+    if av > 0.0:
+        damp = p[B] * _pow(h, p[N2]) * av ** p[N3]
+        if v < 0.0:
+            damp = -damp
+    bracket = _pow(h, p[N1]) + damp
+    if bracket <= 0.0:
+        return 0.0
+    return p[KI] * bracket
+
+
+@njit(cache=True)
+def external_force(p, t, x, v):
+    """Everything but the contact: forcing - spring - viscous - regularised dry friction."""
+    w = p[OMEGA]
+    friction = p[T] * v / math.sqrt(v * v + p[EPS] * p[EPS])
+    return p[M0E] * w * w * math.sin(w * t) - p[K] * x - p[C] * v - friction
+
+
+@njit(cache=True)
+def accel(p, phase, t, x, v):
+    """x'' on the smooth piece `phase` (FREE and CUT have no contact force)."""
+    f = external_force(p, t, x, v)
+    if phase == CONTACT:
+        f -= contact_force(p, x, v)
+    return f / p[M]
+
+
+@njit(cache=True)
+def stick_force(p, phase, t, x):
+    """Net force other than dry friction at v = 0; |.| < T means the cart sticks."""
+    w = p[OMEGA]
+    f = p[M0E] * w * w * math.sin(w * t) - p[K] * x
+    if phase == CONTACT:
+        f -= contact_force(p, x, 0.0)
+    return f
+
+
+@njit(cache=True)
+def jacobian(p, phase, t, x, v):
+    """Partial derivatives (da/dx, da/dv) for the implicit stick-phase solver."""
+    eps = p[EPS]
+    s = v * v + eps * eps
+    dfdx = -p[K]
+    dfdv = -p[C] - p[T] * eps * eps / (s * math.sqrt(s))
+    if phase == CONTACT:
+        h = x - p[XI]
+        if h > 0.0:
+            av = max(abs(v), 1e-30)
+            sg = 1.0 if v >= 0.0 else -1.0
+            vn = av ** p[N3]
+            bracket = _pow(h, p[N1]) + p[B] * _pow(h, p[N2]) * sg * vn
+            if bracket > 0.0:
+                dfdx -= p[KI] * (p[N1] * h ** (p[N1] - 1.0) + p[B] * p[N2] * h ** (p[N2] - 1.0) * sg * vn)
+                # |v|^n3 has an infinite slope at v = 0; capping |v| keeps Newton finite.
+                dfdv -= p[KI] * p[B] * _pow(h, p[N2]) * p[N3] * vn / max(av, 1e-12)
+    return dfdx / p[M], dfdv / p[M]
