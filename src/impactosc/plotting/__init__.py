@@ -1,0 +1,5 @@
+"""Plotting helpers shared by every figure script (style, saving)."""
+
+from .style import apply_style, save_figure
+
+__all__ = ["apply_style", "save_figure"]

@@ -1,0 +1,1 @@
+# placeholder: rules of the bifurcation figure group (to be written)

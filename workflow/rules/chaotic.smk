@@ -1,0 +1,1 @@
+# placeholder: rules of the chaotic figure group (to be written)

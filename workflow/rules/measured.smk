@@ -1,0 +1,1 @@
+# placeholder: rules of the measured figure group (to be written)

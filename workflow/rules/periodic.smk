@@ -1,0 +1,1 @@
+# placeholder: rules of the periodic figure group (to be written)

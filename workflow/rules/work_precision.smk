@@ -1,0 +1,1 @@
+# placeholder: rules of the work_precision figure group (to be written)
