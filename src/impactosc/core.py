@@ -106,16 +106,22 @@ def _sample_window(F, x0, v0, t0, h, t1, st, win_t0, win_dt, win_x, win_v):
 
 
 @njit(cache=True)
-def _sample_linear(t0, x0, v0, t1, x1, v1, st, win_t0, win_dt, win_x, win_v):
-    """Window samples inside an implicit (sticking) step: x moves by < band * eps * h there."""
+def _sample_hermite(t0, x0, v0, t1, x1, v1, st, win_t0, win_dt, win_x, win_v):
+    """Window samples inside an implicit (sticking) step: cubic Hermite in x (x' = v known
+    at both ends), linear in v; the creep inside such a step is slow and smooth."""
     j = int(st[S_WIN])
     n = win_x.shape[0]
+    h = t1 - t0
     while j < n:
         ts = win_t0 + j * win_dt
         if ts > t1:
             break
-        th = (ts - t0) / (t1 - t0) if t1 > t0 else 1.0
-        win_x[j] = x0 + th * (x1 - x0)
+        th = (ts - t0) / h if h > 0.0 else 1.0
+        h00 = (1.0 + 2.0 * th) * (1.0 - th) ** 2
+        h10 = th * (1.0 - th) ** 2
+        h01 = th * th * (3.0 - 2.0 * th)
+        h11 = th * th * (th - 1.0)
+        win_x[j] = h00 * x0 + h10 * h * v0 + h01 * x1 + h11 * h * v1
         win_v[j] = v0 + th * (v1 - v0)
         j += 1
     st[S_WIN] = j
@@ -247,7 +253,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                 if _window_due(st, win_t0, win_dt, win_x, te):
                     xe = xe_x if th_x <= th_v else xe_v
                     ve = ve_x if th_x <= th_v else ve_v
-                    _sample_linear(t, x, v, te, xe, ve, st, win_t0, win_dt, win_x, win_v)
+                    _sample_hermite(t, x, v, te, xe, ve, st, win_t0, win_dt, win_x, win_v)
                 st[S_TSLOW] += te - t
                 if th_x <= th_v:
                     if phase == FREE:
@@ -267,7 +273,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                 h = h_next
                 continue
             if _window_due(st, win_t0, win_dt, win_x, t1):
-                _sample_linear(t, x, v, t1, x1, v1, st, win_t0, win_dt, win_x, win_v)
+                _sample_hermite(t, x, v, t1, x1, v1, st, win_t0, win_dt, win_x, win_v)
             st[S_TSLOW] += t1 - t
             t, x, v = t1, x1, v1
             h = h_next
@@ -413,8 +419,10 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                 cnt[C_DENSE] += 1
                 built = True
             _sample_window(F, x, v, t, hs, t1, st, win_t0, win_dt, win_x, win_v)
+        # first-same-as-last; when the step was clamped onto a Poincare time, t + hs can
+        # differ from t1 in the last bit: re-evaluate there so a resumed run is identical
+        ax = K[12, 1] if t + hs == t1 else accel(p, phase, t1, x1, v1)
         t, x, v = t1, x1, v1
-        ax = K[12, 1]
         h = h_next
         if abs(v) < vband and abs(stick_force(p, phase, t, x)) < SLOW_FACTOR * p[T]:
             _enter_slow(p, st, cnt, t, x, v, _sign(v))

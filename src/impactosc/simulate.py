@@ -42,7 +42,10 @@ class Window:
 
     @property
     def n(self) -> int:
-        return int(math.floor((self.stop - self.start) / self.dt * (1 + 1e-12))) + 1
+        n = int(math.floor((self.stop - self.start) / self.dt)) + 1
+        while n > 1 and self.start + (n - 1) * self.dt > self.stop:  # rounding at the end
+            n -= 1
+        return n
 
 
 @dataclass
@@ -142,10 +145,10 @@ def simulate(
         win_t0, win_dt = 0.0, 1.0
 
     wall = 0.0
-    chunk = chunk_periods * period
     i_chunk = 1
     while st[core.S_T] < t_end:
-        t_stop = float(min(t_end, i_chunk * chunk))
+        # chunk ends are Poincare times, computed exactly as the core computes them
+        t_stop = float(min(t_end, float(i_chunk * chunk_periods) * period))
         i_chunk += 1
         t0 = time.perf_counter()
         ev, n_ev = core.run(p, st, cnt, t_stop, float(transient), float(rtol), float(atol), flags,

@@ -1,0 +1,255 @@
+"""Locate the grazing bifurcation: a near miss of the obstacle turns into a contact.
+
+Why a dedicated module: the paper places a grazing bifurcation "at about w = 23" (between
+23.05 and 23.03 rad/s on the branch followed with decreasing w) by eye. Here it is located
+from the model: follow the attractor in w (:func:`impactosc.sweep.continuation`), track the
+smallest free-flight gap ``xI - max x`` (near miss) and the impacts per forcing period, find
+the step of the branch where the near miss closing on zero is replaced by a contact
+(:func:`find_grazing_step`), and bisect that step from the branch's own state
+(:func:`bisect_transition`) until the bracket is narrower than a tolerance. The gap of a
+near miss is a smooth function of w, so a straight line through the last gaps before the
+transition gives an independent estimate of the zero (:func:`extrapolate_gap_zero`).
+
+The generic pieces (:func:`find_grazing_step`, :func:`bisect_transition`,
+:func:`extrapolate_gap_zero`) take plain arrays and callables so they are tested on
+synthetic gap curves; :func:`model_trial` and :func:`locate_grazing` bind them to the core.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+from typing import Callable
+
+import numpy as np
+
+__all__ = [
+    "Trial", "GrazingBracket", "GapFit", "find_grazing_step", "bisect_transition",
+    "extrapolate_gap_zero", "sweep_summary", "model_trial", "locate_grazing", "branch_grid",
+]
+
+
+@dataclass(frozen=True)
+class Trial:
+    """One evaluation of the attractor at a single w during the bisection.
+
+    contact: True if the near miss of the branch became a contact (the impacts per
+    forcing period changed); min_gap (m, NaN if no near miss), min_impact_v (m/s, NaN if
+    no impact) and impacts_per_period describe the recorded attractor; x_end, v_end its
+    end state (a whole number of forcing periods after the restart, i.e. at phi = 0).
+    """
+
+    omega: float
+    contact: bool
+    min_gap: float = math.nan
+    min_impact_v: float = math.nan
+    impacts_per_period: float = math.nan
+    x_end: float = math.nan
+    v_end: float = math.nan
+
+
+@dataclass(frozen=True)
+class GrazingBracket:
+    """Bracket [omega_contact, omega_miss] (either order in w) around the grazing w.
+
+    omega_miss: the w closest to grazing at which the near miss is still a miss;
+    omega_contact: the w closest to grazing at which it is a contact; trials: every
+    bisection evaluation in the order made.
+    """
+
+    omega_miss: float
+    omega_contact: float
+    trials: tuple = field(default=())
+
+    @property
+    def width(self) -> float:
+        return abs(self.omega_miss - self.omega_contact)
+
+    @property
+    def midpoint(self) -> float:
+        return 0.5 * (self.omega_miss + self.omega_contact)
+
+    def to_dict(self) -> dict:
+        return {"omega_miss": self.omega_miss, "omega_contact": self.omega_contact, "width": self.width,
+                "midpoint": self.midpoint, "trials": [asdict(t) for t in self.trials]}
+
+
+def _as_1d(values, name: str, allow_nan: bool = False) -> np.ndarray:
+    a = np.asarray(values, dtype=float)
+    if a.ndim != 1 or a.size == 0:
+        raise ValueError(f"{name} must be a non-empty 1-D array, got shape {a.shape}")
+    bad = ~np.isfinite(a) if not allow_nan else np.isinf(a)
+    if bad.any():
+        raise ValueError(f"{name} contains non-finite values at index {int(np.flatnonzero(bad)[0])}")
+    return a
+
+
+def find_grazing_step(omegas, min_gap, impacts_per_period) -> int:
+    """Index i of the branch step (i -> i+1) where a near miss closing on zero became a contact.
+
+    Why: a branch followed in w passes several transitions (period doublings, jumps); the
+    grazing one is where the impact count per period changes right after the smallest
+    near-miss gap of the branch. Among all steps where impacts_per_period changes and
+    point i had a near miss (finite gap), the one with the smallest gap at i is returned.
+
+    Parameters: arrays in branch order (the order w was followed); min_gap in m, NaN where
+    the attractor had no near miss; impacts_per_period as measured over the record.
+    Raises ValueError when no such step exists (the branch never grazes).
+    """
+    w = _as_1d(omegas, "omegas")
+    g = _as_1d(min_gap, "min_gap", allow_nan=True)
+    n = _as_1d(impacts_per_period, "impacts_per_period")
+    if not (w.size == g.size == n.size):
+        raise ValueError(f"omegas, min_gap and impacts_per_period differ in length: {w.size}, {g.size}, {n.size}")
+    if w.size < 2:
+        raise ValueError("a branch needs at least 2 points to contain a transition")
+    changed = ~np.isclose(n[1:], n[:-1], rtol=0, atol=1e-9)
+    candidates = np.flatnonzero(changed & np.isfinite(g[:-1]) & (g[:-1] > 0))
+    if candidates.size == 0:
+        raise ValueError("no step of the branch turns a near miss into a contact "
+                         "(impacts per period never change right after a near miss)")
+    return int(candidates[np.argmin(g[candidates])])
+
+
+def bisect_transition(trial: Callable[[float, object], Trial], omega_miss: float, omega_contact: float,
+                      state, tol: float, max_trials: int = 60) -> GrazingBracket:
+    """Shrink [omega_miss, omega_contact] to width <= tol by bisection on w.
+
+    Why: locating the grazing w to a stated resolution rather than to the sweep step.
+    ``trial(w, state)`` evaluates the attractor at w starting from `state` (the end state at
+    the current miss end, so every trial continues the branch by a step smaller than the
+    bracket) and returns a :class:`Trial`; a miss moves omega_miss (and the state) to w, a
+    contact moves omega_contact.
+    """
+    for name, value in (("omega_miss", omega_miss), ("omega_contact", omega_contact), ("tol", tol)):
+        if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value):
+            raise ValueError(f"{name} must be a finite number, got {value!r}")
+    if tol <= 0:
+        raise ValueError(f"tol must be > 0, got {tol}")
+    if omega_miss == omega_contact:
+        raise ValueError("omega_miss and omega_contact must differ")
+    lo_miss, hi_contact = float(omega_miss), float(omega_contact)
+    trials = []
+    while abs(lo_miss - hi_contact) > tol:
+        if len(trials) >= max_trials:
+            raise ValueError(f"bisection did not reach tol={tol} in {max_trials} trials")
+        w = 0.5 * (lo_miss + hi_contact)
+        t = trial(w, state)
+        if not isinstance(t, Trial):
+            raise ValueError("trial must return a Trial")
+        trials.append(t)
+        if t.contact:
+            hi_contact = w
+        else:
+            lo_miss, state = w, (t.x_end, t.v_end)
+    return GrazingBracket(lo_miss, hi_contact, tuple(trials))
+
+
+@dataclass(frozen=True)
+class GapFit:
+    """Straight line gap = slope (w - omega_zero) through the last near-miss gaps.
+
+    omega_zero (rad/s) where the fitted gap vanishes; slope in m per rad/s; rms residual
+    (m) of the fit; omega (the w used, rad/s).
+    """
+
+    omega_zero: float
+    slope: float
+    rms: float
+    omega: tuple
+
+    def to_dict(self) -> dict:
+        return {"omega_zero": self.omega_zero, "slope": self.slope, "rms": self.rms, "omega": list(self.omega)}
+
+
+def extrapolate_gap_zero(omegas, gaps, n_fit: int = 5) -> GapFit:
+    """Least-squares line through the last `n_fit` (w, gap) points and its zero.
+
+    Why: an independent estimate of the grazing w that does not depend on how trials
+    classify contacts; the gap of a regular near miss is smooth (linear to first order) in
+    w near grazing. Points are in branch order, the last one closest to grazing; all gaps
+    must be finite and > 0.
+    """
+    w = _as_1d(omegas, "omegas")
+    g = _as_1d(gaps, "gaps")
+    if w.size != g.size:
+        raise ValueError(f"omegas and gaps differ in length: {w.size} != {g.size}")
+    if not isinstance(n_fit, (int, np.integer)) or n_fit < 2:
+        raise ValueError(f"n_fit must be an integer >= 2, got {n_fit!r}")
+    if w.size < n_fit:
+        raise ValueError(f"need at least n_fit={n_fit} points, got {w.size}")
+    w, g = w[-n_fit:], g[-n_fit:]
+    if np.any(g <= 0):
+        raise ValueError("gaps must be > 0 (near misses, not contacts)")
+    slope, intercept = np.polyfit(w, g, 1)
+    if slope == 0:
+        raise ValueError("the gaps do not change with w; no zero to extrapolate")
+    resid = g - (slope * w + intercept)
+    return GapFit(float(-intercept / slope), float(slope), float(np.sqrt(np.mean(resid**2))), tuple(map(float, w)))
+
+
+def sweep_summary(result) -> dict:
+    """Per-w arrays of a :class:`impactosc.sweep.SweepResult` that grazing needs.
+
+    impacts_per_period (impacts in the record / recorded periods), min_impact_v (m/s, NaN
+    without impacts), min_gap (m), omega; arrays in sweep order.
+    """
+    n_rec = result.poincare_x.shape[1]
+    counts = np.diff(result.impact_offsets)
+    min_v = np.array([result.impact_v[a:b].min() if b > a else np.nan
+                      for a, b in zip(result.impact_offsets[:-1], result.impact_offsets[1:])])
+    return {"omega": result.omega.copy(), "impacts_per_period": counts / n_rec, "min_impact_v": min_v,
+            "min_gap": result.min_gap.copy()}
+
+
+def model_trial(settings, reference_impacts_per_period: float) -> Callable[[float, object], Trial]:
+    """A :func:`bisect_transition` trial that runs the core at one w from a branch state.
+
+    The attractor is classified as a contact when its impacts per forcing period differ
+    from `reference_impacts_per_period` (that of the branch just before grazing).
+    """
+    from .sweep import continuation
+
+    def trial(omega: float, state) -> Trial:
+        res = continuation([omega], settings, x0=state[0], v0=state[1], first_transient=settings.n_transient)
+        s = sweep_summary(res)
+        ipp = float(s["impacts_per_period"][0])
+        return Trial(omega=float(omega), contact=not math.isclose(ipp, reference_impacts_per_period, abs_tol=1e-9),
+                     min_gap=float(s["min_gap"][0]), min_impact_v=float(s["min_impact_v"][0]),
+                     impacts_per_period=ipp, x_end=float(res.x_end[0]), v_end=float(res.v_end[0]))
+
+    return trial
+
+
+def locate_grazing(branch, settings, tol: float) -> GrazingBracket:
+    """Bracket the grazing w of a followed branch (a SweepResult in branch order) to `tol`.
+
+    The bisection starts from the branch step found by :func:`find_grazing_step`, from the
+    branch's end state at the miss side, with the same per-w lengths as the branch.
+    """
+    s = sweep_summary(branch)
+    i = find_grazing_step(s["omega"], s["min_gap"], s["impacts_per_period"])
+    trial = model_trial(settings, float(s["impacts_per_period"][i]))
+    return bisect_transition(trial, float(s["omega"][i]), float(s["omega"][i + 1]),
+                             (float(branch.x_end[i]), float(branch.v_end[i])), tol)
+
+
+def branch_grid(start: float, fine_from: float, stop: float, coarse_step: float, fine_step: float) -> np.ndarray:
+    """Decreasing w grid: start, start - coarse_step, ... (> fine_from), then fine_from to stop by fine_step.
+
+    Why: the paper follows the attractor down from w = 40.86; only the neighbourhood of
+    the grazing needs fine steps. Grid points are start - i*step rounded to 1e-9 rad/s, so
+    round values such as 23.05 and 23.03 are hit exactly when they lie on the fine grid.
+    """
+    vals = {"start": start, "fine_from": fine_from, "stop": stop, "coarse_step": coarse_step, "fine_step": fine_step}
+    for name, value in vals.items():
+        if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value) or value <= 0:
+            raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    if not start >= fine_from > stop:
+        raise ValueError(f"need start >= fine_from > stop (a decreasing branch), got {start}, {fine_from}, {stop}")
+    n_c = int(math.floor((start - fine_from) / coarse_step * (1 + 1e-12)))
+    coarse = np.round(start - coarse_step * np.arange(n_c + 1), 9)
+    coarse = coarse[coarse > fine_from + 1e-9]
+    n_f = int(math.floor((fine_from - stop) / fine_step * (1 + 1e-12)))
+    fine = np.round(fine_from - fine_step * np.arange(n_f + 1), 9)
+    return np.concatenate([coarse, fine])

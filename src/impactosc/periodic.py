@@ -1,0 +1,176 @@
+"""The periodic regime of paper section 2.1 and the attractors around the grazing (Figs 3a, 4, 5).
+
+Why: the paper's numbers for the periodic attractor at w = 23.03 rad/s (489 impacts in
+100 s, four distinct inter-impact intervals of equal count summing to 0.8184 s) and its
+reading of the Fig. 4c spectrum (a secondary frequency w1 < w and the combinations
+k w +/- w1) are recomputed here from a run file, together with what the model says about
+them (the sum of the intervals is a whole number of forcing periods; w1 is a rational
+fraction of w, i.e. a subharmonic, not a second incommensurate frequency).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+
+from .statistics import (
+    amplitude_spectrum,
+    distinct_levels,
+    estimate_secondary_frequency,
+    find_peaks_spectrum,
+    inter_impact_intervals,
+)
+
+__all__ = [
+    "ImpactMapNumbers", "impact_map_numbers", "poincare_period", "SpectrumAnalysis", "analyse_spectrum",
+    "branch_state",
+]
+
+
+@dataclass(frozen=True)
+class ImpactMapNumbers:
+    """Section 2.1 numbers of one impact train.
+
+    n_impacts: impacts in the record; levels/counts: the distinct ISIs (s) and how many of
+    each; total: their sum (s); forcing_period: 2 pi / w (s); periods_in_total: total in
+    forcing periods (a whole number for a periodic orbit); orbit_period: the nearest whole
+    number of forcing periods times 2 pi / w (s).
+    """
+
+    n_impacts: int
+    levels: tuple
+    counts: tuple
+    total: float
+    forcing_period: float
+    periods_in_total: float
+    orbit_period: float
+
+    @property
+    def counts_equal(self) -> bool:
+        return max(self.counts) - min(self.counts) <= 1
+
+    def to_dict(self) -> dict:
+        return {"n_impacts": self.n_impacts, "levels": list(self.levels), "counts": list(self.counts),
+                "n_levels": len(self.levels), "counts_equal": self.counts_equal, "total": self.total,
+                "forcing_period": self.forcing_period, "periods_in_total": self.periods_in_total,
+                "orbit_period": self.orbit_period}
+
+
+def impact_map_numbers(impact_times, omega: float, rel_tol: float = 1e-3) -> ImpactMapNumbers:
+    """Impact count, distinct intervals with counts, and their sum against 2 pi / w.
+
+    Why: paper Fig. 5 reads the period of the orbit off the impact map (the sum of the
+    distinct intervals); comparing it with the forcing period says which subharmonic the
+    orbit is. `rel_tol` is the level-clustering tolerance of
+    :func:`impactosc.statistics.distinct_levels` (ISIs of a periodic orbit agree to the
+    event-location accuracy, ~1e-10 s, far inside 1e-3 of the largest interval).
+    """
+    if not (isinstance(omega, (int, float, np.floating)) and math.isfinite(omega) and omega > 0):
+        raise ValueError(f"omega must be a finite number > 0 rad/s, got {omega!r}")
+    t = np.asarray(impact_times, dtype=float)
+    s = inter_impact_intervals(t)
+    lev = distinct_levels(s, rel_tol=rel_tol)
+    period = 2 * math.pi / omega
+    q = lev.total / period
+    return ImpactMapNumbers(int(t.size), tuple(map(float, lev.levels)), tuple(map(int, lev.counts)),
+                            float(lev.total), period, float(q), max(round(q), 1) * period)
+
+
+def poincare_period(x, v, x_tol: float = 1e-8, v_tol: float = 1e-6, max_period: int | None = None) -> int:
+    """Smallest p with |x_{i+p} - x_i| <= x_tol and |v_{i+p} - v_i| <= v_tol for all i; 0 if none.
+
+    Why: the period of the attractor in forcing periods (1 for the orbit before grazing,
+    3 after it at w = 23.03); 0 marks a chaotic or not yet settled record. Default
+    tolerances (10 nm, 1 um/s) are far above the integration error of the core and far
+    below the Poincare-point spacing of the orbits here (tens of um).
+    """
+    x = np.asarray(x, dtype=float)
+    v = np.asarray(v, dtype=float)
+    if x.ndim != 1 or x.shape != v.shape or x.size < 2:
+        raise ValueError(f"x and v must be 1-D of the same length >= 2, got {x.shape}, {v.shape}")
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+        raise ValueError("x and v must be finite")
+    max_period = x.size // 2 if max_period is None else int(max_period)
+    for p in range(1, max(1, min(max_period, x.size - 1)) + 1):
+        if np.all(np.abs(x[p:] - x[:-p]) <= x_tol) and np.all(np.abs(v[p:] - v[:-p]) <= v_tol):
+            return p
+    return 0
+
+
+@dataclass(frozen=True)
+class SpectrumAnalysis:
+    """Spectrum of x(t) with its lines, w1 and the paper's combination labels (Fig. 4c).
+
+    omega_axis, amplitude: the spectrum up to max_omega (rad/s, m); peaks_omega,
+    peaks_amplitude: the lines; omega1: the secondary frequency (NaN if none) and
+    ratio = omega1 / w with its nearest fraction p/q (q <= max_denominator); labels: label ->
+    (expected, found) rad/s; harmonics_only: every line is within tol of a multiple of w.
+    """
+
+    omega: float
+    omega_axis: np.ndarray
+    amplitude: np.ndarray
+    peaks_omega: np.ndarray
+    peaks_amplitude: np.ndarray
+    omega1: float
+    ratio: float
+    ratio_fraction: tuple
+    labels: dict
+    harmonics_only: bool
+    resolution: float
+
+    def to_dict(self) -> dict:
+        return {"omega": self.omega, "omega1": self.omega1, "omega1_over_omega": self.ratio,
+                "omega1_over_omega_fraction": list(self.ratio_fraction), "labels": self.labels,
+                "harmonics_only": self.harmonics_only, "resolution": self.resolution,
+                "peaks_omega": self.peaks_omega.tolist(), "peaks_amplitude": self.peaks_amplitude.tolist(),
+                "omega_axis": self.omega_axis.tolist(), "amplitude": self.amplitude.tolist()}
+
+
+def analyse_spectrum(x, dt: float, omega: float, max_omega: float = 80.0, prominence_db: float = 10.0,
+                     dynamic_range_db: float = 60.0, max_denominator: int = 12) -> SpectrumAnalysis:
+    """Lines of the spectrum of x(t) up to max_omega, w1 and the a, b, c, d, f combinations.
+
+    Why: Fig. 4c. The peak finder keeps lines within `dynamic_range_db` of the strongest
+    (60 dB keeps the labelled combinations and drops the Hann-window leakage floor); w1
+    is the strongest non-harmonic line below w confirmed by the combinations
+    (:func:`impactosc.statistics.estimate_secondary_frequency`). A line counts as a harmonic
+    when it is within 1.5 bins of k w.
+    """
+    sp = amplitude_spectrum(x, dt)
+    keep = sp.omega <= max_omega
+    peaks = find_peaks_spectrum(sp, prominence_db=prominence_db, dynamic_range_db=dynamic_range_db)
+    sel = peaks.omega <= max_omega
+    p_om, p_amp = peaks.omega[sel], peaks.amplitude[sel]
+    order = np.argsort(p_om)
+    p_om, p_amp = p_om[order], p_amp[order]
+    tol = 1.5 * sp.d_omega
+    k = np.rint(p_om / omega)
+    harmonics_only = bool(np.all((k >= 1) & (np.abs(p_om - k * omega) <= tol)))
+    omega1, ratio, frac, labels = math.nan, math.nan, (0, 0), {}
+    if not harmonics_only:
+        sec = estimate_secondary_frequency(peaks, omega, tol=tol)
+        omega1 = sec.omega1
+        ratio = omega1 / omega
+        f = Fraction(ratio).limit_denominator(max_denominator)
+        frac = (f.numerator, f.denominator)
+        labels = {lab.label: {"k": lab.k, "m": lab.m, "expected": lab.expected, "found": lab.found}
+                  for lab in sec.labels}
+    return SpectrumAnalysis(float(omega), sp.omega[keep], sp.amplitude[keep], p_om, p_amp, float(omega1),
+                            float(ratio), frac, labels, harmonics_only, float(sp.d_omega))
+
+
+def branch_state(sweep, omega: float, abs_tol: float = 1e-9) -> tuple[float, float]:
+    """End state (x, v) of a followed branch at the grid point w = omega (at phi = 0).
+
+    Why: the attractor just before grazing (w = 23.05) exists on the branch followed with
+    decreasing w; from rest the same w lands on the post-grazing orbit. Restarting from
+    this state at t = 0 continues the branch exactly (the state is at a whole period).
+    """
+    i = int(np.argmin(np.abs(sweep.omega - omega)))
+    if abs(sweep.omega[i] - omega) > abs_tol:
+        raise ValueError(f"w = {omega} is not a grid point of the branch (nearest {sweep.omega[i]})")
+    return float(sweep.x_end[i]), float(sweep.v_end[i])

@@ -1,0 +1,381 @@
+"""Parameter sweeps by continuation: follow one attractor along a grid of forcing frequencies.
+
+Why continuation: a bifurcation diagram shows *the attractor the system is on*, and with
+coexisting attractors (hysteresis) that depends on the history. As in the paper (Figs 2, 3b)
+and on the rig, the state at the end of one w starts the next: every w runs ``n_transient``
+forcing periods (discarded) and then ``n_record`` periods (recorded), restarting at t = 0
+(phi = 0) from the previous end state. The previous run ends on a whole number of its own
+forcing periods, i.e. on a Poincare time phi = 2 pi i, so the restart at phi = 0 is exact.
+
+Why chunks: continuation is sequential, yet a workflow wants many cores busy. A sweep is
+split into contiguous chunks that run as separate jobs. Each chunk is seeded by a cheap
+*coarse* sequential pass (every ``stride``-th w of the same grid, same per-w lengths), which
+follows the same attractor: chunk k starts from the coarse pass's end state at the grid
+point ``stride`` values before its first w and re-runs those ``stride - 1`` warm-up w values
+(discarded), so its first recorded w is reached by the same small steps as in a sequential
+sweep. ``tests/test_sweep_chunks.py`` checks chunked == sequential on a short range.
+
+No Snakemake here: the workflow scripts and the tests call these functions directly.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable, Sequence
+
+import h5py
+import numpy as np
+
+from .model import ModelParams
+from .simulate import DEFAULT_ATOL, DEFAULT_RTOL, simulate
+
+__all__ = [
+    "SweepSettings", "SweepResult", "omega_grid", "continuation", "plan_chunks", "coarse_pass",
+    "run_chunk", "merge_chunks", "sweep_chunked", "save_sweep", "load_sweep",
+]
+
+
+@dataclass(frozen=True)
+class SweepSettings:
+    """Per-w lengths (in forcing periods), model, tolerances, and the start of the sweep.
+
+    n_transient / n_record: forcing periods discarded / recorded at every w.
+    n_initial: transient periods at the first w of a sweep, which starts from (x0, v0)
+    rather than from an attractor, so it usually needs longer than n_transient.
+    """
+
+    n_transient: int = 150
+    n_record: int = 100
+    n_initial: int = 1000
+    x0: float = 0.0
+    v0: float = 0.0
+    params: ModelParams = field(default_factory=ModelParams)
+    rtol: float = DEFAULT_RTOL
+    atol: float = DEFAULT_ATOL
+
+    def __post_init__(self):
+        for name in ("n_transient", "n_record", "n_initial"):
+            value = getattr(self, name)
+            if not isinstance(value, (int, np.integer)) or isinstance(value, bool):
+                raise ValueError(f"{name} must be an integer number of forcing periods, got {value!r}")
+        if self.n_transient < 0 or self.n_initial < 0:
+            raise ValueError(f"n_transient and n_initial must be >= 0, got {self.n_transient}, {self.n_initial}")
+        if self.n_record < 1:
+            raise ValueError(f"n_record must be >= 1 forcing period, got {self.n_record}")
+        for name in ("x0", "v0"):
+            if not math.isfinite(getattr(self, name)):
+                raise ValueError(f"{name} must be finite, got {getattr(self, name)}")
+
+    def to_attrs(self) -> dict:
+        """Flat attributes for the HDF5 file (reproducibility)."""
+        out = {k: getattr(self, k) for k in ("n_transient", "n_record", "n_initial", "x0", "v0", "rtol", "atol")}
+        out.update({f"param_{k}": v for k, v in self.params.to_dict().items()})
+        return out
+
+    @classmethod
+    def from_attrs(cls, attrs) -> "SweepSettings":
+        params = ModelParams(**{k[6:]: float(v) for k, v in attrs.items() if k.startswith("param_")})
+        return cls(n_transient=int(attrs["n_transient"]), n_record=int(attrs["n_record"]),
+                   n_initial=int(attrs["n_initial"]), x0=float(attrs["x0"]), v0=float(attrs["v0"]),
+                   params=params, rtol=float(attrs["rtol"]), atol=float(attrs["atol"]))
+
+
+# Per-w arrays of a SweepResult (all shape (n,) except the Poincare arrays (n, n_record)).
+_PER_W = ("omega", "x_start", "v_start", "x_end", "v_end", "min_gap", "n_steps", "wall_time")
+
+
+@dataclass
+class SweepResult:
+    """Everything a bifurcation diagram needs, per w of the sweep, in sweep order.
+
+    poincare_x, poincare_v: (n, n_record) section points at phi = 2 pi i (m, m/s).
+    impact_t, impact_v: impact onsets of all w, concatenated; those of w number i are
+    ``impact_t[impact_offsets[i]:impact_offsets[i+1]]``, times measured from the start of
+    the recorded interval (s), so they lie in [0, n_record * 2 pi / w).
+    min_gap: smallest free-flight gap xI - x at a local maximum of x (near miss) in the
+    recorded interval (m); NaN if there is none. A gap -> 0 signals grazing.
+    x_start, v_start: state each w started from; x_end, v_end: its end state.
+    """
+
+    omega: np.ndarray
+    poincare_x: np.ndarray
+    poincare_v: np.ndarray
+    impact_t: np.ndarray
+    impact_v: np.ndarray
+    impact_offsets: np.ndarray
+    min_gap: np.ndarray
+    x_start: np.ndarray
+    v_start: np.ndarray
+    x_end: np.ndarray
+    v_end: np.ndarray
+    n_steps: np.ndarray
+    wall_time: np.ndarray
+    settings: SweepSettings
+
+    def __len__(self) -> int:
+        return int(self.omega.size)
+
+    def impacts(self, i: int) -> np.ndarray:
+        """Impact onset times at the i-th w (s from the start of its recorded interval)."""
+        return self.impact_t[self.impact_offsets[i]:self.impact_offsets[i + 1]]
+
+    def isi(self, i: int) -> np.ndarray:
+        """Inter-impact intervals S_j at the i-th w (s)."""
+        return np.diff(self.impacts(i))
+
+    def isi_points(self) -> tuple[np.ndarray, np.ndarray]:
+        """(w, S) pairs of every ISI of the sweep, for the ISI diagram (Fig 3b)."""
+        counts = np.maximum(np.diff(self.impact_offsets) - 1, 0)
+        s = np.concatenate([self.isi(i) for i in range(len(self))]) if len(self) else np.empty(0)
+        return np.repeat(self.omega, counts), s
+
+    def poincare_points(self) -> tuple[np.ndarray, np.ndarray]:
+        """(w, x) pairs of every Poincare point of the sweep, for the Poincare diagram (Fig 2)."""
+        n_rec = self.poincare_x.shape[1]
+        return np.repeat(self.omega, n_rec), self.poincare_x.ravel()
+
+    def subset(self, start: int, stop: int) -> "SweepResult":
+        """The w values start..stop-1 (contiguous), e.g. dropping a chunk's warm-up."""
+        if not 0 <= start <= stop <= len(self):
+            raise ValueError(f"subset [{start}, {stop}) outside the sweep of {len(self)} w values")
+        lo, hi = self.impact_offsets[start], self.impact_offsets[stop]
+        kw = {k: getattr(self, k)[start:stop].copy() for k in _PER_W}
+        return SweepResult(poincare_x=self.poincare_x[start:stop].copy(), poincare_v=self.poincare_v[start:stop].copy(),
+                           impact_t=self.impact_t[lo:hi].copy(), impact_v=self.impact_v[lo:hi].copy(),
+                           impact_offsets=self.impact_offsets[start:stop + 1] - lo, settings=self.settings, **kw)
+
+    @property
+    def steps_per_second(self) -> float:
+        return float(self.n_steps.sum() / max(self.wall_time.sum(), 1e-300))
+
+
+def omega_grid(start: float, stop: float, n: int) -> np.ndarray:
+    """n equally spaced w from start to stop inclusive; start > stop gives a decreasing sweep."""
+    if not (math.isfinite(start) and math.isfinite(stop)) or start <= 0 or stop <= 0:
+        raise ValueError(f"omega start and stop must be finite and > 0 rad/s, got {start}, {stop}")
+    if start == stop:
+        raise ValueError(f"omega start and stop must differ, both are {start}")
+    if not isinstance(n, (int, np.integer)) or n < 2:
+        raise ValueError(f"a sweep needs n >= 2 w values, got {n!r}")
+    return np.linspace(float(start), float(stop), int(n))
+
+
+def _check_omegas(omegas) -> np.ndarray:
+    w = np.asarray(omegas, dtype=float)
+    if w.ndim != 1 or w.size < 1:
+        raise ValueError("omegas must be a non-empty 1-D sequence of rad/s values")
+    if not np.all(np.isfinite(w)) or np.any(w <= 0):
+        raise ValueError("omegas must be finite and > 0 rad/s")
+    if w.size > 1:
+        d = np.diff(w)
+        if not (np.all(d > 0) or np.all(d < 0)):
+            raise ValueError("omegas must be strictly monotone (a continuation follows w in one direction)")
+    return w
+
+
+def continuation(
+    omegas: Sequence[float],
+    settings: SweepSettings,
+    *,
+    x0: float | None = None,
+    v0: float | None = None,
+    first_transient: int | None = None,
+    progress: Callable[[int, int, float], None] | None = None,
+) -> SweepResult:
+    """Follow the attractor along `omegas` (in the given order), one simulation per w.
+
+    The first w starts from (x0, v0) (default: settings.x0, settings.v0) and discards
+    `first_transient` periods (default settings.n_initial); every later w starts from the
+    previous end state and discards settings.n_transient periods. Then n_record periods
+    are recorded: Poincare points at the n_record section times, impacts, near misses.
+    `progress(i, n, w)` is called after each w.
+    """
+    w = _check_omegas(omegas)
+    s = settings
+    x = s.x0 if x0 is None else float(x0)
+    v = s.v0 if v0 is None else float(v0)
+    if not (math.isfinite(x) and math.isfinite(v)):
+        raise ValueError(f"start state must be finite, got x0={x}, v0={v}")
+    n, n_rec = w.size, s.n_record
+    px = np.empty((n, n_rec))
+    pv = np.empty((n, n_rec))
+    per_w = {k: np.empty(n) for k in _PER_W}
+    per_w["n_steps"] = np.empty(n, dtype=np.int64)
+    imp_t, imp_v = [], []
+    offsets = np.zeros(n + 1, dtype=np.int64)
+    n_tr = s.n_initial if first_transient is None else int(first_transient)
+    for i, om in enumerate(w):
+        period = 2.0 * math.pi / om
+        # Record from half a period before the first section time so that rounding of
+        # n_tr * period can never drop the Poincare point at phi = 2 pi n_tr.
+        t_rec = n_tr * period
+        t0 = time.perf_counter()
+        res = simulate(om, max(t_rec - 0.5 * period, 0.0), (n_rec + 0.5) * period if n_tr else n_rec * period,
+                       x0=x, v0=v, params=s.params, rtol=s.rtol, atol=s.atol,
+                       record=("impacts", "near_misses", "poincare"))
+        wall = time.perf_counter() - t0
+        pt = res.events["poincare"]
+        sec = np.rint(pt["t"] / period).astype(np.int64) - n_tr
+        keep = (sec >= 0) & (sec < n_rec)
+        x_sec, v_sec = np.full(n_rec, np.nan), np.full(n_rec, np.nan)
+        x_sec[sec[keep]], v_sec[sec[keep]] = pt["x"][keep], pt["v"][keep]
+        if np.isnan(x_sec).any():  # cannot happen unless the core drops a section time
+            raise RuntimeError(f"w = {om}: missing Poincare points {np.flatnonzero(np.isnan(x_sec))}")
+        px[i], pv[i] = x_sec, v_sec
+        it = res.events["impacts"]["t"]
+        sel = it >= t_rec - 1e-9 * period
+        imp_t.append(it[sel] - t_rec)
+        imp_v.append(res.events["impacts"]["v"][sel])
+        offsets[i + 1] = offsets[i] + int(sel.sum())
+        nm = res.events["near_misses"]
+        gaps = nm["gap"][nm["t"] >= t_rec - 1e-9 * period]
+        per_w["min_gap"][i] = gaps.min() if gaps.size else np.nan
+        per_w["omega"][i] = om
+        per_w["x_start"][i], per_w["v_start"][i] = x, v
+        x, v = float(res.final_state[1]), float(res.final_state[2])
+        per_w["x_end"][i], per_w["v_end"][i] = x, v
+        per_w["n_steps"][i] = res.attrs["n_steps"]
+        per_w["wall_time"][i] = wall
+        n_tr = s.n_transient
+        if progress is not None:
+            progress(i, n, float(om))
+    return SweepResult(poincare_x=px, poincare_v=pv, impact_t=np.concatenate(imp_t) if imp_t else np.empty(0),
+                       impact_v=np.concatenate(imp_v) if imp_v else np.empty(0), impact_offsets=offsets,
+                       settings=s, **per_w)
+
+
+# ------------------------------------------------------------------ chunking
+
+
+def plan_chunks(n: int, n_chunks: int, stride: int) -> list[tuple[int, int]]:
+    """Split indices 0..n-1 into n_chunks contiguous ranges [a, b) with every a a multiple of stride.
+
+    Chunk starts sit on the coarse grid (indices 0, stride, 2 stride, ...) so every chunk
+    k > 0 can be seeded from the coarse pass at index a - stride.
+    """
+    if not isinstance(stride, (int, np.integer)) or stride < 1:
+        raise ValueError(f"stride must be an integer >= 1, got {stride!r}")
+    if not isinstance(n_chunks, (int, np.integer)) or n_chunks < 1:
+        raise ValueError(f"n_chunks must be an integer >= 1, got {n_chunks!r}")
+    n_coarse = (n - 1) // stride + 1  # coarse points 0, stride, ... <= n-1
+    if n_chunks > n_coarse:
+        raise ValueError(f"{n_chunks} chunks need at least {n_chunks} coarse points; "
+                         f"n = {n} w values with stride {stride} give {n_coarse}")
+    starts = [stride * int(round(k * n_coarse / n_chunks)) for k in range(n_chunks)]
+    return [(a, b) for a, b in zip(starts, starts[1:] + [n])]
+
+
+def coarse_indices(n: int, stride: int) -> np.ndarray:
+    """Fine-grid indices of the coarse pass: 0, stride, 2 stride, ..."""
+    return np.arange(0, n, stride)
+
+
+def coarse_pass(omegas, settings: SweepSettings, stride: int, progress=None) -> SweepResult:
+    """Sequential continuation over every stride-th w: the seeds of the chunks (cheap: 1/stride)."""
+    w = _check_omegas(omegas)
+    return continuation(w[coarse_indices(w.size, stride)], settings, progress=progress)
+
+
+def run_chunk(omegas, settings: SweepSettings, chunk: tuple[int, int], stride: int,
+              seeds: SweepResult | None, progress=None) -> SweepResult:
+    """The fine sweep over indices chunk = (a, b), seeded from the coarse pass.
+
+    Chunk 0 starts like the sequential sweep (from settings.x0, v0); chunk a > 0 starts
+    from the coarse end state at w[a - stride], re-runs w[a - stride + 1 .. a - 1] as
+    warm-up and keeps w[a .. b - 1].
+    """
+    w = _check_omegas(omegas)
+    a, b = chunk
+    if not 0 <= a < b <= w.size:
+        raise ValueError(f"chunk {chunk} outside the grid of {w.size} w values")
+    if a == 0:
+        return continuation(w[:b], settings, progress=progress)
+    if a % stride:
+        raise ValueError(f"chunk start {a} is not on the coarse grid (multiple of stride {stride})")
+    if seeds is None:
+        raise ValueError("chunks after the first need the coarse pass (seeds)")
+    j = a // stride - 1
+    if j >= len(seeds) or not math.isclose(seeds.omega[j], w[a - stride], rel_tol=0, abs_tol=1e-12):
+        raise ValueError(f"seeds do not belong to this grid: coarse point {j} is w = "
+                         f"{seeds.omega[j] if j < len(seeds) else 'missing'}, expected {w[a - stride]}")
+    res = continuation(w[a - stride + 1:b], settings, x0=seeds.x_end[j], v0=seeds.v_end[j],
+                       first_transient=settings.n_transient, progress=progress)
+    return res.subset(stride - 1, len(res))
+
+
+def merge_chunks(chunks: Sequence[SweepResult]) -> SweepResult:
+    """Concatenate chunk results (in sweep order) into one sweep."""
+    if not chunks:
+        raise ValueError("no chunks to merge")
+    s = chunks[0].settings
+    for c in chunks[1:]:
+        if c.settings != s:
+            raise ValueError("chunks were computed with different settings")
+    offsets = [np.zeros(1, dtype=np.int64)]
+    base = 0
+    for c in chunks:
+        offsets.append(c.impact_offsets[1:] + base)
+        base += int(c.impact_offsets[-1])
+    merged = SweepResult(
+        poincare_x=np.concatenate([c.poincare_x for c in chunks]),
+        poincare_v=np.concatenate([c.poincare_v for c in chunks]),
+        impact_t=np.concatenate([c.impact_t for c in chunks]),
+        impact_v=np.concatenate([c.impact_v for c in chunks]),
+        impact_offsets=np.concatenate(offsets), settings=s,
+        **{k: np.concatenate([getattr(c, k) for c in chunks]) for k in _PER_W})
+    _check_omegas(merged.omega)
+    return merged
+
+
+def sweep_chunked(omegas, settings: SweepSettings, n_chunks: int, stride: int) -> SweepResult:
+    """In-process equivalent of the workflow's coarse pass + chunk jobs + merge."""
+    w = _check_omegas(omegas)
+    plan = plan_chunks(w.size, n_chunks, stride)
+    seeds = coarse_pass(w, settings, stride) if n_chunks > 1 else None
+    return merge_chunks([run_chunk(w, settings, c, stride, seeds) for c in plan])
+
+
+# ------------------------------------------------------------------ files
+
+_ARRAYS = ("poincare_x", "poincare_v", "impact_t", "impact_v", "impact_offsets") + _PER_W
+
+
+def save_sweep(path, result: SweepResult, **attrs) -> Path:
+    """Write a sweep to HDF5 atomically (temporary name, then rename); extra attrs are stored too."""
+    from .io import check_writable, git_commit
+    from . import __version__
+
+    path = check_writable(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        with h5py.File(tmp, "w") as f:
+            for name in _ARRAYS:
+                f.create_dataset(name, data=getattr(result, name), compression="gzip", shuffle=True)
+            for key, value in {**result.settings.to_attrs(), **attrs}.items():
+                f.attrs[key] = value
+            f.attrs["version"] = __version__
+            f.attrs["git_commit"] = git_commit()
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+    return path
+
+
+def load_sweep(path) -> tuple[SweepResult, dict]:
+    """(result, attrs) of a file written by save_sweep."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"sweep file {path} does not exist")
+    with h5py.File(path, "r") as f:
+        arrays = {name: f[name][()] for name in _ARRAYS}
+        attrs = dict(f.attrs)
+    return SweepResult(settings=SweepSettings.from_attrs(attrs), **arrays), attrs
+

@@ -1,0 +1,13 @@
+"""Shared fixtures: the model variants the core tests need."""
+
+import dataclasses
+
+import pytest
+
+from impactosc.model import ModelParams
+
+
+@pytest.fixture(scope="session")
+def linear_params():
+    """Model BC without dry friction and with the obstacle out of reach: a linear oscillator."""
+    return dataclasses.replace(ModelParams(), T=0.0, xI=1.0)
