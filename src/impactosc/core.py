@@ -5,13 +5,22 @@ at v = 0 (where |v|^n3 and the friction switch live) and at the Hunt-Crossley cu
 step of the 8th-order explicit method straddles a non-smooth point. Inside a piece the sign
 of v is fixed, hence x is monotone: an obstacle crossing cannot come in an unseen pair, and
 the only pair to guard against is v touching zero twice in a step (checked on the dense
-output whenever an acceleration bound cannot exclude it). When v = 0 falls where the net
-force cannot overcome dry friction (sticking) or barely can (slow reversal), the piece is
-handed to the implicit Radau solver until |v| leaves the friction band again.
+output whenever an acceleration bound cannot exclude it).
 
-Steps also land exactly on every Poincare time t_i = i * (2 pi / w) (one multiplication,
-no accumulated time) and on the end of the run, so a run can be split into chunks that
-resume from the saved state (``st``) without changing a single step.
+A piece that starts or ends at a singular point is integrated in a variable in which it is
+smooth (dop853.deriv): sqrt(x - xI) next to a contact onset or exit (the force ~ h^1.5),
+|v|^n3 around the deepest penetration (the Hunt-Crossley damping ~ |v|^n3), and
+asinh(v / eps) through the friction band of a free-flight reversal. The singular point is
+then an exact end of the piece, and steps are set by accuracy, not by the singularity.
+When v = 0 falls where the net force cannot overcome dry friction (sticking) or barely can
+(slow reversal), the piece is handed to the implicit Radau solver until |v| leaves the
+friction band again. Any transformed piece that would become invalid (a vanishing
+acceleration or velocity) falls back to plain time stepping, which is always correct.
+
+Steps in time land exactly on every Poincare time t_i = i * (2 pi / w) (one
+multiplication, no accumulated time); inside a transformed piece the section is located
+on the dense output of t(s). A run can be split into calls of at most ``max_steps`` steps
+that resume from the saved state (``st``) without changing a single step.
 
 Event rows written to ``ev`` are (kind, t, a, b):
     IMPACT (t, v at onset), PENETRATION (t, h = x - xI at v = 0), NEAR_MISS (t, gap = xI - x
@@ -26,17 +35,20 @@ import numpy as np
 from numba import njit
 
 from . import dop853, radau
-from .model import CONTACT, CUT, EPS, FREE, M, T, XI, accel, stick_force
+from .dop853 import SQRTH, TIME, UVEL, WVEL
+from .model import B, CONTACT, CUT, EPS, FREE, M, N3, T, XI, accel, stick_force
 
 IMPACT, PENETRATION, NEAR_MISS, POINCARE = 0, 1, 2, 3
 EVENT_NAMES = ("impacts", "penetrations", "near_misses", "poincare")
 
 # Layout of the resumable state vector.
-S_T, S_X, S_V, S_PHASE, S_SLOW, S_H, S_PDIR, S_PT, S_PX, S_ISEC, S_WIN, S_TSLOW, S_VCUT = range(13)
-N_STATE = 13
+(S_T, S_X, S_V, S_PHASE, S_SLOW, S_H, S_PDIR, S_PT, S_PX, S_ISEC, S_WIN, S_TSLOW, S_VCUT,
+ S_MODE, S_S, S_SGN, S_V1, S_TREF, S_NINV, S_TAU) = range(20)
+N_STATE = 20
 # Counters.
-C_STEPS, C_REJECT, C_RHS, C_SLOW_STEPS, C_STICK, C_SLOW_TRANSIT, C_DENSE, C_NEWTON, C_DIP = range(9)
-N_COUNT = 9
+(C_STEPS, C_REJECT, C_RHS, C_SLOW_STEPS, C_STICK, C_SLOW_TRANSIT, C_DENSE, C_NEWTON, C_DIP,
+ C_TRANSFORMED, C_FALLBACK) = range(11)
+N_COUNT = 11
 
 BAND = 100.0  # the implicit phase ends when |v| > BAND * eps (friction slope then < 1e-6 T/eps)
 SLOW_FACTOR = 1.5  # v = 0 with |net force| < 1.5 T: stick or slow reversal -> implicit phase
@@ -44,10 +56,13 @@ DIP_SAMPLES = 32
 RESTART_FRACTION = 1e-3  # first step after an event, as a fraction of the step that held it
 APPROACH_BAND = 1e4  # within |v| < APPROACH_BAND * eps of a reversal ...
 APPROACH_FRACTION = 0.5  # ... a step covers at most this fraction of the time left to v = 0
+U_BAND = 1e3  # free flight with |v| < U_BAND * eps, heading for v = 0, runs in s = asinh(v/eps)
+CONTACT_SWITCH = 0.7  # in contact, sqrt(x - xI) while v > 0.7 v_onset, then |v|^n3 ...
+RESTITUTION_SWITCH = 0.5  # ... until |v| = 0.5 v_onset on the way out, then sqrt(x - xI)
+MAX_INVALID = 3  # consecutive invalid transformed steps before falling back to time stepping
 
 # event candidates inside one explicit step
 _EV_NONE, _EV_X_UP, _EV_X_DOWN, _EV_V, _EV_CUT_ON, _EV_CUT_OFF = range(6)
-
 
 @njit(cache=True)
 def _push(ev, n, kind, t, a, b):
@@ -90,17 +105,21 @@ def _phase_of(p, x, v, vcut):
 
 
 @njit(cache=True)
-def _sample_window(F, x0, v0, t0, h, t1, st, win_t0, win_dt, win_x, win_v):
-    """Fill the window samples due in (t0, t1] from the step's dense output."""
+def _sample_window(F, mode, tref, t0, x0, v0, h, t1, st, win_t0, win_dt, win_x, win_v):
+    """Fill the window samples due up to absolute time t1 from the step's dense output
+    (whose time component starts at t0, measured from tref)."""
     j = int(st[S_WIN])
     n = win_x.shape[0]
     while j < n:
         ts = win_t0 + j * win_dt
         if ts > t1:
             break
-        th = (ts - t0) / h
-        win_x[j] = dop853.dense_eval(F, x0, th, 0)
-        win_v[j] = dop853.dense_eval(F, v0, th, 1)
+        if mode == TIME:
+            th = (ts - t0) / h
+        else:  # t is a component: invert the monotone t(s)
+            th = _bisect(F, t0, 0, ts - tref, 0.0, 1.0, -1.0)
+        win_x[j] = dop853.dense_eval(F, x0, th, 1)
+        win_v[j] = dop853.dense_eval(F, v0, th, 2)
         j += 1
     st[S_WIN] = j
 
@@ -142,6 +161,7 @@ def _enter_slow(p, st, cnt, t, x, v, direction):
     else:
         cnt[C_SLOW_TRANSIT] += 1
     st[S_SLOW] = 1.0
+    st[S_MODE] = TIME
     st[S_PDIR] = direction
     st[S_PT] = t
     st[S_PX] = x
@@ -184,38 +204,82 @@ def _slow_locate(p, phase, t, x, v, h, rtol, atol, work, cnt, c, level, sign_lo)
 
 
 @njit(cache=True)
-def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0, win_dt, win_x, win_v):
-    """Integrate from the state ``st`` to ``t_end``; events at t >= t_record go to ``ev``.
+def _contact_mode(p, st, t, x, v):
+    """Mode for a contact piece starting at (t, x, v) with v > 0 (onset): sqrt(h) while the
+    velocity is well away from zero, |v|^n3 when it already is small; time otherwise."""
+    if p[B] <= 0.0 or not (0.0 < p[N3] < 1.0) or v <= 0.0:
+        st[S_MODE] = TIME
+        return
+    a = accel(p, CONTACT, t, x, v)
+    st[S_V1] = CONTACT_SWITCH * v
+    if x - p[XI] <= 0.0 and v > 1e3 * p[EPS]:
+        st[S_MODE] = SQRTH
+        st[S_SGN] = 1.0
+        st[S_S] = 0.0
+    elif a < 0.0:
+        st[S_MODE] = WVEL
+        st[S_SGN] = 1.0
+        st[S_S] = -(v ** p[N3])
+    else:
+        st[S_MODE] = TIME
 
-    flags: bit 1 impacts, 2 penetrations, 4 near misses, 8 Poincare points.
-    Returns (ev, n_ev) (ev may be reallocated when it grows). ``st`` and ``cnt`` are
-    updated in place so the next call continues the same trajectory.
+
+@njit(cache=True)
+def _mode_end(p, st):
+    """Value of s at which the current transformed piece ends (inf: ends by an event)."""
+    mode = int(st[S_MODE])
+    s = st[S_S]
+    if mode == SQRTH:
+        return math.inf if st[S_SGN] > 0.0 else 0.0
+    if mode == WVEL:
+        return 0.0 if st[S_SGN] > 0.0 else st[S_V1] ** p[N3]
+    # UVEL: first to v = 0 (s = 0), then out of the band
+    return 0.0 if s < 0.0 else math.asinh(U_BAND)
+
+
+@njit(cache=True)
+def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0, win_dt, win_x, win_v, max_steps):
+    """Integrate from the state ``st`` towards ``t_end``; events at t >= t_record go to ``ev``.
+
+    flags: bit 1 impacts, 2 penetrations, 4 near misses, 8 Poincare points. Returns after
+    t_end or after `max_steps` step attempts, with ``st``/``cnt`` updated in place so the
+    next call continues the same trajectory. Returns (ev, n_ev) (ev may be reallocated).
     """
-    K = np.zeros((16, 2))
-    F = np.zeros((7, 2))
+    K = np.zeros((16, 3))
+    F = np.zeros((7, 3))
     work = np.zeros((8, 6))
     eps = p[EPS]
     vband = BAND * eps
     vcut = st[S_VCUT]
+    q = 1.0 / p[N3] if p[N3] > 0.0 else 0.0
     t = st[S_T]
     x = st[S_X]
     v = st[S_V]
     phase = int(st[S_PHASE])
+    mode = int(st[S_MODE])
+    tref = st[S_TREF] if mode != TIME else 0.0
+    if mode != TIME:
+        t = st[S_TAU]
+    s = st[S_S] if mode != TIME else t
+    sgn = st[S_SGN]
     h = st[S_H]
-    ax = accel(p, phase, t, x, v)
+    n_invalid = int(st[S_NINV])
+    d0t, d0x, d0v = dop853.deriv(p, mode, phase, sgn, q, s, tref, t, x, v)
     cnt[C_RHS] += 1
     friction_jump = 2.0 * p[T] / p[M]
+    steps = 0
 
     while True:
         i_sec = st[S_ISEC]
         t_sec = i_sec * period
-        if t >= t_sec:  # landed on a Poincare time (steps are clamped to it)
+        if t >= t_sec and mode == TIME:  # landed on a Poincare time (time steps are clamped to it)
             if flags & 8 and t_sec >= t_record:
                 ev, n_ev = _push(ev, n_ev, POINCARE, t_sec, x, v)
             st[S_ISEC] = i_sec + 1.0
             continue
-        if t >= t_end:
+        if tref + t >= t_end or steps >= max_steps:
             break
+        steps += 1
         t_target = min(t_end, t_sec)
         if st[S_SLOW] != 0.0:
             # ---------------- implicit phase: sticking or slow reversal ----------------
@@ -236,7 +300,6 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
             h_next = hs * fac if not clamped else max(h, hs * fac)
             t1 = t_target if clamped else t + hs
             # events inside the step: obstacle crossing, v changing sign (not from v = 0 exactly)
-            g0 = x - p[XI]
             g1 = x1 - p[XI]
             hit_x = (phase == FREE and g1 > 0.0) or (phase == CONTACT and g1 < 0.0)
             hit_v = v != 0.0 and v1 != 0.0 and _sign(v1) != _sign(v)
@@ -245,7 +308,8 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                 th_v = 2.0
                 xe_x, ve_x, xe_v, ve_v = x, v, x, v
                 if hit_x:
-                    th_x, xe_x, ve_x = _slow_locate(p, phase, t, x, v, hs, rtol, atol, work, cnt, 0, p[XI], -1.0 if phase == FREE else 1.0)
+                    th_x, xe_x, ve_x = _slow_locate(p, phase, t, x, v, hs, rtol, atol, work, cnt, 0, p[XI],
+                                                    -1.0 if phase == FREE else 1.0)
                 if hit_v:
                     th_v, xe_v, ve_v = _slow_locate(p, phase, t, x, v, hs, rtol, atol, work, cnt, 1, 0.0, _sign(v))
                 th = min(th_x, th_v)
@@ -282,14 +346,229 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                     ev, n_ev = _record_extremum(p, ev, n_ev, flags, t_record, phase, st[S_PT], st[S_PX], st[S_PDIR])
                 st[S_SLOW] = 0.0
                 st[S_PDIR] = 0.0
-                ax = accel(p, phase, t, x, v)
+                mode = TIME
+                s = t
+                d0t, d0x, d0v = dop853.deriv(p, mode, phase, sgn, q, s, tref, t, x, v)
                 cnt[C_RHS] += 1
                 h = 0.0
             continue
 
-        # ---------------- explicit phase: DOP853 on one smooth piece ----------------
+        if mode != TIME:
+            # ------------- transformed piece: s is sqrt(h), |v|^n3 or asinh(v/eps) -------------
+            # the time component t is measured from tref, the start of the piece
+            s_end = _mode_end(p, st)
+            if h <= 0.0:
+                if mode == WVEL and sgn < 0.0:  # starts where every derivative vanishes
+                    h = 0.1 * s_end
+                else:
+                    h = dop853.initial_step(p, mode, phase, sgn, q, s, tref, t, x, v, d0t, d0x, d0v, rtol, atol)
+                    cnt[C_RHS] += 1
+            clamped = s + h >= s_end
+            hs = s_end - s if clamped else h
+            t1, x1, v1, err = dop853.step(p, mode, phase, sgn, q, s, tref, t, x, v, d0t, d0x, d0v, hs, rtol, atol, K)
+            cnt[C_RHS] += 12
+            valid = t1 > t and err < math.inf
+            for j in range(13):
+                if not K[j, 0] >= 0.0:
+                    valid = False
+            if mode == SQRTH and sgn > 0.0 and not v1 > 0.0:
+                valid = False
+            if not valid:
+                cnt[C_REJECT] += 1
+                n_invalid += 1
+                st[S_NINV] = n_invalid
+                if n_invalid >= MAX_INVALID:  # the transformation breaks down here: use time
+                    cnt[C_FALLBACK] += 1
+                    n_invalid = 0
+                    st[S_NINV] = 0
+                    t = tref + t
+                    tref = 0.0
+                    mode = TIME
+                    st[S_MODE] = TIME
+                    s = t
+                    d0t, d0x, d0v = dop853.deriv(p, mode, phase, sgn, q, s, tref, t, x, v)
+                    cnt[C_RHS] += 1
+                    h = 0.0
+                    continue
+                h = 0.25 * hs
+                continue
+            if err > 1.0:
+                cnt[C_REJECT] += 1
+                h = hs * dop853.new_step_factor(err, False)
+                continue
+            n_invalid = 0
+            st[S_NINV] = 0
+            cnt[C_STEPS] += 1
+            cnt[C_TRANSFORMED] += 1
+            fac = dop853.new_step_factor(err, False)
+            h_next = hs * fac if not clamped else max(h, hs * fac)
+            s1 = s_end if clamped else s + hs
+            built = False
+            # terminal events and the end of the run inside the step
+            th_ev = 2.0
+            kind = _EV_NONE
+            if phase == FREE and x1 - p[XI] > 0.0:
+                dop853.dense_prepare(p, mode, phase, sgn, q, s, tref, t, x, v, t1, x1, v1, hs, K, F)
+                built = True
+                th_ev = _bisect(F, x, 1, p[XI], 0.0, 1.0, -1.0)
+                kind = _EV_X_UP
+            elif phase == CONTACT and x1 - p[XI] < 0.0:
+                dop853.dense_prepare(p, mode, phase, sgn, q, s, tref, t, x, v, t1, x1, v1, hs, K, F)
+                built = True
+                th_ev = _bisect(F, x, 1, p[XI], 0.0, 1.0, 1.0)
+                kind = _EV_X_DOWN
+            elif phase == CONTACT and v1 <= -vcut:
+                dop853.dense_prepare(p, mode, phase, sgn, q, s, tref, t, x, v, t1, x1, v1, hs, K, F)
+                built = True
+                th_ev = _bisect(F, v, 2, -vcut, 0.0, 1.0, 1.0)
+                kind = _EV_CUT_ON
+            if built:
+                cnt[C_DENSE] += 1
+                cnt[C_RHS] += 3
+            th_end = 2.0
+            t_stop = tref + t1  # absolute
+            if t_stop > t_end or t_stop > t_sec or _window_due(st, win_t0, win_dt, win_x, t_stop):
+                if not built:
+                    dop853.dense_prepare(p, mode, phase, sgn, q, s, tref, t, x, v, t1, x1, v1, hs, K, F)
+                    cnt[C_DENSE] += 1
+                    cnt[C_RHS] += 3
+                    built = True
+                if kind != _EV_NONE:
+                    t_stop = tref + dop853.dense_eval(F, t, th_ev, 0)
+                if t_stop > t_end:
+                    th_end = _bisect(F, t, 0, t_end - tref, 0.0, 1.0, -1.0)
+                    t_stop = t_end
+                while t_sec < t_stop:  # Poincare times inside the piece: exact t, interpolated state
+                    th = _bisect(F, t, 0, t_sec - tref, 0.0, 1.0, -1.0)
+                    if flags & 8 and t_sec >= t_record:
+                        ev, n_ev = _push(ev, n_ev, POINCARE, t_sec, dop853.dense_eval(F, x, th, 1),
+                                         dop853.dense_eval(F, v, th, 2))
+                    i_sec += 1.0
+                    st[S_ISEC] = i_sec
+                    t_sec = i_sec * period
+                if _window_due(st, win_t0, win_dt, win_x, t_stop):
+                    _sample_window(F, mode, tref, t, x, v, hs, t_stop, st, win_t0, win_dt, win_x, win_v)
+            if th_end <= 1.0 and th_end < th_ev:  # the run ends inside this piece
+                x = dop853.dense_eval(F, x, th_end, 1)
+                v = dop853.dense_eval(F, v, th_end, 2)
+                t = t_end
+                tref = 0.0
+                mode = TIME
+                st[S_MODE] = TIME
+                s = t
+                h = 0.0
+                continue
+            if kind != _EV_NONE:
+                te = tref + dop853.dense_eval(F, t, th_ev, 0)
+                xe = dop853.dense_eval(F, x, th_ev, 1)
+                ve = dop853.dense_eval(F, v, th_ev, 2)
+                if kind == _EV_X_UP:
+                    xe = p[XI]
+                    if flags & 1 and te >= t_record:
+                        ev, n_ev = _push(ev, n_ev, IMPACT, te, ve, 0.0)
+                    phase = CONTACT
+                    _contact_mode(p, st, te, xe, ve)
+                elif kind == _EV_X_DOWN:
+                    xe = p[XI]
+                    phase = FREE
+                    st[S_MODE] = TIME
+                else:
+                    ve = -vcut
+                    phase = CUT
+                    st[S_MODE] = TIME
+                x, v = xe, ve
+                st[S_PHASE] = phase
+                mode = int(st[S_MODE])
+                if mode == TIME:
+                    tref = 0.0
+                    t = te
+                    s = t
+                else:
+                    tref = te
+                    t = 0.0
+                    s = st[S_S]
+                sgn = st[S_SGN]
+                d0t, d0x, d0v = dop853.deriv(p, mode, phase, sgn, q, s, tref, t, x, v)
+                cnt[C_RHS] += 1
+                h = 0.0  # the new piece is smooth at its start (free flight) or transformed
+                continue
+            # accept the step
+            if s + hs == s1:
+                d0t, d0x, d0v = K[12, 0], K[12, 1], K[12, 2]
+            else:
+                d0t, d0x, d0v = dop853.deriv(p, mode, phase, sgn, q, s1, tref, t1, x1, v1)
+                cnt[C_RHS] += 1
+            t, x, v, s = t1, x1, v1, s1
+            h = h_next
+            new_mode = mode
+            ta = tref + t  # absolute time
+            if clamped:
+                if mode == SQRTH:  # s = 0: exit from the obstacle
+                    x = p[XI]
+                    phase = FREE
+                    new_mode = TIME
+                elif mode == WVEL and sgn > 0.0:  # s = 0: v = 0 at the deepest penetration
+                    v = 0.0
+                    fs = stick_force(p, phase, ta, x)
+                    st[S_PHASE] = phase
+                    if abs(fs) < SLOW_FACTOR * p[T]:
+                        _enter_slow(p, st, cnt, ta, x, v, 1.0)
+                        new_mode = TIME
+                    else:
+                        ev, n_ev = _record_extremum(p, ev, n_ev, flags, t_record, phase, ta, x, 1.0)
+                        if fs < 0.0:  # restitution: v = -w^q with w from 0 up to |V1|^n3
+                            sgn = -1.0
+                            s = 0.0
+                            st[S_V1] = RESTITUTION_SWITCH * st[S_V1] / CONTACT_SWITCH
+                        else:
+                            new_mode = TIME
+                elif mode == WVEL:  # |v| = V1 on the way out: sqrt(h) takes over to the exit
+                    if x > p[XI]:
+                        new_mode = SQRTH
+                        sgn = -1.0
+                        s = -math.sqrt(x - p[XI])
+                    else:
+                        new_mode = TIME
+                elif s == 0.0:  # UVEL at v = 0: an extremum of x in free flight
+                    v = 0.0
+                    direction = -sgn  # v had the sign opposite to the acceleration
+                    st[S_PHASE] = phase
+                    if abs(stick_force(p, phase, ta, x)) < SLOW_FACTOR * p[T]:
+                        _enter_slow(p, st, cnt, ta, x, v, direction)
+                        new_mode = TIME
+                    else:
+                        ev, n_ev = _record_extremum(p, ev, n_ev, flags, t_record, phase, ta, x, direction)
+                else:  # UVEL out of the friction band
+                    new_mode = TIME
+            elif mode == SQRTH and sgn > 0.0 and v < st[S_V1]:  # slower: |v|^n3 on to v = 0
+                if accel(p, phase, ta, x, v) < 0.0:
+                    new_mode = WVEL
+                    sgn = 1.0
+                    s = -(v ** p[N3])
+                else:
+                    new_mode = TIME
+            if new_mode != mode or clamped:
+                mode = new_mode
+                st[S_MODE] = mode
+                st[S_SGN] = sgn
+                st[S_PHASE] = phase
+                if mode == TIME:
+                    tref = 0.0
+                    t = ta
+                    s = t
+                else:
+                    tref = ta
+                    t = 0.0
+                st[S_S] = s
+                d0t, d0x, d0v = dop853.deriv(p, mode, phase, sgn, q, s, tref, t, x, v)
+                cnt[C_RHS] += 1
+                h = 0.0
+            continue
+
+        # ---------------- time stepping: DOP853 on one smooth piece ----------------
+        ax = d0v
         if h <= 0.0:
-            h0 = dop853.initial_step(p, phase, t, x, v, ax, dop853.ORDER, rtol, atol)
+            h0 = dop853.initial_step(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, d0t, d0x, d0v, rtol, atol)
             cnt[C_RHS] += 1
             h = h0 if h == 0.0 else min(h0, -h)
         if v * ax < 0.0 and abs(v) < APPROACH_BAND * eps:
@@ -298,7 +577,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
             h = min(h, max(APPROACH_FRACTION * abs(v), 0.25 * eps) / abs(ax))
         clamped = h >= t_target - t
         hs = t_target - t if clamped else h
-        x1, v1, err = dop853.step(p, phase, t, x, v, ax, hs, rtol, atol, K)
+        t1, x1, v1, err = dop853.step(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, d0t, d0x, d0v, hs, rtol, atol, K)
         cnt[C_RHS] += 12
         if err > 1.0:
             cnt[C_REJECT] += 1
@@ -320,19 +599,18 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
         if not v_cross and sgn0 != 0.0:
             # v keeps its sign at both ends; can it have touched zero in between?
             amax = 0.0
-            for s in range(13):
-                amax = max(amax, abs(K[s, 1]))
+            for j in range(13):
+                amax = max(amax, abs(K[j, 2]))
             if abs(v) + abs(v1) - (2.0 * amax + friction_jump) * hs <= 0.0:
                 cnt[C_DIP] += 1
-                dop853.dense_prepare(p, phase, t, x, v, x1, v1, hs, K, F)
+                dop853.dense_prepare(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
                 cnt[C_RHS] += 3
                 cnt[C_DENSE] += 1
                 built = True
                 for k in range(1, DIP_SAMPLES):
-                    if dop853.dense_eval(F, v, k / DIP_SAMPLES, 1) * sgn0 < 0.0:
+                    if dop853.dense_eval(F, v, k / DIP_SAMPLES, 2) * sgn0 < 0.0:
                         v_cross = True
                         break
-        g0 = x - p[XI]
         g1 = x1 - p[XI]
         x_up = phase == FREE and g1 > 0.0
         x_down = phase != FREE and g1 < 0.0
@@ -340,49 +618,52 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
         cut_off = phase == CUT and v1 > -vcut
         if v_cross or x_up or x_down or cut_on or cut_off:
             if not built:
-                dop853.dense_prepare(p, phase, t, x, v, x1, v1, hs, K, F)
+                dop853.dense_prepare(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
                 cnt[C_RHS] += 3
                 cnt[C_DENSE] += 1
                 built = True
             th = 2.0
             kind = _EV_NONE
             if v_cross:
-                th_v = _bisect(F, v, 1, 0.0, 0.0, 1.0, sgn0)
+                th_v = _bisect(F, v, 2, 0.0, 0.0, 1.0, sgn0)
                 th = th_v
                 kind = _EV_V
-                if phase == FREE and sgn0 > 0.0 and dop853.dense_eval(F, x, th_v, 0) >= p[XI]:
+                if phase == FREE and sgn0 > 0.0 and dop853.dense_eval(F, x, th_v, 1) >= p[XI]:
                     x_up = True  # the maximum lies at or past the obstacle: contact came first
             if x_up:
                 hi = th if th <= 1.0 else 1.0
-                th_x = _bisect(F, x, 0, p[XI], 0.0, hi, -1.0)
+                th_x = _bisect(F, x, 1, p[XI], 0.0, hi, -1.0)
                 if th_x <= th:
                     th = th_x
                     kind = _EV_X_UP
             if x_down:
-                th_x = _bisect(F, x, 0, p[XI], 0.0, 1.0, 1.0)
+                th_x = _bisect(F, x, 1, p[XI], 0.0, 1.0, 1.0)
                 if th_x < th:
                     th = th_x
                     kind = _EV_X_DOWN
             if cut_on:
-                th_c = _bisect(F, v, 1, -vcut, 0.0, 1.0, 1.0)
+                th_c = _bisect(F, v, 2, -vcut, 0.0, 1.0, 1.0)
                 if th_c < th:
                     th = th_c
                     kind = _EV_CUT_ON
             if cut_off:
-                th_c = _bisect(F, v, 1, -vcut, 0.0, 1.0, -1.0)
+                th_c = _bisect(F, v, 2, -vcut, 0.0, 1.0, -1.0)
                 if th_c < th:
                     th = th_c
                     kind = _EV_CUT_OFF
             te = t1 if th >= 1.0 else min(t + th * hs, t1)
-            xe = dop853.dense_eval(F, x, th, 0)
-            ve = dop853.dense_eval(F, v, th, 1)
+            xe = dop853.dense_eval(F, x, th, 1)
+            ve = dop853.dense_eval(F, v, th, 2)
             if _window_due(st, win_t0, win_dt, win_x, te):
-                _sample_window(F, x, v, t, hs, te, st, win_t0, win_dt, win_x, win_v)
+                _sample_window(F, TIME, 0.0, t, x, v, hs, te, st, win_t0, win_dt, win_x, win_v)
+            st[S_MODE] = TIME
             if kind == _EV_X_UP:
                 xe = p[XI]
                 if flags & 1 and te >= t_record:
                     ev, n_ev = _push(ev, n_ev, IMPACT, te, ve, 0.0)
                 phase = CONTACT if ve > -vcut else CUT
+                if phase == CONTACT:
+                    _contact_mode(p, st, te, xe, ve)
             elif kind == _EV_X_DOWN:
                 xe = p[XI]
                 phase = FREE
@@ -402,37 +683,68 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                     ev, n_ev = _record_extremum(p, ev, n_ev, flags, t_record, phase, te, xe, sgn0)
             t, x, v = te, xe, ve
             st[S_PHASE] = phase
-            ax = accel(p, phase, t, x, v)
+            mode = int(st[S_MODE])
+            sgn = st[S_SGN]
+            s = st[S_S] if mode != TIME else t
+            if mode != TIME:
+                tref = t
+                t = 0.0
+            d0t, d0x, d0v = dop853.deriv(p, mode, phase, sgn, q, s, tref, t, x, v)
             cnt[C_RHS] += 1
             # restart the step-size selection on the new piece, from a small first step: the
             # friction switch (width eps/|a| in time) or |v|^n3 start right at v = 0, and the
             # h^1.5 contact onset, are resolved by growing steps (x10 each) far more cheaply
             # than by rejecting a large guess (x0.2 each, 12 evaluations lost every time).
-            h = -RESTART_FRACTION * hs
+            h = -RESTART_FRACTION * hs if mode == TIME else 0.0
             continue
 
         # --- no event: accept the step ---
         if _window_due(st, win_t0, win_dt, win_x, t1):
             if not built:
-                dop853.dense_prepare(p, phase, t, x, v, x1, v1, hs, K, F)
+                dop853.dense_prepare(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
                 cnt[C_RHS] += 3
                 cnt[C_DENSE] += 1
                 built = True
-            _sample_window(F, x, v, t, hs, t1, st, win_t0, win_dt, win_x, win_v)
+            _sample_window(F, TIME, 0.0, t, x, v, hs, t1, st, win_t0, win_dt, win_x, win_v)
         # first-same-as-last; when the step was clamped onto a Poincare time, t + hs can
         # differ from t1 in the last bit: re-evaluate there so a resumed run is identical
-        ax = K[12, 1] if t + hs == t1 else accel(p, phase, t1, x1, v1)
+        if t + hs == t1:
+            d0t, d0x, d0v = K[12, 0], K[12, 1], K[12, 2]
+        else:
+            d0t, d0x, d0v = dop853.deriv(p, TIME, phase, 0.0, q, t1, 0.0, t1, x1, v1)
+            cnt[C_RHS] += 1
         t, x, v = t1, x1, v1
+        s = t
         h = h_next
         if abs(v) < vband and abs(stick_force(p, phase, t, x)) < SLOW_FACTOR * p[T]:
             _enter_slow(p, st, cnt, t, x, v, _sign(v))
             h = 0.0
+        elif phase == FREE and p[T] > 0.0 and v * d0v < 0.0 and abs(v) < U_BAND * eps:
+            # heading into the friction band of a reversal: continue in s = sgn asinh(v/eps)
+            # (without dry friction there is no band, and time stepping is smooth through v = 0)
+            sgn = _sign(d0v)
+            mode = UVEL
+            s = sgn * math.asinh(v / eps)
+            st[S_MODE] = mode
+            st[S_SGN] = sgn
+            st[S_S] = s
+            tref = t
+            t = 0.0
+            d0t, d0x, d0v = dop853.deriv(p, mode, phase, sgn, q, s, tref, t, x, v)
+            cnt[C_RHS] += 1
+            h = 0.0
 
-    st[S_T] = t
+    st[S_T] = tref + t
+    st[S_TAU] = t
+    st[S_TREF] = tref
     st[S_X] = x
     st[S_V] = v
     st[S_PHASE] = phase
+    st[S_MODE] = mode
+    st[S_S] = s
+    st[S_SGN] = sgn
     st[S_H] = h
+    st[S_NINV] = n_invalid
     return ev, n_ev
 
 

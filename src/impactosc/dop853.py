@@ -1,10 +1,11 @@
-"""Explicit Dormand-Prince 8(5,3) step with 7th-order dense output, for the 2-D state (x, v).
+"""Explicit Dormand-Prince 8(5,3) step with 7th-order dense output, for the state (t, x, v).
 
-Everything is written for the two scalar components so the numba-compiled step allocates
-nothing: the stage buffer ``K`` (16 x 2) and the interpolant ``F`` (7 x 2) are owned by
-the caller and reused. Error norm and step-size rules follow Hairer's DOP853 (as in SciPy),
-so a step taken here and one taken by ``scipy.integrate.solve_ivp(method="DOP853")`` from
-the same state with the same h agree to rounding (tested).
+The independent variable s is time itself on ordinary pieces (mode TIME) or a variable in
+which a piece that starts or ends at a singular point of the vector field is smooth (see
+``deriv``). Everything is written for the three scalar components so the numba-compiled
+step allocates nothing: the stage buffer ``K`` (16 x 3) and the interpolant ``F`` (7 x 3)
+are owned by the caller and reused. Error norm and step-size rules follow Hairer's DOP853
+(as in SciPy).
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from . import _dop853_tableau as tab
-from .model import accel
+from .model import EPS, XI, accel
 
 A = np.ascontiguousarray(tab.A)
 B = np.ascontiguousarray(tab.B)
@@ -23,59 +24,113 @@ C = np.ascontiguousarray(tab.C)
 E3 = np.ascontiguousarray(tab.E3)
 E5 = np.ascontiguousarray(tab.E5)
 D = np.ascontiguousarray(tab.D)
-N_STAGES = tab.N_STAGES  # 12 stages; K[12] holds f(t + h, y_new) (first-same-as-last)
+N_STAGES = tab.N_STAGES  # 12 stages; K[12] holds the derivative at the step end (FSAL)
 ORDER = 8
 ERROR_EXPONENT = -1.0 / 8.0  # error estimator order 7
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
 
+# Independent variable of a piece.
+TIME = 0  # s = t
+SQRTH = 1  # s = sgn * sqrt(x - xI): contact onset (sgn +1) or exit (sgn -1); h^n1 smooth in s
+WVEL = 2  # s = -sgn * |v|^n3: contact around v = 0, where |v|^n3 is smooth in s
+UVEL = 3  # s = sgn * asinh(v / eps): free flight through the friction band
+
 
 @njit(cache=True)
-def step(p, phase, t, x, v, ax, h, rtol, atol, K):
-    """One DOP853 step from (t, x, v) with x'' = ax at t; fills K[0:13].
+def deriv(p, mode, phase, sgn, q, s, tref, t, x, v):
+    """(dt/ds, dx/ds, dv/ds) of the piece; in TIME mode (1, v, a).
 
-    Returns (x_new, v_new, error_norm); error_norm < 1 means the step is acceptable.
+    SQRTH: y = sgn*s = sqrt(x - xI), so dt/ds = sgn 2y/v, dv/ds = sgn 2y a/v (v away from 0).
+    WVEL: w = -sgn*s = |v|^n3, v = sgn w^q (q = 1/n3): dv/ds = -q w^(q-1), dt/ds = (dv/ds)/a.
+    UVEL: u = sgn*s, v = eps sinh(u): dv/ds = sgn eps cosh(u), dt/ds = (dv/ds)/a.
+    In every mode dt/ds > 0 while the piece is valid; the caller checks it. Off TIME mode
+    the time component is tau = t - tref, measured from the start of the piece, so that
+    increments far below the resolution of the absolute time still register.
     """
-    K[0, 0] = v
-    K[0, 1] = ax
-    for s in range(1, N_STAGES):
+    if mode == TIME:
+        return 1.0, v, accel(p, phase, t, x, v)
+    if mode == SQRTH:
+        y = sgn * s
+        a = accel(p, phase, tref + t, p[XI] + y * y, v)
+        dt = sgn * 2.0 * y / v
+        return dt, sgn * 2.0 * y, dt * a
+    if mode == WVEL:
+        w = max(-sgn * s, 0.0)
+        vv = sgn * w**q
+        a = accel(p, phase, tref + t, x, vv)
+        dv = -q * w ** (q - 1.0)
+        dt = dv / a
+        return dt, vv * dt, dv
+    u = sgn * s
+    vv = p[EPS] * math.sinh(u)
+    a = accel(p, phase, tref + t, x, vv)
+    dv = sgn * p[EPS] * math.cosh(u)
+    dt = dv / a
+    return dt, vv * dt, dv
+
+
+@njit(cache=True)
+def step(p, mode, phase, sgn, q, s, tref, t, x, v, d0t, d0x, d0v, h, rtol, atol, K):
+    """One DOP853 step of size h in s from (t, x, v) with derivative d0 there; fills K[0:13].
+
+    Returns (t1, x1, v1, error_norm). In TIME mode the time component is exact (t1 = t + h)
+    and left out of the error norm; otherwise it is tau (see ``deriv``).
+    """
+    K[0, 0] = d0t
+    K[0, 1] = d0x
+    K[0, 2] = d0v
+    for st in range(1, N_STAGES):
+        dt = 0.0
         dx = 0.0
         dv = 0.0
-        for j in range(s):
-            a = A[s, j]
+        for j in range(st):
+            a = A[st, j]
             if a != 0.0:
-                dx += a * K[j, 0]
-                dv += a * K[j, 1]
-        xs = x + h * dx
-        vs = v + h * dv
-        K[s, 0] = vs
-        K[s, 1] = accel(p, phase, t + C[s] * h, xs, vs)
+                dt += a * K[j, 0]
+                dx += a * K[j, 1]
+                dv += a * K[j, 2]
+        K[st, 0], K[st, 1], K[st, 2] = deriv(p, mode, phase, sgn, q, s + C[st] * h, tref, t + h * dt, x + h * dx, v + h * dv)
+    dt = 0.0
     dx = 0.0
     dv = 0.0
     for j in range(N_STAGES):
-        dx += B[j] * K[j, 0]
-        dv += B[j] * K[j, 1]
+        dt += B[j] * K[j, 0]
+        dx += B[j] * K[j, 1]
+        dv += B[j] * K[j, 2]
+    t1 = t + h if mode == TIME else t + h * dt
     x1 = x + h * dx
     v1 = v + h * dv
-    K[N_STAGES, 0] = v1
-    K[N_STAGES, 1] = accel(p, phase, t + h, x1, v1)
+    K[N_STAGES, 0], K[N_STAGES, 1], K[N_STAGES, 2] = deriv(p, mode, phase, sgn, q, s + h, tref, t1, x1, v1)
 
+    st_ = atol + rtol * max(abs(t), abs(t1))
     sx = atol + rtol * max(abs(x), abs(x1))
     sv = atol + rtol * max(abs(v), abs(v1))
+    e5t = 0.0
     e5x = 0.0
     e5v = 0.0
+    e3t = 0.0
     e3x = 0.0
     e3v = 0.0
     for j in range(N_STAGES + 1):
-        e5x += E5[j] * K[j, 0]
-        e5v += E5[j] * K[j, 1]
-        e3x += E3[j] * K[j, 0]
-        e3v += E3[j] * K[j, 1]
+        e5t += E5[j] * K[j, 0]
+        e5x += E5[j] * K[j, 1]
+        e5v += E5[j] * K[j, 2]
+        e3t += E3[j] * K[j, 0]
+        e3x += E3[j] * K[j, 1]
+        e3v += E3[j] * K[j, 2]
+    n = 2.0
     e5 = (e5x / sx) ** 2 + (e5v / sv) ** 2
     e3 = (e3x / sx) ** 2 + (e3v / sv) ** 2
+    if mode != TIME:
+        e5 += (e5t / st_) ** 2
+        e3 += (e3t / st_) ** 2
+        n = 3.0
     if e5 == 0.0 and e3 == 0.0:
-        return x1, v1, 0.0
-    err = abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * 2.0)
-    return x1, v1, err
+        return t1, x1, v1, 0.0
+    err = abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
+    if not (err == err):  # NaN from an invalid transformed piece: reject hard
+        err = math.inf
+    return t1, x1, v1, err
 
 
 @njit(cache=True)
@@ -95,22 +150,26 @@ def new_step_factor(err, rejected):
 
 
 @njit(cache=True)
-def dense_prepare(p, phase, t, x0, v0, x1, v1, h, K, F):
+def dense_prepare(p, mode, phase, sgn, q, s, tref, t0, x0, v0, t1, x1, v1, h, K, F):
     """Three extra stages and the coefficients F of the 7th-order interpolant of the step."""
-    for s in range(N_STAGES + 1, 16):
+    for st in range(N_STAGES + 1, 16):
+        dt = 0.0
         dx = 0.0
         dv = 0.0
-        for j in range(s):
-            a = A[s, j]
+        for j in range(st):
+            a = A[st, j]
             if a != 0.0:
-                dx += a * K[j, 0]
-                dv += a * K[j, 1]
-        xs = x0 + h * dx
-        vs = v0 + h * dv
-        K[s, 0] = vs
-        K[s, 1] = accel(p, phase, t + C[s] * h, xs, vs)
-    for c in range(2):
-        dy = (x1 - x0) if c == 0 else (v1 - v0)
+                dt += a * K[j, 0]
+                dx += a * K[j, 1]
+                dv += a * K[j, 2]
+        K[st, 0], K[st, 1], K[st, 2] = deriv(p, mode, phase, sgn, q, s + C[st] * h, tref, t0 + h * dt, x0 + h * dx, v0 + h * dv)
+    for c in range(3):
+        if c == 0:
+            dy = t1 - t0
+        elif c == 1:
+            dy = x1 - x0
+        else:
+            dy = v1 - v0
         F[0, c] = dy
         F[1, c] = h * K[0, c] - dy
         F[2, c] = 2.0 * dy - h * (K[N_STAGES, c] + K[0, c])
@@ -135,22 +194,22 @@ def dense_eval(F, y0, theta, c):
 
 
 @njit(cache=True)
-def initial_step(p, phase, t, x, v, ax, order, rtol, atol):
-    """Hairer's starting step-size heuristic (one extra right-hand-side evaluation)."""
+def initial_step(p, mode, phase, sgn, q, s, tref, t, x, v, d0t, d0x, d0v, rtol, atol):
+    """Hairer's starting step-size heuristic (one extra derivative evaluation)."""
     sx = atol + abs(x) * rtol
     sv = atol + abs(v) * rtol
     d0 = math.sqrt(((x / sx) ** 2 + (v / sv) ** 2) / 2.0)
-    d1 = math.sqrt(((v / sx) ** 2 + (ax / sv) ** 2) / 2.0)
+    d1 = math.sqrt(((d0x / sx) ** 2 + (d0v / sv) ** 2) / 2.0)
     if d0 < 1e-5 or d1 < 1e-5:
         h0 = 1e-6
     else:
         h0 = 0.01 * d0 / d1
-    x1 = x + h0 * v
-    v1 = v + h0 * ax
-    a1 = accel(p, phase, t + h0, x1, v1)
-    d2 = math.sqrt((((v1 - v) / sx) ** 2 + ((a1 - ax) / sv) ** 2) / 2.0) / h0
+    d1t, d1x, d1v = deriv(p, mode, phase, sgn, q, s + h0, tref, t + h0 * d0t, x + h0 * d0x, v + h0 * d0v)
+    d2 = math.sqrt((((d1x - d0x) / sx) ** 2 + ((d1v - d0v) / sv) ** 2) / 2.0) / h0
+    if not (d2 == d2):
+        return h0 * 1e-3
     if d1 <= 1e-15 and d2 <= 1e-15:
         h1 = max(1e-6, h0 * 1e-3)
     else:
-        h1 = (0.01 / max(d1, d2)) ** (1.0 / (order + 1))
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / (ORDER + 1))
     return min(100.0 * h0, h1)
