@@ -57,8 +57,13 @@ RESTART_FRACTION = 1e-3  # first step after an event, as a fraction of the step 
 APPROACH_BAND = 1e4  # within |v| < APPROACH_BAND * eps of a reversal ...
 APPROACH_FRACTION = 0.5  # ... a step covers at most this fraction of the time left to v = 0
 U_BAND = 1e3  # free flight with |v| < U_BAND * eps, heading for v = 0, runs in s = asinh(v/eps)
-CONTACT_SWITCH = 0.7  # in contact, sqrt(x - xI) while v > 0.7 v_onset, then |v|^n3 ...
-RESTITUTION_SWITCH = 0.5  # ... until |v| = 0.5 v_onset on the way out, then sqrt(x - xI)
+CONTACT_SWITCH = 0.95  # in contact, sqrt(x - xI) while v > 0.95 v_onset, then |v|^n3 ...
+RESTITUTION_SWITCH = 0.2  # ... until |v| = 0.2 v_onset on the way out, then sqrt(x - xI)
+# Each transformed variable is regular at one end of its stretch and singular at the other
+# (sqrt(h) at v = 0, |v|^n3 at h = 0): stepping away from a singular point is cheap
+# (steps grow geometrically), approaching one is not, so each is used only where it moves
+# away from its own singularity: sqrt(h) just after onset and before exit, |v|^n3 between.
+MIN_S_STEP = 1e-7  # a transformed step below this fraction of its s-range means degeneration
 MAX_INVALID = 3  # consecutive invalid transformed steps before falling back to time stepping
 
 # event candidates inside one explicit step
@@ -150,6 +155,13 @@ def _sample_hermite(t0, x0, v0, t1, x1, v1, st, win_t0, win_dt, win_x, win_v):
 def _window_due(st, win_t0, win_dt, win_x, t1):
     j = int(st[S_WIN])
     return j < win_x.shape[0] and win_t0 + j * win_dt <= t1
+
+
+@njit(cache=True)
+def _goes_implicit(p, phase, t, x):
+    """At v = 0, a net force below 1.5 T means sticking or a slow reversal: the friction
+    band is then crossed (or held) by the implicit solver."""
+    return abs(stick_force(p, phase, t, x)) < SLOW_FACTOR * p[T]
 
 
 @njit(cache=True)
@@ -302,7 +314,9 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
             # events inside the step: obstacle crossing, v changing sign (not from v = 0 exactly)
             g1 = x1 - p[XI]
             hit_x = (phase == FREE and g1 > 0.0) or (phase == CONTACT and g1 < 0.0)
-            hit_v = v != 0.0 and v1 != 0.0 and _sign(v1) != _sign(v)
+            # a sign change of v inside the tolerance band (|v| <= atol, e.g. the creep of a cart
+            # stuck on the obstacle, ~1e-13 m/s) is noise, not a reversal
+            hit_v = abs(v) > atol and abs(v1) > atol and _sign(v1) != _sign(v)
             if hit_x or hit_v:
                 th_x = 2.0
                 th_v = 2.0
@@ -373,6 +387,16 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                     valid = False
             if mode == SQRTH and sgn > 0.0 and not v1 > 0.0:
                 valid = False
+            if valid and err > 1.0:
+                h = hs * dop853.new_step_factor(err, False)
+                scale = max(abs(s), abs(s_end) if s_end < math.inf else 0.0, 1e-3)
+                if h >= MIN_S_STEP * scale:
+                    cnt[C_REJECT] += 1
+                    continue
+                # steps collapse towards a point where the map degenerates (e.g. the
+                # acceleration vanishes before v reaches zero): continue in time instead
+                valid = False
+                n_invalid = MAX_INVALID - 1
             if not valid:
                 cnt[C_REJECT] += 1
                 n_invalid += 1
@@ -391,10 +415,6 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                     h = 0.0
                     continue
                 h = 0.25 * hs
-                continue
-            if err > 1.0:
-                cnt[C_REJECT] += 1
-                h = hs * dop853.new_step_factor(err, False)
                 continue
             n_invalid = 0
             st[S_NINV] = 0
@@ -511,7 +531,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                     v = 0.0
                     fs = stick_force(p, phase, ta, x)
                     st[S_PHASE] = phase
-                    if abs(fs) < SLOW_FACTOR * p[T]:
+                    if _goes_implicit(p, phase, ta, x):
                         _enter_slow(p, st, cnt, ta, x, v, 1.0)
                         new_mode = TIME
                     else:
@@ -533,7 +553,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                     v = 0.0
                     direction = -sgn  # v had the sign opposite to the acceleration
                     st[S_PHASE] = phase
-                    if abs(stick_force(p, phase, ta, x)) < SLOW_FACTOR * p[T]:
+                    if _goes_implicit(p, phase, ta, x):
                         _enter_slow(p, st, cnt, ta, x, v, direction)
                         new_mode = TIME
                     else:
@@ -677,7 +697,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                 ve = 0.0
                 fs = stick_force(p, phase, te, xe)
                 st[S_PHASE] = phase
-                if abs(fs) < SLOW_FACTOR * p[T]:
+                if _goes_implicit(p, phase, te, xe):
                     _enter_slow(p, st, cnt, te, xe, ve, sgn0)
                 else:
                     ev, n_ev = _record_extremum(p, ev, n_ev, flags, t_record, phase, te, xe, sgn0)
@@ -716,7 +736,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
         t, x, v = t1, x1, v1
         s = t
         h = h_next
-        if abs(v) < vband and abs(stick_force(p, phase, t, x)) < SLOW_FACTOR * p[T]:
+        if abs(v) < vband and _goes_implicit(p, phase, t, x):
             _enter_slow(p, st, cnt, t, x, v, _sign(v))
             h = 0.0
         elif phase == FREE and p[T] > 0.0 and v * d0v < 0.0 and abs(v) < U_BAND * eps:
@@ -757,7 +777,7 @@ def initial_state(p, t0, x0, v0, period, vcut):
     # next Poincare index strictly after t0 (t0 itself is the initial condition)
     i = math.floor(t0 / period) + 1
     st[S_ISEC] = float(i)
-    if v0 == 0.0 and abs(stick_force(p, int(st[S_PHASE]), t0, x0)) < SLOW_FACTOR * p[T]:
+    if v0 == 0.0 and _goes_implicit(p, int(st[S_PHASE]), t0, x0):
         cnt = np.zeros(N_COUNT, dtype=np.int64)
         _enter_slow(p, st, cnt, t0, x0, v0, 0.0)
     return st

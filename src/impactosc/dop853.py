@@ -52,20 +52,20 @@ def deriv(p, mode, phase, sgn, q, s, tref, t, x, v):
     if mode == SQRTH:
         y = sgn * s
         a = accel(p, phase, tref + t, p[XI] + y * y, v)
-        dt = sgn * 2.0 * y / v
+        dt = sgn * 2.0 * y / v if v != 0.0 else math.inf  # v = 0: outside this map's range
         return dt, sgn * 2.0 * y, dt * a
     if mode == WVEL:
         w = max(-sgn * s, 0.0)
         vv = sgn * w**q
         a = accel(p, phase, tref + t, x, vv)
         dv = -q * w ** (q - 1.0)
-        dt = dv / a
+        dt = dv / a if a != 0.0 else math.inf  # a = 0: outside this map's range
         return dt, vv * dt, dv
     u = sgn * s
     vv = p[EPS] * math.sinh(u)
     a = accel(p, phase, tref + t, x, vv)
     dv = sgn * p[EPS] * math.cosh(u)
-    dt = dv / a
+    dt = dv / a if a != 0.0 else math.inf  # a = 0: outside this map's range
     return dt, vv * dt, dv
 
 
