@@ -12,6 +12,7 @@ include: "workflow/rules/chaotic.smk"
 include: "workflow/rules/bifurcation.smk"
 include: "workflow/rules/measured.smk"
 include: "workflow/rules/work_precision.smk"
+include: "workflow/rules/benchmark.smk"
 include: "workflow/rules/tables.smk"
 
 

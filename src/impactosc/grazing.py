@@ -26,6 +26,7 @@ import numpy as np
 __all__ = [
     "Trial", "GrazingBracket", "GapFit", "find_grazing_step", "bisect_transition",
     "extrapolate_gap_zero", "sweep_summary", "model_trial", "locate_grazing", "branch_grid",
+    "grazing_statistics", "scan_from_rest", "regular_grid", "grazing_summary_file",
 ]
 
 
@@ -170,15 +171,15 @@ def extrapolate_gap_zero(omegas, gaps, n_fit: int = 5) -> GapFit:
     w near grazing. Points are in branch order, the last one closest to grazing; all gaps
     must be finite and > 0.
     """
-    w = _as_1d(omegas, "omegas")
-    g = _as_1d(gaps, "gaps")
-    if w.size != g.size:
-        raise ValueError(f"omegas and gaps differ in length: {w.size} != {g.size}")
+    w = np.asarray(omegas, dtype=float)
+    g = np.asarray(gaps, dtype=float)
+    if w.ndim != 1 or w.shape != g.shape:
+        raise ValueError(f"omegas and gaps must be 1-D of equal length, got shapes {w.shape}, {g.shape}")
     if not isinstance(n_fit, (int, np.integer)) or n_fit < 2:
         raise ValueError(f"n_fit must be an integer >= 2, got {n_fit!r}")
     if w.size < n_fit:
         raise ValueError(f"need at least n_fit={n_fit} points, got {w.size}")
-    w, g = w[-n_fit:], g[-n_fit:]
+    w, g = _as_1d(w[-n_fit:], "omegas"), _as_1d(g[-n_fit:], "gaps")
     if np.any(g <= 0):
         raise ValueError("gaps must be > 0 (near misses, not contacts)")
     slope, intercept = np.polyfit(w, g, 1)
@@ -253,3 +254,112 @@ def branch_grid(start: float, fine_from: float, stop: float, coarse_step: float,
     n_f = int(math.floor((fine_from - stop) / fine_step * (1 + 1e-12)))
     fine = np.round(fine_from - fine_step * np.arange(n_f + 1), 9)
     return np.concatenate([coarse, fine])
+
+
+def _attractor_at(summary: dict, omega: float, periods=None) -> dict | None:
+    w = np.asarray(summary["omega"])
+    i = int(np.argmin(np.abs(w - omega)))
+    if abs(w[i] - omega) > 1e-9:
+        return None
+    out = {k: float(np.asarray(summary[k])[i]) for k in ("impacts_per_period", "min_gap", "min_impact_v")}
+    if periods is not None:
+        out["period"] = int(periods[i])
+    return out
+
+
+def grazing_statistics(branch: dict, bracket: dict, from_rest: dict, paper_omegas=(23.05, 23.03), n_fit: int = 5,
+                       branch_periods=None, rest_periods=None) -> dict:
+    """Everything the grazing claim rests on, as a JSON-ready dict.
+
+    branch / from_rest: per-w summaries (:func:`sweep_summary`), branch in branch order;
+    bracket: :meth:`GrazingBracket.to_dict`. Adds the straight-line gap extrapolation, the
+    attractor at each paper w on the branch and from rest, where w_g sits relative to the
+    paper's w values, and the from-rest grid points on either side of the attractor switch.
+    """
+    i = find_grazing_step(branch["omega"], branch["min_gap"], branch["impacts_per_period"])
+    fit = extrapolate_gap_zero(branch["omega"][: i + 1], branch["min_gap"][: i + 1], n_fit)
+    wg = 0.5 * (bracket["omega_miss"] + bracket["omega_contact"])
+    ref = float(branch["impacts_per_period"][i])
+    pre = float(np.asarray(branch["omega"])[i])
+    out = {
+        "omega_g": wg,
+        "bracket": bracket,
+        "branch_step": {"omega_miss": pre, "omega_contact": float(branch["omega"][i + 1]),
+                        "impacts_per_period_before": ref,
+                        "impacts_per_period_after": float(branch["impacts_per_period"][i + 1])},
+        "gap_fit": fit.to_dict(),
+        "fit_minus_bracket": fit.omega_zero - wg,
+        "fit_inside_bracket": bool(min(bracket["omega_miss"], bracket["omega_contact"]) <= fit.omega_zero
+                                   <= max(bracket["omega_miss"], bracket["omega_contact"])),
+        "paper_omegas": list(map(float, paper_omegas)),
+        "between_paper_omegas": bool(min(paper_omegas) < wg < max(paper_omegas)),
+        "branch_at_paper_omegas": {f"{w:g}": _attractor_at(branch, w, branch_periods) for w in paper_omegas},
+        "from_rest_at_paper_omegas": {f"{w:g}": _attractor_at(from_rest, w, rest_periods) for w in paper_omegas},
+    }
+    # from rest: which grid points land on the pre-grazing orbit (ref impacts per period
+    # with a near miss) and which on something else
+    rw = np.asarray(from_rest["omega"])
+    on_pre = np.isclose(np.asarray(from_rest["impacts_per_period"]), ref, atol=1e-9) & np.isfinite(
+        np.asarray(from_rest["min_gap"]))
+    out["from_rest_on_pre_grazing_orbit"] = {"omega": rw[on_pre].tolist(), "other": rw[~on_pre].tolist()}
+    return out
+
+
+def scan_from_rest(omegas, settings, transient: float, progress=None):
+    """Each w started from rest (x = v = 0 at t = 0): the attractor a single scene reaches.
+
+    Why: the paper's scenes (Figs 4, 5) are single runs from rest; with coexisting
+    attractors they need not sit on the branch. Each w discards `transient` seconds rounded
+    up to whole forcing periods, then records settings.n_record periods. Returns one
+    :class:`impactosc.sweep.SweepResult` over `omegas` (monotone).
+    """
+    from .sweep import continuation, merge_chunks
+
+    if not (isinstance(transient, (int, float, np.floating)) and math.isfinite(transient) and transient >= 0):
+        raise ValueError(f"transient must be a finite number >= 0 s, got {transient!r}")
+    parts = []
+    for k, w in enumerate(np.asarray(omegas, dtype=float)):
+        n_tr = int(math.ceil(transient * w / (2 * math.pi) - 1e-9))
+        parts.append(continuation([w], settings, x0=0.0, v0=0.0, first_transient=n_tr))
+        if progress is not None:
+            progress(k, len(omegas), float(w))
+    return merge_chunks(parts)
+
+
+def regular_grid(start: float, stop: float, step: float) -> np.ndarray:
+    """start, start +/- step, ... up to stop inclusive, rounded to 1e-9 (hits round values exactly)."""
+    for name, value in (("start", start), ("stop", stop), ("step", step)):
+        if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value) or value <= 0:
+            raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    n = int(math.floor(abs(stop - start) / step * (1 + 1e-12)))
+    return np.round(start + math.copysign(step, stop - start) * np.arange(n + 1), 9)
+
+
+def grazing_summary_file(branch_path, bisection_path, from_rest_path, paper_omegas=(23.05, 23.03),
+                         n_fit: int = 5) -> dict:
+    """:func:`grazing_statistics` from the workflow's files, plus the per-w arrays to plot.
+
+    Each per-w summary gets the Poincare period of the recorded attractor (forcing
+    periods, 0 = none up to half the record: chaotic or unsettled).
+    """
+    import json
+
+    from .periodic import poincare_period
+    from .sweep import load_sweep
+
+    branch, _ = load_sweep(branch_path)
+    rest, _ = load_sweep(from_rest_path)
+    with open(bisection_path) as f:
+        bracket = json.load(f)
+    summaries = {}
+    for name, sweep in (("branch", branch), ("from_rest", rest)):
+        s = sweep_summary(sweep)
+        s["period"] = np.array([poincare_period(x, v) for x, v in zip(sweep.poincare_x, sweep.poincare_v)])
+        summaries[name] = s
+    for t in bracket["trials"]:  # JSON null -> NaN
+        for k in ("min_gap", "min_impact_v"):
+            t[k] = math.nan if t[k] is None else t[k]
+    out = grazing_statistics(summaries["branch"], bracket, summaries["from_rest"], paper_omegas, n_fit,
+                             summaries["branch"]["period"], summaries["from_rest"]["period"])
+    out["per_w"] = {name: {k: np.asarray(v).tolist() for k, v in s.items()} for name, s in summaries.items()}
+    return out

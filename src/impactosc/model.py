@@ -125,8 +125,13 @@ def stick_force(p, phase, t, x):
 
 
 @njit(cache=True)
-def jacobian(p, phase, t, x, v):
-    """Partial derivatives (da/dx, da/dv) for the implicit stick-phase solver."""
+def jacobian(p, phase, t, x, v, chord):
+    """Partial derivatives (da/dx, da/dv) for the implicit stick-phase solver.
+
+    With ``chord`` the slope of sgn(v)|v|^n3 is replaced by its chord through v = 0,
+    |v|^(n3 - 1) (larger than the tangent n3 |v|^(n3 - 1)): Newton then contracts towards
+    the root instead of overshooting across v = 0 (radau.step falls back to it).
+    """
     eps = p[EPS]
     s = v * v + eps * eps
     dfdx = -p[K]
@@ -140,6 +145,9 @@ def jacobian(p, phase, t, x, v):
             bracket = _pow(h, p[N1]) + p[B] * _pow(h, p[N2]) * sg * vn
             if bracket > 0.0:
                 dfdx -= p[KI] * (p[N1] * h ** (p[N1] - 1.0) + p[B] * p[N2] * h ** (p[N2] - 1.0) * sg * vn)
-                # |v|^n3 has an infinite slope at v = 0; capping |v| keeps Newton finite.
-                dfdv -= p[KI] * p[B] * _pow(h, p[N2]) * p[N3] * vn / max(av, 1e-12)
+                if chord:
+                    dfdv -= p[KI] * p[B] * _pow(h, p[N2]) * max(av, 1e-30) ** (p[N3] - 1.0)
+                else:
+                    # |v|^n3 has an infinite slope at v = 0; capping |v| keeps Newton finite.
+                    dfdv -= p[KI] * p[B] * _pow(h, p[N2]) * p[N3] * vn / max(av, 1e-12)
     return dfdx / p[M], dfdv / p[M]

@@ -73,45 +73,50 @@ def step(p, phase, t, x, v, h, rtol, atol, work, cnt):
     Z = work[0]  # 3 stages x 2 components, flattened into 6
     Mat = work[1:7]
     rhs = work[7]
-    for i in range(6):
-        Z[i] = 0.0
     sx = atol + rtol * abs(x)
     sv = atol + rtol * abs(v)
-    for it in range(MAX_NEWTON):
+    # Attempt 0 uses the tangent Jacobian (quadratic convergence). Newton on the
+    # Hunt-Crossley term sgn(v)|v|^n3 diverges when that term dominates near v = 0 (as on
+    # x^(1/3)), which used to collapse the step size while the cart sticks in contact;
+    # attempt 1 then uses its chord slope through v = 0, a contraction (see model.jacobian).
+    for attempt in range(2):
         for i in range(6):
-            rhs[i] = 0.0
-            for j in range(6):
-                Mat[i, j] = 1.0 if i == j else 0.0
-        # residual G_i = Z_i - h sum_j a_ij f(t + c_j h, y + Z_j); Jacobian blocks per stage j
-        for j in range(3):
-            xj = x + Z[2 * j]
-            vj = v + Z[2 * j + 1]
-            fx = vj
-            fv = accel(p, phase, t + RC[j] * h, xj, vj)
-            cnt[2] += 1
-            jx, jv = jacobian(p, phase, t + RC[j] * h, xj, vj)
-            for i in range(3):
-                a = RA[i, j] * h
-                rhs[2 * i] += a * fx
-                rhs[2 * i + 1] += a * fv
-                # d f_x / d Z_j = (0, 1); d f_v / d Z_j = (jx, jv)
-                Mat[2 * i, 2 * j + 1] -= a
-                Mat[2 * i + 1, 2 * j] -= a * jx
-                Mat[2 * i + 1, 2 * j + 1] -= a * jv
-        for i in range(6):
-            rhs[i] -= Z[i]  # rhs = -G
-        if not _lu_solve_inplace(Mat, rhs):
-            return False, x, v
-        dn = 0.0
-        for i in range(6):
-            Z[i] += rhs[i]
-            s = sx if i % 2 == 0 else sv
-            dn = max(dn, abs(rhs[i]) / s)
-        cnt[7] += 1
-        if not (dn == dn) or dn > 1e12:
-            return False, x, v
-        if dn < 1e-3:
-            return True, x + Z[4], v + Z[5]
+            Z[i] = 0.0
+        for it in range(MAX_NEWTON):
+            for i in range(6):
+                rhs[i] = 0.0
+                for j in range(6):
+                    Mat[i, j] = 1.0 if i == j else 0.0
+            # residual G_i = Z_i - h sum_j a_ij f(t + c_j h, y + Z_j); Jacobian blocks per stage j
+            for j in range(3):
+                xj = x + Z[2 * j]
+                vj = v + Z[2 * j + 1]
+                fx = vj
+                fv = accel(p, phase, t + RC[j] * h, xj, vj)
+                cnt[2] += 1
+                jx, jv = jacobian(p, phase, t + RC[j] * h, xj, vj, attempt == 1)
+                for i in range(3):
+                    a = RA[i, j] * h
+                    rhs[2 * i] += a * fx
+                    rhs[2 * i + 1] += a * fv
+                    # d f_x / d Z_j = (0, 1); d f_v / d Z_j = (jx, jv)
+                    Mat[2 * i, 2 * j + 1] -= a
+                    Mat[2 * i + 1, 2 * j] -= a * jx
+                    Mat[2 * i + 1, 2 * j + 1] -= a * jv
+            for i in range(6):
+                rhs[i] -= Z[i]  # rhs = -G
+            if not _lu_solve_inplace(Mat, rhs):
+                break
+            dn = 0.0
+            for i in range(6):
+                Z[i] += rhs[i]
+                s = sx if i % 2 == 0 else sv
+                dn = max(dn, abs(rhs[i]) / s)
+            cnt[7] += 1
+            if not (dn == dn) or dn > 1e12:
+                break
+            if dn < 1e-3:
+                return True, x + Z[4], v + Z[5]
     return False, x, v
 
 

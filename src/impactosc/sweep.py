@@ -20,6 +20,7 @@ No Snakemake here: the workflow scripts and the tests call these functions direc
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import tempfile
@@ -36,7 +37,8 @@ from .simulate import DEFAULT_ATOL, DEFAULT_RTOL, simulate
 
 __all__ = [
     "SweepSettings", "SweepResult", "omega_grid", "continuation", "plan_chunks", "coarse_pass",
-    "run_chunk", "merge_chunks", "sweep_chunked", "save_sweep", "load_sweep",
+    "run_chunk", "merge_chunks", "sweep_chunked", "save_sweep", "load_sweep", "MAP_PARAMETERS",
+    "parameter_rows",
 ]
 
 
@@ -57,9 +59,10 @@ class SweepSettings:
     params: ModelParams = field(default_factory=ModelParams)
     rtol: float = DEFAULT_RTOL
     atol: float = DEFAULT_ATOL
+    max_steps_per_period: int = 1000
 
     def __post_init__(self):
-        for name in ("n_transient", "n_record", "n_initial"):
+        for name in ("n_transient", "n_record", "n_initial", "max_steps_per_period"):
             value = getattr(self, name)
             if not isinstance(value, (int, np.integer)) or isinstance(value, bool):
                 raise ValueError(f"{name} must be an integer number of forcing periods, got {value!r}")
@@ -67,26 +70,47 @@ class SweepSettings:
             raise ValueError(f"n_transient and n_initial must be >= 0, got {self.n_transient}, {self.n_initial}")
         if self.n_record < 1:
             raise ValueError(f"n_record must be >= 1 forcing period, got {self.n_record}")
+        if self.max_steps_per_period < 100:
+            raise ValueError(f"max_steps_per_period must be >= 100, got {self.max_steps_per_period}")
         for name in ("x0", "v0"):
             if not math.isfinite(getattr(self, name)):
                 raise ValueError(f"{name} must be finite, got {getattr(self, name)}")
 
     def to_attrs(self) -> dict:
         """Flat attributes for the HDF5 file (reproducibility)."""
-        out = {k: getattr(self, k) for k in ("n_transient", "n_record", "n_initial", "x0", "v0", "rtol", "atol")}
+        out = {k: getattr(self, k) for k in ("n_transient", "n_record", "n_initial", "x0", "v0", "rtol", "atol",
+                                             "max_steps_per_period")}
         out.update({f"param_{k}": v for k, v in self.params.to_dict().items()})
         return out
+
+    @classmethod
+    def from_config(cls, per_w: dict, model: dict, solver: dict, **overrides) -> "SweepSettings":
+        """Settings from the workflow config sections (bifurcation.per_w, model, solver)."""
+        kw = {k: per_w[k] for k in ("n_transient", "n_record", "n_initial", "x0", "v0", "max_steps_per_period")
+              if k in per_w}
+        kw.update(overrides)
+        return cls(params=ModelParams(**model), rtol=solver["rtol"], atol=solver["atol"], **kw)
 
     @classmethod
     def from_attrs(cls, attrs) -> "SweepSettings":
         params = ModelParams(**{k[6:]: float(v) for k, v in attrs.items() if k.startswith("param_")})
         return cls(n_transient=int(attrs["n_transient"]), n_record=int(attrs["n_record"]),
                    n_initial=int(attrs["n_initial"]), x0=float(attrs["x0"]), v0=float(attrs["v0"]),
-                   params=params, rtol=float(attrs["rtol"]), atol=float(attrs["atol"]))
+                   params=params, rtol=float(attrs["rtol"]), atol=float(attrs["atol"]),
+                   max_steps_per_period=int(attrs["max_steps_per_period"]))
 
 
 # Per-w arrays of a SweepResult (all shape (n,) except the Poincare arrays (n, n_record)).
-_PER_W = ("omega", "x_start", "v_start", "x_end", "v_end", "min_gap", "n_steps", "wall_time")
+_PER_W = ("omega", "x_start", "v_start", "x_end", "v_end", "min_gap", "n_steps", "wall_time", "cpu_time", "status")
+
+# status of each w: the run finished, or it was abandoned (then its Poincare points are NaN,
+# it has no impacts, and the next w continues from the state this one started from).
+OK, STALLED, CORE_ERROR = 0, 1, 2
+STATUS_NAMES = {OK: "ok", STALLED: "step budget exceeded", CORE_ERROR: "core error"}
+
+
+class _Stalled(Exception):
+    """The core used more steps than the per-w budget allows (a stuck integration)."""
 
 
 @dataclass
@@ -100,6 +124,9 @@ class SweepResult:
     min_gap: smallest free-flight gap xI - x at a local maximum of x (near miss) in the
     recorded interval (m); NaN if there is none. A gap -> 0 signals grazing.
     x_start, v_start: state each w started from; x_end, v_end: its end state.
+    status: OK, or STALLED / CORE_ERROR for a w whose run was abandoned (see continuation).
+    wall_time / cpu_time: seconds of wall clock / of this process's CPU per w (the CPU time
+    does not grow when other processes share the core, so it measures the cost per core).
     """
 
     omega: np.ndarray
@@ -115,6 +142,8 @@ class SweepResult:
     v_end: np.ndarray
     n_steps: np.ndarray
     wall_time: np.ndarray
+    cpu_time: np.ndarray
+    status: np.ndarray
     settings: SweepSettings
 
     def __len__(self) -> int:
@@ -137,7 +166,9 @@ class SweepResult:
     def poincare_points(self) -> tuple[np.ndarray, np.ndarray]:
         """(w, x) pairs of every Poincare point of the sweep, for the Poincare diagram (Fig 2)."""
         n_rec = self.poincare_x.shape[1]
-        return np.repeat(self.omega, n_rec), self.poincare_x.ravel()
+        w, x = np.repeat(self.omega, n_rec), self.poincare_x.ravel()
+        ok = np.isfinite(x)  # abandoned w values have no points
+        return w[ok], x[ok]
 
     def subset(self, start: int, stop: int) -> "SweepResult":
         """The w values start..stop-1 (contiguous), e.g. dropping a chunk's warm-up."""
@@ -178,6 +209,37 @@ def _check_omegas(omegas) -> np.ndarray:
     return w
 
 
+_CHUNK_STEPS = 20_000  # core steps between budget checks
+_STALL_PACE = 20  # a call slower than this many times the per-period budget is a stall
+
+
+def _run_one(om: float, n_tr: int, x: float, v: float, s: SweepSettings):
+    """One w: n_tr periods discarded, n_record recorded, within the step budget."""
+    period = 2.0 * math.pi / om
+    budget = s.max_steps_per_period * (n_tr + s.n_record)
+    # A stuck integration creeps (~1e-8 periods per 1e4 steps); a working one covers tens of
+    # periods. Pace limit: one call must advance at least 1 / (STALL_PACE * budget per period)
+    # of a period per step, i.e. 1 period per 20000 steps with the default budget.
+    min_advance = _CHUNK_STEPS / (_STALL_PACE * s.max_steps_per_period) * period
+    state = {"calls": 0, "t": 0.0}
+
+    def guard(t, t_end, n_imp):
+        state["calls"] += 1
+        advance, state["t"] = t - state["t"], t
+        crept = advance < min_advance
+        if t < t_end and (state["calls"] * _CHUNK_STEPS > budget or crept):
+            why = f"advanced only {advance:.3g} s in {_CHUNK_STEPS} steps" if crept else \
+                f"more than {budget} steps for {n_tr + s.n_record} periods"
+            raise _Stalled(f"{why}, stuck at t = {t:.9g} s of {t_end:.9g} s (start x0 = {x!r}, v0 = {v!r})")
+
+    # Record from half a period before the first section time so that rounding of
+    # n_tr * period can never drop the Poincare point at phi = 2 pi n_tr.
+    transient = max((n_tr - 0.5) * period, 0.0)
+    duration = (n_tr + s.n_record) * period - transient
+    return simulate(om, transient, duration, x0=x, v0=v, params=s.params, rtol=s.rtol, atol=s.atol,
+                    record=("impacts", "near_misses", "poincare"), chunk_steps=_CHUNK_STEPS, progress=guard)
+
+
 def continuation(
     omegas: Sequence[float],
     settings: SweepSettings,
@@ -186,6 +248,7 @@ def continuation(
     v0: float | None = None,
     first_transient: int | None = None,
     progress: Callable[[int, int, float], None] | None = None,
+    on_failure: Callable[[int, float, str], None] | None = None,
 ) -> SweepResult:
     """Follow the attractor along `omegas` (in the given order), one simulation per w.
 
@@ -193,6 +256,9 @@ def continuation(
     `first_transient` periods (default settings.n_initial); every later w starts from the
     previous end state and discards settings.n_transient periods. Then n_record periods
     are recorded: Poincare points at the n_record section times, impacts, near misses.
+    A w whose run exceeds settings.max_steps_per_period steps per forcing period on average
+    or raises in the core is abandoned (status STALLED / CORE_ERROR, `on_failure(i, w,
+    message)` is called) and the next w continues from the state it started from.
     `progress(i, n, w)` is called after each w.
     """
     w = _check_omegas(omegas)
@@ -206,46 +272,60 @@ def continuation(
     pv = np.empty((n, n_rec))
     per_w = {k: np.empty(n) for k in _PER_W}
     per_w["n_steps"] = np.empty(n, dtype=np.int64)
-    imp_t, imp_v = [], []
+    per_w["status"] = np.empty(n, dtype=np.int64)
+    imp_t, imp_v = [np.empty(0)], [np.empty(0)]
     offsets = np.zeros(n + 1, dtype=np.int64)
     n_tr = s.n_initial if first_transient is None else int(first_transient)
     for i, om in enumerate(w):
         period = 2.0 * math.pi / om
-        # Record from half a period before the first section time so that rounding of
-        # n_tr * period can never drop the Poincare point at phi = 2 pi n_tr.
-        t_rec = n_tr * period
-        t0 = time.perf_counter()
-        res = simulate(om, max(t_rec - 0.5 * period, 0.0), (n_rec + 0.5) * period if n_tr else n_rec * period,
-                       x0=x, v0=v, params=s.params, rtol=s.rtol, atol=s.atol,
-                       record=("impacts", "near_misses", "poincare"))
-        wall = time.perf_counter() - t0
-        pt = res.events["poincare"]
-        sec = np.rint(pt["t"] / period).astype(np.int64) - n_tr
-        keep = (sec >= 0) & (sec < n_rec)
-        x_sec, v_sec = np.full(n_rec, np.nan), np.full(n_rec, np.nan)
-        x_sec[sec[keep]], v_sec[sec[keep]] = pt["x"][keep], pt["v"][keep]
-        if np.isnan(x_sec).any():  # cannot happen unless the core drops a section time
-            raise RuntimeError(f"w = {om}: missing Poincare points {np.flatnonzero(np.isnan(x_sec))}")
-        px[i], pv[i] = x_sec, v_sec
-        it = res.events["impacts"]["t"]
-        sel = it >= t_rec - 1e-9 * period
-        imp_t.append(it[sel] - t_rec)
-        imp_v.append(res.events["impacts"]["v"][sel])
-        offsets[i + 1] = offsets[i] + int(sel.sum())
-        nm = res.events["near_misses"]
-        gaps = nm["gap"][nm["t"] >= t_rec - 1e-9 * period]
-        per_w["min_gap"][i] = gaps.min() if gaps.size else np.nan
+        t0, c0 = time.perf_counter(), time.process_time()
+        try:
+            res = _run_one(om, n_tr, x, v, s)
+        except (_Stalled, RuntimeError) as exc:
+            # A stuck integration must not stop (or hang) a 1000-point sweep: the w is
+            # marked, left empty, and the continuation goes on from the last good state.
+            status = STALLED if isinstance(exc, _Stalled) else CORE_ERROR
+            per_w["status"][i] = status
+            px[i] = pv[i] = np.nan
+            per_w["min_gap"][i] = np.nan
+            per_w["n_steps"][i] = -1
+            if on_failure is not None:
+                on_failure(i, float(om), f"{STATUS_NAMES[status]}: {exc}")
+        else:
+            per_w["status"][i] = OK
+            t_rec = n_tr * period
+            pt = res.events["poincare"]
+            sec = np.rint(pt["t"] / period).astype(np.int64) - n_tr
+            keep = (sec >= 0) & (sec < n_rec)
+            x_sec, v_sec = np.full(n_rec, np.nan), np.full(n_rec, np.nan)
+            x_sec[sec[keep]], v_sec[sec[keep]] = pt["x"][keep], pt["v"][keep]
+            if n_tr == 0:  # the run starts on the section phi = 0: its first point is the start state
+                x_sec[0], v_sec[0] = x, v
+            if np.isnan(x_sec).any():  # cannot happen unless the core drops a section time
+                raise RuntimeError(f"w = {om}: missing Poincare points {np.flatnonzero(np.isnan(x_sec))}")
+            px[i], pv[i] = x_sec, v_sec
+            it = res.events["impacts"]["t"]
+            sel = it >= t_rec - 1e-9 * period
+            imp_t.append(it[sel] - t_rec)
+            imp_v.append(res.events["impacts"]["v"][sel])
+            offsets[i + 1] = int(sel.sum())
+            nm = res.events["near_misses"]
+            gaps = nm["gap"][nm["t"] >= t_rec - 1e-9 * period]
+            per_w["min_gap"][i] = gaps.min() if gaps.size else np.nan
+            per_w["n_steps"][i] = res.attrs["n_steps"]
         per_w["omega"][i] = om
         per_w["x_start"][i], per_w["v_start"][i] = x, v
-        x, v = float(res.final_state[1]), float(res.final_state[2])
+        if per_w["status"][i] == OK:
+            x, v = float(res.final_state[1]), float(res.final_state[2])
+            n_tr = s.n_transient
         per_w["x_end"][i], per_w["v_end"][i] = x, v
-        per_w["n_steps"][i] = res.attrs["n_steps"]
-        per_w["wall_time"][i] = wall
-        n_tr = s.n_transient
+        per_w["wall_time"][i] = time.perf_counter() - t0
+        per_w["cpu_time"][i] = time.process_time() - c0
         if progress is not None:
             progress(i, n, float(om))
-    return SweepResult(poincare_x=px, poincare_v=pv, impact_t=np.concatenate(imp_t) if imp_t else np.empty(0),
-                       impact_v=np.concatenate(imp_v) if imp_v else np.empty(0), impact_offsets=offsets,
+    offsets = np.cumsum(offsets)
+    return SweepResult(poincare_x=px, poincare_v=pv, impact_t=np.concatenate(imp_t),
+                       impact_v=np.concatenate(imp_v), impact_offsets=offsets,
                        settings=s, **per_w)
 
 
@@ -275,14 +355,14 @@ def coarse_indices(n: int, stride: int) -> np.ndarray:
     return np.arange(0, n, stride)
 
 
-def coarse_pass(omegas, settings: SweepSettings, stride: int, progress=None) -> SweepResult:
+def coarse_pass(omegas, settings: SweepSettings, stride: int, progress=None, on_failure=None) -> SweepResult:
     """Sequential continuation over every stride-th w: the seeds of the chunks (cheap: 1/stride)."""
     w = _check_omegas(omegas)
-    return continuation(w[coarse_indices(w.size, stride)], settings, progress=progress)
+    return continuation(w[coarse_indices(w.size, stride)], settings, progress=progress, on_failure=on_failure)
 
 
 def run_chunk(omegas, settings: SweepSettings, chunk: tuple[int, int], stride: int,
-              seeds: SweepResult | None, progress=None) -> SweepResult:
+              seeds: SweepResult | None, progress=None, on_failure=None) -> SweepResult:
     """The fine sweep over indices chunk = (a, b), seeded from the coarse pass.
 
     Chunk 0 starts like the sequential sweep (from settings.x0, v0); chunk a > 0 starts
@@ -294,7 +374,7 @@ def run_chunk(omegas, settings: SweepSettings, chunk: tuple[int, int], stride: i
     if not 0 <= a < b <= w.size:
         raise ValueError(f"chunk {chunk} outside the grid of {w.size} w values")
     if a == 0:
-        return continuation(w[:b], settings, progress=progress)
+        return continuation(w[:b], settings, progress=progress, on_failure=on_failure)
     if a % stride:
         raise ValueError(f"chunk start {a} is not on the coarse grid (multiple of stride {stride})")
     if seeds is None:
@@ -304,7 +384,7 @@ def run_chunk(omegas, settings: SweepSettings, chunk: tuple[int, int], stride: i
         raise ValueError(f"seeds do not belong to this grid: coarse point {j} is w = "
                          f"{seeds.omega[j] if j < len(seeds) else 'missing'}, expected {w[a - stride]}")
     res = continuation(w[a - stride + 1:b], settings, x0=seeds.x_end[j], v0=seeds.v_end[j],
-                       first_transient=settings.n_transient, progress=progress)
+                       first_transient=settings.n_transient, progress=progress, on_failure=on_failure)
     return res.subset(stride - 1, len(res))
 
 
@@ -375,7 +455,35 @@ def load_sweep(path) -> tuple[SweepResult, dict]:
     if not path.is_file():
         raise FileNotFoundError(f"sweep file {path} does not exist")
     with h5py.File(path, "r") as f:
-        arrays = {name: f[name][()] for name in _ARRAYS}
+        arrays = {name: f[name][()] for name in _ARRAYS if name in f}
         attrs = dict(f.attrs)
+    # files written before the per-w status existed: every w there finished
+    arrays.setdefault("status", np.zeros(arrays["omega"].size, dtype=np.int64))
+    arrays.setdefault("cpu_time", np.full(arrays["omega"].size, np.nan))
+    attrs.setdefault("max_steps_per_period", SweepSettings.max_steps_per_period)
     return SweepResult(settings=SweepSettings.from_attrs(attrs), **arrays), attrs
 
+
+
+# ------------------------------------------------------------------ 2-D maps
+
+MAP_PARAMETERS = ("xI", "m0e")  # obstacle position (m), forcing amplitude m0 e (kg m)
+
+
+def parameter_rows(omegas, settings: SweepSettings, parameter: str, values, progress=None):
+    """One continuation in w per value of a model parameter: the rows of a 2-D map.
+
+    Yields (value, SweepResult). Rows are independent (each starts from settings.x0, v0
+    at its first w), so a map splits into jobs by rows without any seeding.
+    """
+    if parameter not in MAP_PARAMETERS:
+        raise ValueError(f"map parameter must be one of {MAP_PARAMETERS}, got {parameter!r}")
+    vals = np.asarray(values, dtype=float)
+    if vals.ndim != 1 or vals.size == 0 or not np.all(np.isfinite(vals)):
+        raise ValueError("map parameter values must be a non-empty 1-D sequence of finite numbers")
+    w = _check_omegas(omegas)
+    for k, value in enumerate(vals):
+        row_settings = dataclasses.replace(settings, params=dataclasses.replace(settings.params, **{parameter: float(value)}))
+        yield float(value), continuation(w, row_settings)
+        if progress is not None:
+            progress(k, vals.size, float(value))

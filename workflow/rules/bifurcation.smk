@@ -1,1 +1,234 @@
-# placeholder: rules of the bifurcation figure group (to be written)
+# Bifurcation diagrams by continuation: Fig 2 (Poincare, increasing w), Fig 3b (ISIs,
+# decreasing w), the supplementary overlay of both directions, their reading (periods,
+# period doublings, impact adding, grazing, hysteresis) and the paper-vs-replication rows.
+# Targets: fig02, fig03b, bifurcation_overlay, bifurcation_tables, bifurcation_benchmark;
+# opt-in: map2d (w against xI or m0e; the workload for a cluster, see workflow/profiles/slurm).
+#
+# Each sweep is split into `chunks` jobs so that -j2 keeps both cores busy: a cheap coarse
+# sequential pass (every `stride`-th w) seeds the chunks (impactosc.sweep), then the chunks
+# run in parallel and are merged. Simulation, reading and plotting are separate rules, so
+# restyling a figure reruns no simulation.
+
+BIF = config["bifurcation"]
+BIF_REPORT = "Bifurcation diagrams (paper Figs 2, 3b)"
+BIF_SWEEPS = list(BIF["sweeps"])
+BIF_COMMON = {"per_w": BIF["per_w"], "model": config["model"], "solver": config["solver"]}
+
+
+BIF_SWEEP = "results/bifurcation/{sweep}.h5"  # merged sweep file of a configured sweep
+# The grazing group's bracket, when that rule is part of the workflow.
+BIF_GRAZING_REFERENCE = rules.grazing_stats.output.stats if rules.has("grazing_stats") else []
+
+BIF_WILDCARDS = {"sweep": "|".join(BIF_SWEEPS), "chunk": r"\d+"}
+
+
+rule bifurcation_coarse:
+    input:
+        cache=rules.numba_cache.output.marker,
+    output:
+        seeds="results/bifurcation/{sweep}/coarse.h5",
+    params:
+        **BIF_COMMON,
+        grid=lambda wc: BIF["sweeps"][wc.sweep],
+        stride=BIF["stride"],
+        part="coarse",
+    log:
+        "results/logs/bifurcation_{sweep}_coarse.log",
+    conda:
+        "../envs/impactosc.yaml"
+    wildcard_constraints:
+        sweep=BIF_WILDCARDS["sweep"],
+    script:
+        "../scripts/bifurcation_part.py"
+
+
+rule bifurcation_chunk:
+    input:
+        cache=rules.numba_cache.output.marker,
+        # every chunk but the first starts from the coarse pass (chunk 0 starts like the sequential sweep)
+        seeds=lambda wc: expand(rules.bifurcation_coarse.output.seeds, sweep=wc.sweep) if int(wc.chunk) else [],
+    output:
+        chunk="results/bifurcation/{sweep}/chunk{chunk}.h5",
+    params:
+        **BIF_COMMON,
+        grid=lambda wc: BIF["sweeps"][wc.sweep],
+        stride=BIF["stride"],
+        chunks=BIF["chunks"],
+        part=lambda wc: int(wc.chunk),
+    log:
+        "results/logs/bifurcation_{sweep}_chunk{chunk}.log",
+    conda:
+        "../envs/impactosc.yaml"
+    wildcard_constraints:
+        sweep=BIF_WILDCARDS["sweep"],
+        chunk=BIF_WILDCARDS["chunk"],
+    script:
+        "../scripts/bifurcation_part.py"
+
+
+rule bifurcation_merge:
+    input:
+        chunks=lambda wc: expand(rules.bifurcation_chunk.output.chunk, sweep=wc.sweep, chunk=range(BIF["chunks"])),
+        coarse=lambda wc: expand(rules.bifurcation_coarse.output.seeds, sweep=wc.sweep) if BIF["chunks"] > 1 else [],
+    output:
+        sweep=BIF_SWEEP,
+    params:
+        grid=lambda wc: BIF["sweeps"][wc.sweep],
+    log:
+        "results/logs/bifurcation_{sweep}_merge.log",
+    conda:
+        "../envs/impactosc.yaml"
+    wildcard_constraints:
+        sweep=BIF_WILDCARDS["sweep"],
+    script:
+        "../scripts/bifurcation_merge.py"
+
+
+rule bifurcation_tables:
+    input:
+        sweeps=expand(BIF_SWEEP, sweep=BIF_SWEEPS),
+        grazing=BIF_GRAZING_REFERENCE,
+    output:
+        per_w="results/tables/bifurcation_per_w.csv",
+        segments="results/tables/bifurcation_segments.csv",
+        transitions="results/tables/bifurcation_transitions.csv",
+        stats="results/stats/bifurcation.json",
+        rows="results/tables/rows/bifurcation.csv",
+    params:
+        names=BIF_SWEEPS,
+        reading=BIF["reading"],
+        fig03b=BIF["fig03b"]["sweep"],
+        overlay=BIF["overlay"]["sweeps"],
+        command="snakemake -j2 bifurcation_tables",
+    log:
+        "results/logs/bifurcation_tables.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/bifurcation_tables.py"
+
+
+rule fig02:
+    input:
+        sweeps=expand(BIF_SWEEP, sweep=BIF["fig02"]["sweep"]),
+        stats=rules.bifurcation_tables.output.stats,
+    output:
+        png=report(figure(2)[0], caption="../report/fig02.rst", category=BIF_REPORT),
+        pdf=figure(2)[1],
+    params:
+        figure="fig02",
+        names=[BIF["fig02"]["sweep"]],
+        model=config["model"],
+        experimental=BIF["fig02"]["experimental"],
+    log:
+        "results/logs/fig02.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/bifurcation_figure.py"
+
+
+rule fig03b:
+    input:
+        sweeps=expand(BIF_SWEEP, sweep=BIF["fig03b"]["sweep"]),
+        stats=rules.bifurcation_tables.output.stats,
+    output:
+        png=report("results/figures/fig03b.png", caption="../report/fig03b.rst", category=BIF_REPORT),
+        pdf="results/figures/fig03b.pdf",
+    params:
+        figure="fig03b",
+        names=[BIF["fig03b"]["sweep"]],
+        model=config["model"],
+        zoom_near=23.0,
+        zoom_half_width=0.6,
+    log:
+        "results/logs/fig03b.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/bifurcation_figure.py"
+
+
+rule bifurcation_overlay:
+    input:
+        sweeps=expand(BIF_SWEEP, sweep=BIF["overlay"]["sweeps"]),
+        stats=rules.bifurcation_tables.output.stats,
+    output:
+        png=report(
+            "results/figures/bifurcation_overlay.png", caption="../report/bifurcation_overlay.rst", category=BIF_REPORT
+        ),
+        pdf="results/figures/bifurcation_overlay.pdf",
+    params:
+        figure="overlay",
+        names=BIF["overlay"]["sweeps"],
+        model=config["model"],
+    log:
+        "results/logs/bifurcation_overlay.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/bifurcation_figure.py"
+
+
+rule bifurcation_benchmark:
+    input:
+        sweeps=expand(BIF_SWEEP, sweep=BIF_SWEEPS),
+    output:
+        json="results/stats/bifurcation_benchmark.json",
+    params:
+        names=BIF_SWEEPS,
+    log:
+        "results/logs/bifurcation_benchmark.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/bifurcation_benchmark.py"
+
+
+rule map2d_part:
+    input:
+        cache=rules.numba_cache.output.marker,
+    output:
+        part="results/bifurcation/map2d/part{chunk}.h5",
+    params:
+        **BIF_COMMON,
+        map=BIF["map2d"],
+        reading=BIF["reading"],
+        part=lambda wc: int(wc.chunk),
+    log:
+        "results/logs/map2d_part{chunk}.log",
+    conda:
+        "../envs/impactosc.yaml"
+    wildcard_constraints:
+        chunk=BIF_WILDCARDS["chunk"],
+    script:
+        "../scripts/bifurcation_map_part.py"
+
+
+rule map2d:
+    input:
+        parts=expand(rules.map2d_part.output.part, chunk=range(BIF["map2d"]["chunks"])),
+    output:
+        map="results/bifurcation/map2d.h5",
+        png=report("results/figures/map2d.png", caption="../report/map2d.rst", category=BIF_REPORT),
+        pdf="results/figures/map2d.pdf",
+    params:
+        model=config["model"],
+    log:
+        "results/logs/map2d.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/bifurcation_map.py"
+
+
+ALL_TARGETS.extend(
+    [
+        *rules.fig02.output,
+        *rules.fig03b.output,
+        *rules.bifurcation_overlay.output,
+        *rules.bifurcation_tables.output,
+        rules.bifurcation_benchmark.output.json,
+    ]
+)
+TABLE_ROWS.append(rules.bifurcation_tables.output.rows)

@@ -1,1 +1,140 @@
-# placeholder: rules of the chaotic figure group (to be written)
+# Chaotic regime at w = 40.86 rad/s (paper section 2.2, Figs 6-11).
+# Stages: simulation (rule simulate_scene for the scene, chaotic_member for the ensemble of
+# realisations) -> statistics of each impact train (chaotic_train_stats, any events file)
+# -> ensemble spread (chaotic_ensemble) -> tables (chaotic_stats) -> one rule per figure.
+# The core locates the events during integration, so a run file already is the event
+# file; restyling a figure reruns neither a simulation nor a statistic.
+import re
+
+from impactosc.chaotic import ensemble_runs
+
+CHAOTIC = config["chaotic"]
+CHAOTIC_CAPTIONS = "Chaotic regime (Figs 6-11)"
+CHAOTIC_MEMBERS = ensemble_runs(scene(CHAOTIC["scene"]), config["solver"], CHAOTIC["ensemble"])
+CHAOTIC_SCENE_RUN = rules.simulate_scene.output.run.format(scene=CHAOTIC["scene"])
+CHAOTIC_TRAINS = {"model": (CHAOTIC_SCENE_RUN, "model")}
+if CHAOTIC["second_train"]:
+    CHAOTIC_TRAINS["second"] = (CHAOTIC["second_train"]["events"], CHAOTIC["second_train"]["label"])
+# statistics files of the figures with an optional second train (8-10), and of the model alone
+CHAOTIC_STATS_PATTERN = "results/stats/chaotic_{train}.json"
+CHAOTIC_STATS = expand(CHAOTIC_STATS_PATTERN, train=list(CHAOTIC_TRAINS))
+CHAOTIC_MODEL_STATS = expand(CHAOTIC_STATS_PATTERN, train="model")
+
+
+rule chaotic_member:
+    input:
+        cache=rules.numba_cache.output.marker,
+    output:
+        run="results/runs/chaos_ensemble/{member}.h5",
+    params:
+        model=config["model"],
+        solver=lambda wc: {k: CHAOTIC_MEMBERS[wc.member][k] for k in ("rtol", "atol")},
+        scene=lambda wc: {
+            **scene(CHAOTIC["scene"]),
+            "x0": CHAOTIC_MEMBERS[wc.member]["x0"],
+            "events": ["impacts", "penetrations"],
+            "window": None,
+        },
+    log:
+        "results/logs/chaotic_member_{member}.log",
+    conda:
+        "../envs/impactosc.yaml"
+    wildcard_constraints:
+        member="|".join(re.escape(m) for m in CHAOTIC_MEMBERS),
+    script:
+        "../scripts/simulate_scene.py"
+
+
+rule chaotic_train_stats:
+    input:
+        events=lambda wc: CHAOTIC_TRAINS[wc.train][0],
+    output:
+        json=CHAOTIC_STATS_PATTERN,
+    params:
+        label=lambda wc: CHAOTIC_TRAINS[wc.train][1],
+        analysis=CHAOTIC["analysis"],
+    log:
+        "results/logs/chaotic_train_stats_{train}.log",
+    conda:
+        "../envs/impactosc.yaml"
+    wildcard_constraints:
+        train="|".join(CHAOTIC_TRAINS),
+    script:
+        "../scripts/chaotic_train_stats.py"
+
+
+rule chaotic_ensemble:
+    input:
+        runs=[CHAOTIC_SCENE_RUN]
+        + expand(rules.chaotic_member.output.run, member=sorted(CHAOTIC_MEMBERS)),
+    output:
+        json="results/stats/chaotic_ensemble.json",
+        csv="results/tables/chaotic_ensemble.csv",
+    params:
+        analysis=CHAOTIC["analysis"],
+    log:
+        "results/logs/chaotic_ensemble.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/chaotic_ensemble.py"
+
+
+rule chaotic_stats:
+    input:
+        model=CHAOTIC_MODEL_STATS,
+        ensemble=rules.chaotic_ensemble.output.json,
+        run=CHAOTIC_SCENE_RUN,
+    output:
+        rows="results/tables/rows/chaotic.csv",
+        mixture="results/tables/isi_mixture.csv",
+    params:
+        command="snakemake -j1 chaotic_stats",
+    log:
+        "results/logs/chaotic_stats.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/chaotic_tables.py"
+
+
+for _nn, _inputs in (
+    (6, {"run": CHAOTIC_SCENE_RUN}),
+    (7, {"run": CHAOTIC_SCENE_RUN}),
+    (8, {"stats": CHAOTIC_STATS}),
+    (9, {"stats": CHAOTIC_STATS}),
+    (10, {"stats": CHAOTIC_STATS}),
+    (11, {"stats": CHAOTIC_MODEL_STATS}),
+):
+
+    rule:
+        name:
+            f"fig{_nn:02d}"
+        input:
+            **_inputs,
+        output:
+            png=report(
+                figure(_nn)[0],
+                caption=f"../report/fig{_nn:02d}.rst",
+                category=CHAOTIC_CAPTIONS,
+            ),
+            pdf=figure(_nn)[1],
+        params:
+            figure=_nn,
+            portrait_span=CHAOTIC["portrait_span"] if _nn == 6 else None,
+        log:
+            f"results/logs/fig{_nn:02d}.log",
+        conda:
+            "../envs/impactosc.yaml"
+        script:
+            "../scripts/chaotic_figure.py"
+
+
+ALL_TARGETS.extend(
+    [path for nn in range(6, 12) for path in figure(nn)]
+    + [
+        rules.chaotic_stats.output.mixture,
+        rules.chaotic_ensemble.output.csv,
+    ]
+)
+TABLE_ROWS.append(rules.chaotic_stats.output.rows)

@@ -1,1 +1,229 @@
-# placeholder: rules of the periodic figure group (to be written)
+# Periodic regime and the grazing bifurcation: Figs 1, 3a, 4, 5, the grazing bracket and the
+# section 2.1 rows of the paper-vs-replication table.
+# Targets: fig01, fig03a, fig04, fig05, grazing (each builds only what it needs).
+# Simulation (periodic_branch, periodic_from_rest, periodic_before_grazing, simulate_scene),
+# statistics (periodic_stats, grazing_stats, periodic_rows) and plotting (fig*) are separate
+# rules, so restyling a figure reruns no simulation.
+
+PERIODIC = config["periodic"]
+PERIODIC_REPORT = "Periodic regime and grazing (paper Figs 1, 3a, 4, 5)"
+
+# Run files of the configured scenes this group reads (rule simulate_scene).
+PERIOD4_RUN = expand(rules.simulate_scene.output.run, scene="period4")[0]
+BEFORE_GRAZING_FROM_REST_RUN = expand(rules.simulate_scene.output.run, scene="before_grazing")[0]
+FIG03A_RUN = expand(rules.simulate_scene.output.run, scene=PERIODIC["fig03a"]["scene"])[0]
+
+
+rule periodic_branch:
+    input:
+        cache=rules.numba_cache.output.marker,
+    output:
+        branch="results/runs/grazing_branch.h5",
+        bisection="results/runs/grazing_bisection.json",
+    params:
+        branch=PERIODIC["branch"],
+        grazing=PERIODIC["grazing"],
+        model=config["model"],
+        solver=config["solver"],
+    log:
+        "results/logs/periodic_branch.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/periodic_branch.py"
+
+
+rule periodic_from_rest:
+    input:
+        cache=rules.numba_cache.output.marker,
+    output:
+        sweep="results/runs/grazing_from_rest.h5",
+    params:
+        scan=PERIODIC["from_rest"],
+        n_record=PERIODIC["branch"]["n_record"],
+        model=config["model"],
+        solver=config["solver"],
+    log:
+        "results/logs/periodic_from_rest.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/periodic_from_rest.py"
+
+
+rule periodic_before_grazing:
+    input:
+        branch=rules.periodic_branch.output.branch,
+    output:
+        run="results/runs/branch_before_grazing.h5",
+    params:
+        scene=PERIODIC["before_grazing"],
+        model=config["model"],
+        solver=config["solver"],
+    log:
+        "results/logs/periodic_before_grazing.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/periodic_before_grazing.py"
+
+
+rule periodic_stats:
+    input:
+        after_grazing=PERIOD4_RUN,
+        before_grazing_from_rest=BEFORE_GRAZING_FROM_REST_RUN,
+    output:
+        stats="results/stats/periodic.json",
+        spectrum="results/stats/spectrum_period4.json",
+    params:
+        spectrum=PERIODIC["spectrum"],
+        spectrum_of="after_grazing",
+    log:
+        "results/logs/periodic_stats.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/periodic_stats.py"
+
+
+rule before_grazing_stats:
+    input:
+        before_grazing_branch=rules.periodic_before_grazing.output.run,
+    output:
+        stats="results/stats/before_grazing.json",
+    params:
+        spectrum=PERIODIC["spectrum"],
+    log:
+        "results/logs/before_grazing_stats.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/periodic_stats.py"
+
+
+rule grazing_stats:
+    input:
+        branch=rules.periodic_branch.output.branch,
+        bisection=rules.periodic_branch.output.bisection,
+        from_rest=rules.periodic_from_rest.output.sweep,
+    output:
+        stats="results/stats/grazing.json",
+    params:
+        paper_omegas=PERIODIC["grazing"]["paper_omegas"],
+        n_fit=PERIODIC["grazing"]["n_fit"],
+    log:
+        "results/logs/grazing_stats.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/periodic_grazing_stats.py"
+
+
+rule periodic_rows:
+    input:
+        stats=rules.periodic_stats.output.stats,
+        before=rules.before_grazing_stats.output.stats,
+        grazing=rules.grazing_stats.output.stats,
+    output:
+        rows="results/tables/rows/periodic.csv",
+    log:
+        "results/logs/periodic_rows.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/periodic_rows.py"
+
+
+rule fig01:
+    output:
+        png=report(figure(1)[0], caption="../report/fig01.rst", category=PERIODIC_REPORT),
+        pdf=figure(1)[1],
+    log:
+        "results/logs/fig01.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/periodic_fig01.py"
+
+
+rule fig03a:
+    input:
+        run=FIG03A_RUN,
+    output:
+        png=report("results/figures/fig03a.png", caption="../report/fig03a.rst", category=PERIODIC_REPORT),
+        pdf="results/figures/fig03a.pdf",
+    params:
+        start=PERIODIC["fig03a"]["start"],
+        span=PERIODIC["fig03a"]["span"],
+    log:
+        "results/logs/fig03a.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/periodic_fig03a.py"
+
+
+rule fig04:
+    input:
+        before=rules.periodic_before_grazing.output.run,
+        after=PERIOD4_RUN,
+        spectrum=rules.periodic_stats.output.spectrum,
+        stats=rules.periodic_stats.output.stats,
+        before_stats=rules.before_grazing_stats.output.stats,
+    output:
+        png=report(figure(4)[0], caption="../report/fig04.rst", category=PERIODIC_REPORT),
+        pdf=figure(4)[1],
+    params:
+        inset=PERIODIC["fig04"]["inset"],
+    log:
+        "results/logs/fig04.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/periodic_fig04.py"
+
+
+rule fig05:
+    input:
+        run=PERIOD4_RUN,
+        stats=rules.periodic_stats.output.stats,
+    output:
+        png=report(figure(5)[0], caption="../report/fig05.rst", category=PERIODIC_REPORT),
+        pdf=figure(5)[1],
+    log:
+        "results/logs/fig05.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/periodic_fig05.py"
+
+
+rule grazing:
+    input:
+        stats=rules.grazing_stats.output.stats,
+    output:
+        png=report("results/figures/grazing.png", caption="../report/grazing.rst", category=PERIODIC_REPORT),
+        pdf="results/figures/grazing.pdf",
+    params:
+        window=[PERIODIC["from_rest"]["start"], PERIODIC["from_rest"]["stop"]],
+    log:
+        "results/logs/grazing.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/periodic_grazing_fig.py"
+
+
+ALL_TARGETS.extend(
+    [
+        *rules.fig01.output,
+        *rules.fig03a.output,
+        *rules.fig04.output,
+        *rules.fig05.output,
+        *rules.grazing.output,
+        rules.grazing_stats.output.stats,
+        rules.periodic_stats.output.stats,
+        rules.before_grazing_stats.output.stats,
+    ]
+)
+TABLE_ROWS.append(rules.periodic_rows.output.rows)

@@ -1,0 +1,75 @@
+"""Draw one bifurcation figure: fig02 (Poincare, increasing w), fig03b (ISIs, decreasing w)
+or the supplementary overlay of both directions.
+
+Reads snakemake.input.sweeps (sweep files named by snakemake.params.names), the diagram
+reading snakemake.input.stats (transitions to mark) and, for fig02, an optional measured
+diagram (snakemake.params.experimental); writes snakemake.output.png/.pdf and a log.
+"""
+
+import json
+import logging
+from pathlib import Path
+
+import h5py
+
+from impactosc.plotting import save_figure
+from impactosc.plotting.bifurcation import fig02_poincare, fig03b_isi, overlay_figure
+from impactosc.sweep import load_sweep
+
+MARKED = ("period doubling",)
+
+
+def marks_of(summary):
+    """(w, kind) of the transitions worth a mark: period doublings and grazings."""
+    out = []
+    for t in summary["transitions"]:
+        if t["is_grazing"]:
+            out.append((t["omega"], "grazing"))
+        elif t["kind"] in MARKED:
+            out.append((t["omega"], t["kind"]))
+    return out
+
+
+def main(inp, params, out, log_path):
+    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s", force=True)
+    stats = json.loads(Path(inp.stats).read_text())
+    sweeps = {n: load_sweep(p) for n, p in zip(params.names, inp.sweeps)}
+    x_obstacle = params.model["xI"]
+    if params.figure == "fig02":
+        name = params.names[0]
+        res, _ = sweeps[name]
+        exp = None
+        if params.experimental:
+            with h5py.File(params.experimental["file"], "r") as f:
+                exp = (f["omega"][()], f["x"][()], params.experimental["label"])
+        w, x = res.poincare_points()
+        summary = stats["sweeps"][name]
+        fig = fig02_poincare(w, x, x_obstacle, experimental=exp, marks=marks_of(summary),
+                             abandoned=summary["failed_omegas"])
+    elif params.figure == "fig03b":
+        name = params.names[0]
+        res, attrs = sweeps[name]
+        w, s = res.isi_points()
+        grazings = stats["sweeps"][name]["grazings"]
+        zoom = None
+        if grazings:
+            g = min(grazings, key=lambda g: abs(g["omega_zero"] - params.zoom_near))
+            zoom = (g["omega_zero"] - params.zoom_half_width, g["omega_zero"] + params.zoom_half_width)
+        fig = fig03b_isi(w, s, marks=marks_of(stats["sweeps"][name]), zoom=zoom, start=float(attrs["grid_start"]))
+    elif params.figure == "overlay":
+        layers = []
+        for name in params.names:
+            res, attrs = sweeps[name]
+            wp, x = res.poincare_points()
+            wi, s = res.isi_points()
+            direction = str(attrs["direction"])
+            per_w = stats["sweeps"][name]["per_w"]
+            layers.append((f"{name} " + r"$\omega$", wp, x, wi, s, direction, per_w["omega"], per_w["period"]))
+        fig = overlay_figure(layers, x_obstacle, windows=stats["directions_differ"]["windows"])
+    else:
+        raise ValueError(f"unknown bifurcation figure {params.figure!r}")
+    save_figure(fig, out.png, out.pdf)
+    logging.info("wrote %s", out.png)
+
+
+main(snakemake.input, snakemake.params, snakemake.output, snakemake.log[0])  # noqa: F821

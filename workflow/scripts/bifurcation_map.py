@@ -1,0 +1,27 @@
+"""Join the row groups of the 2-D map and draw it.
+
+Reads snakemake.input.parts (map HDF5 row groups, in order); writes snakemake.output.map
+(joined map HDF5), snakemake.output.png/.pdf and a log.
+"""
+
+import logging
+
+from impactosc.branches import load_map, merge_maps, save_map
+from impactosc.plotting import save_figure
+from impactosc.plotting.bifurcation import map2d_figure
+
+UNITS = {"xI": (1e3, "mm"), "m0e": (1e3, "g m")}
+
+
+def main(parts, model, out, log_path):
+    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s", force=True)
+    parts = [parts] if isinstance(parts, str) else list(parts)
+    m = merge_maps([load_map(p) for p in parts])
+    save_map(out.map, m)
+    scale, unit = UNITS[m.parameter]
+    fig = map2d_figure(m.omega, m.values, m.period, m.rate, m.parameter, scale, unit, marker=model[m.parameter])
+    save_figure(fig, out.png, out.pdf)
+    logging.info("map %s: %d x %d cells, %.1f core seconds", m.parameter, m.values.size, m.omega.size, m.wall_time)
+
+
+main(snakemake.input.parts, snakemake.params.model, snakemake.output, snakemake.log[0])  # noqa: F821

@@ -1,0 +1,37 @@
+"""One job of the 2-D map: a group of rows (parameter values), each a continuation in w.
+
+Reads snakemake.params (map settings, per-w settings, model, solver, reading, part k of
+n); writes snakemake.output.part (map HDF5 of those rows, impactosc.branches format) and a log.
+"""
+
+import logging
+import time
+
+import numpy as np
+
+from impactosc.branches import MapResult, classify_sweep, save_map
+from impactosc.grazing import regular_grid
+from impactosc.sweep import SweepSettings, parameter_rows
+
+
+def main(params, output, log_path):
+    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s", force=True)
+    m = params.map
+    grid = regular_grid(m["omega"]["start"], m["omega"]["stop"], m["omega"]["step"])
+    values = np.array_split(np.linspace(m["values"]["start"], m["values"]["stop"], m["values"]["n"]),
+                            m["chunks"])[params.part]
+    settings = SweepSettings.from_config(params.per_w, params.model, params.solver,
+                                         n_transient=m["n_transient"], n_record=m["n_record"])
+    r = params.reading
+    started = time.time()
+    tables = []
+    for value, res in parameter_rows(grid, settings, m["parameter"], values):
+        tables.append(classify_sweep(res, x_tol=r["x_tol"], v_tol=r["v_tol"], isi_tol=r["isi_tol"]))
+        logging.info("%s = %g: %d w in %.1f s, %d abandoned", m["parameter"], value, len(res),
+                     res.wall_time.sum(), int((res.status != 0).sum()))
+    finished = time.time()
+    save_map(output, MapResult.from_tables(m["parameter"], values, tables, wall_time=finished - started),
+             started=started, finished=finished)
+
+
+main(snakemake.params, snakemake.output.part, snakemake.log[0])  # noqa: F821

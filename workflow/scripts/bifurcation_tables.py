@@ -1,0 +1,67 @@
+"""Read the bifurcation diagrams: periods, transitions, grazing, hysteresis, paper rows.
+
+Reads snakemake.input.sweeps (sweep files named by snakemake.params.names) and, if given,
+snakemake.input.grazing (the grazing group's results/stats/grazing.json); writes
+snakemake.output: per_w, segments, transitions (CSV tables), stats (JSON digest the
+figures mark transitions from), rows (paper-vs-replication rows), and a log.
+"""
+
+import csv
+import json
+import logging
+from pathlib import Path
+
+from impactosc.branches import differing_windows, paper_rows, read_sweep
+from impactosc.sweep import load_sweep
+from impactosc.table import write_rows
+
+
+def _write_csv(path, rows, columns):
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=columns, lineterminator="\n")
+        w.writeheader()
+        w.writerows(rows)
+
+
+def main(inp, params, out, log_path):
+    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s", force=True)
+    r = params.reading
+    readings = {}
+    for name, path in zip(params.names, inp.sweeps):
+        readings[name] = read_sweep(load_sweep(path)[0], name, x_tol=r["x_tol"], v_tol=r["v_tol"],
+                                    isi_tol=r["isi_tol"], min_points=r["min_points"], n_fit=r["n_fit"])
+        logging.info("%s: %d segments, %d transitions, %d grazings, %d abandoned w", name,
+                     len(readings[name].segments), len(readings[name].transitions), len(readings[name].grazings),
+                     len(readings[name].failed_omegas))
+    per_w = [{"sweep": n, **row} for n, rd in readings.items() for row in rd.table.rows()]
+    _write_csv(out.per_w, per_w, list(per_w[0]))
+    segs = [{"sweep": n, **s.to_dict()} for n, rd in readings.items() for s in rd.segments]
+    _write_csv(out.segments, segs, list(segs[0]))
+    summaries = {n: rd.summary() for n, rd in readings.items()}
+    trans = [{"sweep": n, **t} for n, s in summaries.items() for t in s["transitions"]]
+    a, b = params.overlay
+    windows = differing_windows(readings[a].table, readings[b].table, r["min_points"])
+    for lo, hi in windows:
+        trans.append({"sweep": f"{a} vs {b}", "kind": "directions differ", "omega_before": lo, "omega_after": hi,
+                      "before": a, "after": b, "detail": "different attractors (hysteresis)", "grazing_omega_zero": "",
+                      "omega": round(0.5 * (lo + hi), 6), "width": round(hi - lo, 6), "is_grazing": False})
+    columns = ["sweep", "kind", "omega", "width", "omega_before", "omega_after", "before", "after", "detail",
+               "is_grazing", "grazing_omega_zero"]
+    _write_csv(out.transitions, [{k: t[k] for k in columns} for t in trans], columns)
+    reference = None
+    if inp.get("grazing"):
+        reference = json.loads(Path(inp.grazing).read_text())
+    rows = paper_rows(readings[params.fig03b], params.command, reference_grazing=reference)
+    write_rows(out.rows, rows)
+    ref = None
+    if reference:
+        ref = {"omega_g": reference["omega_g"], "omega_miss": reference["bracket"]["omega_miss"],
+               "omega_contact": reference["bracket"]["omega_contact"]}
+    stats = {"sweeps": summaries, "directions_differ": {"sweeps": [a, b], "windows": windows},
+             "reference_grazing": ref}
+    Path(out.stats).write_text(json.dumps(stats, indent=1))
+    logging.info("%d paper rows, %d hysteresis windows", len(rows), len(windows))
+
+
+main(snakemake.input, snakemake.params, snakemake.output, snakemake.log[0])  # noqa: F821

@@ -1,0 +1,31 @@
+"""Fig 4a scene: the attractor on the decreasing branch at w = 23.05, just before grazing.
+
+Reads snakemake.input.branch (the followed branch) and snakemake.params (scene, model,
+solver); restarts from the branch end state at that w (at phi = 0, so t = 0 continues the
+branch) and writes snakemake.output.run (HDF5 run file with a trajectory window) and a log.
+"""
+
+import logging
+
+from impactosc.io import write_run
+from impactosc.model import ModelParams
+from impactosc.periodic import branch_state
+from impactosc.simulate import Window, simulate
+from impactosc.sweep import load_sweep
+
+
+def main(branch: str, scene: dict, model: dict, solver: dict, out: str, log: str):
+    logging.basicConfig(filename=log, level=logging.INFO, format="%(asctime)s %(message)s")
+    sweep, _ = load_sweep(branch)
+    x0, v0 = branch_state(sweep, scene["omega"])
+    end = scene["transient"] + scene["duration"]
+    res = simulate(scene["omega"], scene["transient"], scene["duration"], x0=x0, v0=v0,
+                   params=ModelParams(**model), rtol=solver["rtol"], atol=solver["atol"],
+                   window=Window(scene["transient"], end, scene["dt"]))
+    res.attrs["start_from"] = f"branch end state at w = {scene['omega']} ({branch})"
+    write_run(out, res.events, res.attrs, res.trajectory)
+    logging.info("%s: %d impacts from (x0, v0) = (%.6e, %.6e)", out, res.impact_times.size, x0, v0)
+
+
+main(snakemake.input.branch, snakemake.params.scene, snakemake.params.model, snakemake.params.solver,  # noqa: F821
+     snakemake.output.run, snakemake.log[0])  # noqa: F821

@@ -1,0 +1,38 @@
+"""Follow the attractor with decreasing w and bracket the grazing w by bisection.
+
+Reads snakemake.params (branch grid and lengths, grazing tolerance, model, solver); writes
+snakemake.output.branch (sweep HDF5, impactosc.sweep format, branch order) and
+snakemake.output.bisection (JSON: the bracket and every bisection trial), and a log.
+"""
+
+import logging
+
+from impactosc.grazing import branch_grid, locate_grazing
+from impactosc.model import ModelParams
+from impactosc.periodic import write_json
+from impactosc.sweep import SweepSettings, continuation, save_sweep
+
+
+def main(branch: dict, grazing: dict, model: dict, solver: dict, out_branch: str, out_bisection: str, log: str):
+    logging.basicConfig(filename=log, level=logging.INFO, format="%(asctime)s %(message)s")
+    settings = SweepSettings(n_transient=branch["n_transient"], n_record=branch["n_record"],
+                             n_initial=branch["n_initial"], params=ModelParams(**model), rtol=solver["rtol"],
+                             atol=solver["atol"])
+    grid = branch_grid(branch["start"], branch["fine_from"], branch["stop"], branch["coarse_step"],
+                       branch["fine_step"])
+    logging.info("branch: %d w values from %g down to %g", grid.size, grid[0], grid[-1])
+
+    def progress(i, n, w):
+        if i % 50 == 0 or i == n - 1:
+            logging.info("w %d/%d = %.4f", i + 1, n, w)
+
+    result = continuation(grid, settings, progress=progress)
+    save_sweep(out_branch, result, direction="decreasing")
+    bracket = locate_grazing(result, settings, grazing["tol"])
+    logging.info("grazing bracket [%.7f, %.7f] after %d trials", bracket.omega_contact, bracket.omega_miss,
+                 len(bracket.trials))
+    write_json(out_bisection, bracket.to_dict())
+
+
+main(snakemake.params.branch, snakemake.params.grazing, snakemake.params.model, snakemake.params.solver,  # noqa: F821
+     snakemake.output.branch, snakemake.output.bisection, snakemake.log[0])  # noqa: F821

@@ -1,0 +1,19 @@
+"""Fig 3a: construction of the impact map on a stretch of x(t).
+
+Reads snakemake.input.run (a run file with a trajectory window) and snakemake.params
+(start, span in s); writes snakemake.output.png and .pdf.
+"""
+
+from pathlib import Path
+
+from impactosc.io import read_run
+from impactosc.plotting import save_figure
+from impactosc.plotting.periodic import fig03a_impact_construction
+
+events, attrs, traj = read_run(snakemake.input.run)  # noqa: F821
+if traj is None:
+    raise ValueError(f"{snakemake.input.run} has no trajectory window; Fig 3a needs x(t)")  # noqa: F821
+fig = fig03a_impact_construction(traj["t"], traj["x"], events["impacts"]["t"], attrs["param_xI"],
+                                 snakemake.params.start, snakemake.params.span)  # noqa: F821
+save_figure(fig, snakemake.output.png, snakemake.output.pdf)  # noqa: F821
+Path(snakemake.log[0]).write_text(f"wrote {snakemake.output.png} and {snakemake.output.pdf}\n")  # noqa: F821

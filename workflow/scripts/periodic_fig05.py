@@ -1,0 +1,21 @@
+"""Fig 5: successive iterations S_{j+1} vs S_j and the histogram of the S_j at w = 23.03.
+
+Reads snakemake.input.run (the period-4 scene) and .stats (periodic.json); writes
+snakemake.output.png and .pdf.
+"""
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from impactosc.io import read_run
+from impactosc.plotting import save_figure
+from impactosc.plotting.periodic import fig05_impact_map
+
+events, attrs, _ = read_run(snakemake.input.run)  # noqa: F821
+with open(snakemake.input.stats) as f:  # noqa: F821
+    numbers = json.load(f)["after_grazing"]["impact_map"]
+fig = fig05_impact_map(np.diff(events["impacts"]["t"]), numbers, attrs["omega"])
+save_figure(fig, snakemake.output.png, snakemake.output.pdf)  # noqa: F821
+Path(snakemake.log[0]).write_text(f"wrote {snakemake.output.png} and {snakemake.output.pdf}\n")  # noqa: F821

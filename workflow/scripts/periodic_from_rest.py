@@ -1,0 +1,25 @@
+"""Run every w of a grid from rest (x = v = 0 at t = 0) around the grazing.
+
+Reads snakemake.params (from_rest grid and transient, branch record length, model,
+solver); writes snakemake.output.sweep (sweep HDF5, impactosc.sweep format) and a log.
+"""
+
+import logging
+
+from impactosc.grazing import regular_grid, scan_from_rest
+from impactosc.model import ModelParams
+from impactosc.sweep import SweepSettings, save_sweep
+
+
+def main(scan: dict, n_record: int, model: dict, solver: dict, out: str, log: str):
+    logging.basicConfig(filename=log, level=logging.INFO, format="%(asctime)s %(message)s")
+    settings = SweepSettings(n_transient=0, n_record=n_record, n_initial=0, params=ModelParams(**model),
+                             rtol=solver["rtol"], atol=solver["atol"])
+    grid = regular_grid(scan["start"], scan["stop"], scan["step"])
+    result = scan_from_rest(grid, settings, scan["transient"],
+                            progress=lambda i, n, w: logging.info("w %d/%d = %.4f", i + 1, n, w))
+    save_sweep(out, result, direction="from rest", transient_s=scan["transient"])
+
+
+main(snakemake.params.scan, snakemake.params.n_record, snakemake.params.model,  # noqa: F821
+     snakemake.params.solver, snakemake.output.sweep, snakemake.log[0])  # noqa: F821

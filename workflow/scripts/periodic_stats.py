@@ -1,0 +1,21 @@
+"""Section 2.1 numbers, attractor summaries and spectra of run files (Figs 4, 5, table rows).
+
+Reads every snakemake.input (run files; the input names become the keys of the output) and
+snakemake.params.spectrum (peak-finder options); writes snakemake.output.stats (JSON of
+impactosc.periodic.run_summary per input) and, when params.spectrum_of names an input,
+snakemake.output.spectrum (its spectrum of x with lines and labels, JSON; Fig 4c).
+"""
+
+from pathlib import Path
+
+from impactosc.periodic import run_summary, write_json
+
+opts = snakemake.params.spectrum  # noqa: F821
+spectrum_of = snakemake.params.get("spectrum_of")  # noqa: F821
+stats, spectra = {}, {}
+for name, path in snakemake.input.items():  # noqa: F821
+    stats[name], spectra[name] = run_summary(path, opts)
+write_json(snakemake.output.stats, stats)  # noqa: F821
+if spectrum_of:
+    write_json(snakemake.output.spectrum, spectra[spectrum_of].to_dict())  # noqa: F821
+Path(snakemake.log[0]).write_text(f"wrote {', '.join(map(str, snakemake.output))}\n")  # noqa: F821
