@@ -87,6 +87,8 @@ def poincare_period(x, v, x_tol: float = 1e-8, v_tol: float = 1e-6, max_period: 
     tolerances (10 nm, 1 um/s) are far above the integration error of the core and far
     below the Poincare-point spacing of the orbits here (tens of um).
     """
+    from .branches import detect_period  # one period detector serves every figure group
+
     x = np.asarray(x, dtype=float)
     v = np.asarray(v, dtype=float)
     if x.ndim != 1 or x.shape != v.shape or x.size < 2:
@@ -94,10 +96,8 @@ def poincare_period(x, v, x_tol: float = 1e-8, v_tol: float = 1e-6, max_period: 
     if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
         raise ValueError("x and v must be finite")
     max_period = x.size // 2 if max_period is None else int(max_period)
-    for p in range(1, max(1, min(max_period, x.size - 1)) + 1):
-        if np.all(np.abs(x[p:] - x[:-p]) <= x_tol) and np.all(np.abs(v[p:] - v[:-p]) <= v_tol):
-            return p
-    return 0
+    max_period = max(1, min(max_period, x.size - 1))
+    return int(detect_period(np.column_stack([x, v]), (x_tol, v_tol), max_period=max_period))
 
 
 @dataclass(frozen=True)

@@ -112,6 +112,7 @@ rule fig02:
     input:
         sweeps=expand(BIF_SWEEP, sweep=BIF["fig02"]["sweep"]),
         stats=rules.bifurcation_tables.output.stats,
+        experimental=BIF["fig02"]["experimental"]["file"] if BIF["fig02"]["experimental"] else [],
     output:
         png=report(figure(2)[0], caption="../report/fig02.rst", category=BIF_REPORT),
         pdf=figure(2)[1],

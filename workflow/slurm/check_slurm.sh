@@ -78,8 +78,16 @@ mkdir -p /etc/slurm
 cp "$CONF" "$SYS_CONF"
 
 cleanup() {
+    local pids=()
     for pidfile in "$SCRATCH/run/slurmd.pid" "$SCRATCH/run/slurmctld.pid" "$SCRATCH/run/munged.pid"; do
-        [[ -s "$pidfile" ]] && kill "$(cat "$pidfile")" 2>/dev/null || true
+        [[ -s "$pidfile" ]] && pids+=("$(cat "$pidfile")")
+    done
+    for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
+    for _ in $(seq 20); do  # slurmctld saves its state before it exits
+        alive=0
+        for pid in "${pids[@]}"; do kill -0 "$pid" 2>/dev/null && alive=1; done
+        [[ $alive -eq 0 ]] && break
+        sleep 0.5
     done
     grep -q '^ClusterName=impactosc-check' "$SYS_CONF" 2>/dev/null && rm -f "$SYS_CONF"
     return 0
