@@ -13,6 +13,7 @@ include: "workflow/rules/bifurcation.smk"
 include: "workflow/rules/measured.smk"
 include: "workflow/rules/work_precision.smk"
 include: "workflow/rules/benchmark.smk"
+include: "workflow/rules/combined.smk"
 include: "workflow/rules/tables.smk"
 
 

@@ -13,22 +13,8 @@ from pathlib import Path
 import h5py
 
 from impactosc.plotting import save_figure
-from impactosc.plotting.bifurcation import fig02_poincare, fig03b_isi, overlay_figure
+from impactosc.plotting.bifurcation import fig02_poincare, fig03b_arguments, fig03b_isi, marks_of, overlay_figure
 from impactosc.sweep import load_sweep
-
-MARKED = ("period doubling",)
-
-
-def marks_of(summary):
-    """(w, kind) of the transitions worth a mark: period doublings and grazings."""
-    out = []
-    for t in summary["transitions"]:
-        if t["is_grazing"]:
-            out.append((t["omega"], "grazing"))
-        elif t["kind"] in MARKED:
-            out.append((t["omega"], t["kind"]))
-    return out
-
 
 def main(inp, params, out, log_path):
     logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s", force=True)
@@ -49,13 +35,8 @@ def main(inp, params, out, log_path):
     elif params.figure == "fig03b":
         name = params.names[0]
         res, attrs = sweeps[name]
-        w, s = res.isi_points()
-        grazings = stats["sweeps"][name]["grazings"]
-        zoom = None
-        if grazings:
-            g = min(grazings, key=lambda g: abs(g["omega_zero"] - params.zoom_near))
-            zoom = (g["omega_zero"] - params.zoom_half_width, g["omega_zero"] + params.zoom_half_width)
-        fig = fig03b_isi(w, s, marks=marks_of(stats["sweeps"][name]), zoom=zoom, start=float(attrs["grid_start"]))
+        w, s, kw = fig03b_arguments(res, attrs, stats["sweeps"][name], params.zoom_near, params.zoom_half_width)
+        fig = fig03b_isi(w, s, **kw)
     elif params.figure == "overlay":
         layers = []
         for name in params.names:

@@ -103,14 +103,17 @@ def fig02_poincare(w, x, x_obstacle, *, experimental=None, marks=(), abandoned=(
     return fig
 
 
-def fig03b_isi(w, s, *, marks=(), zoom=None, start=None):
+def fig03b_isi(w, s, *, marks=(), zoom=None, start=None, axes=None):
     """Fig 3b: ISI diagram S_j against w (decreasing w), with an optional zoomed panel.
 
     zoom: None or (w_lo, w_hi) drawn as a second panel (e.g. around the grazing);
-    start: the first w of the sweep, marked with an arrow showing the direction.
+    start: the first w of the sweep, marked with an arrow showing the direction;
+    axes: existing axes to draw into (one, or two with a zoom), e.g. inside Fig 3.
     """
     apply_style()
-    if zoom is None:
+    if axes is not None:
+        fig = axes[0].figure
+    elif zoom is None:
         fig, ax = plt.subplots(figsize=(DOUBLE, 6.5 * CM))
         axes = [ax]
     else:
@@ -139,6 +142,34 @@ def fig03b_isi(w, s, *, marks=(), zoom=None, start=None):
         mark_transitions(z, [(m, k) for m, k in marks if lo <= m <= hi], legend=False)
         ax.axvspan(lo, hi, facecolor="0.93", edgecolor="0.6", lw=0.5, zorder=0)
     return fig
+
+
+MARKED = ("period doubling",)
+
+
+def marks_of(summary):
+    """(w, kind) of the transitions worth a mark in a diagram: period doublings and grazings."""
+    out = []
+    for t in summary["transitions"]:
+        if t["is_grazing"]:
+            out.append((t["omega"], "grazing"))
+        elif t["kind"] in MARKED:
+            out.append((t["omega"], t["kind"]))
+    return out
+
+
+def fig03b_arguments(res, attrs, summary, zoom_near, zoom_half_width):
+    """(w, S, keyword arguments) of fig03b_isi from a sweep and its reading.
+
+    Shared by the stand-alone Fig 3b and the two-panel Fig 3; the zoom is centred on the
+    grazing nearest to `zoom_near` (rad/s), when the reading found one.
+    """
+    w, s = res.isi_points()
+    zoom = None
+    if summary["grazings"]:
+        g = min(summary["grazings"], key=lambda g: abs(g["omega_zero"] - zoom_near))
+        zoom = (g["omega_zero"] - zoom_half_width, g["omega_zero"] + zoom_half_width)
+    return w, s, dict(marks=marks_of(summary), zoom=zoom, start=float(attrs["grid_start"]))
 
 
 def period_strip(ax, rows):

@@ -21,8 +21,12 @@ UM = 1e6  # m -> um
 __all__ = ["fig03a_impact_construction", "fig04_grazing_portraits", "fig05_impact_map", "grazing_evidence"]
 
 
-def fig03a_impact_construction(t, x, impact_t, x_impact_level, t_start: float, span: float):
-    """x(t) with the level xI, the impact moments T_j (upward crossings) and the intervals S_j."""
+def fig03a_impact_construction(t, x, impact_t, x_impact_level, t_start: float, span: float, ax=None):
+    """x(t) with the level xI, the impact moments T_j (upward crossings) and the intervals S_j.
+
+    Draws into `ax` when given (Fig 3 puts this panel beside the ISI diagram), else into a
+    figure of its own; returns the figure.
+    """
     apply_style()
     sel = (t >= t_start) & (t <= t_start + span)
     if sel.sum() < 2:
@@ -30,7 +34,10 @@ def fig03a_impact_construction(t, x, impact_t, x_impact_level, t_start: float, s
     tj = np.asarray(impact_t)[(impact_t >= t_start) & (impact_t <= t_start + span)]
     if tj.size < 2:
         raise ValueError(f"need at least 2 impacts in [{t_start}, {t_start + span}] s to draw an interval")
-    fig, ax = plt.subplots(figsize=(SINGLE * 1.25, 5.2 / 2.54))
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(SINGLE * 1.25, 5.2 / 2.54))
+    else:
+        fig = ax.figure
     tt = t[sel] - t_start
     xi = x_impact_level * MM
     ax.plot(tt, x[sel] * MM, color="0.15", lw=0.9, label="$x(t)$")
