@@ -110,13 +110,13 @@ def validate_samples(t, x, *, omega=None, where=None, source="record", max_gap_f
     if bad.size:
         i = bad[0] + 1
         kind = "repeated" if d[bad[0]] == 0 else "unsorted (earlier than the previous one)"
-        raise ValueError(f"{source}: {name(i)}: time stamp {t[i]!r} s is {kind}; "
+        raise ValueError(f"{source}: {name(i)}: time stamp {float(t[i])!r} s is {kind}; "
                          "time must be strictly increasing")
     med = float(np.median(d))
     bad = np.flatnonzero(d > max_gap_factor * med)
     if bad.size:
         i = bad[0] + 1
-        raise ValueError(f"{source}: {name(i)}: gap of {d[bad[0]]:.6g} s before t = {t[i]!r} s "
+        raise ValueError(f"{source}: {name(i)}: gap of {d[bad[0]]:.6g} s before t = {float(t[i])!r} s "
                          f"(median sample interval {med:.6g} s); a gap hides impacts, so split "
                          "the record there")
     if omega is not None:
@@ -271,7 +271,7 @@ def write_record(path, t, x, *, omega=None, meta=None, units="m") -> Path:
                     f.write(f"# omega: {float(omega)!r}\n")
                 for k, v in meta.items():
                     if k == "x_impact":
-                        v = float(v) * scale
+                        v = f"{float(v) * scale:.9g}"
                     f.write(f"# {k}: {v}\n")
                 f.write("t,x\n")
                 np.savetxt(f, np.column_stack([t, x * scale]), fmt="%.9g", delimiter=",")

@@ -107,7 +107,7 @@ def fig08(trains: list[dict]):
         a.set_ylim(0, min(4 * v["cv2_paper"], max(v["cv2_paper_running"])))
         a.set_xlabel("sample size i")
         a.set_ylabel(r"$C_V^2$ = var/mean (s)")
-        _letter(a, f"{_panel_name(i, s)}: paper's $C_V^2$ -> {v['cv2_paper']:.4f} s")
+        _letter(a, f"{_panel_name(i, s)}\npaper's $C_V^2$ -> {v['cv2_paper']:.4f} s")
         b.plot(n, v["cv2_running"], color="C2")
         b.axhline(1.0, color="0.5", ls="--", lw=0.7)
         b.text(n[-1], 0.97, "Poisson", ha="right", va="top", fontsize=7, color="0.4")

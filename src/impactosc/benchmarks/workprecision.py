@@ -1,0 +1,423 @@
+"""Work-precision: wall time against the errors that matter for this study (issue 7).
+
+Why: a speed only means something at a stated accuracy. Errors are measured on what the
+paper extracts - impact times, penetration depths, Poincare points - against a reference
+computed by a *different* method at tighter tolerance, on horizons where trajectories are
+still comparable: tens of seconds on a periodic orbit, ~1.5 s on the chaotic attractor
+(later, chaos amplifies any difference). For a chaotic train the statistics, not the
+trajectory, must converge; :func:`statistics_convergence` compares them with the spread of
+an ensemble of realisations.
+
+Reference: SciPy ``solve_ivp`` DOP853 at rtol 1e-13 / atol 1e-15, split at contact onset and
+exit (SciPy's own step control, event location and dense output; no code shared with the
+numba core but the model parameters). It is cross-checked by SciPy Radau (an implicit
+collocation method) at rtol 1e-12; the difference of the two is the reference's own
+uncertainty and is reported beside every error. (Radau at rtol 1e-13 and DOP853 at atol
+1e-16 stall at a v = 0 inside contact, where |v|^n3 is singular.)
+
+Timing follows DiffEqBenchmarks: minimum of several runs, JIT compile time excluded (and
+reported apart), the same events requested from every solver.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from ..model import ModelParams
+from ..reference import _forces
+from ..simulate import simulate, warm_up
+
+CORE = "impactosc core"
+SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
+METRICS = ("impact_time_error", "penetration_error", "poincare_x_error")
+METRIC_LABELS = {
+    "impact_time_error": "impact-time error (s)",
+    "penetration_error": "penetration error (m)",
+    "poincare_x_error": "Poincare-point error in x (m)",
+}
+_EVENT_KEYS = ("impacts_t", "impacts_v", "penetrations_t", "penetrations_h", "poincare_t", "poincare_x", "poincare_v")
+
+
+@dataclass(frozen=True)
+class Case:
+    """One work-precision scene: trajectories from ``n_starts`` states on the attractor.
+
+    The starts are Poincare points (phase 0, so a run from them at t = 0 continues the
+    attractor exactly) at ``settle``, ``settle + spacing``, ... of a run from rest.
+    """
+
+    name: str
+    omega: float
+    settle: float
+    horizon: float
+    n_starts: int = 1
+    spacing: float = 10.0
+
+    def __post_init__(self):
+        for key in ("omega", "horizon", "spacing"):
+            if not (math.isfinite(getattr(self, key)) and getattr(self, key) > 0):
+                raise ValueError(f"work-precision scene {self.name!r}: {key} must be > 0, got {getattr(self, key)}")
+        if not (math.isfinite(self.settle) and self.settle >= 0):
+            raise ValueError(f"work-precision scene {self.name!r}: settle must be >= 0 s, got {self.settle}")
+        if int(self.n_starts) < 1:
+            raise ValueError(f"work-precision scene {self.name!r}: starts must be >= 1, got {self.n_starts}")
+
+
+def attractor_starts(case: Case, params: ModelParams, rtol: float = 1e-12) -> list[tuple[float, float]]:
+    """(x, v) at the first Poincare time after settle + k * spacing, k = 0 .. n_starts-1."""
+    period = 2 * math.pi / case.omega
+    marks = [case.settle + k * case.spacing for k in range(case.n_starts)]
+    res = simulate(case.omega, max(marks[0] - period, 0.0), marks[-1] + 2 * period - max(marks[0] - period, 0.0),
+                   params=params, rtol=rtol, atol=rtol * 1e-2, record=("poincare",))
+    p = res.events["poincare"]
+    starts = []
+    for mark in marks:
+        i = int(np.searchsorted(p["t"], mark - 1e-9))
+        starts.append((float(p["x"][i]), float(p["v"][i])))
+    return starts
+
+
+# ------------------------------------------------------------------------ the contestants
+
+def run_core(omega, t_end, x0, v0, params, rtol, atol) -> dict:
+    """Impacts, penetrations and Poincare points on (0, t_end] with the numba core."""
+    res = simulate(omega, 0.0, t_end, x0=x0, v0=v0, params=params, rtol=rtol, atol=atol,
+                   record=("impacts", "penetrations", "poincare"))
+    e = res.events
+    return {
+        "impacts_t": e["impacts"]["t"], "impacts_v": e["impacts"]["v"],
+        "penetrations_t": e["penetrations"]["t"], "penetrations_h": e["penetrations"]["h"],
+        "poincare_t": e["poincare"]["t"], "poincare_x": e["poincare"]["x"], "poincare_v": e["poincare"]["v"],
+        "rhs_evals": res.attrs["n_rhs"],
+    }
+
+
+def run_scipy(omega, t_end, x0, v0, params, method, rtol, atol, max_pieces=100_000) -> dict:
+    """The same events with SciPy ``solve_ivp``: the integration is split at contact onset,
+    exit and the Hunt-Crossley cut (as :func:`impactosc.reference.solve_reference` does, so
+    no step straddles the switching surface), penetrations are v = 0 events in contact, and
+    Poincare points are read from SciPy's dense output at t_i = 2 pi i / w (``t_eval``).
+    """
+    if method not in SCIPY_METHODS:
+        raise ValueError(f"unknown SciPy method {method!r}; choose from {SCIPY_METHODS}")
+    p = params
+    external, contact = _forces(p, omega)
+    vcut = p.cut_velocity
+
+    def rhs_free(t, y):
+        return [y[1], external(t, y[0], y[1]) / p.m]
+
+    def rhs_contact(t, y):
+        return [y[1], (external(t, y[0], y[1]) - contact(y[0], y[1])) / p.m]
+
+    def ev_onset(t, y):
+        return y[0] - p.xI
+
+    def ev_exit(t, y):
+        return y[0] - p.xI
+
+    def ev_cut(t, y):
+        return y[1] + vcut
+
+    def ev_vzero(t, y):
+        return y[1]
+
+    ev_onset.terminal, ev_onset.direction = True, 1
+    ev_exit.terminal, ev_exit.direction = True, -1
+    ev_cut.terminal, ev_cut.direction = True, 0
+    ev_vzero.terminal, ev_vzero.direction = False, -1
+    setups = {"free": (rhs_free, (ev_onset,)), "contact": (rhs_contact, (ev_exit, ev_cut, ev_vzero)),
+              "cut": (rhs_free, (ev_exit, ev_cut))}
+    period = 2 * math.pi / omega
+    sections = period * np.arange(1, int(math.floor(t_end / period * (1 + 1e-14))) + 1)
+    out = {k: [] for k in _EVENT_KEYS}
+    t, y = 0.0, np.array([x0, v0], float)
+    mode = "contact" if y[0] >= p.xI and y[1] > -vcut else ("cut" if y[0] >= p.xI else "free")
+    nfev = 0
+    for _ in range(max_pieces):
+        fun, events = setups[mode]
+        t_eval = sections[sections > t]
+        sol = solve_ivp(fun, (t, t_end), y, method=method, rtol=rtol, atol=atol, events=events, t_eval=t_eval)
+        nfev += sol.nfev
+        if sol.status == -1:
+            raise RuntimeError(f"SciPy {method} failed at t={t:.9g} s: {sol.message}")
+        if len(sol.t):  # (with an empty t_eval SciPy returns an empty y)
+            out["poincare_t"].extend(sol.t)
+            out["poincare_x"].extend(sol.y[0])
+            out["poincare_v"].extend(sol.y[1])
+        if mode == "contact":
+            for te, ye in zip(sol.t_events[2], sol.y_events[2]):
+                if te > t:  # SciPy reports v = 0 at the start of a piece that starts at rest
+                    out["penetrations_t"].append(te)
+                    out["penetrations_h"].append(ye[0] - p.xI)
+        if sol.status == 0:
+            break
+        n_terminal = 1 if mode == "free" else 2
+        k = min((k for k in range(n_terminal) if len(sol.t_events[k])), key=lambda k: sol.t_events[k][-1])
+        t = float(sol.t_events[k][-1])
+        y = np.array(sol.y_events[k][-1], float)
+        if mode == "free":  # onset
+            y[0] = p.xI
+            out["impacts_t"].append(t)
+            out["impacts_v"].append(y[1])
+            mode = "contact" if y[1] > -vcut else "cut"
+        elif k == 0:  # exit
+            y[0] = p.xI
+            mode = "free"
+        else:  # the Hunt-Crossley cut
+            y[1] = -vcut
+            mode = "cut" if mode == "contact" else "contact"
+    else:
+        raise RuntimeError(f"SciPy {method}: more than {max_pieces} pieces before t = {t_end} s")
+    res = {k: np.asarray(v, float) for k, v in out.items()}
+    res["rhs_evals"] = nfev
+    return res
+
+
+def run_solver(solver, omega, t_end, x0, v0, params, rtol, atol) -> dict:
+    """Dispatch to the core or one of SciPy's methods."""
+    if solver == CORE:
+        return run_core(omega, t_end, x0, v0, params, rtol, atol)
+    return run_scipy(omega, t_end, x0, v0, params, solver, rtol, atol)
+
+
+# --------------------------------------------------------------------------- the errors
+
+def _nearest(a, b) -> np.ndarray:
+    """For each element of sorted a, the distance to the nearest element of sorted b."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    if b.size == 0:
+        return np.full(a.size, np.inf)
+    j = np.clip(np.searchsorted(b, a), 1, max(b.size - 1, 1))
+    lo = np.abs(a - b[j - 1])
+    hi = np.abs(a - b[np.minimum(j, b.size - 1)])
+    return np.minimum(lo, hi)
+
+
+def event_errors(run: dict, ref: dict) -> dict:
+    """Errors of one run against a reference over the same horizon.
+
+    impact_time_error: the larger of (max over reference impacts of the distance to the
+        nearest impact of the run) and the converse, so a missed or an invented impact
+        counts as the distance to its nearest neighbour instead of shifting every pair;
+    penetration_error: max |H - H_ref| over penetrations paired in order when the counts
+        agree, else the deepest unmatched penetration (a whole contact missing);
+    poincare_x_error / poincare_v_error: max difference at the common section times.
+    """
+    ti, tr = run["impacts_t"], ref["impacts_t"]
+    if ti.size == 0 and tr.size == 0:
+        err_t = 0.0
+    else:
+        err_t = float(max(_nearest(ti, tr).max(initial=0.0), _nearest(tr, ti).max(initial=0.0)))
+    h, hr = run["penetrations_h"], ref["penetrations_h"]
+    if h.size == hr.size:
+        err_h = float(np.abs(h - hr).max(initial=0.0))
+    else:
+        err_h = float(max(np.abs(h).max(initial=0.0), np.abs(hr).max(initial=0.0)))
+    pt, prt = run["poincare_t"], ref["poincare_t"]
+    if pt.size != prt.size or (pt.size and np.abs(pt - prt).max() > 1e-9):
+        raise ValueError(f"Poincare sections differ: {pt.size} against {prt.size} reference points")
+    return {
+        "impact_time_error": err_t,
+        "penetration_error": err_h,
+        "poincare_x_error": float(np.abs(run["poincare_x"] - ref["poincare_x"]).max(initial=0.0)),
+        "poincare_v_error": float(np.abs(run["poincare_v"] - ref["poincare_v"]).max(initial=0.0)),
+        "n_impacts": int(ti.size),
+        "n_impacts_ref": int(tr.size),
+    }
+
+
+def _worst(errs: list[dict]) -> dict:
+    """Errors over several starts: the largest of each, impact counts summed."""
+    out = {k: max(e[k] for e in errs) for k in (*METRICS, "poincare_v_error")}
+    out["n_impacts"] = sum(e["n_impacts"] for e in errs)
+    out["n_impacts_ref"] = sum(e["n_impacts_ref"] for e in errs)
+    return out
+
+
+def best_time(fn, repeats: int, repeat_below: float = math.inf):
+    """(result, min wall, median wall, runs): fn run up to `repeats` times, stopping after
+    a run longer than `repeat_below` s (slow solvers are timed fewer times)."""
+    if int(repeats) < 1:
+        raise ValueError(f"repeats must be >= 1, got {repeats}")
+    walls, out = [], None
+    for _ in range(int(repeats)):
+        t0 = time.perf_counter()
+        out = fn()
+        walls.append(time.perf_counter() - t0)
+        if walls[-1] > repeat_below:
+            break
+    return out, min(walls), float(np.median(walls)), len(walls)
+
+
+def references(case: Case, starts, params, ref: dict) -> tuple[list[dict], list[dict], dict]:
+    """Primary and check reference per start, and the reference uncertainty: the check
+    method's deviation from the primary."""
+    primary, check, check_errs = [], [], []
+    for x0, v0 in starts:
+        a = run_scipy(case.omega, case.horizon, x0, v0, params, ref["method"], ref["rtol"], ref["atol"])
+        b = run_scipy(case.omega, case.horizon, x0, v0, params, ref["check_method"], ref["check_rtol"], ref["check_atol"])
+        if a["impacts_t"].size != b["impacts_t"].size:
+            raise RuntimeError(f"{case.name}: the two references disagree on the impact count "
+                               f"({a['impacts_t'].size} vs {b['impacts_t'].size}); shorten the horizon")
+        primary.append(a)
+        check.append(b)
+        check_errs.append(event_errors(b, a))
+    return primary, check, _worst(check_errs)
+
+
+def sweep_case(case: Case, params: ModelParams, rtols, atol_ratio: float, solvers, ref: dict,
+               core_repeats: int = 7, scipy_repeats: int = 3, repeat_below: float = 2.0,
+               time_cap: float = 60.0, log=print) -> list[dict]:
+    """One row per (solver, rtol): wall time (sum over the starts of the minimum of the
+    repeats), RHS evaluations and the errors against the reference.
+
+    A SciPy solver is not run at tighter tolerances once one of its runs took longer than
+    `time_cap` s (its row says so); a run that fails (step-size collapse) is reported as
+    failed with SciPy's message.
+    """
+    warm_up()  # JIT compile (or cache load) stays out of every timing
+    starts = attractor_starts(case, params)
+    refs, checks, unc = references(case, starts, params, ref)
+    log(f"{case.name}: {len(starts)} start(s), reference impacts {unc['n_impacts_ref']}, uncertainty "
+        + ", ".join(f"{k} {unc[k]:.2e}" for k in METRICS))
+    rows = []
+    for solver in solvers:
+        capped = None
+        for rtol in rtols:
+            atol = rtol * atol_ratio
+            row = {"scene": case.name, "omega": case.omega, "horizon": case.horizon, "n_starts": len(starts),
+                   "solver": solver, "rtol": rtol, "atol": atol}
+            row.update({f"reference_{k}": unc[k] for k in METRICS})
+            if capped is not None:
+                rows.append({**row, "status": "skipped", "note": f"rtol {capped:g} already took > {time_cap:g} s"})
+                continue
+            # the primary reference's own method is measured against the check reference,
+            # so that no solver is judged by a tighter run of itself
+            against = checks if solver == ref["method"] else refs
+            reps = core_repeats if solver == CORE else scipy_repeats
+            below = math.inf if solver == CORE else repeat_below
+            try:
+                walls, meds, nrep, rhs, errs = 0.0, 0.0, 0, 0, []
+                for (x0, v0), r in zip(starts, against):
+                    out, wmin, wmed, n = best_time(
+                        lambda: run_solver(solver, case.omega, case.horizon, x0, v0, params, rtol, atol), reps, below)
+                    walls, meds, nrep, rhs = walls + wmin, meds + wmed, max(nrep, n), rhs + out["rhs_evals"]
+                    errs.append(event_errors(out, r))
+            except RuntimeError as exc:
+                rows.append({**row, "status": "failed", "note": str(exc)})
+                log(f"{case.name} {solver} rtol {rtol:g}: failed ({exc})")
+                continue
+            note = f"errors against the {ref['check_method']} reference" if against is checks else ""
+            rows.append({**row, "status": "ok", "wall_time": walls, "wall_time_median": meds, "repeats": nrep,
+                         "rhs_evals": rhs, **_worst(errs), "note": note})
+            log(f"{case.name} {solver} rtol {rtol:g}: {walls:.4g} s, impact err {rows[-1]['impact_time_error']:.2e}")
+            if solver != CORE and walls > time_cap:
+                capped = rtol
+    return rows
+
+
+# ------------------------------------------------------------------------------ summary
+
+def cost_at_error(rows: list[dict], scene: str, solver: str, metric: str, level: float) -> float:
+    """Least wall time of any run of `solver` on `scene` whose error is <= level (nan if none).
+
+    A step function on the measured points, not an interpolation: the time one actually
+    has to spend to be at least that accurate.
+    """
+    walls = [r["wall_time"] for r in rows if r["scene"] == scene and r["solver"] == solver
+             and r.get("status") == "ok" and r[metric] <= level]
+    return min(walls) if walls else math.nan
+
+
+def headline(rows: list[dict], levels: dict) -> list[dict]:
+    """Speed ratio at equal error: the fastest SciPy solver's cost over the core's.
+
+    levels: metric -> list of error levels. One row per (scene, metric, level).
+    """
+    out = []
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    solvers = list(dict.fromkeys(r["solver"] for r in rows if r["solver"] != CORE))
+    for scene in scenes:
+        unc = next(r for r in rows if r["scene"] == scene)
+        for metric, lv in levels.items():
+            for level in lv:
+                core = cost_at_error(rows, scene, CORE, metric, level)
+                costs = {s: cost_at_error(rows, scene, s, metric, level) for s in solvers}
+                finite = {s: c for s, c in costs.items() if not math.isnan(c)}
+                best = min(finite, key=finite.get) if finite else None
+                out.append({
+                    "scene": scene, "metric": metric, "error_level": level,
+                    "reference_uncertainty": unc[f"reference_{metric}"],
+                    "core_wall_time": core, "best_scipy": best or "none",
+                    "best_scipy_wall_time": finite[best] if best else math.nan,
+                    "speedup": finite[best] / core if best and core > 0 else math.nan,
+                    **{f"{s}_wall_time": c for s, c in costs.items()},
+                })
+    return out
+
+
+# ------------------------------------------------------------- statistics of the chaos
+
+STAT_KEYS = ("n_impacts", "cv2_paper", "cv2", "isi_first_maximum", "isi_last_maximum")
+
+
+def train_statistics(times, t_start, t_stop, omega, options=None) -> dict:
+    """The numbers the chaotic group reports (impactosc.chaotic): counts, C_V^2, maxima."""
+    from ..chaotic import ImpactTrain, analyse_train, key_numbers
+
+    train = ImpactTrain(times, t_start, t_stop, omega=omega)
+    k = key_numbers(analyse_train(train, options, parts=("stationarity", "variability", "isi_density")))
+    return {"n_impacts": k["n_impacts"], "window_counts": k["window_counts"], "cv2_paper": k["cv2_paper"],
+            "cv2": k["cv2"], "isi_first_maximum": k["isi_first_maximum"], "isi_last_maximum": k["isi_last_maximum"]}
+
+
+def statistics_convergence(omega, transient, duration, rtols, atol_ratio, ensemble_x0, ensemble_rtol,
+                           params: ModelParams, options=None, log=print) -> list[dict]:
+    """The chaotic scene's statistics at each tolerance, and an ensemble that fixes their
+    converged value and spread: runs at `ensemble_rtol` from the perturbed starts x(0) in
+    `ensemble_x0` (each an independent realisation of the attractor).
+    """
+    warm_up()
+    rows = []
+    runs = [("sweep", r, 0.0) for r in rtols] + [("ensemble", ensemble_rtol, x0) for x0 in ensemble_x0]
+    for kind, rtol, x0 in runs:
+        t0 = time.perf_counter()
+        res = simulate(omega, transient, duration, x0=x0, params=params, rtol=rtol, atol=rtol * atol_ratio,
+                       record=("impacts",))
+        wall = time.perf_counter() - t0
+        s = train_statistics(res.events["impacts"]["t"], transient, transient + duration, omega, options)
+        rows.append({"kind": kind, "rtol": rtol, "atol": rtol * atol_ratio, "x0": x0, "wall_time": wall,
+                     "rhs_evals": res.attrs["n_rhs"], **s})
+        log(f"statistics {kind} rtol {rtol:g} x0 {x0:g}: {wall:.3f} s, {s['n_impacts']} impacts, "
+            f"C_V^2 {s['cv2_paper']:.4f} s")
+    return rows
+
+
+def statistics_summary(rows: list[dict], n_sigma: float = 3.0) -> list[dict]:
+    """Each sweep row against the ensemble: z = (value - mean) / std per statistic, the
+    worst window-count z, and whether all lie within n_sigma (converged to the noise)."""
+    ens = [r for r in rows if r["kind"] == "ensemble"]
+    if len(ens) < 3:
+        raise ValueError(f"the ensemble needs >= 3 runs for a spread, got {len(ens)}")
+    mean = {k: float(np.mean([r[k] for r in ens])) for k in STAT_KEYS}
+    std = {k: float(np.std([r[k] for r in ens], ddof=1)) for k in STAT_KEYS}
+    wc = np.array([r["window_counts"] for r in ens], float)
+    wc_mean, wc_std = wc.mean(axis=0), wc.std(axis=0, ddof=1)
+    out = []
+    for r in rows:
+        if r["kind"] != "sweep":
+            continue
+        z = {f"z_{k}": (r[k] - mean[k]) / std[k] if std[k] > 0 else math.nan for k in STAT_KEYS}
+        zw = float(np.max(np.abs((np.asarray(r["window_counts"], float) - wc_mean) / wc_std)))
+        worst = max(abs(v) for v in (*z.values(), zw))
+        out.append({"rtol": r["rtol"], "wall_time": r["wall_time"], **{k: r[k] for k in STAT_KEYS},
+                    **z, "z_window_counts": zw, "converged": bool(worst <= n_sigma),
+                    **{f"ensemble_mean_{k}": mean[k] for k in STAT_KEYS},
+                    **{f"ensemble_std_{k}": std[k] for k in STAT_KEYS}})
+    return out

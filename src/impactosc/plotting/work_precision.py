@@ -1,0 +1,118 @@
+"""Work-precision figure: wall time against error per solver, and the chaotic statistics
+against tolerance (issue 7).
+
+Top rows (DiffEqBenchmarks style): one panel per scene and error metric, log-log, one line
+per solver through its tolerance sweep; each point is the minimum wall time of several
+runs, JIT compile excluded. Errors below the reference's own uncertainty cannot be told
+apart from it: that region is shaded and such errors are drawn at its edge.
+Bottom row: the chaotic train's statistics at each tolerance of the core, against the mean
++- 2 std band of an ensemble of realisations (the statistics, not the trajectory, must
+converge for a chaotic train).
+"""
+
+from __future__ import annotations
+
+import math
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.gridspec import GridSpec
+
+from ..benchmarks.workprecision import CORE, METRIC_LABELS, METRICS
+from .style import DOUBLE, apply_style, save_figure
+
+STYLES = {
+    CORE: dict(color="black", marker="o", lw=1.6, ms=3.5, zorder=5),
+    "RK45": dict(color="C0", marker="s", lw=0.9, ms=3),
+    "DOP853": dict(color="C1", marker="^", lw=0.9, ms=3),
+    "Radau": dict(color="C2", marker="D", lw=0.9, ms=2.8),
+    "LSODA": dict(color="C3", marker="v", lw=0.9, ms=3),
+}
+SCENE_TITLES = {"periodic": "period-4 orbit", "chaotic": "chaotic attractor"}
+STAT_PANELS = (
+    ("window_counts", "impacts per 80 s window"),
+    ("cv2_paper", "paper's $C_V^2$ = var(S)/mean(S) (s)"),
+    ("isi_first_maximum", "ISI density maximum $T_1$ (s)"),
+    ("isi_last_maximum", "ISI density maximum $T_2$ (s)"),
+)
+
+
+def _float(v):
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def _wp_panel(ax, rows, scene, metric, show_legend):
+    ok = [r for r in rows if r["scene"] == scene and r["status"] == "ok"]
+    unc = _float(next(r for r in rows if r["scene"] == scene)[f"reference_{metric}"])
+    floor = unc if unc > 0 else 1e-16
+    for solver in dict.fromkeys(r["solver"] for r in rows):
+        pts = sorted((r for r in ok if r["solver"] == solver), key=lambda r: -_float(r["rtol"]))
+        if not pts:
+            continue
+        err = np.maximum([_float(r[metric]) for r in pts], floor)
+        wall = np.array([_float(r["wall_time"]) for r in pts])
+        label = "impactosc core" if solver == CORE else f"SciPy {solver}"
+        ax.loglog(err, wall, label=label, **STYLES.get(solver, {}))
+        if solver == CORE:
+            for r, e, w in ((pts[0], err[0], wall[0]), (pts[-1], err[-1], wall[-1])):
+                ax.annotate(f"{_float(r['rtol']):.0e}", (e, w), textcoords="offset points", xytext=(3, -8),
+                            fontsize=5.5)
+    lo, hi = ax.get_xlim()
+    ax.axvspan(min(lo, floor / 10), floor, color="0.88", zorder=0, lw=0)
+    ax.set_xlim(min(lo, floor / 3), hi)
+    ax.set_xlabel(METRIC_LABELS[metric])
+    ax.set_ylabel("wall time (s)")
+    horizon = _float(ok[0]["horizon"]) if ok else math.nan
+    ax.set_title(f"{SCENE_TITLES.get(scene, scene)}, {horizon:g} s", fontsize=7)
+    ax.grid(True, which="major", lw=0.3, alpha=0.5)
+    if show_legend:
+        ax.legend(loc="upper right", frameon=False, fontsize=5.5, handlelength=1.8)
+
+
+def _stat_panel(ax, stats_rows, key, label):
+    sweep = sorted((r for r in stats_rows if r["kind"] == "sweep"), key=lambda r: -_float(r["rtol"]))
+    ens = [r for r in stats_rows if r["kind"] == "ensemble"]
+    rt = np.array([_float(r["rtol"]) for r in sweep])
+    if key == "window_counts":
+        vals = np.array([[_float(c) for c in str(r[key]).split()] for r in sweep])
+        ev = np.array([[_float(c) for c in str(r[key]).split()] for r in ens])
+        mean, std = ev.mean(), ev.std(ddof=1)
+        for j in range(vals.shape[1]):
+            ax.semilogx(rt, vals[:, j], ".", color="black", ms=2.5, alpha=0.8)
+    else:
+        vals = np.array([_float(r[key]) for r in sweep])
+        ev = np.array([_float(r[key]) for r in ens])
+        mean, std = ev.mean(), ev.std(ddof=1)
+        ax.semilogx(rt, vals, "o-", color="black", ms=3, lw=0.9)
+    ax.axhspan(mean - 2 * std, mean + 2 * std, color="C0", alpha=0.18, lw=0)
+    ax.axhline(mean, color="C0", lw=0.8)
+    ax.invert_xaxis()
+    ax.set_xlabel("core rtol")
+    ax.set_ylabel(label, fontsize=6.5)
+    ax.grid(True, which="major", lw=0.3, alpha=0.5)
+
+
+def plot_work_precision(rows, stats_rows, png, pdf, jit: dict | None = None, n_ensemble: int | None = None):
+    """Draw the figure from the rows of work_precision.csv and the statistics CSV."""
+    apply_style()
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    fig = plt.figure(figsize=(DOUBLE, DOUBLE * (0.33 * len(scenes) + 0.3)))
+    gs = GridSpec(len(scenes) + 1, 12, figure=fig, height_ratios=[1] * len(scenes) + [0.8])
+    for i, scene in enumerate(scenes):
+        for j, metric in enumerate(METRICS):
+            ax = fig.add_subplot(gs[i, 4 * j:4 * j + 4])
+            _wp_panel(ax, rows, scene, metric, show_legend=(i == 0 and j == 0))
+    for j, (key, label) in enumerate(STAT_PANELS):
+        ax = fig.add_subplot(gs[len(scenes), 3 * j:3 * j + 3])
+        _stat_panel(ax, stats_rows, key, label)
+    n_ens = n_ensemble if n_ensemble is not None else sum(1 for r in stats_rows if r["kind"] == "ensemble")
+    note = (f"Bottom: chaotic scene (100 s + 400 s) at each core tolerance; band: mean $\\pm$ 2 std of "
+            f"{n_ens} realisations. Grey: below the reference's own uncertainty.")
+    if jit:
+        note += f" JIT compile excluded: {jit['cold']:.0f} s cold, {jit['cached']:.1f} s from cache."
+    fig.suptitle(note, fontsize=6, y=0.005, va="bottom")
+    fig.get_layout_engine().set(rect=(0, 0.03, 1, 0.97))
+    save_figure(fig, png, pdf)

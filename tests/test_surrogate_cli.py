@@ -1,0 +1,124 @@
+"""Surrogate records, the extract/surrogate CLI, and the panel-label guard."""
+
+import h5py
+import numpy as np
+import pytest
+
+from impactosc.cli import main
+from impactosc.extract import record_set_poincare
+from impactosc.io import read_run
+from impactosc.records import read_record, read_record_set, write_record_set
+from impactosc.surrogate import LABEL, SurrogateOptions, mismatched_params, panel_hooked, surrogate_record, surrogate_sweep
+
+
+def test_surrogate_is_labelled_and_noisy():
+    rec, truth = surrogate_record(40.86, 10.0, 2.0, SurrogateOptions(rate=1000, noise=1e-5, seed=3))
+    assert rec.label == LABEL and rec.meta["source"] == "surrogate"
+    assert rec.dt == pytest.approx(1e-3) and rec.t[0] == 10.0
+    clean, _ = surrogate_record(40.86, 10.0, 2.0, SurrogateOptions(rate=1000, noise=0.0))
+    resid = rec.x - clean.x
+    assert np.std(resid) == pytest.approx(1e-5, rel=0.1)  # 2001 samples: std known to ~3 %
+
+
+def test_mismatch_validation():
+    p = mismatched_params(None, {"c": 0.02})
+    assert p.c == pytest.approx(6.6511 * 1.02)
+    with pytest.raises(ValueError, match="unknown model parameter"):
+        mismatched_params(None, {"zeta": 0.1})
+    with pytest.raises(ValueError, match="small relative change"):
+        mismatched_params(None, {"c": 0.9})
+
+
+def test_sweep_record_set_roundtrip(tmp_path):
+    recs = surrogate_sweep([30.0, 30.5], 20, 5, SurrogateOptions(rate=1000, noise=0.0), n_initial=200)
+    write_record_set(tmp_path / "s.h5", recs)
+    back = read_record_set(tmp_path / "s.h5")
+    pts = record_set_poincare(back)
+    assert list(pts["record_omega"]) == [30.0, 30.5]
+    assert pts["x"].size == pts["n_points"].sum() >= 8
+    # each record spans 5 periods exactly: 5 or 6 section points inside it
+    assert set(pts["n_points"]) <= {5, 6}
+
+
+def test_cli_surrogate_then_extract(tmp_path, capsys):
+    rec = tmp_path / "r.csv"
+    assert main(["surrogate", "--omega", "40.86", "--transient", "50", "--duration", "5", "--rate", "2000",
+                 "--noise", "2e-6", "--units", "mm", "--output", str(rec)]) == 0
+    out = tmp_path / "ev.h5"
+    assert main(["extract", str(rec), "--x-impact=-2.086e-3", "--output", str(out)]) == 0
+    events, attrs, _ = read_run(out)
+    assert {"impacts", "penetrations", "poincare"} <= set(events)
+    assert attrs["x_impact"] == pytest.approx(-2.086e-3) and attrs["x_impact_source"] == "given"
+    assert events["impacts"]["t"].size > 10 and attrs["omega"] == pytest.approx(40.86)
+    # without --x-impact the record's metadata is used (the surrogate knows its obstacle)
+    assert main(["extract", str(rec), "--output", str(out)]) == 0
+    assert "record metadata" in capsys.readouterr().out
+
+
+def test_cli_extract_rejects_bad_record(tmp_path, capsys):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("# units: mm\nt,x\n" + "".join(f"{0.001 * k},{-3.0}\n" for k in range(50)).replace("0.01,", "0.009,", 1))
+    assert main(["extract", str(bad), "--output", str(tmp_path / "e.h5")]) == 2
+    assert "line 13: time stamp" in capsys.readouterr().err
+
+
+def test_example_extracts():
+    rec = read_record("examples/record_example.csv")
+    from impactosc.extract import extract_events
+
+    ev, at = extract_events(rec)
+    assert ev["impacts"]["t"].size >= 2 and at["x_impact_source"] == "record metadata"
+
+
+def test_panel_label_guard():
+    entry = {"events": "a.h5", "label": "rig"}
+    with pytest.raises(ValueError, match="label it"):
+        panel_hooked("chaotic.second_train", entry, "events", "a.h5", is_surrogate=True)
+    with pytest.raises(ValueError, match="says surrogate"):
+        panel_hooked("x", {"events": "a.h5", "label": LABEL}, "events", "a.h5", is_surrogate=False)
+    assert panel_hooked("x", {"events": "a.h5", "label": LABEL}, "events", "a.h5", is_surrogate=True)
+    assert not panel_hooked("x", None, "events", "a.h5", is_surrogate=True)
+    assert not panel_hooked("x", entry, "events", "other.h5", is_surrogate=True)
+
+
+def test_noise_study_and_rows():
+    from impactosc.chaotic import AnalysisOptions, ImpactTrain, analyse_train
+    from impactosc.surrogate import measured_rows, noise_study
+
+    o = AnalysisOptions(acf_surrogates=20, ks_bootstrap=0, mixture_restarts=1, fano_windows=(0.5, 1.0, 2.0))
+    rows = noise_study(40.86, 100.0, 30.0, [2000.0], [0.0, 2e-5], analysis=o)
+    by = {(r["noise_m"], r["method"]): r for r in rows}
+    assert by[(0.0, "hysteresis")]["missed"] == by[(0.0, "hysteresis")]["extra"] == 0
+    assert by[(2e-5, "naive threshold")]["extra"] > 0  # noise chatter without hysteresis
+    assert by[(0.0, "exact events")]["cv2_paper"] == pytest.approx(by[(0.0, "hysteresis")]["cv2_paper"], rel=1e-3)
+    rec, truth = surrogate_record(40.86, 100.0, 30.0, SurrogateOptions(noise=0.0))
+    stats = analyse_train(ImpactTrain(truth["impacts"]["t"], 100.0, 130.0, omega=40.86, label=LABEL), o,
+                          ("variability", "isi_density", "acf"))
+    out = measured_rows(stats, stats, rows, is_surrogate=True, command="x")
+    assert len(out) == 4 and all(r["agrees"] == "n.a." for r in out)
+    assert all("surrogate" in r["replication"] for r in out[:3])
+
+
+def test_cli_reports_estimated_x_impact(tmp_path, capsys):
+    rec, _ = surrogate_record(40.86, 100.0, 20.0, SurrogateOptions(rate=2000, noise=2e-6))
+    meta = {k: v for k, v in rec.meta.items() if k != "x_impact"}  # the obstacle position unknown
+    from impactosc.records import write_record
+
+    write_record(tmp_path / "r.h5", rec.t, rec.x, omega=rec.omega, meta=meta)
+    assert main(["extract", str(tmp_path / "r.h5"), "--output", str(tmp_path / "e.h5")]) == 0
+    out = capsys.readouterr().out
+    assert "estimated" in out
+    _, attrs, _ = read_run(tmp_path / "e.h5")
+    # curvature-based estimate: -8 um on this record (within 15 um for 20-400 s at <= 5 um noise)
+    assert abs(attrs["x_impact"] - (-2.086e-3)) < 15e-6
+
+
+def test_h5_record_names_the_sample(tmp_path):
+    t = np.arange(500) * 1e-3
+    x = -3e-3 + 1e-3 * np.sin(40.0 * t)
+    x[123] = np.nan
+    with h5py.File(tmp_path / "r.h5", "w") as f:
+        f["record/t"], f["record/x"] = t, x
+        f.attrs["units"] = "m"
+    with pytest.raises(ValueError, match="sample 123: displacement is nan"):
+        read_record(tmp_path / "r.h5")

@@ -1,0 +1,16 @@
+"""Draw the noise-study figure.
+
+Reads snakemake.input.json (rows of impactosc.surrogate.noise_study); writes
+snakemake.output.png and .pdf (drawing in impactosc.plotting.measured).
+"""
+
+from pathlib import Path
+
+from impactosc.chaotic import read_json
+from impactosc.plotting import save_figure
+from impactosc.plotting.measured import noise_study_figure
+
+rows = read_json(snakemake.input.json)["rows"]  # noqa: F821
+fig = noise_study_figure(rows, snakemake.params.density_rate)  # noqa: F821
+save_figure(fig, snakemake.output.png, snakemake.output.pdf)  # noqa: F821
+Path(snakemake.log[0]).write_text(f"{len(rows)} rows\n")  # noqa: F821

@@ -1,0 +1,17 @@
+"""Paper-vs-replication rows of the experimental panels (Figs 8b, 9b, 10 lower, noise remark).
+
+Reads snakemake.input.second (statistics JSON of the record's train), .model (the model's)
+and .noise (noise-study JSON); writes snakemake.output.rows.
+"""
+
+from pathlib import Path
+
+from impactosc.chaotic import read_json
+from impactosc.surrogate import measured_rows
+from impactosc.table import write_rows
+
+rows = measured_rows(read_json(snakemake.input.second[0]), read_json(snakemake.input.model[0]),  # noqa: F821
+                     read_json(snakemake.input.noise)["rows"],  # noqa: F821
+                     is_surrogate=snakemake.params.is_surrogate, command=snakemake.params.command)  # noqa: F821
+write_rows(snakemake.output.rows, rows)  # noqa: F821
+Path(snakemake.log[0]).write_text("".join(f"{r['agrees']:>4}  {r['quantity']}: {r['replication']}\n" for r in rows))  # noqa: F821

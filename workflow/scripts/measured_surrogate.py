@@ -1,0 +1,35 @@
+"""Write a surrogate record (model sampled like the rig, sensor noise, parameter mismatch).
+
+wildcards.kind 'chaos': one record of the chaotic regime (snakemake.params.surrogate.chaos);
+'sweep': a record set, one short record per w of an increasing sweep (.sweep).  Writes
+snakemake.output.record in the measured-record format (impactosc.records).
+"""
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from impactosc.model import ModelParams
+from impactosc.records import write_record, write_record_set
+from impactosc.surrogate import SurrogateOptions, surrogate_record, surrogate_sweep
+
+p = snakemake.params  # noqa: F821
+s = p.surrogate
+opts = SurrogateOptions(rate=s["rate"], noise=s["noise"], mismatch=s["mismatch"], seed=s["seed"])
+params = ModelParams(**p.model)
+t0 = time.perf_counter()
+if snakemake.wildcards.kind == "chaos":  # noqa: F821
+    c = s["chaos"]
+    rec, _ = surrogate_record(c["omega"], c["transient"], c["duration"], opts, params=params, **p.solver)
+    write_record(snakemake.output.record, rec.t, rec.x, omega=rec.omega, meta=rec.meta)  # noqa: F821
+    msg = f"chaos: {rec.t.size} samples at {opts.rate:g} Hz"
+else:
+    g = s["sweep"]
+    omegas = np.arange(g["start"], g["stop"] + g["step"] / 2, g["step"])
+    recs = surrogate_sweep(omegas, g["n_transient"], g["n_record"], opts, params=params,
+                           n_initial=g["n_initial"], **p.solver)
+    write_record_set(snakemake.output.record, recs)  # noqa: F821
+    msg = f"sweep: {len(recs)} records, w = {omegas[0]:g}..{omegas[-1]:g} rad/s"
+Path(snakemake.log[0]).write_text(f"{msg}; noise {opts.noise:g} m, mismatch {opts.mismatch}; "  # noqa: F821
+                                  f"{time.perf_counter() - t0:.1f} s\n")

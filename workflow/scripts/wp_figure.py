@@ -1,0 +1,33 @@
+"""Assemble the work-precision outputs: merged table, speed ratios at equal error, figure.
+
+Reads the per-scene measurement CSVs, the statistics CSV and the JIT times (snakemake.input);
+writes snakemake.output.table (all measurements), .headline (speed ratio core/fastest SciPy
+at each impact-time error level, with JIT times), .statistics_summary (each tolerance's
+statistics against the ensemble) and the figure .png/.pdf.
+"""
+
+import json
+
+from impactosc.benchmarks.tables import read_table, write_table
+from impactosc.benchmarks.workprecision import headline, statistics_summary
+from impactosc.plotting.work_precision import plot_work_precision
+
+
+def _stats_rows(rows):
+    """Window counts come back from CSV as a space-joined string."""
+    return [{**r, "window_counts": [float(c) for c in str(r["window_counts"]).split()]} for r in rows]
+
+
+def main(scene_csvs, stats_csv, jit_json, levels, out):
+    rows = [r for path in scene_csvs for r in read_table(path)]
+    jit = json.loads(open(jit_json).read())
+    write_table(out.table, rows)
+    head = headline(rows, {"impact_time_error": levels})
+    write_table(out.headline, [{**h, "jit_cold": jit["cold"], "jit_cached": jit["cached"]} for h in head])
+    stats = _stats_rows(read_table(stats_csv))
+    write_table(out.statistics_summary, statistics_summary(stats))
+    plot_work_precision(rows, stats, out.png, out.pdf, jit=jit)
+
+
+main(snakemake.input.scenes, snakemake.input.stats, snakemake.input.jit,  # noqa: F821
+     snakemake.params.levels, snakemake.output)  # noqa: F821

@@ -1,0 +1,25 @@
+"""Chaotic statistics at each core tolerance, and the ensemble that fixes their spread.
+
+Reads snakemake.params (model, the chaotic scene, work_precision.statistics, atol ratio,
+the chaotic group's analysis options); writes snakemake.output.csv (rows of kind "sweep"
+and "ensemble", see impactosc.benchmarks.workprecision.statistics_convergence) and a log.
+"""
+
+import logging
+
+from impactosc.benchmarks.tables import write_table
+from impactosc.benchmarks.workprecision import statistics_convergence
+from impactosc.chaotic import AnalysisOptions
+from impactosc.model import ModelParams
+
+
+def main(model, scene, stats, atol_ratio, analysis, out, log_path):
+    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s")
+    rows = statistics_convergence(scene["omega"], scene["transient"], scene["duration"], stats["rtols"], atol_ratio,
+                                  stats["ensemble_x0"], stats["ensemble_rtol"], ModelParams(**model),
+                                  AnalysisOptions.from_config(analysis), log=logging.info)
+    write_table(out, rows)
+
+
+main(snakemake.params.model, snakemake.params.scene, snakemake.params.stats,  # noqa: F821
+     snakemake.params.atol_ratio, snakemake.params.analysis, snakemake.output.csv, snakemake.log[0])  # noqa: F821
