@@ -560,6 +560,13 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                         ev, n_ev = _record_extremum(p, ev, n_ev, flags, t_record, phase, ta, x, direction)
                 else:  # UVEL out of the friction band
                     new_mode = TIME
+            elif mode == UVEL and s < 0.0 and abs(v) < vband and _goes_implicit(p, phase, ta, x):
+                # Creeping towards v = 0 where dry friction can hold the cart: hand the band to
+                # the implicit solver, as time stepping does. (Without this the explicit
+                # asinh piece crept along the stick manifold with steps ~ m eps / T until v
+                # crossed 0: the cost of each stick grew like 1/eps - issue 7, sticking.)
+                _enter_slow(p, st, cnt, ta, x, v, _sign(v))
+                new_mode = TIME
             elif mode == SQRTH and sgn > 0.0 and v < st[S_V1]:  # slower: |v|^n3 on to v = 0
                 if accel(p, phase, ta, x, v) < 0.0:
                     new_mode = WVEL

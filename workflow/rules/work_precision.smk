@@ -92,7 +92,6 @@ rule hard_cases:
     output:
         csv="results/tables/hard_cases.csv",
     params:
-        model=config["model"],
         hc=HC,
     threads: workflow.cores
     log:
@@ -103,5 +102,23 @@ rule hard_cases:
         "../scripts/wp_hard_cases.py"
 
 
+rule wp_rows:
+    input:
+        hard=rules.hard_cases.output.csv,
+        summary=rules.work_precision.output.statistics_summary,
+        headline=rules.work_precision.output.headline,
+    output:
+        rows="results/tables/rows/work_precision.csv",
+    params:
+        command="snakemake -j2 work_precision hard_cases",
+    log:
+        "results/logs/wp_rows.log",
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/wp_rows.py"
+
+
 ALL_TARGETS.extend(rules.work_precision.output)
 ALL_TARGETS.extend(rules.hard_cases.output)
+TABLE_ROWS.append(rules.wp_rows.output.rows)

@@ -31,14 +31,18 @@ from scipy.optimize import brentq
 from ..model import ModelParams
 from ..reference import solve_reference
 from ..simulate import Window, simulate, warm_up
-from .workprecision import run_scipy, train_statistics
+from .workprecision import train_statistics, zscores
 
 ALL_RECORD = ("impacts", "penetrations", "near_misses", "poincare")
 
 
-def row(case, check, measured, bound, unit, passed=None, detail=""):
-    """One table row; `passed` defaults to measured <= bound."""
+def row(case, check, measured, bound, unit, passed=None, detail="", info=False):
+    """One table row; `passed` defaults to measured <= bound. An `info` row reports a
+    measured figure that no bound applies to (passed: "n.a.")."""
     measured = float(measured)
+    if info:
+        return {"case": case, "check": check, "measured": measured, "bound": "n.a.", "unit": unit,
+                "passed": "n.a.", "detail": detail}
     if passed is None:
         passed = bool(measured <= bound)
     return {"case": case, "check": check, "measured": measured, "bound": bound, "unit": unit,
@@ -144,7 +148,7 @@ def grazing_case(params=None, depths=(1e-7, 1e-8, 1e-9), gaps=(1e-5, 1e-6, 1e-7,
         if np.any(xw[near] >= p.xI):
             raise RuntimeError(f"w = {w}: another contact lies within 60 ms of the grazing maximum")
         value, bound = scan_free_flight(w, p, t_a, float(xw[j]), float(vw[j]), t_b, scan_dt)
-        a0 = abs(p.m0e * w * w * math.sin(w * tg) - p.k * (p.xI + max(value, 0.0)) - p.c * 0.0) / p.m
+        a0 = abs(p.m0e * w * w * math.sin(w * tg) - p.k * (p.xI + max(value, 0.0))) / p.m  # |x''| at the maximum
         force_effect = 4 * p.kI * value**2.5 / (p.m * max(a0, 1e-12)) if value > 0 else 0.0
         tol = bound + force_effect + 1e-12
         resolved = abs(value) > bound + 1e-12
@@ -352,14 +356,19 @@ class CoulombOscillator:
 def stick_slip_case(ratios=(0.3, 0.6, 0.9, 0.95), omega=23.03, periods=10, eps_values=(1e-6, 1e-7, 1e-8, 1e-9),
                     v_th=1e-3, dt=1e-4, rtol=1e-10, atol=1e-12, log=print) -> list[dict]:
     """Dry friction T = ratio * F0 (F0 = m0e w^2, the forcing amplitude), obstacle out of
-    reach: the cart sticks at most reversals. Against the closed-form Coulomb solution:
+    reach: the cart sticks at most reversals. Against the closed-form Coulomb solution
+    (the eps -> 0 limit of the regularised friction):
 
-    * time spent with |v| < v_th (both sampled every dt): must agree to 2 samples per
-      stick (the sampling) - the regularised creep is far below v_th;
-    * max |x - x_Coulomb|, which for the regularised model is the creep ~ eps * t_stick,
-      must shrink in proportion to eps (bound: 3 x the linear scaling from eps = 1e-6);
-    * no collapse to explicit stability-limited steps: implicit steps per second stuck,
-      against the explicit limit T / (m eps) steps per second, must stay below 1 %.
+    * the time spent with |v| < v_th (both sampled every dt) at the smallest eps must agree
+      to the sampling, 2 dt per stick;
+    * max |x - x_Coulomb| must shrink like eps^(4/5): the regularised breakaway lags the
+      Coulomb one by a boundary layer Delta ~ (m eps T^(1/2) / F'^(3/2))^(2/5) (where the
+      creep relaxation time m v^3 / (T eps^2) reaches the time left to breakaway), and the
+      velocity and position offsets it leaves are ~ Delta^2 ~ eps^(4/5). Bound: 1.5 x that
+      scaling from the largest eps;
+    * no collapse to stability-limited steps: the steps taken (incl. rejected) may not grow
+      as eps shrinks (bound: 2 x those at the largest eps), whereas steps of m eps / T over
+      the stuck time would grow like 1/eps.
     """
     base = ModelParams()
     period = 2 * math.pi / omega
@@ -367,7 +376,7 @@ def stick_slip_case(ratios=(0.3, 0.6, 0.9, 0.95), omega=23.03, periods=10, eps_v
     F0 = base.m0e * omega**2
     rows = []
     for ratio in ratios:
-        errs = {}
+        errs, stuck, cost = {}, {}, {}
         for eps in eps_values:
             p = dataclasses.replace(base, T=ratio * F0, eps=eps, xI=1.0)
             ref = CoulombOscillator(p, omega).solve(t_end)
@@ -377,29 +386,319 @@ def stick_slip_case(ratios=(0.3, 0.6, 0.9, 0.95), omega=23.03, periods=10, eps_v
             wall = time.perf_counter() - t0
             tw, xw, vw = res.trajectory["t"], res.trajectory["x"], res.trajectory["v"]
             xr, vr = ref.state(tw)
-            stuck_core = np.count_nonzero(np.abs(vw) < v_th) * dt
-            stuck_ref = np.count_nonzero(np.abs(vr) < v_th) * dt
+            stuck[eps] = (np.count_nonzero(np.abs(vw) < v_th) * dt, np.count_nonzero(np.abs(vr) < v_th) * dt)
             errs[eps] = float(np.abs(xw - xr).max())
             a = res.attrs
-            rate = a["n_implicit_steps"] / max(a["time_implicit"], 1e-300)
-            limit = p.T / (p.m * eps)
-            log(f"T/F0 {ratio} eps {eps:g}: stuck {stuck_core:.4f} s (Coulomb {stuck_ref:.4f} s, "
-                f"{ref.n_sticks} sticks, exact stick time {ref.stick_time:.4f} s), max|dx| {errs[eps]:.2e} m, "
-                f"{a['n_implicit_steps']} implicit steps in {a['time_implicit']:.3f} s, wall {wall:.3f} s")
-            if eps == eps_values[0]:
-                detail = (f"w = {omega}, T = {p.T:.4g} N, {periods} periods; Coulomb: {ref.n_sticks} sticks, "
-                          f"{ref.stick_time:.4f} s stuck; core wall {wall:.3f} s")
-                rows.append(row("sticking", f"T = {ratio:g} F0, eps {eps:g}: |time with |v| < {v_th:g} m/s - "
-                                "Coulomb's|", abs(stuck_core - stuck_ref), 2 * dt * max(ref.n_sticks, 1), "s",
-                                detail=detail))
-            rows.append(row("sticking", f"T = {ratio:g} F0, eps {eps:g}: implicit steps per stuck second / "
-                            "explicit stability limit T/(m eps)", rate / limit, 0.01, "ratio",
-                            detail=f"{a['n_implicit_steps']} implicit steps over {a['time_implicit']:.3f} s; wall "
-                            f"{wall:.3f} s"))
+            steps = a["n_steps"] + a["n_implicit_steps"] + a["n_rejected"]
+            explicit_need = ref.stick_time / (p.m * eps / p.T)
+            log(f"T/F0 {ratio} eps {eps:g}: |v| < {v_th:g} for {stuck[eps][0]:.4f} s (Coulomb {stuck[eps][1]:.4f} s; "
+                f"{ref.n_sticks} sticks, {ref.stick_time:.4f} s at v = 0), max|dx| {errs[eps]:.2e} m, "
+                f"{steps} steps, wall {wall:.3f} s")
+            cost[eps] = (steps, wall, explicit_need)
+        e_min = eps_values[-1]
+        n_sticks = CoulombOscillator(dataclasses.replace(base, T=ratio * F0, xI=1.0), omega).solve(t_end).n_sticks
+        rows.append(row("sticking", f"T = {ratio:g} F0: |time with |v| < {v_th:g} m/s - Coulomb's| at eps {e_min:g} "
+                        f"(bound: 2 samples of {dt:g} s per stick)", abs(stuck[e_min][0] - stuck[e_min][1]),
+                        2 * dt * max(n_sticks, 1), "s",
+                        detail=f"w = {omega}, T = {ratio * F0:.4g} N, {periods} periods, {n_sticks} sticks, "
+                        f"{stuck[e_min][1]:.4f} s with |v| < {v_th:g}; at eps {eps_values[0]:g} the difference is "
+                        f"{abs(stuck[eps_values[0]][0] - stuck[eps_values[0]][1]):.4f} s (the regularisation's "
+                        "breakaway lag, a property of the model)"))
         e0 = eps_values[0]
         for eps in eps_values[1:]:
-            allowed = 3 * errs[e0] * eps / e0 + 1e-12
-            rows.append(row("sticking", f"T = {ratio:g} F0: max |x - x_Coulomb| at eps {eps:g} (creep ~ eps; "
-                            f"bound: 3 x eps-scaled value at eps {e0:g})", errs[eps], allowed, "m",
-                            detail=f"{errs[e0]:.3g} m at eps {e0:g}"))
+            steps, wall, need = cost[eps]
+            rows.append(row("sticking", f"T = {ratio:g} F0: steps at eps {eps:g} over steps at eps {e0:g} (no "
+                            "collapse: steps limited by stability would grow like 1/eps)", steps / cost[e0][0], 2.0,
+                            "ratio", detail=f"{steps} steps (incl. rejected), wall {wall:.3f} s; steps of m eps/T "
+                            f"over the stuck time would be {need:.3g}"))
+        for eps in eps_values[1:]:
+            allowed = 1.5 * errs[e0] * (eps / e0) ** 0.8
+            rows.append(row("sticking", f"T = {ratio:g} F0: max |x - x_Coulomb| at eps {eps:g} (bound: 1.5 x "
+                            f"eps^(4/5) scaling from {errs[e0]:.3g} m at eps {e0:g})", errs[eps], allowed, "m"))
+    return rows
+
+
+def stick_on_obstacle_case(omega=15.0, t_end=20.0, rtol=1e-10, atol=1e-12, log=print) -> list[dict]:
+    """From rest at w = 15 the cart ends up held on the obstacle by dry friction, where the
+    Hunt-Crossley term sgn(v)|v|^n3 is not Lipschitz at v = 0 (Newton on it diverges like
+    on x^(1/3); this run used to stall). It must run fast and its sticks must be physical:
+    wherever the cart is held in contact, the net static force |F0 sin(w t) - k x - F_I(x, 0)|
+    may not exceed what dry friction and the Hunt-Crossley damping can supply at |v| < eps."""
+    p = ModelParams()
+    t0 = time.perf_counter()
+    res = simulate(omega, 0.0, t_end, params=p, rtol=rtol, atol=atol, window=Window(0.0, t_end, 1e-4),
+                   record=("impacts", "penetrations"))
+    wall = time.perf_counter() - t0
+    a = res.attrs
+    tw, xw, vw = res.trajectory["t"], res.trajectory["x"], res.trajectory["v"]
+    h = xw - p.xI
+    # held: runs of >= 100 consecutive samples (10 ms) in contact with |v| < eps; a reversal
+    # under a net force F > T crosses that band in 2 m eps / (F - T), under 10 ms only if
+    # F > 1.0002 T, and the bottom of a bounce far faster
+    slow = (np.abs(vw) < p.eps) & (h > 0)
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], slow.astype(int), [0]])))
+    held = np.zeros_like(slow)
+    for a0, b0 in zip(edges[::2], edges[1::2]):
+        if b0 - a0 >= 100:
+            held[a0:b0] = True
+    net = p.m0e * omega**2 * np.sin(omega * tw[held]) - p.k * xw[held] - p.kI * h[held] ** p.n1
+    # what can hold the cart at |v| < eps: dry friction (at most T), the Hunt-Crossley damping
+    # kI b h^n2 |v|^n3 (at most with |v| = eps; it acts like extra static friction) and c eps
+    capacity = p.T + p.kI * p.b * h[held] ** p.n2 * p.eps**p.n3 + p.c * p.eps
+    worst = float(np.max(np.abs(net) / capacity)) if held.any() else math.nan
+    log(f"stick on the obstacle w = {omega}: {a['n_stick']} sticks, {held.mean() * t_end:.2f} s held, "
+        f"max |net|/capacity {worst:.3f}, wall {wall:.3f} s")
+    return [
+        row("sticking", f"held on the obstacle (w = {omega}, from rest): core wall time for {t_end} s",
+            wall, 2.0, "s", detail=f"{a['n_stick']} stick phases, {a['n_steps']} explicit + {a['n_implicit_steps']} "
+            f"implicit steps, {a['n_rejected']} rejected; {held.mean() * t_end:.2f} s held in contact "
+            "(before the fix in radau.py/model.py: no result after 300 s)"),
+        row("sticking", "held on the obstacle: max |F0 sin(w t) - k x - kI h^n1| over what can hold the cart at |v| < eps "
+            "(T + kI b h^n2 eps^n3 + c eps), over >= 10 ms holds (1 % for the inertia m a)", worst, 1.01, "ratio"),
+    ]
+
+
+# ======================================================================== regularisation
+
+def _chaos_stats(params, omega, transient, duration, x0=0.0, rtol=1e-10, atol=1e-12):
+    t0 = time.perf_counter()
+    res = simulate(omega, transient, duration, x0=x0, params=params, rtol=rtol, atol=atol, record=("impacts",))
+    wall = time.perf_counter() - t0
+    return train_statistics(res.events["impacts"]["t"], transient, transient + duration, omega), wall, res.attrs
+
+
+def _z(stats, ens):
+    """Largest |z| over the statistics against the ensemble, and which statistic it is."""
+    zs = {k: abs(v) for k, v in zscores(stats, ens).items()}
+    worst = max(zs, key=zs.get)
+    return zs[worst], worst
+
+
+def regularisation_case(eps_values=(1e-7, 1e-8, 1e-9), kI_factor=100.0, ensemble_x0=(1e-4, -1e-4, 2e-4, -2e-4,
+                        5e-4, -5e-4, 1e-3, -1e-3), omega=40.86, transient=100.0, duration=400.0,
+                        approach_speeds=(0.02, 0.1, 0.5, 1.5), log=print) -> list[dict]:
+    """Stiffer regularisation and a stiffer contact.
+
+    eps: at the chaotic scene the velocities are ~0.1 m/s and the cart only rarely sticks,
+    so eps from 1e-6 down to 1e-9 m/s may not move the statistics (impact count, 5 window
+    counts, C_V^2, ISI density maxima) beyond 3 std of an ensemble of eps = 1e-6
+    realisations; the cost may not grow (bound: 2 x the eps = 1e-6 run).
+
+    kI x f: both contact terms carry h^1.5, so at a fixed impact velocity the contact alone
+    is invariant under h -> f^(-2/5) h, t -> f^(-2/5) t: the deepest penetration scales by
+    exactly f^(-2/5) (0.158 for f = 100), the restitution is unchanged. The forces the
+    contact scaling ignores (forcing, spring, friction; F_o) bound the deviation at first
+    order: |ratio / f^(-2/5) - 1| <= F_o / F_peak. The chaotic statistics do change (the
+    contact time shrinks, the attractor moves): reported, not bounded.
+    """
+    base = ModelParams()
+    rows = []
+    ens = [_chaos_stats(base, omega, transient, duration, x0=x0)[0] for x0 in ensemble_x0]
+    ref, wall0, _ = _chaos_stats(base, omega, transient, duration)
+    spread = np.std([e["n_impacts"] for e in ens], ddof=1)
+    log(f"eps 1e-6: {ref['n_impacts']} impacts, wall {wall0:.3f} s; ensemble of {len(ens)}: n std {spread:.1f}")
+    for eps in eps_values:
+        st, wall, attrs = _chaos_stats(dataclasses.replace(base, eps=eps), omega, transient, duration)
+        z, worst = _z(st, ens)
+        log(f"eps {eps:g}: {st['n_impacts']} impacts, C_V^2 {st['cv2_paper']:.4f} s, worst z {z:.2f} ({worst}), "
+            f"wall {wall:.3f} s")
+        rows.append(row("regularisation", f"eps {eps:g}: chaotic statistics, worst |z| against {len(ens)} eps = 1e-6 "
+                        "realisations (counts, windows, C_V^2, ISI maxima)", z, 3.0, "std",
+                        detail=f"{st['n_impacts']} impacts, windows {st['window_counts']}, C_V^2 "
+                        f"{st['cv2_paper']:.4f} s, maxima {st['isi_first_maximum']:.4f}/{st['isi_last_maximum']:.4f} s; "
+                        f"worst: {worst}; {attrs['n_stick']} sticks"))
+        rows.append(row("regularisation", f"eps {eps:g}: wall time of the 500 s chaotic scene over eps = 1e-6's",
+                        wall / wall0, 2.0, "ratio", detail=f"{wall:.3f} s against {wall0:.3f} s"))
+    # stiffer contact: single impacts from the same approach
+    stiff = dataclasses.replace(base, kI=base.kI * kI_factor)
+    expected = kI_factor ** -0.4
+    for V in approach_speeds:
+        h = []
+        for q in (base, stiff):
+            r = simulate(omega, 0.0, 0.02, x0=base.xI - 1e-6, v0=V, params=q, record=("penetrations",))
+            h.append(float(r.events["penetrations"]["h"][0]))
+        f_peak = base.kI * h[0] ** base.n1
+        f_other = base.m0e * omega**2 + base.k * abs(base.xI) + base.c * V + base.T
+        dev = abs(h[1] / h[0] / expected - 1)
+        rows.append(row("regularisation", f"kI x {kI_factor:g}, impact at {V:g} m/s: |H ratio / {kI_factor:g}^(-2/5) - 1| "
+                        "(bound: other forces / peak contact force)", dev, f_other / f_peak, "1",
+                        detail=f"H = {h[0]:.4g} m -> {h[1]:.4g} m, ratio {h[1] / h[0]:.5f} (scaling {expected:.5f})"))
+    st, wall, _ = _chaos_stats(stiff, omega, transient, duration)
+    z, worst = _z(st, ens)
+    log(f"kI x {kI_factor:g}: {st['n_impacts']} impacts, worst z {z:.1f} ({worst}), wall {wall:.3f} s")
+    rows.append(row("regularisation", f"kI x {kI_factor:g}: chaotic statistics, worst |z| against the kI ensemble "
+                    "(the attractor itself changes: reported, not bounded)", z, "n.a.", "std", info=True,
+                    detail=f"{st['n_impacts']} impacts (kI: {ref['n_impacts']}), C_V^2 {st['cv2_paper']:.4f} s "
+                    f"({ref['cv2_paper']:.4f}), ISI maxima {st['isi_first_maximum']:.4f}/{st['isi_last_maximum']:.4f} s "
+                    f"({ref['isi_first_maximum']:.4f}/{ref['isi_last_maximum']:.4f}); worst: {worst}"))
+    rows.append(row("regularisation", f"kI x {kI_factor:g}: wall time of the 500 s chaotic scene over kI's", wall / wall0,
+                    2.0, "ratio", detail=f"{wall:.3f} s against {wall0:.3f} s"))
+    return rows
+
+
+# ============================================================ coincident and final events
+
+def _events_equal(a, b, t_max):
+    """Whether two runs' events with t < t_max are identical (bitwise)."""
+    for name in a:
+        for col in a[name]:
+            x, y = a[name][col], b[name][col]
+            x, y = x[a[name]["t"] < t_max], y[b[name]["t"] < t_max]
+            if x.shape != y.shape or not np.array_equal(x, y):
+                return False
+    return True
+
+
+def coincidence_case(omega=40.86, x0=-8e-3, v0=-0.2, horizon_after=1.0, log=print) -> list[dict]:
+    """An impact exactly at a Poincare time, and events exactly at the end of a run.
+
+    (a) From rest at x0 (obstacle out of reach) take the first Poincare point with v > 0
+    that is the highest x so far (the cart still on its first rise); put the obstacle there. The impact then falls on
+    the section time t_i itself. It must be recorded once, at t_i, with the Poincare point
+    on the obstacle, and the next `horizon_after` s must agree with SciPy DOP853 (split at
+    contact) and with the obstacle moved by +-1e-12 m (impact just after/before t_i) to 1e-9 s.
+    (b) A run ending exactly at a Poincare time records that point once and all earlier
+    events bitwise as the longer run does; a run ending exactly at an impact time records
+    all earlier events as the longer run and the final impact at most once.
+    """
+    base = ModelParams()
+    period = 2 * math.pi / omega
+    far = dataclasses.replace(base, xI=1.0)
+    free = simulate(omega, 0.0, 10 * period, x0=x0, v0=v0, params=far, window=Window(0.0, 10 * period, 1e-4),
+                    record=("poincare",))
+    pc = free.events["poincare"]
+    tw, xw = free.trajectory["t"], free.trajectory["x"]
+    found = [k for k in range(len(pc["t"])) if pc["v"][k] > 0 and xw[tw < pc["t"][k]].max() < pc["x"][k]]
+    if not found:
+        raise ValueError(f"from x0 = {x0}, v0 = {v0} no Poincare point in 10 periods is a first rise to a new "
+                         "height; choose another start")
+    i = found[0]
+    t_i, x_i = float(pc["t"][i]), float(pc["x"][i])
+    horizon = t_i + horizon_after
+    rows = []
+    runs = {}
+    for shift in (0.0, 1e-12, -1e-12):
+        q = dataclasses.replace(base, xI=x_i + shift)
+        runs[shift] = simulate(omega, 0.0, horizon, x0=x0, v0=v0, params=q, record=ALL_RECORD)
+    ev = runs[0.0].events
+    imp = ev["impacts"]["t"]
+    at = np.abs(imp - t_i) < 1e-9
+    on_section = np.abs(ev["poincare"]["t"] - t_i) < 1e-12
+    x_sec = float(ev["poincare"]["x"][on_section][0]) if on_section.sum() == 1 else math.nan
+    ref = solve_reference(omega, horizon, x0=x0, v0=v0, params=dataclasses.replace(base, xI=x_i))
+    same_n = imp.size == ref["impacts_t"].size
+    dev_ref = float(np.abs(imp - ref["impacts_t"]).max()) if same_n else math.inf
+    dev_shift = max(float(np.abs(runs[s].events["impacts"]["t"] - imp).max())
+                    if runs[s].events["impacts"]["t"].size == imp.size else math.inf for s in (1e-12, -1e-12))
+    log(f"impact on the section t_i = {t_i:.12f} s: {int(at.sum())} impact(s) there, first at {imp[0]:.15f}; "
+        f"Poincare x - xI {x_sec - x_i:.2e} m; {imp.size} impacts vs SciPy {ref['impacts_t'].size}, "
+        f"dev {dev_ref:.2e} s; +-1e-12 m: dev {dev_shift:.2e} s")
+    detail = f"w = {omega}, x(0) = {x0} m, v(0) = {v0} m/s, obstacle at x(t_i) = {x_i:.9e} m, t_i = {t_i:.12f} s (section {i + 1})"
+    rows += [
+        row("coincidence", "impacts recorded within 1e-9 s of the section time they fall on", int(at.sum()), 1, "count",
+            passed=int(at.sum()) == 1, detail=detail),
+        row("coincidence", "Poincare points recorded at that section time, and |x - xI| of it (bound 1e-12 m)",
+            abs(x_sec - x_i) if on_section.sum() == 1 else math.inf, 1e-12, "m",
+            passed=on_section.sum() == 1 and abs(x_sec - x_i) <= 1e-12),
+        row("coincidence", f"max |impact time - SciPy DOP853| over {horizon - t_i:.0f} s after it (same count)",
+            dev_ref, 1e-9, "s"),
+        row("coincidence", "max |impact time shift| when the obstacle moves by +-1e-12 m (impact just before/after "
+            "the section)", dev_shift, 1e-9, "s"),
+    ]
+    # (b) runs that end exactly on an event
+    long = runs[0.0]
+    n_sec = int(math.floor(horizon / period)) - 1
+    t_sec = n_sec * period
+    short = simulate(omega, 0.0, t_sec, x0=x0, v0=v0, params=dataclasses.replace(base, xI=x_i), record=ALL_RECORD)
+    n_end = int(np.count_nonzero(short.events["poincare"]["t"] == t_sec))
+    same = _events_equal(short.events, long.events, t_sec)
+    rows.append(row("coincidence", "run ending exactly on a Poincare time: that point recorded once, earlier events "
+                    "bitwise those of the longer run", n_end, 1, "count", passed=n_end == 1 and same,
+                    detail=f"t_end = {n_sec} periods = {t_sec:.12f} s; earlier events identical: {same}"))
+    t_imp = float(imp[imp.size // 2])
+    short = simulate(omega, 0.0, t_imp, x0=x0, v0=v0, params=dataclasses.replace(base, xI=x_i), record=ALL_RECORD)
+    s_imp = short.events["impacts"]["t"]
+    before = np.array_equal(s_imp[s_imp < t_imp - 1e-9], imp[imp < t_imp - 1e-9])
+    n_final = int(np.count_nonzero(np.abs(s_imp - t_imp) <= 1e-9))
+    rows.append(row("coincidence", "run ending exactly at an impact time: impacts there (at most one), earlier "
+                    "impacts identical to the longer run's", n_final, 1, "count", passed=n_final <= 1 and before,
+                    detail=f"t_end = {t_imp:.12f} s; earlier impacts identical: {before}"))
+    log(f"end on a section: {n_end} point(s), identical: {same}; end on an impact: {n_final}, identical: {before}")
+    return rows
+
+
+# ============================================================================== long run
+
+def _rss_bytes() -> float:
+    """Resident memory of this process (Linux /proc; nan elsewhere)."""
+    try:
+        with open("/proc/self/statm") as f:
+            return int(f.read().split()[1]) * 4096.0
+    except OSError:
+        return math.nan
+
+
+def long_run_case(duration=1e4, omega=40.86, block=1000.0, chunk_steps=200_000, log=print) -> list[dict]:
+    """10^4 s of the chaotic scene: memory may grow only by the stored events, the impact
+    rate may not drift and the speed may not degrade.
+
+    * memory: resident size after the run minus after the first chunk, against twice the
+      bytes of the event array (it grows by doubling) plus 8 MB for the allocator;
+    * rate: impacts per `block` s; the least-squares trend over the run, in units of its
+      standard error, must stay within 3 (no drift);
+    * wall time per simulated second, last progress interval against the first: <= 2.
+    """
+    warm_up()
+    marks = []
+    t0 = time.perf_counter()
+
+    def progress(t, t_end, n_imp):
+        marks.append((t, n_imp, _rss_bytes(), time.perf_counter() - t0))
+
+    res = simulate(omega, 0.0, duration, record=("impacts",), chunk_steps=chunk_steps, progress=progress)
+    t = res.events["impacts"]["t"]
+    edges = np.arange(0.0, duration + block / 2, block)
+    counts = np.histogram(t, bins=edges)[0].astype(float)[1:]  # the first block holds the transient
+    k = np.arange(counts.size, dtype=float)
+    slope, icpt = np.polyfit(k, counts, 1)
+    resid = counts - (slope * k + icpt)
+    se = math.sqrt(resid @ resid / max(counts.size - 2, 1) / ((k - k.mean()) @ (k - k.mean())))
+    event_bytes = 2 * 4 * 8 * t.size
+    growth = marks[-1][2] - marks[0][2]
+    speeds = [(marks[j][0] - marks[j - 1][0]) / (marks[j][3] - marks[j - 1][3]) for j in range(1, len(marks))]
+    slowdown = speeds[0] / speeds[-1] if len(speeds) >= 2 else 1.0
+    log(f"long run {duration:g} s: {t.size} impacts, blocks {counts.astype(int).tolist()}, trend {slope:+.2f} "
+        f"+- {se:.2f} per block, RSS growth {growth / 1e6:.1f} MB (events {event_bytes / 1e6:.1f} MB), "
+        f"{len(marks)} chunks, wall {res.attrs['wall_time']:.2f} s")
+    return [
+        row("long run", f"{duration:g} s chaos: resident-memory growth after the first chunk (bound: 2 x 32 B per "
+            "stored event + 8 MB)", growth, event_bytes + 8e6, "B",
+            detail=f"{t.size} impacts; {len(marks)} chunks of {chunk_steps} steps; wall {res.attrs['wall_time']:.2f} s"),
+        row("long run", f"impact-rate trend per {block:g} s block, in standard errors", abs(slope) / se if se > 0 else 0.0,
+            3.0, "std", detail=f"counts per block {counts.astype(int).tolist()}, trend {slope:+.2f} +- {se:.2f}"),
+        row("long run", "speed (simulated s per wall s), first chunk over last", slowdown, 2.0, "ratio",
+            detail=f"{speeds[0]:.0f} and {speeds[-1]:.0f} simulated s per s" if speeds else ""),
+    ]
+
+
+# =================================================================================== all
+
+def run_all(hc: dict, log=print) -> list[dict]:
+    """Every case at the sizes of the ``hard_cases`` config section (model BC throughout;
+    each case states the parameters it changes)."""
+    warm_up()
+    base = ModelParams()
+    bounce = dataclasses.replace(base, b=0.1)
+    g, s, r, lr = hc["grazing"], hc["sticking"], hc["regularisation"], hc["long_run"]
+    rows = []
+    rows += grazing_case(base, fine_points=g["fine_points"], fine_halfwidth=g["fine_halfwidth"], log=log)
+    rows += chattering_case(base, 40.86, 1.1, "chaotic scene, first 1.1 s", log=log)
+    rows += chattering_case(bounce, 8.0, 5.1, "bouncing to rest (w = 8, b = 0.1)", min_len=10, log=log)
+    rows += bounce_to_rest_case(bounce, 8.0, 20.0, log=log)
+    rows += stick_slip_case(ratios=tuple(s["ratios"]), eps_values=tuple(s["eps"]), periods=s["periods"], log=log)
+    rows += stick_on_obstacle_case(log=log)
+    rows += regularisation_case(eps_values=tuple(r["eps"]), kI_factor=r["kI_factor"],
+                                ensemble_x0=tuple(r["ensemble_x0"]), log=log)
+    rows += coincidence_case(log=log)
+    rows += long_run_case(duration=lr["duration"], block=lr["block"], log=log)
     return rows

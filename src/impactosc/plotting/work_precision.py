@@ -16,7 +16,6 @@ import math
 
 import matplotlib.pyplot as plt
 import numpy as np
-from matplotlib.gridspec import GridSpec
 
 from ..benchmarks.workprecision import CORE, METRIC_LABELS, METRICS
 from .style import DOUBLE, apply_style, save_figure
@@ -44,6 +43,11 @@ def _float(v):
         return math.nan
 
 
+def _counts(v):
+    """Window counts as floats, from a list or the CSV's space-joined string."""
+    return [_float(c) for c in (v.split() if isinstance(v, str) else v)]
+
+
 def _wp_panel(ax, rows, scene, metric, show_legend):
     ok = [r for r in rows if r["scene"] == scene and r["status"] == "ok"]
     unc = _float(next(r for r in rows if r["scene"] == scene)[f"reference_{metric}"])
@@ -56,15 +60,18 @@ def _wp_panel(ax, rows, scene, metric, show_legend):
         wall = np.array([_float(r["wall_time"]) for r in pts])
         label = "impactosc core" if solver == CORE else f"SciPy {solver}"
         ax.loglog(err, wall, label=label, **STYLES.get(solver, {}))
-        if solver == CORE:
-            for r, e, w in ((pts[0], err[0], wall[0]), (pts[-1], err[-1], wall[-1])):
-                ax.annotate(f"{_float(r['rtol']):.0e}", (e, w), textcoords="offset points", xytext=(3, -8),
-                            fontsize=5.5)
+        if solver == CORE:  # tolerance labels: loosest below-right, tightest above-right
+            for r, e, w, off, ha in ((pts[0], err[0], wall[0], (3, -8), "left"),
+                                     (pts[-1], err[-1], wall[-1], (4, 4), "left")):
+                ann = ax.annotate(f"rtol {_float(r['rtol']):.0e}", (e, w), textcoords="offset points",
+                                  xytext=off, fontsize=5, ha=ha)
+                ann.set_in_layout(False)
     lo, hi = ax.get_xlim()
     ax.axvspan(min(lo, floor / 10), floor, color="0.88", zorder=0, lw=0)
     ax.set_xlim(min(lo, floor / 3), hi)
     ax.set_xlabel(METRIC_LABELS[metric])
-    ax.set_ylabel("wall time (s)")
+    if metric == METRICS[0]:
+        ax.set_ylabel("wall time (s)")
     horizon = _float(ok[0]["horizon"]) if ok else math.nan
     ax.set_title(f"{SCENE_TITLES.get(scene, scene)}, {horizon:g} s", fontsize=7)
     ax.grid(True, which="major", lw=0.3, alpha=0.5)
@@ -77,8 +84,8 @@ def _stat_panel(ax, stats_rows, key, label):
     ens = [r for r in stats_rows if r["kind"] == "ensemble"]
     rt = np.array([_float(r["rtol"]) for r in sweep])
     if key == "window_counts":
-        vals = np.array([[_float(c) for c in str(r[key]).split()] for r in sweep])
-        ev = np.array([[_float(c) for c in str(r[key]).split()] for r in ens])
+        vals = np.array([_counts(r[key]) for r in sweep])
+        ev = np.array([_counts(r[key]) for r in ens])
         mean, std = ev.mean(), ev.std(ddof=1)
         for j in range(vals.shape[1]):
             ax.semilogx(rt, vals[:, j], ".", color="black", ms=2.5, alpha=0.8)
@@ -99,20 +106,20 @@ def plot_work_precision(rows, stats_rows, png, pdf, jit: dict | None = None, n_e
     """Draw the figure from the rows of work_precision.csv and the statistics CSV."""
     apply_style()
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
-    fig = plt.figure(figsize=(DOUBLE, DOUBLE * (0.33 * len(scenes) + 0.3)))
-    gs = GridSpec(len(scenes) + 1, 12, figure=fig, height_ratios=[1] * len(scenes) + [0.8])
+    fig = plt.figure(figsize=(DOUBLE, DOUBLE * (0.36 * len(scenes) + 0.36)))
+    # two subfigures, so the 3-column and the 4-column rows are laid out independently
+    top, bottom = fig.subfigures(2, 1, height_ratios=[len(scenes), 0.85])
+    axes = top.subplots(len(scenes), len(METRICS), squeeze=False)
     for i, scene in enumerate(scenes):
         for j, metric in enumerate(METRICS):
-            ax = fig.add_subplot(gs[i, 4 * j:4 * j + 4])
-            _wp_panel(ax, rows, scene, metric, show_legend=(i == 0 and j == 0))
-    for j, (key, label) in enumerate(STAT_PANELS):
-        ax = fig.add_subplot(gs[len(scenes), 3 * j:3 * j + 3])
+            _wp_panel(axes[i, j], rows, scene, metric, show_legend=(i == 0 and j == 0))
+    for ax, (key, label) in zip(bottom.subplots(1, len(STAT_PANELS)), STAT_PANELS):
         _stat_panel(ax, stats_rows, key, label)
     n_ens = n_ensemble if n_ensemble is not None else sum(1 for r in stats_rows if r["kind"] == "ensemble")
-    note = (f"Bottom: chaotic scene (100 s + 400 s) at each core tolerance; band: mean $\\pm$ 2 std of "
-            f"{n_ens} realisations. Grey: below the reference's own uncertainty.")
+    note = "Minimum wall time of repeated runs; grey: below the reference's own uncertainty."
     if jit:
-        note += f" JIT compile excluded: {jit['cold']:.0f} s cold, {jit['cached']:.1f} s from cache."
-    fig.suptitle(note, fontsize=6, y=0.005, va="bottom")
-    fig.get_layout_engine().set(rect=(0, 0.03, 1, 0.97))
+        note += f"\nJIT compile of the core excluded: {jit['cold']:.0f} s cold, {jit['cached']:.1f} s from cache."
+    note += (f"\nBottom: chaotic scene (100 s + 400 s) at each core rtol; band: mean $\\pm$ 2 std of {n_ens} "
+             "realisations.")
+    fig.suptitle(note, fontsize=6)
     save_figure(fig, png, pdf)

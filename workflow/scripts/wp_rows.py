@@ -1,0 +1,17 @@
+"""Rows of the paper-vs-replication table from the hard cases and the work-precision run.
+
+Reads snakemake.input (hard_cases.csv, the statistics summary and the speed headline);
+writes snakemake.output.rows (impactosc.table.write_rows format).
+"""
+
+from impactosc.benchmarks.tables import read_table
+from impactosc.benchmarks.workprecision import paper_rows
+from impactosc.table import write_rows
+
+
+def main(hard, summary, headline, out, command):
+    write_rows(out, paper_rows(read_table(hard), read_table(summary), read_table(headline), command))
+
+
+main(snakemake.input.hard, snakemake.input.summary, snakemake.input.headline,  # noqa: F821
+     snakemake.output.rows, snakemake.params.command)  # noqa: F821
