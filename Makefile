@@ -34,4 +34,4 @@ lint: install
 	$(BIN)/snakemake --lint
 
 clean:
-	rm -rf results/runs results/stats results/tables results/figures results/logs .numba_cache
+	rm -rf results/runs results/stats results/tables results/figures results/logs

@@ -1,3 +1,28 @@
 """impactosc: forced impacting oscillator (model BC) and the statistics of its impact events."""
 
+import hashlib
+import os
+from pathlib import Path
+
 __version__ = "0.1.0"
+
+# Sources of the compiled core. numba's on-disk cache (cache=True) only notices edits to the
+# file of the function it caches, not to the functions it calls in other modules; keying the
+# cache directory on a hash of all of them makes any edit recompile instead of silently
+# reusing stale machine code. An explicit NUMBA_CACHE_DIR is respected.
+CORE_SOURCES = ("_dop853_tableau.py", "model.py", "dop853.py", "radau.py", "core.py")
+
+
+def _core_cache_dir() -> str:
+    here = Path(__file__).resolve().parent
+    digest = hashlib.sha256()
+    for name in CORE_SOURCES:
+        digest.update((here / name).read_bytes())
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(base, "impactosc", "numba-" + digest.hexdigest()[:16])
+
+
+if not os.environ.get("NUMBA_CACHE_DIR"):
+    from numba.core import config as _numba_config
+
+    _numba_config.CACHE_DIR = _core_cache_dir()

@@ -2,6 +2,8 @@
 
 
 rule numba_cache:
+    input:
+        sources=CORE_SOURCES,
     output:
         marker="results/.numba_cache_ready",
     log:
