@@ -27,8 +27,6 @@ import dataclasses
 import io
 import json
 import math
-import os
-import tempfile
 from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
@@ -37,7 +35,7 @@ import numpy as np
 from scipy import stats as sps
 
 from . import statistics as st
-from .io import read_run
+from .io import atomic_write, read_run
 from .statistics._validation import as_event_times, as_finite_1d
 
 __all__ = [
@@ -943,16 +941,8 @@ def _jsonable(obj):
 def write_json(path, data: dict) -> Path:
     """Write ``data`` (numpy arrays allowed; NaN/inf become null) atomically as JSON."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w") as f:
-            json.dump(_jsonable(data), f, indent=1)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+    with atomic_write(path) as tmp, open(tmp, "w") as f:
+        json.dump(_jsonable(data), f, indent=1)
     return path
 
 
@@ -969,11 +959,8 @@ def write_csv(path, rows: list[dict]) -> Path:
             raise ValueError(f"row has columns {sorted(set(r) - set(columns))} not in {columns}")
         w.writerow({c: _csv_value(r.get(c, "")) for c in columns})
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    with os.fdopen(fd, "w", newline="") as f:
+    with atomic_write(path) as tmp, open(tmp, "w", newline="") as f:
         f.write(buf.getvalue())
-    os.replace(tmp, path)
     return path
 
 

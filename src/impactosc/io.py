@@ -14,6 +14,7 @@ from __future__ import annotations
 import os
 import subprocess
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
 
 import h5py
@@ -49,30 +50,39 @@ def check_writable(path) -> Path:
     return path
 
 
-def write_run(path, events: dict, attrs: dict, trajectory: dict | None = None) -> Path:
-    """Write events (group -> column -> array), optional trajectory and attributes atomically."""
-    path = check_writable(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
+@contextmanager
+def atomic_write(path):
+    """Yield a temporary file name next to `path`; it replaces `path` only if the block
+    completes, so an interrupted writer never leaves a file that looks finished."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     os.close(fd)
     try:
-        with h5py.File(tmp, "w") as f:
-            for group, columns in events.items():
-                g = f.create_group(group)
-                for name, values in columns.items():
-                    g.create_dataset(name, data=np.asarray(values, dtype=float))
-            if trajectory is not None:
-                g = f.create_group("trajectory")
-                for name in ("t", "x", "v"):
-                    g.create_dataset(name, data=np.asarray(trajectory[name], dtype=float), compression="gzip")
-            for key, value in attrs.items():
-                f.attrs[key] = value
-            f.attrs.setdefault("version", __version__)
-            f.attrs.setdefault("git_commit", git_commit())
+        yield tmp
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
             os.remove(tmp)
         raise
+
+
+def write_run(path, events: dict, attrs: dict, trajectory: dict | None = None) -> Path:
+    """Write events (group -> column -> array), optional trajectory and attributes atomically."""
+    path = check_writable(path)
+    with atomic_write(path) as tmp, h5py.File(tmp, "w") as f:
+        for group, columns in events.items():
+            g = f.create_group(group)
+            for name, values in columns.items():
+                g.create_dataset(name, data=np.asarray(values, dtype=float))
+        if trajectory is not None:
+            g = f.create_group("trajectory")
+            for name in ("t", "x", "v"):
+                g.create_dataset(name, data=np.asarray(trajectory[name], dtype=float), compression="gzip")
+        for key, value in attrs.items():
+            f.attrs[key] = value
+        f.attrs.setdefault("version", __version__)
+        f.attrs.setdefault("git_commit", git_commit())
     return path
 
 

@@ -35,13 +35,12 @@ from __future__ import annotations
 
 import csv
 import math
-import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import h5py
 import numpy as np
+from .io import atomic_write
 
 __all__ = ["Record", "read_record", "write_record", "read_record_set", "write_record_set",
            "validate_samples", "UNITS"]
@@ -241,16 +240,8 @@ def read_record(path, *, time_column="t", x_column="x", units=None, omega=None) 
 
 def _atomic(path, write):
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    os.close(fd)
-    try:
+    with atomic_write(path) as tmp:
         write(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
     return path
 
 

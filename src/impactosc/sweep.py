@@ -22,8 +22,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import os
-import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -427,25 +425,17 @@ _ARRAYS = ("poincare_x", "poincare_v", "impact_t", "impact_v", "impact_offsets")
 
 def save_sweep(path, result: SweepResult, **attrs) -> Path:
     """Write a sweep to HDF5 atomically (temporary name, then rename); extra attrs are stored too."""
-    from .io import check_writable, git_commit
     from . import __version__
+    from .io import atomic_write, check_writable, git_commit
 
     path = check_writable(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        with h5py.File(tmp, "w") as f:
-            for name in _ARRAYS:
-                f.create_dataset(name, data=getattr(result, name), compression="gzip", shuffle=True)
-            for key, value in {**result.settings.to_attrs(), **attrs}.items():
-                f.attrs[key] = value
-            f.attrs["version"] = __version__
-            f.attrs["git_commit"] = git_commit()
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+    with atomic_write(path) as tmp, h5py.File(tmp, "w") as f:
+        for name in _ARRAYS:
+            f.create_dataset(name, data=getattr(result, name), compression="gzip", shuffle=True)
+        for key, value in {**result.settings.to_attrs(), **attrs}.items():
+            f.attrs[key] = value
+        f.attrs["version"] = __version__
+        f.attrs["git_commit"] = git_commit()
     return path
 
 

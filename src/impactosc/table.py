@@ -9,19 +9,15 @@ results/tables/paper_vs_replication.csv and a Markdown copy.
 from __future__ import annotations
 
 import csv
-import os
-import tempfile
 from pathlib import Path
+from .io import atomic_write
 
 COLUMNS = ("section", "quantity", "paper", "replication", "tolerance", "agrees", "command")
 
 
 def _atomic_write_text(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    with os.fdopen(fd, "w", newline="") as f:
+    with atomic_write(path) as tmp, open(tmp, "w", newline="") as f:
         f.write(text)
-    os.replace(tmp, path)
 
 
 def write_rows(path, rows: list[dict]) -> None:

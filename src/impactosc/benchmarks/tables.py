@@ -11,11 +11,10 @@ from __future__ import annotations
 import csv
 import io
 import math
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
+from ..io import atomic_write
 
 
 def _cell(v):
@@ -39,16 +38,8 @@ def write_table(path, rows: list[dict]) -> Path:
     for r in rows:
         w.writerow({c: _cell(r.get(c)) for c in columns})
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", newline="") as f:
-            f.write(buf.getvalue())
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+    with atomic_write(path) as tmp, open(tmp, "w", newline="") as f:
+        f.write(buf.getvalue())
     return path
 
 

@@ -6,14 +6,14 @@ they render identically on a headless CI machine.
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+from ..io import atomic_write  # noqa: E402
 
 CM = 1 / 2.54
 SINGLE = 8.5 * CM
@@ -43,14 +43,6 @@ def save_figure(fig, *paths) -> None:
     """Save `fig` to each path (format from the suffix), each atomically, then close it."""
     for path in paths:
         path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
-        os.close(fd)
-        try:
+        with atomic_write(path) as tmp:
             fig.savefig(tmp, format=path.suffix.lstrip("."))
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.remove(tmp)
-            raise
     plt.close(fig)
