@@ -69,6 +69,21 @@ def deriv(p, mode, phase, sgn, q, s, tref, t, x, v):
     return dt, vv * dt, dv
 
 
+@njit(cache=True, inline="always")  # inlined: a plain call cost 18 % on the chaotic scene
+def _stage(p, mode, phase, sgn, q, s, tref, t, x, v, h, st, K):
+    """Stage st of the step from (t, x, v): K[st] from the stages before it."""
+    dt = 0.0
+    dx = 0.0
+    dv = 0.0
+    for j in range(st):
+        a = A[st, j]
+        if a != 0.0:
+            dt += a * K[j, 0]
+            dx += a * K[j, 1]
+            dv += a * K[j, 2]
+    K[st, 0], K[st, 1], K[st, 2] = deriv(p, mode, phase, sgn, q, s + C[st] * h, tref, t + h * dt, x + h * dx, v + h * dv)
+
+
 @njit(cache=True)
 def step(p, mode, phase, sgn, q, s, tref, t, x, v, d0t, d0x, d0v, h, rtol, atol, K):
     """One DOP853 step of size h in s from (t, x, v) with derivative d0 there; fills K[0:13].
@@ -80,16 +95,7 @@ def step(p, mode, phase, sgn, q, s, tref, t, x, v, d0t, d0x, d0v, h, rtol, atol,
     K[0, 1] = d0x
     K[0, 2] = d0v
     for st in range(1, N_STAGES):
-        dt = 0.0
-        dx = 0.0
-        dv = 0.0
-        for j in range(st):
-            a = A[st, j]
-            if a != 0.0:
-                dt += a * K[j, 0]
-                dx += a * K[j, 1]
-                dv += a * K[j, 2]
-        K[st, 0], K[st, 1], K[st, 2] = deriv(p, mode, phase, sgn, q, s + C[st] * h, tref, t + h * dt, x + h * dx, v + h * dv)
+        _stage(p, mode, phase, sgn, q, s, tref, t, x, v, h, st, K)
     dt = 0.0
     dx = 0.0
     dv = 0.0
@@ -153,16 +159,7 @@ def new_step_factor(err, rejected):
 def dense_prepare(p, mode, phase, sgn, q, s, tref, t0, x0, v0, t1, x1, v1, h, K, F):
     """Three extra stages and the coefficients F of the 7th-order interpolant of the step."""
     for st in range(N_STAGES + 1, 16):
-        dt = 0.0
-        dx = 0.0
-        dv = 0.0
-        for j in range(st):
-            a = A[st, j]
-            if a != 0.0:
-                dt += a * K[j, 0]
-                dx += a * K[j, 1]
-                dv += a * K[j, 2]
-        K[st, 0], K[st, 1], K[st, 2] = deriv(p, mode, phase, sgn, q, s + C[st] * h, tref, t0 + h * dt, x0 + h * dx, v0 + h * dv)
+        _stage(p, mode, phase, sgn, q, s, tref, t0, x0, v0, h, st, K)
     for c in range(3):
         if c == 0:
             dy = t1 - t0

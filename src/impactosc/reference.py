@@ -33,11 +33,12 @@ def _forces(p: ModelParams, omega: float):
 
 
 def solve_reference(omega, t_end, *, x0=0.0, v0=0.0, params=None, method="DOP853",
-                    rtol=1e-13, atol=1e-15, max_pieces=1_000_000):
+                    rtol=1e-13, atol=1e-15, max_pieces=1_000_000, poincare=False):
     """Impact onsets (t, v) and penetrations (t, h) of model BC on [0, t_end] with SciPy.
 
     Returns a dict with arrays impacts_t, impacts_v, penetrations_t, penetrations_h and the
-    counters nfev, n_pieces, wall_time.
+    counters nfev, n_pieces, wall_time. With ``poincare`` also poincare_t|x|v: SciPy's dense
+    output at t_i = 2 pi i / w (``t_eval``, which does not change SciPy's steps).
     """
     p = params or ModelParams()
     external, contact = _forces(p, omega)
@@ -72,17 +73,26 @@ def solve_reference(omega, t_end, *, x0=0.0, v0=0.0, params=None, method="DOP853
         "contact": (rhs_contact, (ev_exit, ev_cut, ev_vzero)),
         "cut": (rhs_free, (ev_exit, ev_cut)),
     }
-    imp_t, imp_v, pen_t, pen_h = [], [], [], []
+    period = 2 * math.pi / omega
+    sections = period * np.arange(1, int(math.floor(t_end / period * (1 + 1e-14))) + 1) if poincare else None
+    imp_t, imp_v, pen_t, pen_h, pc_t, pc_x, pc_v = [], [], [], [], [], [], []
     nfev = 0
     pieces = 0
     wall = time.perf_counter()
-    while t < t_end and pieces < max_pieces:
+    while t < t_end:
+        if pieces >= max_pieces:
+            raise RuntimeError(f"SciPy {method}: more than {max_pieces} pieces before t = {t_end} s")
         pieces += 1
         fun, events = setups[mode]
-        sol = solve_ivp(fun, (t, t_end), y, method=method, rtol=rtol, atol=atol, events=events)
+        t_eval = sections[sections > t] if poincare else None
+        sol = solve_ivp(fun, (t, t_end), y, method=method, rtol=rtol, atol=atol, events=events, t_eval=t_eval)
         nfev += sol.nfev
         if sol.status == -1:
             raise RuntimeError(f"SciPy {method} failed at t={t}: {sol.message}")
+        if poincare and len(sol.t):  # (with an empty t_eval SciPy returns an empty y)
+            pc_t.extend(sol.t)
+            pc_x.extend(sol.y[0])
+            pc_v.extend(sol.y[1])
         if mode == "contact":
             for te, ye in zip(sol.t_events[2], sol.y_events[2]):
                 if te <= t:  # SciPy reports v = 0 at the start of a piece that starts at rest
@@ -106,8 +116,11 @@ def solve_reference(omega, t_end, *, x0=0.0, v0=0.0, params=None, method="DOP853
         else:  # crossing the Hunt-Crossley cut
             y[1] = -vcut
             mode = "cut" if mode == "contact" else "contact"
-    return {
+    out = {
         "impacts_t": np.array(imp_t), "impacts_v": np.array(imp_v),
         "penetrations_t": np.array(pen_t), "penetrations_h": np.array(pen_h),
         "nfev": nfev, "n_pieces": pieces, "wall_time": time.perf_counter() - wall,
     }
+    if poincare:
+        out.update(poincare_t=np.array(pc_t), poincare_x=np.array(pc_x), poincare_v=np.array(pc_v))
+    return out

@@ -27,10 +27,9 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from ..model import ModelParams
-from ..reference import _forces
+from ..reference import solve_reference
 from ..simulate import simulate, warm_up
 
 CORE = "impactosc core"
@@ -99,84 +98,16 @@ def run_core(omega, t_end, x0, v0, params, rtol, atol) -> dict:
 
 
 def run_scipy(omega, t_end, x0, v0, params, method, rtol, atol, max_pieces=100_000) -> dict:
-    """The same events with SciPy ``solve_ivp``: the integration is split at contact onset,
-    exit and the Hunt-Crossley cut (as :func:`impactosc.reference.solve_reference` does, so
-    no step straddles the switching surface), penetrations are v = 0 events in contact, and
-    Poincare points are read from SciPy's dense output at t_i = 2 pi i / w (``t_eval``).
+    """The same events with SciPy ``solve_ivp``: :func:`impactosc.reference.solve_reference`
+    (split at contact onset, exit and the Hunt-Crossley cut; penetrations are v = 0 events in
+    contact) with Poincare points from SciPy's dense output at t_i = 2 pi i / w.
     """
     if method not in SCIPY_METHODS:
         raise ValueError(f"unknown SciPy method {method!r}; choose from {SCIPY_METHODS}")
-    p = params
-    external, contact = _forces(p, omega)
-    vcut = p.cut_velocity
-
-    def rhs_free(t, y):
-        return [y[1], external(t, y[0], y[1]) / p.m]
-
-    def rhs_contact(t, y):
-        return [y[1], (external(t, y[0], y[1]) - contact(y[0], y[1])) / p.m]
-
-    def ev_onset(t, y):
-        return y[0] - p.xI
-
-    def ev_exit(t, y):
-        return y[0] - p.xI
-
-    def ev_cut(t, y):
-        return y[1] + vcut
-
-    def ev_vzero(t, y):
-        return y[1]
-
-    ev_onset.terminal, ev_onset.direction = True, 1
-    ev_exit.terminal, ev_exit.direction = True, -1
-    ev_cut.terminal, ev_cut.direction = True, 0
-    ev_vzero.terminal, ev_vzero.direction = False, -1
-    setups = {"free": (rhs_free, (ev_onset,)), "contact": (rhs_contact, (ev_exit, ev_cut, ev_vzero)),
-              "cut": (rhs_free, (ev_exit, ev_cut))}
-    period = 2 * math.pi / omega
-    sections = period * np.arange(1, int(math.floor(t_end / period * (1 + 1e-14))) + 1)
-    out = {k: [] for k in _EVENT_KEYS}
-    t, y = 0.0, np.array([x0, v0], float)
-    mode = "contact" if y[0] >= p.xI and y[1] > -vcut else ("cut" if y[0] >= p.xI else "free")
-    nfev = 0
-    for _ in range(max_pieces):
-        fun, events = setups[mode]
-        t_eval = sections[sections > t]
-        sol = solve_ivp(fun, (t, t_end), y, method=method, rtol=rtol, atol=atol, events=events, t_eval=t_eval)
-        nfev += sol.nfev
-        if sol.status == -1:
-            raise RuntimeError(f"SciPy {method} failed at t={t:.9g} s: {sol.message}")
-        if len(sol.t):  # (with an empty t_eval SciPy returns an empty y)
-            out["poincare_t"].extend(sol.t)
-            out["poincare_x"].extend(sol.y[0])
-            out["poincare_v"].extend(sol.y[1])
-        if mode == "contact":
-            for te, ye in zip(sol.t_events[2], sol.y_events[2]):
-                if te > t:  # SciPy reports v = 0 at the start of a piece that starts at rest
-                    out["penetrations_t"].append(te)
-                    out["penetrations_h"].append(ye[0] - p.xI)
-        if sol.status == 0:
-            break
-        n_terminal = 1 if mode == "free" else 2
-        k = min((k for k in range(n_terminal) if len(sol.t_events[k])), key=lambda k: sol.t_events[k][-1])
-        t = float(sol.t_events[k][-1])
-        y = np.array(sol.y_events[k][-1], float)
-        if mode == "free":  # onset
-            y[0] = p.xI
-            out["impacts_t"].append(t)
-            out["impacts_v"].append(y[1])
-            mode = "contact" if y[1] > -vcut else "cut"
-        elif k == 0:  # exit
-            y[0] = p.xI
-            mode = "free"
-        else:  # the Hunt-Crossley cut
-            y[1] = -vcut
-            mode = "cut" if mode == "contact" else "contact"
-    else:
-        raise RuntimeError(f"SciPy {method}: more than {max_pieces} pieces before t = {t_end} s")
-    res = {k: np.asarray(v, float) for k, v in out.items()}
-    res["rhs_evals"] = nfev
+    ref = solve_reference(omega, t_end, x0=x0, v0=v0, params=params, method=method, rtol=rtol, atol=atol,
+                          max_pieces=max_pieces, poincare=True)
+    res = {k: np.asarray(ref[k], float) for k in _EVENT_KEYS}
+    res["rhs_evals"] = ref["nfev"]
     return res
 
 
