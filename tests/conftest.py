@@ -4,7 +4,7 @@ import dataclasses
 
 import pytest
 
-from impactosc.model import ModelParams
+from impactosc.integration.model import ModelParams
 
 
 @pytest.fixture(scope="session")

@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.branches import (
+from impactosc.analysis.bifurcation import (
     FAILED,
     NONPERIODIC,
     BranchTable,
@@ -155,13 +155,13 @@ def test_differing_windows_flags_coexisting_attractors_only():
 
 
 def _reading(t):
-    from impactosc.branches import SweepReading, find_grazings, segments, transitions
+    from impactosc.analysis.bifurcation import SweepReading, find_grazings, segments, transitions
 
     return SweepReading("decreasing", t.direction, t, segments(t), transitions(t), find_grazings(t), [])
 
 
 def test_paper_rows_judge_the_cascade_and_the_grazing():
-    from impactosc.branches import paper_rows
+    from impactosc.analysis.bifurcation import paper_rows
 
     # decreasing w: period 2 down to 37.26, period 1 with a closing near miss down to 23.06,
     # then period 3 with 4 impacts (grid 0.02 rad/s, only the relevant stretches)

@@ -13,8 +13,8 @@ import math
 import numpy as np
 import pytest
 
-from impactosc import chaotic as ch
-from impactosc.io import write_run
+from impactosc.analysis import chaotic as ch
+from impactosc.files import write_run
 
 # Fast settings: fewer EM restarts, bootstrap replicates and surrogates than the workflow.
 FAST = dict(mixture_components=(1, 2), mixture_restarts=4, ks_bootstrap=199, acf_surrogates=100)

@@ -20,12 +20,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from impactosc import chaotic as ch
-from impactosc.io import write_run
+from impactosc.analysis import chaotic as ch
+from impactosc.files import write_run
 from impactosc.plotting import save_figure
 from impactosc.plotting.chaotic import make_figure
-from impactosc.simulate import Window, simulate
-from impactosc.table import write_rows
+from impactosc.integration.simulate import Window, simulate
+from impactosc.paper.table import write_rows
 
 REF = json.loads((Path(__file__).parent / "data" / "chaotic_short_reference.json").read_text())
 SCENE = REF["scene"]

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from impactosc import cli
-from impactosc.io import read_run, write_run
+from impactosc.files import read_run, write_run
 
 EXE = [sys.executable, "-m", "impactosc.cli"]
 

@@ -7,7 +7,7 @@ import pytest
 import yaml
 
 from impactosc.config import ConfigError, load_config, validate_config
-from impactosc.model import ModelParams
+from impactosc.integration.model import ModelParams
 
 ROOT = Path(__file__).resolve().parents[1]
 SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"

@@ -16,8 +16,8 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.model import ModelParams
-from impactosc.simulate import simulate
+from impactosc.integration.model import ModelParams
+from impactosc.integration.simulate import simulate
 
 OMEGA = 23.03
 N_PERIODS = 60

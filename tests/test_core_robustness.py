@@ -10,7 +10,7 @@ scattered states.
 import numpy as np
 import pytest
 
-from impactosc.simulate import simulate
+from impactosc.integration.simulate import simulate
 
 
 def test_degenerate_friction_band_falls_back_to_time_stepping():

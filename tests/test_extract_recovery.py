@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from impactosc.chaotic import AnalysisOptions, ImpactTrain, analyse_train, load_train
-from impactosc.extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
-from impactosc.io import write_run
-from impactosc.surrogate import SurrogateOptions, surrogate_record
+from impactosc.analysis.chaotic import AnalysisOptions, ImpactTrain, analyse_train, load_train
+from impactosc.measured.extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
+from impactosc.files import write_run
+from impactosc.measured.surrogate import SurrogateOptions, surrogate_record
 
 # 60 s of the chaotic attractor (w = 40.86) after a 100 s transient: ~430 impacts, of every
 # kind (fast, slow grazing approaches, short and long ISIs), at the default 2 kHz.

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from impactosc.benchmarks import hardcases as hc
-from impactosc.model import ModelParams
+from impactosc.integration.model import ModelParams
 
 
 def quiet(*args):

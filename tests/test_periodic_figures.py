@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.periodic import impact_map_numbers
+from impactosc.analysis.periodic import impact_map_numbers
 from impactosc.plotting import save_figure
 from impactosc.plotting.periodic import fig03a_impact_construction, fig05_impact_map, grazing_evidence
 from impactosc.plotting.schematic import fig01_rig

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.grazing import (
+from impactosc.analysis.grazing import (
     GrazingBracket,
     Trial,
     bisect_transition,

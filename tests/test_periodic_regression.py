@@ -15,10 +15,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from impactosc.grazing import branch_grid, extrapolate_gap_zero, find_grazing_step, locate_grazing, sweep_summary
-from impactosc.periodic import analyse_spectrum, branch_state, impact_map_numbers, poincare_period
-from impactosc.simulate import Window, simulate
-from impactosc.sweep import SweepSettings, continuation
+from impactosc.analysis.grazing import branch_grid, extrapolate_gap_zero, find_grazing_step, locate_grazing, sweep_summary
+from impactosc.analysis.periodic import analyse_spectrum, branch_state, impact_map_numbers, poincare_period
+from impactosc.integration.simulate import Window, simulate
+from impactosc.sweeps.continuation import SweepSettings, continuation
 
 REF_PATH = Path(__file__).parent / "data" / "periodic_reference.json"
 SETTINGS = SweepSettings(n_transient=150, n_record=60, n_initial=1000)  # as config periodic.branch

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from impactosc.records import read_record, read_record_set, write_record, write_record_set
+from impactosc.measured.records import read_record, read_record_set, write_record, write_record_set
 
 HEADER = "# units: mm\n# omega: 40.86\nt,x\n"
 

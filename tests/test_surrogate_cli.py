@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 
 from impactosc.cli import main
-from impactosc.extract import record_set_poincare
-from impactosc.io import read_run
-from impactosc.records import read_record, read_record_set, write_record_set
-from impactosc.surrogate import LABEL, SurrogateOptions, mismatched_params, panel_hooked, surrogate_record, surrogate_sweep
+from impactosc.measured.extract import record_set_poincare
+from impactosc.files import read_run
+from impactosc.measured.records import read_record, read_record_set, write_record_set
+from impactosc.measured.surrogate import LABEL, SurrogateOptions, mismatched_params, panel_hooked, surrogate_record, surrogate_sweep
 
 
 def test_surrogate_is_labelled_and_noisy():
@@ -64,7 +64,7 @@ def test_cli_extract_rejects_bad_record(tmp_path, capsys):
 
 def test_example_extracts():
     rec = read_record("examples/record_example.csv")
-    from impactosc.extract import extract_events
+    from impactosc.measured.extract import extract_events
 
     ev, at = extract_events(rec)
     assert ev["impacts"]["t"].size >= 2 and at["x_impact_source"] == "record metadata"
@@ -82,8 +82,8 @@ def test_panel_label_guard():
 
 
 def test_noise_study_and_rows():
-    from impactosc.chaotic import AnalysisOptions, ImpactTrain, analyse_train
-    from impactosc.surrogate import measured_rows, noise_study
+    from impactosc.analysis.chaotic import AnalysisOptions, ImpactTrain, analyse_train
+    from impactosc.measured.surrogate import measured_rows, noise_study
 
     o = AnalysisOptions(acf_surrogates=20, ks_bootstrap=0, mixture_restarts=1, fano_windows=(0.5, 1.0, 2.0))
     rows = noise_study(40.86, 100.0, 30.0, [2000.0], [0.0, 2e-5], analysis=o)
@@ -102,7 +102,7 @@ def test_noise_study_and_rows():
 def test_cli_reports_estimated_x_impact(tmp_path, capsys):
     rec, _ = surrogate_record(40.86, 100.0, 20.0, SurrogateOptions(rate=2000, noise=2e-6))
     meta = {k: v for k, v in rec.meta.items() if k != "x_impact"}  # the obstacle position unknown
-    from impactosc.records import write_record
+    from impactosc.measured.records import write_record
 
     write_record(tmp_path / "r.h5", rec.t, rec.x, omega=rec.omega, meta=meta)
     assert main(["extract", str(tmp_path / "r.h5"), "--output", str(tmp_path / "e.h5")]) == 0

@@ -7,9 +7,9 @@ The range 38.0 -> 36.6 rad/s (decreasing, 29 w) crosses the period-doubling 2 ->
 import numpy as np
 import pytest
 
-from impactosc import sweep as sweep_mod
-from impactosc.branches import classify_sweep
-from impactosc.sweep import (
+from impactosc.sweeps import continuation as sweep_mod
+from impactosc.analysis.bifurcation import classify_sweep
+from impactosc.sweeps.continuation import (
     CORE_ERROR,
     OK,
     STALLED,

@@ -13,9 +13,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from impactosc.branches import read_sweep
-from impactosc.grazing import regular_grid
-from impactosc.sweep import SweepSettings, continuation
+from impactosc.analysis.bifurcation import read_sweep
+from impactosc.analysis.grazing import regular_grid
+from impactosc.sweeps.continuation import SweepSettings, continuation
 
 REF_PATH = Path(__file__).parent / "data" / "bifurcation_reference.json"
 SETTINGS = SweepSettings(n_transient=150, n_record=48, n_initial=600)

@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 
-from impactosc import _dop853_tableau as tab
+from impactosc.integration import tableau as tab
 
 
 def test_stage_times_are_row_sums():

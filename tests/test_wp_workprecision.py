@@ -8,8 +8,8 @@ import pytest
 
 from impactosc.benchmarks import workprecision as wp
 from impactosc.benchmarks.tables import read_table, write_table
-from impactosc.model import ModelParams
-from impactosc.reference import solve_reference
+from impactosc.integration.model import ModelParams
+from impactosc.integration.reference import solve_reference
 
 
 def quiet(*args):

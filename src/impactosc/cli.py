@@ -28,7 +28,7 @@ def _finite(text: str) -> float:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from .simulate import ALL_EVENTS, DEFAULT_ATOL, DEFAULT_RTOL
+    from .integration.simulate import ALL_EVENTS, DEFAULT_ATOL, DEFAULT_RTOL
 
     parser = argparse.ArgumentParser(prog="impactosc", description="Forced impacting oscillator (model BC): "
                                      "event-exact simulation and impact statistics.")
@@ -92,9 +92,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _extract(args) -> int:
-    from .extract import ExtractOptions, extract_events
-    from .io import check_writable, write_run
-    from .records import read_record
+    from .measured.extract import ExtractOptions, extract_events
+    from .files import check_writable, write_run
+    from .measured.records import read_record
 
     check_writable(args.output)
     rec = read_record(args.record, time_column=args.column[0], x_column=args.column[1], units=args.units,
@@ -122,9 +122,9 @@ def _parse_mismatch(text):
 
 
 def _surrogate(args) -> int:
-    from .io import check_writable
-    from .records import write_record
-    from .surrogate import SurrogateOptions, surrogate_record
+    from .files import check_writable
+    from .measured.records import write_record
+    from .measured.surrogate import SurrogateOptions, surrogate_record
 
     check_writable(args.output)
     opts = SurrogateOptions(rate=args.rate, noise=args.noise, mismatch=_parse_mismatch(args.mismatch), seed=args.seed)
@@ -135,14 +135,14 @@ def _surrogate(args) -> int:
 
 
 def _simulate(args) -> int:
-    from .io import check_writable, write_run
-    from .simulate import Window, simulate, warm_up
+    from .files import check_writable, write_run
+    from .integration.simulate import Window, simulate, warm_up
 
     record = tuple(e.strip() for e in args.events.split(",") if e.strip())
     window = Window(*args.window) if args.window else None
     check_writable(args.output)
     # validate everything before compiling or integrating
-    from .simulate import _validate
+    from .integration.simulate import _validate
 
     _validate(args.omega, args.transient, args.duration, args.x0, args.v0, args.rtol, args.atol, window)
     jit = warm_up()

@@ -12,7 +12,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from test_sweep_regression import cascade_reading  # noqa: E402
 
-from impactosc.io import git_commit  # noqa: E402
+from impactosc.files import git_commit  # noqa: E402
 
 out = Path(__file__).with_name("bifurcation_reference.json")
 ref = {"cascade": cascade_reading(),

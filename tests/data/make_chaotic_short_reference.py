@@ -18,8 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from impactosc import __version__
-from impactosc.chaotic import AnalysisOptions, ImpactTrain, analyse_train, key_numbers
-from impactosc.simulate import simulate
+from impactosc.analysis.chaotic import AnalysisOptions, ImpactTrain, analyse_train, key_numbers
+from impactosc.integration.simulate import simulate
 
 OMEGA, TRANSIENT, DURATION = 40.86, 100.0, 100.0
 #: Statistics compared by the test (scalars of key_numbers).

@@ -10,7 +10,7 @@ import json
 import logging
 from pathlib import Path
 
-from impactosc.sweep import load_sweep
+from impactosc.sweeps.continuation import load_sweep
 
 
 def main(paths, names, out, log_path):

@@ -14,7 +14,7 @@ import h5py
 
 from impactosc.plotting import save_figure
 from impactosc.plotting.bifurcation import fig02_poincare, fig03b_arguments, fig03b_isi, marks_of, overlay_figure
-from impactosc.sweep import load_sweep
+from impactosc.sweeps.continuation import load_sweep
 
 def main(inp, params, out, log_path):
     logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s", force=True)

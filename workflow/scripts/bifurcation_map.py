@@ -6,7 +6,7 @@ Reads snakemake.input.parts (map HDF5 row groups, in order); writes snakemake.ou
 
 import logging
 
-from impactosc.branches import load_map, merge_maps, save_map
+from impactosc.analysis.bifurcation import load_map, merge_maps, save_map
 from impactosc.plotting import save_figure
 from impactosc.plotting.bifurcation import map2d_figure
 

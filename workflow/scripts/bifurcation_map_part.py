@@ -9,9 +9,9 @@ import time
 
 import numpy as np
 
-from impactosc.branches import MapResult, classify_sweep, save_map
-from impactosc.grazing import regular_grid
-from impactosc.sweep import SweepSettings, parameter_rows
+from impactosc.analysis.bifurcation import MapResult, classify_sweep, save_map
+from impactosc.analysis.grazing import regular_grid
+from impactosc.sweeps.continuation import SweepSettings, parameter_rows
 
 
 def main(params, output, log_path):

@@ -10,7 +10,7 @@ import logging
 
 import numpy as np
 
-from impactosc.sweep import load_sweep, merge_chunks, save_sweep
+from impactosc.sweeps.continuation import load_sweep, merge_chunks, save_sweep
 
 
 def main(chunk_paths, coarse_paths, name, grid, output, log_path):

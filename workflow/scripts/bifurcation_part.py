@@ -8,8 +8,8 @@ chunk after the first, snakemake.input.seeds (the coarse pass); writes snakemake
 import logging
 import time
 
-from impactosc.grazing import regular_grid
-from impactosc.sweep import SweepSettings, coarse_pass, load_sweep, plan_chunks, run_chunk, save_sweep
+from impactosc.analysis.grazing import regular_grid
+from impactosc.sweeps.continuation import SweepSettings, coarse_pass, load_sweep, plan_chunks, run_chunk, save_sweep
 
 
 def main(params, seeds_path, output, log_path):

@@ -11,9 +11,9 @@ import json
 import logging
 from pathlib import Path
 
-from impactosc.branches import differing_windows, paper_rows, read_sweep
-from impactosc.sweep import load_sweep
-from impactosc.table import write_rows
+from impactosc.analysis.bifurcation import differing_windows, paper_rows, read_sweep
+from impactosc.sweeps.continuation import load_sweep
+from impactosc.paper.table import write_rows
 
 
 def _write_csv(path, rows, columns):

@@ -8,7 +8,7 @@ snakemake.output.csv (one row of key numbers per run).
 import time
 from pathlib import Path
 
-from impactosc.chaotic import (
+from impactosc.analysis.chaotic import (
     AnalysisOptions,
     ensemble_members,
     ensemble_summary,

@@ -7,9 +7,9 @@ snakemake.output.rows (results/tables/rows/chaotic.csv) and .mixture (isi_mixtur
 
 from pathlib import Path
 
-from impactosc.chaotic import mixture_table, paper_rows, read_json, trajectory_spectrum, write_csv
-from impactosc.io import read_run
-from impactosc.table import write_rows
+from impactosc.analysis.chaotic import mixture_table, paper_rows, read_json, trajectory_spectrum, write_csv
+from impactosc.files import read_run
+from impactosc.paper.table import write_rows
 
 model = read_json(snakemake.input.model[0])  # noqa: F821
 ensemble = read_json(snakemake.input.ensemble)  # noqa: F821

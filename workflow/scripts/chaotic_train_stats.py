@@ -7,7 +7,7 @@ snakemake.params.analysis; writes snakemake.output.json (impactosc.chaotic.analy
 import time
 from pathlib import Path
 
-from impactosc.chaotic import AnalysisOptions, analyse_train, load_train, write_json
+from impactosc.analysis.chaotic import AnalysisOptions, analyse_train, load_train, write_json
 
 t0 = time.perf_counter()
 train = load_train(snakemake.input.events, label=snakemake.params.label)  # noqa: F821

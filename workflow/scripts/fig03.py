@@ -9,12 +9,12 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 
-from impactosc.io import read_run
+from impactosc.files import read_run
 from impactosc.plotting import apply_style, save_figure
 from impactosc.plotting.bifurcation import fig03b_arguments, fig03b_isi
 from impactosc.plotting.periodic import fig03a_impact_construction
 from impactosc.plotting.style import DOUBLE
-from impactosc.sweep import load_sweep
+from impactosc.sweeps.continuation import load_sweep
 
 
 def main(inp, params, out, log_path):

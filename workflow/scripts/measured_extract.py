@@ -7,9 +7,9 @@ run-file contract (impactosc.io) so the chaotic statistics treat it like a simul
 
 from pathlib import Path
 
-from impactosc.extract import ExtractOptions, extract_events
-from impactosc.io import write_run
-from impactosc.records import read_record
+from impactosc.measured.extract import ExtractOptions, extract_events
+from impactosc.files import write_run
+from impactosc.measured.records import read_record
 
 p = snakemake.params  # noqa: F821
 rec = read_record(snakemake.input.record)  # noqa: F821

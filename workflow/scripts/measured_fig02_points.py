@@ -8,9 +8,9 @@ from pathlib import Path
 
 import h5py
 
-from impactosc.extract import record_set_poincare
-from impactosc.io import check_writable
-from impactosc.records import read_record_set
+from impactosc.measured.extract import record_set_poincare
+from impactosc.files import check_writable
+from impactosc.measured.records import read_record_set
 
 recs = read_record_set(snakemake.input.records)  # noqa: F821
 pts = record_set_poincare(recs)

@@ -6,7 +6,7 @@ snakemake.output.png and .pdf (drawing in impactosc.plotting.measured).
 
 from pathlib import Path
 
-from impactosc.chaotic import read_json
+from impactosc.analysis.chaotic import read_json
 from impactosc.plotting import save_figure
 from impactosc.plotting.measured import noise_study_figure
 

@@ -8,9 +8,9 @@ x extraction method) and .json (the same rows with ISI kernel densities, for the
 import time
 from pathlib import Path
 
-from impactosc.chaotic import AnalysisOptions, write_csv, write_json
-from impactosc.model import ModelParams
-from impactosc.surrogate import noise_study
+from impactosc.analysis.chaotic import AnalysisOptions, write_csv, write_json
+from impactosc.integration.model import ModelParams
+from impactosc.measured.surrogate import noise_study
 
 p = snakemake.params  # noqa: F821
 c = p.surrogate["chaos"]

@@ -6,9 +6,9 @@ and .noise (noise-study JSON); writes snakemake.output.rows.
 
 from pathlib import Path
 
-from impactosc.chaotic import read_json
-from impactosc.surrogate import measured_rows
-from impactosc.table import write_rows
+from impactosc.analysis.chaotic import read_json
+from impactosc.measured.surrogate import measured_rows
+from impactosc.paper.table import write_rows
 
 rows = measured_rows(read_json(snakemake.input.second[0]), read_json(snakemake.input.model[0]),  # noqa: F821
                      read_json(snakemake.input.noise)["rows"],  # noqa: F821

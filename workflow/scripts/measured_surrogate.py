@@ -10,9 +10,9 @@ from pathlib import Path
 
 import numpy as np
 
-from impactosc.model import ModelParams
-from impactosc.records import write_record, write_record_set
-from impactosc.surrogate import SurrogateOptions, surrogate_record, surrogate_sweep
+from impactosc.integration.model import ModelParams
+from impactosc.measured.records import write_record, write_record_set
+from impactosc.measured.surrogate import SurrogateOptions, surrogate_record, surrogate_sweep
 
 p = snakemake.params  # noqa: F821
 s = p.surrogate

@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from impactosc.table import merge_tables
+from impactosc.paper.table import merge_tables
 
 rows = merge_tables(snakemake.input.rows, snakemake.output.csv, snakemake.output.md)  # noqa: F821
 Path(snakemake.log[0]).write_text(f"{len(rows)} rows\n")  # noqa: F821

@@ -7,11 +7,11 @@ branch) and writes snakemake.output.run (HDF5 run file with a trajectory window)
 
 import logging
 
-from impactosc.io import write_run
-from impactosc.model import ModelParams
-from impactosc.periodic import branch_state
-from impactosc.simulate import Window, simulate
-from impactosc.sweep import load_sweep
+from impactosc.files import write_run
+from impactosc.integration.model import ModelParams
+from impactosc.analysis.periodic import branch_state
+from impactosc.integration.simulate import Window, simulate
+from impactosc.sweeps.continuation import load_sweep
 
 
 def main(branch: str, scene: dict, model: dict, solver: dict, out: str, log: str):

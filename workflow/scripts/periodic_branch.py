@@ -7,10 +7,10 @@ snakemake.output.bisection (JSON: the bracket and every bisection trial), and a 
 
 import logging
 
-from impactosc.grazing import branch_grid, locate_grazing
-from impactosc.model import ModelParams
-from impactosc.periodic import write_json
-from impactosc.sweep import SweepSettings, continuation, save_sweep
+from impactosc.analysis.grazing import branch_grid, locate_grazing
+from impactosc.integration.model import ModelParams
+from impactosc.analysis.periodic import write_json
+from impactosc.sweeps.continuation import SweepSettings, continuation, save_sweep
 
 
 def main(branch: dict, grazing: dict, model: dict, solver: dict, out_branch: str, out_bisection: str, log: str):

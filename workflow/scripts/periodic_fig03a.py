@@ -6,7 +6,7 @@ Reads snakemake.input.run (a run file with a trajectory window) and snakemake.pa
 
 from pathlib import Path
 
-from impactosc.io import read_run
+from impactosc.files import read_run
 from impactosc.plotting import save_figure
 from impactosc.plotting.periodic import fig03a_impact_construction
 

@@ -8,7 +8,7 @@ snakemake.output.png and .pdf.
 import json
 from pathlib import Path
 
-from impactosc.io import read_run
+from impactosc.files import read_run
 from impactosc.plotting import save_figure
 from impactosc.plotting.periodic import fig04_grazing_portraits
 

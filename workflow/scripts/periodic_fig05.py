@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from impactosc.io import read_run
+from impactosc.files import read_run
 from impactosc.plotting import save_figure
 from impactosc.plotting.periodic import fig05_impact_map
 

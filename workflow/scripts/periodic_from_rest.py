@@ -6,9 +6,9 @@ solver); writes snakemake.output.sweep (sweep HDF5, impactosc.sweep format) and 
 
 import logging
 
-from impactosc.grazing import regular_grid, scan_from_rest
-from impactosc.model import ModelParams
-from impactosc.sweep import SweepSettings, save_sweep
+from impactosc.analysis.grazing import regular_grid, scan_from_rest
+from impactosc.integration.model import ModelParams
+from impactosc.sweeps.continuation import SweepSettings, save_sweep
 
 
 def main(scan: dict, n_record: int, model: dict, solver: dict, out: str, log: str):

@@ -7,8 +7,8 @@ supplementary figure plots).
 
 from pathlib import Path
 
-from impactosc.grazing import grazing_summary_file
-from impactosc.periodic import write_json
+from impactosc.analysis.grazing import grazing_summary_file
+from impactosc.analysis.periodic import write_json
 
 write_json(snakemake.output.stats, grazing_summary_file(  # noqa: F821
     snakemake.input.branch, snakemake.input.bisection, snakemake.input.from_rest,  # noqa: F821

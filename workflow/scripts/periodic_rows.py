@@ -8,8 +8,8 @@ Reads snakemake.input.stats (results/stats/periodic.json), .before
 import json
 from pathlib import Path
 
-from impactosc.periodic import table_rows
-from impactosc.table import write_rows
+from impactosc.analysis.periodic import table_rows
+from impactosc.paper.table import write_rows
 
 with open(snakemake.input.stats) as f:  # noqa: F821
     stats = json.load(f)

@@ -8,7 +8,7 @@ snakemake.output.spectrum (its spectrum of x with lines and labels, JSON; Fig 4c
 
 from pathlib import Path
 
-from impactosc.periodic import run_summary, write_json
+from impactosc.analysis.periodic import run_summary, write_json
 
 opts = snakemake.params.spectrum  # noqa: F821
 spectrum_of = snakemake.params.get("spectrum_of")  # noqa: F821

@@ -6,9 +6,9 @@ config from snakemake.params; writes snakemake.output.run (atomically) and a log
 
 import logging
 
-from impactosc.io import write_run
-from impactosc.model import ModelParams
-from impactosc.simulate import Window, simulate
+from impactosc.files import write_run
+from impactosc.integration.model import ModelParams
+from impactosc.integration.simulate import Window, simulate
 
 
 def run_scene(model: dict, solver: dict, scene: dict, output: str, log_path: str) -> None:

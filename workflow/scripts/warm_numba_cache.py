@@ -6,7 +6,7 @@ Reads nothing; writes snakemake.output.marker with the compile time (cold or cac
 import sys
 from pathlib import Path
 
-from impactosc.simulate import warm_up
+from impactosc.integration.simulate import warm_up
 
 
 def main(marker: str, log: str) -> None:

@@ -9,7 +9,7 @@ import logging
 
 from impactosc.benchmarks.tables import write_table
 from impactosc.benchmarks.workprecision import CORE, Case, sweep_case
-from impactosc.model import ModelParams
+from impactosc.integration.model import ModelParams
 
 
 def main(model, wp, name, entry, out, log_path):

@@ -6,7 +6,7 @@ writes snakemake.output.rows (impactosc.table.write_rows format).
 
 from impactosc.benchmarks.tables import read_table
 from impactosc.benchmarks.workprecision import paper_rows
-from impactosc.table import write_rows
+from impactosc.paper.table import write_rows
 
 
 def main(hard, summary, headline, out, command):

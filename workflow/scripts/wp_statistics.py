@@ -9,8 +9,8 @@ import logging
 
 from impactosc.benchmarks.tables import write_table
 from impactosc.benchmarks.workprecision import statistics_convergence
-from impactosc.chaotic import AnalysisOptions
-from impactosc.model import ModelParams
+from impactosc.analysis.chaotic import AnalysisOptions
+from impactosc.integration.model import ModelParams
 
 
 def main(model, scene, stats, atol_ratio, analysis, out, log_path):

@@ -23,9 +23,9 @@ import time
 
 import numpy as np
 
-from ..model import ModelParams
-from ..reference import solve_reference
-from ..simulate import simulate, warm_up
+from ..integration.model import ModelParams
+from ..integration.reference import solve_reference
+from ..integration.simulate import simulate, warm_up
 
 OMEGA, TRANSIENT, DURATION, ERR_HORIZON = 40.86, 100.0, 400.0, 1.5
 

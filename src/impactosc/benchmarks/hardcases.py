@@ -28,9 +28,9 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from ..model import ModelParams
-from ..reference import solve_reference
-from ..simulate import Window, simulate, warm_up
+from ..integration.model import ModelParams
+from ..integration.reference import solve_reference
+from ..integration.simulate import Window, simulate, warm_up
 from .workprecision import train_statistics, zscores
 
 ALL_RECORD = ("impacts", "penetrations", "near_misses", "poincare")

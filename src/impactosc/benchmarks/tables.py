@@ -14,7 +14,7 @@ import math
 from pathlib import Path
 
 import numpy as np
-from ..io import atomic_write
+from ..files import atomic_write
 
 
 def _cell(v):

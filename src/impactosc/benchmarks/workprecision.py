@@ -28,9 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model import ModelParams
-from ..reference import solve_reference
-from ..simulate import simulate, warm_up
+from ..integration.model import ModelParams
+from ..integration.reference import solve_reference
+from ..integration.simulate import simulate, warm_up
 
 CORE = "impactosc core"
 SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
@@ -301,7 +301,7 @@ STAT_KEYS = ("n_impacts", "cv2_paper", "cv2", "isi_first_maximum", "isi_last_max
 
 def train_statistics(times, t_start, t_stop, omega, options=None) -> dict:
     """The numbers the chaotic group reports (impactosc.chaotic): counts, C_V^2, maxima."""
-    from ..chaotic import ImpactTrain, analyse_train, key_numbers
+    from ..analysis.chaotic import ImpactTrain, analyse_train, key_numbers
 
     train = ImpactTrain(times, t_start, t_stop, omega=omega)
     k = key_numbers(analyse_train(train, options, parts=("stationarity", "variability", "isi_density")))

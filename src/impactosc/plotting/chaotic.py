@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import chaotic as ch
+from ..analysis import chaotic as ch
 from .. import statistics as st
-from ..io import read_run
+from ..files import read_run
 from .style import DOUBLE, SINGLE, apply_style, plt
 
 __all__ = ["fig06", "fig07", "fig08", "fig09", "fig10", "fig11", "make_figure"]

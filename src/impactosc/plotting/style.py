@@ -13,7 +13,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from ..io import atomic_write  # noqa: E402
+from ..files import atomic_write  # noqa: E402
 
 CM = 1 / 2.54
 SINGLE = 8.5 * CM

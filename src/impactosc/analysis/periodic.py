@@ -16,7 +16,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from .statistics import (
+from ..statistics import (
     amplitude_spectrum,
     distinct_levels,
     estimate_secondary_frequency,
@@ -87,7 +87,7 @@ def poincare_period(x, v, x_tol: float = 1e-8, v_tol: float = 1e-6, max_period: 
     tolerances (10 nm, 1 um/s) are far above the integration error of the core and far
     below the Poincare-point spacing of the orbits here (tens of um).
     """
-    from .branches import detect_period  # one period detector serves every figure group
+    from .bifurcation import detect_period  # one period detector serves every figure group
 
     x = np.asarray(x, dtype=float)
     v = np.asarray(v, dtype=float)
@@ -220,7 +220,7 @@ def run_summary(path, spectrum_options: dict | None = None) -> tuple[dict, Spect
     near-miss gap (m) and slowest impact (m/s), and the Poincare period; spectrum is
     :func:`analyse_spectrum` of x over the trajectory window (None without one).
     """
-    from .io import read_run
+    from ..files import read_run
 
     events, attrs, traj = read_run(path)
     omega = float(attrs["omega"])

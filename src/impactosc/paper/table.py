@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import csv
 from pathlib import Path
-from .io import atomic_write
+from ..files import atomic_write
 
 COLUMNS = ("section", "quantity", "paper", "replication", "tolerance", "agrees", "command")
 

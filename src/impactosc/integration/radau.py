@@ -14,6 +14,7 @@ import math
 import numpy as np
 from numba import njit
 
+from .layout import C_NEWTON, C_RHS
 from .model import accel, jacobian
 
 _S6 = math.sqrt(6.0)
@@ -64,8 +65,8 @@ def _lu_solve_inplace(Mat, rhs):
 
 
 @njit(cache=True)
-def step(p, phase, t, x, v, h, rtol, atol, work, cnt):
-    """One Radau IIA step of size h; returns (ok, x_new, v_new). cnt[2] counts RHS calls.
+def radau_step(p, phase, t, x, v, h, rtol, atol, work, cnt):
+    """One Radau IIA step of size h; returns (ok, x_new, v_new). cnt[C_RHS] counts RHS calls.
 
     Newton uses the Jacobian refreshed at each iteration (the friction slope changes by
     orders of magnitude across the creep band, so a frozen Jacobian converges poorly).
@@ -93,7 +94,7 @@ def step(p, phase, t, x, v, h, rtol, atol, work, cnt):
                 vj = v + Z[2 * j + 1]
                 fx = vj
                 fv = accel(p, phase, t + RC[j] * h, xj, vj)
-                cnt[2] += 1
+                cnt[C_RHS] += 1
                 jx, jv = jacobian(p, phase, t + RC[j] * h, xj, vj, attempt == 1)
                 for i in range(3):
                     a = RA[i, j] * h
@@ -112,7 +113,7 @@ def step(p, phase, t, x, v, h, rtol, atol, work, cnt):
                 Z[i] += rhs[i]
                 s = sx if i % 2 == 0 else sv
                 dn = max(dn, abs(rhs[i]) / s)
-            cnt[7] += 1
+            cnt[C_NEWTON] += 1
             if not (dn == dn) or dn > 1e12:
                 break
             if dn < 1e-3:
@@ -126,13 +127,13 @@ def doubled_step(p, phase, t, x, v, h, rtol, atol, work, cnt):
 
     Returns (ok, x_new, v_new, err) with err the scaled RMS error of the half-step result.
     """
-    ok1, xf, vf = step(p, phase, t, x, v, h, rtol, atol, work, cnt)
+    ok1, xf, vf = radau_step(p, phase, t, x, v, h, rtol, atol, work, cnt)
     if not ok1:
         return False, x, v, math.inf
-    ok2, xh, vh = step(p, phase, t, x, v, 0.5 * h, rtol, atol, work, cnt)
+    ok2, xh, vh = radau_step(p, phase, t, x, v, 0.5 * h, rtol, atol, work, cnt)
     if not ok2:
         return False, x, v, math.inf
-    ok3, x2, v2 = step(p, phase, t + 0.5 * h, xh, vh, 0.5 * h, rtol, atol, work, cnt)
+    ok3, x2, v2 = radau_step(p, phase, t + 0.5 * h, xh, vh, 0.5 * h, rtol, atol, work, cnt)
     if not ok3:
         return False, x, v, math.inf
     sx = atol + rtol * max(abs(x), abs(x2))

@@ -18,9 +18,9 @@ import math
 
 import numpy as np
 
-from .model import ModelParams
+from ..integration.model import ModelParams
 from .records import Record
-from .simulate import Window, simulate
+from ..integration.simulate import Window, simulate
 
 __all__ = ["LABEL", "panel_hooked", "noise_study", "measured_rows", "SurrogateOptions", "mismatched_params", "surrogate_record", "surrogate_sweep"]
 
@@ -129,7 +129,7 @@ def _match(true_t, found_t):
 
 def _train_numbers(times, t0, t1, omega, analysis):
     """Scalars of the noise study from :func:`impactosc.chaotic.analyse_train`."""
-    from .chaotic import ImpactTrain, analyse_train
+    from ..analysis.chaotic import ImpactTrain, analyse_train
 
     a = analyse_train(ImpactTrain(times, t0, t1, omega=omega), analysis, ("variability", "isi_density", "acf"))
     d = a["isi_density"]

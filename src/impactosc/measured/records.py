@@ -40,7 +40,7 @@ from pathlib import Path
 
 import h5py
 import numpy as np
-from .io import atomic_write
+from ..files import atomic_write
 
 __all__ = ["Record", "read_record", "write_record", "read_record_set", "write_record_set",
            "validate_samples", "UNITS"]

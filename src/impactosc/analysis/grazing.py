@@ -209,7 +209,7 @@ def model_trial(settings, reference_impacts_per_period: float) -> Callable[[floa
     The attractor is classified as a contact when its impacts per forcing period differ
     from `reference_impacts_per_period` (that of the branch just before grazing).
     """
-    from .sweep import continuation
+    from ..sweeps.continuation import continuation
 
     def trial(omega: float, state) -> Trial:
         res = continuation([omega], settings, x0=state[0], v0=state[1], first_transient=settings.n_transient)
@@ -313,7 +313,7 @@ def scan_from_rest(omegas, settings, transient: float, progress=None):
     up to whole forcing periods, then records settings.n_record periods. Returns one
     :class:`impactosc.sweep.SweepResult` over `omegas` (monotone).
     """
-    from .sweep import continuation, merge_chunks
+    from ..sweeps.continuation import continuation, merge_chunks
 
     if not (isinstance(transient, (int, float, np.floating)) and math.isfinite(transient) and transient >= 0):
         raise ValueError(f"transient must be a finite number >= 0 s, got {transient!r}")
@@ -345,7 +345,7 @@ def grazing_summary_file(branch_path, bisection_path, from_rest_path, paper_omeg
     import json
 
     from .periodic import poincare_period
-    from .sweep import load_sweep
+    from ..sweeps.continuation import load_sweep
 
     branch, _ = load_sweep(branch_path)
     rest, _ = load_sweep(from_rest_path)

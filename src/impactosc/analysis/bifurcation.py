@@ -27,7 +27,7 @@ from fractions import Fraction
 import numpy as np
 
 from .grazing import extrapolate_gap_zero
-from .statistics import distinct_levels
+from ..statistics import distinct_levels
 
 __all__ = [
     "NONPERIODIC", "FAILED", "detect_period", "impacts_per_orbit", "BranchTable", "classify_sweep",
@@ -153,7 +153,7 @@ def classify_sweep(result, x_tol: float = 1e-6, v_tol: float = 1e-4, isi_tol: fl
     0.1 mm/s: far above the ~1e-13 m to which settled orbits repeat, far below the
     spacing of distinct branch points); isi_tol (s) groups equal ISIs.
     """
-    from .sweep import OK
+    from ..sweeps.continuation import OK
 
     n = len(result)
     n_rec = result.poincare_x.shape[1]
@@ -417,7 +417,7 @@ def save_map(path, m: MapResult, **attrs) -> None:
 
     import h5py
 
-    from .io import check_writable
+    from ..files import check_writable
 
     path = check_writable(Path(path))
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)

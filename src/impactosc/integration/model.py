@@ -3,7 +3,7 @@
     m x'' + k x + c x' + T x'/sqrt(x'^2 + eps^2) + F_I(x, x') = m0e w^2 sin(w t)
     F_I = kI ((x - xI)^n1 + b (x - xI)^n2 sgn(x') |x'|^n3)   if x >= xI and the bracket >= 0
 
-The parameters travel into the numba core as one float64 array (index constants below),
+The parameters travel into the numba core as one float64 array (indices P_* in layout.py),
 so compiled functions never close over Python objects and stay cacheable on disk.
 """
 
@@ -15,12 +15,8 @@ from dataclasses import asdict, dataclass, fields
 import numpy as np
 from numba import njit
 
-# Index of each parameter in the array the numba core receives.
-M, M0E, K, C, T, EPS, KI, B, N1, N2, N3, XI, OMEGA = range(13)
-N_PARAMS = 13
-
-# Integration phases: which smooth vector field is active on the current piece.
-FREE, CONTACT, CUT = 0, 1, 2
+from .layout import (CONTACT, N_PARAMS, P_B, P_C, P_EPS, P_K, P_KI, P_M, P_M0E, P_N1, P_N2, P_N3, P_OMEGA,
+                     P_T, P_XI)
 
 
 @dataclass(frozen=True)
@@ -55,9 +51,9 @@ class ModelParams:
     def as_array(self, omega: float) -> np.ndarray:
         """Pack the parameters and the forcing frequency for the numba core."""
         p = np.empty(N_PARAMS)
-        p[M], p[M0E], p[K], p[C], p[T], p[EPS] = self.m, self.m0e, self.k, self.c, self.T, self.eps
-        p[KI], p[B], p[N1], p[N2], p[N3], p[XI] = self.kI, self.b, self.n1, self.n2, self.n3, self.xI
-        p[OMEGA] = omega
+        p[P_M], p[P_M0E], p[P_K], p[P_C], p[P_T], p[P_EPS] = self.m, self.m0e, self.k, self.c, self.T, self.eps
+        p[P_KI], p[P_B], p[P_N1], p[P_N2], p[P_N3], p[P_XI] = self.kI, self.b, self.n1, self.n2, self.n3, self.xI
+        p[P_OMEGA] = omega
         return p
 
     def to_dict(self) -> dict:
@@ -82,27 +78,27 @@ def _pow(h, n):
 @njit(cache=True)
 def contact_force(p, x, v):
     """Hunt-Crossley force kI*max(bracket, 0) for penetration x - xI > 0, else 0."""
-    h = x - p[XI]
+    h = x - p[P_XI]
     if h <= 0.0:
         return 0.0
     av = abs(v)
     damp = 0.0
     if av > 0.0:
-        damp = p[B] * _pow(h, p[N2]) * av ** p[N3]
+        damp = p[P_B] * _pow(h, p[P_N2]) * av ** p[P_N3]
         if v < 0.0:
             damp = -damp
-    bracket = _pow(h, p[N1]) + damp
+    bracket = _pow(h, p[P_N1]) + damp
     if bracket <= 0.0:
         return 0.0
-    return p[KI] * bracket
+    return p[P_KI] * bracket
 
 
 @njit(cache=True)
 def external_force(p, t, x, v):
     """Everything but the contact: forcing - spring - viscous - regularised dry friction."""
-    w = p[OMEGA]
-    friction = p[T] * v / math.sqrt(v * v + p[EPS] * p[EPS])
-    return p[M0E] * w * w * math.sin(w * t) - p[K] * x - p[C] * v - friction
+    w = p[P_OMEGA]
+    friction = p[P_T] * v / math.sqrt(v * v + p[P_EPS] * p[P_EPS])
+    return p[P_M0E] * w * w * math.sin(w * t) - p[P_K] * x - p[P_C] * v - friction
 
 
 @njit(cache=True)
@@ -111,14 +107,14 @@ def accel(p, phase, t, x, v):
     f = external_force(p, t, x, v)
     if phase == CONTACT:
         f -= contact_force(p, x, v)
-    return f / p[M]
+    return f / p[P_M]
 
 
 @njit(cache=True)
 def stick_force(p, phase, t, x):
     """Net force other than dry friction at v = 0; |.| < T means the cart sticks."""
-    w = p[OMEGA]
-    f = p[M0E] * w * w * math.sin(w * t) - p[K] * x
+    w = p[P_OMEGA]
+    f = p[P_M0E] * w * w * math.sin(w * t) - p[P_K] * x
     if phase == CONTACT:
         f -= contact_force(p, x, 0.0)
     return f
@@ -130,24 +126,24 @@ def jacobian(p, phase, t, x, v, chord):
 
     With ``chord`` the slope of sgn(v)|v|^n3 is replaced by its chord through v = 0,
     |v|^(n3 - 1) (larger than the tangent n3 |v|^(n3 - 1)): Newton then contracts towards
-    the root instead of overshooting across v = 0 (radau.step falls back to it).
+    the root instead of overshooting across v = 0 (radau.radau_step falls back to it).
     """
-    eps = p[EPS]
+    eps = p[P_EPS]
     s = v * v + eps * eps
-    dfdx = -p[K]
-    dfdv = -p[C] - p[T] * eps * eps / (s * math.sqrt(s))
+    dfdx = -p[P_K]
+    dfdv = -p[P_C] - p[P_T] * eps * eps / (s * math.sqrt(s))
     if phase == CONTACT:
-        h = x - p[XI]
+        h = x - p[P_XI]
         if h > 0.0:
             av = max(abs(v), 1e-30)
             sg = 1.0 if v >= 0.0 else -1.0
-            vn = av ** p[N3]
-            bracket = _pow(h, p[N1]) + p[B] * _pow(h, p[N2]) * sg * vn
+            vn = av ** p[P_N3]
+            bracket = _pow(h, p[P_N1]) + p[P_B] * _pow(h, p[P_N2]) * sg * vn
             if bracket > 0.0:
-                dfdx -= p[KI] * (p[N1] * h ** (p[N1] - 1.0) + p[B] * p[N2] * h ** (p[N2] - 1.0) * sg * vn)
+                dfdx -= p[P_KI] * (p[P_N1] * h ** (p[P_N1] - 1.0) + p[P_B] * p[P_N2] * h ** (p[P_N2] - 1.0) * sg * vn)
                 if chord:
-                    dfdv -= p[KI] * p[B] * _pow(h, p[N2]) * max(av, 1e-30) ** (p[N3] - 1.0)
+                    dfdv -= p[P_KI] * p[P_B] * _pow(h, p[P_N2]) * max(av, 1e-30) ** (p[P_N3] - 1.0)
                 else:
                     # |v|^n3 has an infinite slope at v = 0; capping |v| keeps Newton finite.
-                    dfdv -= p[KI] * p[B] * _pow(h, p[N2]) * p[N3] * vn / max(av, 1e-12)
-    return dfdx / p[M], dfdv / p[M]
+                    dfdv -= p[P_KI] * p[P_B] * _pow(h, p[P_N2]) * p[P_N3] * vn / max(av, 1e-12)
+    return dfdx / p[P_M], dfdv / p[P_M]

@@ -35,20 +35,14 @@ import numpy as np
 from numba import njit
 
 from . import dop853, radau
-from .dop853 import SQRTH, TIME, UVEL, WVEL
-from .model import B, CONTACT, CUT, EPS, FREE, M, N3, T, XI, accel, stick_force
-
-IMPACT, PENETRATION, NEAR_MISS, POINCARE = 0, 1, 2, 3
-EVENT_NAMES = ("impacts", "penetrations", "near_misses", "poincare")
-
-# Layout of the resumable state vector.
-(S_T, S_X, S_V, S_PHASE, S_SLOW, S_H, S_PDIR, S_PT, S_PX, S_ISEC, S_WIN, S_TSLOW, S_VCUT,
- S_MODE, S_S, S_SGN, S_V1, S_TREF, S_NINV, S_TAU) = range(20)
-N_STATE = 20
-# Counters.
-(C_STEPS, C_REJECT, C_RHS, C_SLOW_STEPS, C_STICK, C_SLOW_TRANSIT, C_DENSE, C_NEWTON, C_DIP,
- C_TRANSFORMED, C_FALLBACK) = range(11)
-N_COUNT = 11
+from .layout import (
+    C_DENSE, C_DIP, C_FALLBACK, C_REJECT, C_RHS, C_SLOW_STEPS, C_SLOW_TRANSIT, C_STEPS, C_STICK, C_TRANSFORMED,
+    CONTACT, CUT, FREE, IMPACT, N_COUNT, N_STATE, NEAR_MISS, P_B, P_EPS, P_M, P_N3, P_T, P_XI, PENETRATION,
+    POINCARE, RECORD_IMPACTS, RECORD_NEAR_MISSES, RECORD_PENETRATIONS, RECORD_POINCARE, S_H, S_ISEC, S_MODE,
+    S_NINV, S_PDIR, S_PHASE, S_PT, S_PX, S_S, S_SGN, S_SLOW, S_T, S_TAU, S_TREF, S_TSLOW, S_V, S_V1, S_VCUT,
+    S_WIN, S_X, SQRTH, TIME, UVEL, WVEL,
+)
+from .model import accel, stick_force
 
 BAND = 100.0  # the implicit phase ends when |v| > BAND * eps (friction slope then < 1e-6 T/eps)
 SLOW_FACTOR = 1.5  # v = 0 with |net force| < 1.5 T: stick or slow reversal -> implicit phase
@@ -104,7 +98,7 @@ def _bisect(F, y0, c, level, lo, hi, sign_lo):
 
 @njit(cache=True)
 def _phase_of(p, x, v, vcut):
-    if x - p[XI] >= 0.0:
+    if x - p[P_XI] >= 0.0:
         return CONTACT if v > -vcut else CUT
     return FREE
 
@@ -161,14 +155,14 @@ def _window_due(st, win_t0, win_dt, win_x, t1):
 def _goes_implicit(p, phase, t, x):
     """At v = 0, a net force below 1.5 T means sticking or a slow reversal: the friction
     band is then crossed (or held) by the implicit solver."""
-    return abs(stick_force(p, phase, t, x)) < SLOW_FACTOR * p[T]
+    return abs(stick_force(p, phase, t, x)) < SLOW_FACTOR * p[P_T]
 
 
 @njit(cache=True)
 def _enter_slow(p, st, cnt, t, x, v, direction):
     """Start the implicit phase; `direction` is the sign v had before it reached the band."""
     fs = stick_force(p, int(st[S_PHASE]), t, x)
-    if abs(fs) < p[T]:
+    if abs(fs) < p[P_T]:
         cnt[C_STICK] += 1
     else:
         cnt[C_SLOW_TRANSIT] += 1
@@ -184,10 +178,10 @@ def _enter_slow(p, st, cnt, t, x, v, direction):
 def _record_extremum(p, ev, n, flags, t_record, phase, t, x, direction):
     """A maximum of x (direction +1) is a penetration in contact, a near miss in flight."""
     if direction > 0.0 and t >= t_record:
-        if phase == CONTACT and flags & 2:
-            ev, n = _push(ev, n, PENETRATION, t, x - p[XI], 0.0)
-        elif phase == FREE and flags & 4:
-            ev, n = _push(ev, n, NEAR_MISS, t, p[XI] - x, 0.0)
+        if phase == CONTACT and flags & RECORD_PENETRATIONS:
+            ev, n = _push(ev, n, PENETRATION, t, x - p[P_XI], 0.0)
+        elif phase == FREE and flags & RECORD_NEAR_MISSES:
+            ev, n = _push(ev, n, NEAR_MISS, t, p[P_XI] - x, 0.0)
     return ev, n
 
 
@@ -201,7 +195,7 @@ def _slow_locate(p, phase, t, x, v, h, rtol, atol, work, cnt, c, level, sign_lo)
         mid = 0.5 * (lo + hi)
         if mid <= lo or mid >= hi:
             break
-        ok, xm, vm = radau.step(p, phase, t, x, v, mid * h, rtol, atol, work, cnt)
+        ok, xm, vm = radau.radau_step(p, phase, t, x, v, mid * h, rtol, atol, work, cnt)
         if not ok:
             break
         g = (xm if c == 0 else vm) - level
@@ -211,7 +205,7 @@ def _slow_locate(p, phase, t, x, v, h, rtol, atol, work, cnt, c, level, sign_lo)
             hi = mid
             xe, ve = xm, vm
     if hi == 1.0:
-        ok, xe, ve = radau.step(p, phase, t, x, v, h, rtol, atol, work, cnt)
+        ok, xe, ve = radau.radau_step(p, phase, t, x, v, h, rtol, atol, work, cnt)
     return hi, xe, ve
 
 
@@ -219,19 +213,19 @@ def _slow_locate(p, phase, t, x, v, h, rtol, atol, work, cnt, c, level, sign_lo)
 def _contact_mode(p, st, t, x, v):
     """Mode for a contact piece starting at (t, x, v) with v > 0 (onset): sqrt(h) while the
     velocity is well away from zero, |v|^n3 when it already is small; time otherwise."""
-    if p[B] <= 0.0 or not (0.0 < p[N3] < 1.0) or v <= 0.0:
+    if p[P_B] <= 0.0 or not (0.0 < p[P_N3] < 1.0) or v <= 0.0:
         st[S_MODE] = TIME
         return
     a = accel(p, CONTACT, t, x, v)
     st[S_V1] = CONTACT_SWITCH * v
-    if x - p[XI] <= 0.0 and v > 1e3 * p[EPS]:
+    if x - p[P_XI] <= 0.0 and v > 1e3 * p[P_EPS]:
         st[S_MODE] = SQRTH
         st[S_SGN] = 1.0
         st[S_S] = 0.0
     elif a < 0.0:
         st[S_MODE] = WVEL
         st[S_SGN] = 1.0
-        st[S_S] = -(v ** p[N3])
+        st[S_S] = -(v ** p[P_N3])
     else:
         st[S_MODE] = TIME
 
@@ -244,7 +238,7 @@ def _mode_end(p, st):
     if mode == SQRTH:
         return math.inf if st[S_SGN] > 0.0 else 0.0
     if mode == WVEL:
-        return 0.0 if st[S_SGN] > 0.0 else st[S_V1] ** p[N3]
+        return 0.0 if st[S_SGN] > 0.0 else st[S_V1] ** p[P_N3]
     # UVEL: first to v = 0 (s = 0), then out of the band
     return 0.0 if s < 0.0 else math.asinh(U_BAND)
 
@@ -253,17 +247,17 @@ def _mode_end(p, st):
 def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0, win_dt, win_x, win_v, max_steps):
     """Integrate from the state ``st`` towards ``t_end``; events at t >= t_record go to ``ev``.
 
-    flags: bit 1 impacts, 2 penetrations, 4 near misses, 8 Poincare points. Returns after
+    flags: layout.RECORD_* bits (impacts, penetrations, near misses, Poincare points). Returns after
     t_end or after `max_steps` step attempts, with ``st``/``cnt`` updated in place so the
     next call continues the same trajectory. Returns (ev, n_ev) (ev may be reallocated).
     """
     K = np.zeros((16, 3))
     F = np.zeros((7, 3))
     work = np.zeros((8, 6))
-    eps = p[EPS]
+    eps = p[P_EPS]
     vband = BAND * eps
     vcut = st[S_VCUT]
-    q = 1.0 / p[N3] if p[N3] > 0.0 else 0.0
+    q = 1.0 / p[P_N3] if p[P_N3] > 0.0 else 0.0
     t = st[S_T]
     x = st[S_X]
     v = st[S_V]
@@ -278,14 +272,14 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
     n_invalid = int(st[S_NINV])
     d0t, d0x, d0v = dop853.deriv(p, mode, phase, sgn, q, s, tref, t, x, v)
     cnt[C_RHS] += 1
-    friction_jump = 2.0 * p[T] / p[M]
+    friction_jump = 2.0 * p[P_T] / p[P_M]
     steps = 0
 
     while True:
         i_sec = st[S_ISEC]
         t_sec = i_sec * period
         if t >= t_sec and mode == TIME:  # landed on a Poincare time (time steps are clamped to it)
-            if flags & 8 and t_sec >= t_record:
+            if flags & RECORD_POINCARE and t_sec >= t_record:
                 ev, n_ev = _push(ev, n_ev, POINCARE, t_sec, x, v)
             st[S_ISEC] = i_sec + 1.0
             continue
@@ -296,7 +290,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
         if st[S_SLOW] != 0.0:
             # ---------------- implicit phase: sticking or slow reversal ----------------
             if h <= 0.0:
-                h = 0.1 * p[M] * eps / p[T]
+                h = 0.1 * p[P_M] * eps / p[P_T]
             clamped = h >= t_target - t
             hs = t_target - t if clamped else h
             ok, x1, v1, err = radau.doubled_step(p, phase, t, x, v, hs, rtol, atol, work, cnt)
@@ -312,7 +306,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
             h_next = hs * fac if not clamped else max(h, hs * fac)
             t1 = t_target if clamped else t + hs
             # events inside the step: obstacle crossing, v changing sign (not from v = 0 exactly)
-            g1 = x1 - p[XI]
+            g1 = x1 - p[P_XI]
             hit_x = (phase == FREE and g1 > 0.0) or (phase == CONTACT and g1 < 0.0)
             # a sign change of v inside the tolerance band (|v| <= atol, e.g. the creep of a cart
             # stuck on the obstacle, ~1e-13 m/s) is noise, not a reversal
@@ -322,7 +316,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                 th_v = 2.0
                 xe_x, ve_x, xe_v, ve_v = x, v, x, v
                 if hit_x:
-                    th_x, xe_x, ve_x = _slow_locate(p, phase, t, x, v, hs, rtol, atol, work, cnt, 0, p[XI],
+                    th_x, xe_x, ve_x = _slow_locate(p, phase, t, x, v, hs, rtol, atol, work, cnt, 0, p[P_XI],
                                                     -1.0 if phase == FREE else 1.0)
                 if hit_v:
                     th_v, xe_v, ve_v = _slow_locate(p, phase, t, x, v, hs, rtol, atol, work, cnt, 1, 0.0, _sign(v))
@@ -335,13 +329,13 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                 st[S_TSLOW] += te - t
                 if th_x <= th_v:
                     if phase == FREE:
-                        if flags & 1 and te >= t_record:
+                        if flags & RECORD_IMPACTS and te >= t_record:
                             ev, n_ev = _push(ev, n_ev, IMPACT, te, ve_x, 0.0)
                         phase = CONTACT
                         st[S_PDIR] = 0.0  # the pending free-flight maximum became a contact
                     else:
                         phase = FREE
-                    t, x, v = te, p[XI], ve_x
+                    t, x, v = te, p[P_XI], ve_x
                 else:
                     if _sign(v) == st[S_PDIR]:  # reversal against the pre-stick direction
                         st[S_PT] = te
@@ -427,15 +421,15 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
             # terminal events and the end of the run inside the step
             th_ev = 2.0
             kind = _EV_NONE
-            if phase == FREE and x1 - p[XI] > 0.0:
+            if phase == FREE and x1 - p[P_XI] > 0.0:
                 dop853.dense_prepare(p, mode, phase, sgn, q, s, tref, t, x, v, t1, x1, v1, hs, K, F)
                 built = True
-                th_ev = _bisect(F, x, 1, p[XI], 0.0, 1.0, -1.0)
+                th_ev = _bisect(F, x, 1, p[P_XI], 0.0, 1.0, -1.0)
                 kind = _EV_X_UP
-            elif phase == CONTACT and x1 - p[XI] < 0.0:
+            elif phase == CONTACT and x1 - p[P_XI] < 0.0:
                 dop853.dense_prepare(p, mode, phase, sgn, q, s, tref, t, x, v, t1, x1, v1, hs, K, F)
                 built = True
-                th_ev = _bisect(F, x, 1, p[XI], 0.0, 1.0, 1.0)
+                th_ev = _bisect(F, x, 1, p[P_XI], 0.0, 1.0, 1.0)
                 kind = _EV_X_DOWN
             elif phase == CONTACT and v1 <= -vcut:
                 dop853.dense_prepare(p, mode, phase, sgn, q, s, tref, t, x, v, t1, x1, v1, hs, K, F)
@@ -460,7 +454,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                     t_stop = t_end
                 while t_sec < t_stop:  # Poincare times inside the piece: exact t, interpolated state
                     th = _bisect(F, t, 0, t_sec - tref, 0.0, 1.0, -1.0)
-                    if flags & 8 and t_sec >= t_record:
+                    if flags & RECORD_POINCARE and t_sec >= t_record:
                         ev, n_ev = _push(ev, n_ev, POINCARE, t_sec, dop853.dense_eval(F, x, th, 1),
                                          dop853.dense_eval(F, v, th, 2))
                     i_sec += 1.0
@@ -483,13 +477,13 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                 xe = dop853.dense_eval(F, x, th_ev, 1)
                 ve = dop853.dense_eval(F, v, th_ev, 2)
                 if kind == _EV_X_UP:
-                    xe = p[XI]
-                    if flags & 1 and te >= t_record:
+                    xe = p[P_XI]
+                    if flags & RECORD_IMPACTS and te >= t_record:
                         ev, n_ev = _push(ev, n_ev, IMPACT, te, ve, 0.0)
                     phase = CONTACT
                     _contact_mode(p, st, te, xe, ve)
                 elif kind == _EV_X_DOWN:
-                    xe = p[XI]
+                    xe = p[P_XI]
                     phase = FREE
                     st[S_MODE] = TIME
                 else:
@@ -524,7 +518,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
             ta = tref + t  # absolute time
             if clamped:
                 if mode == SQRTH:  # s = 0: exit from the obstacle
-                    x = p[XI]
+                    x = p[P_XI]
                     phase = FREE
                     new_mode = TIME
                 elif mode == WVEL and sgn > 0.0:  # s = 0: v = 0 at the deepest penetration
@@ -543,10 +537,10 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                         else:
                             new_mode = TIME
                 elif mode == WVEL:  # |v| = V1 on the way out: sqrt(h) takes over to the exit
-                    if x > p[XI]:
+                    if x > p[P_XI]:
                         new_mode = SQRTH
                         sgn = -1.0
-                        s = -math.sqrt(x - p[XI])
+                        s = -math.sqrt(x - p[P_XI])
                     else:
                         new_mode = TIME
                 elif s == 0.0:  # UVEL at v = 0: an extremum of x in free flight
@@ -571,7 +565,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                 if accel(p, phase, ta, x, v) < 0.0:
                     new_mode = WVEL
                     sgn = 1.0
-                    s = -(v ** p[N3])
+                    s = -(v ** p[P_N3])
                 else:
                     new_mode = TIME
             if new_mode != mode or clamped:
@@ -638,7 +632,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                     if dop853.dense_eval(F, v, k / DIP_SAMPLES, 2) * sgn0 < 0.0:
                         v_cross = True
                         break
-        g1 = x1 - p[XI]
+        g1 = x1 - p[P_XI]
         x_up = phase == FREE and g1 > 0.0
         x_down = phase != FREE and g1 < 0.0
         cut_on = phase == CONTACT and v1 <= -vcut
@@ -655,16 +649,16 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                 th_v = _bisect(F, v, 2, 0.0, 0.0, 1.0, sgn0)
                 th = th_v
                 kind = _EV_V
-                if phase == FREE and sgn0 > 0.0 and dop853.dense_eval(F, x, th_v, 1) >= p[XI]:
+                if phase == FREE and sgn0 > 0.0 and dop853.dense_eval(F, x, th_v, 1) >= p[P_XI]:
                     x_up = True  # the maximum lies at or past the obstacle: contact came first
             if x_up:
                 hi = th if th <= 1.0 else 1.0
-                th_x = _bisect(F, x, 1, p[XI], 0.0, hi, -1.0)
+                th_x = _bisect(F, x, 1, p[P_XI], 0.0, hi, -1.0)
                 if th_x <= th:
                     th = th_x
                     kind = _EV_X_UP
             if x_down:
-                th_x = _bisect(F, x, 1, p[XI], 0.0, 1.0, 1.0)
+                th_x = _bisect(F, x, 1, p[P_XI], 0.0, 1.0, 1.0)
                 if th_x < th:
                     th = th_x
                     kind = _EV_X_DOWN
@@ -685,14 +679,14 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                 _sample_window(F, TIME, 0.0, t, x, v, hs, te, st, win_t0, win_dt, win_x, win_v)
             st[S_MODE] = TIME
             if kind == _EV_X_UP:
-                xe = p[XI]
-                if flags & 1 and te >= t_record:
+                xe = p[P_XI]
+                if flags & RECORD_IMPACTS and te >= t_record:
                     ev, n_ev = _push(ev, n_ev, IMPACT, te, ve, 0.0)
                 phase = CONTACT if ve > -vcut else CUT
                 if phase == CONTACT:
                     _contact_mode(p, st, te, xe, ve)
             elif kind == _EV_X_DOWN:
-                xe = p[XI]
+                xe = p[P_XI]
                 phase = FREE
             elif kind == _EV_CUT_ON:
                 ve = -vcut
@@ -746,7 +740,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
         if abs(v) < vband and _goes_implicit(p, phase, t, x):
             _enter_slow(p, st, cnt, t, x, v, _sign(v))
             h = 0.0
-        elif phase == FREE and p[T] > 0.0 and v * d0v < 0.0 and abs(v) < U_BAND * eps:
+        elif phase == FREE and p[P_T] > 0.0 and v * d0v < 0.0 and abs(v) < U_BAND * eps:
             # heading into the friction band of a reversal: continue in s = sgn asinh(v/eps)
             # (without dry friction there is no band, and time stepping is smooth through v = 0)
             sgn = _sign(d0v)

@@ -34,9 +34,9 @@ from pathlib import Path
 import numpy as np
 from scipy import stats as sps
 
-from . import statistics as st
-from .io import atomic_write, read_run
-from .statistics._validation import as_event_times, as_finite_1d
+from .. import statistics as st
+from ..files import atomic_write, read_run
+from ..statistics._validation import as_event_times, as_finite_1d
 
 __all__ = [
     "PAPER",

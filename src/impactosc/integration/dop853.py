@@ -15,8 +15,9 @@ import math
 import numpy as np
 from numba import njit
 
-from . import _dop853_tableau as tab
-from .model import EPS, XI, accel
+from . import tableau as tab
+from .layout import P_EPS, P_XI, SQRTH, TIME, UVEL, WVEL
+from .model import accel
 
 A = np.ascontiguousarray(tab.A)
 B = np.ascontiguousarray(tab.B)
@@ -29,11 +30,6 @@ ORDER = 8
 ERROR_EXPONENT = -1.0 / 8.0  # error estimator order 7
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
 
-# Independent variable of a piece.
-TIME = 0  # s = t
-SQRTH = 1  # s = sgn * sqrt(x - xI): contact onset (sgn +1) or exit (sgn -1); h^n1 smooth in s
-WVEL = 2  # s = -sgn * |v|^n3: contact around v = 0, where |v|^n3 is smooth in s
-UVEL = 3  # s = sgn * asinh(v / eps): free flight through the friction band
 
 
 @njit(cache=True)
@@ -51,7 +47,7 @@ def deriv(p, mode, phase, sgn, q, s, tref, t, x, v):
         return 1.0, v, accel(p, phase, t, x, v)
     if mode == SQRTH:
         y = sgn * s
-        a = accel(p, phase, tref + t, p[XI] + y * y, v)
+        a = accel(p, phase, tref + t, p[P_XI] + y * y, v)
         dt = sgn * 2.0 * y / v if v != 0.0 else math.inf  # v = 0: outside this map's range
         return dt, sgn * 2.0 * y, dt * a
     if mode == WVEL:
@@ -62,9 +58,9 @@ def deriv(p, mode, phase, sgn, q, s, tref, t, x, v):
         dt = dv / a if a != 0.0 else math.inf  # a = 0: outside this map's range
         return dt, vv * dt, dv
     u = sgn * s
-    vv = p[EPS] * math.sinh(u)
+    vv = p[P_EPS] * math.sinh(u)
     a = accel(p, phase, tref + t, x, vv)
-    dv = sgn * p[EPS] * math.cosh(u)
+    dv = sgn * p[P_EPS] * math.cosh(u)
     dt = dv / a if a != 0.0 else math.inf  # a = 0: outside this map's range
     return dt, vv * dt, dv
 

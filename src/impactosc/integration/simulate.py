@@ -15,9 +15,13 @@ from typing import Callable, Iterable
 import numpy as np
 
 from . import core
+from .layout import (
+    C_DENSE, C_DIP, C_FALLBACK, C_NEWTON, C_REJECT, C_RHS, C_SLOW_STEPS, C_SLOW_TRANSIT, C_STEPS, C_STICK,
+    C_TRANSFORMED, EVENT_NAMES, IMPACT, N_COUNT, S_T, S_TSLOW, record_flags,
+)
 from .model import ModelParams
 
-ALL_EVENTS = core.EVENT_NAMES
+ALL_EVENTS = EVENT_NAMES
 DEFAULT_RTOL = 1e-10
 DEFAULT_ATOL = 1e-12
 SOLVER_NAME = "DOP853 (explicit, dense output) + Radau IIA-5 (sticking phases), event-split"
@@ -129,13 +133,13 @@ def simulate(
     if unknown:
         raise ValueError(f"unknown event kind(s) {sorted(unknown)}; choose from {list(ALL_EVENTS)}")
     _validate(omega, transient, duration, x0, v0, rtol, atol, window)
-    flags = sum(1 << i for i, name in enumerate(ALL_EVENTS) if name in record)
+    flags = record_flags(record)
 
     p = params.as_array(float(omega))
     period = 2.0 * math.pi / omega
     t_end = float(transient) + float(duration)
     st = core.initial_state(p, 0.0, float(x0), float(v0), period, params.cut_velocity)
-    cnt = np.zeros(core.N_COUNT, dtype=np.int64)
+    cnt = np.zeros(N_COUNT, dtype=np.int64)
     ev = np.empty((1024, 4))
     n_ev = 0
     if window is not None:
@@ -147,14 +151,14 @@ def simulate(
         win_t0, win_dt = 0.0, 1.0
 
     wall = 0.0
-    while st[core.S_T] < t_end:
+    while st[S_T] < t_end:
         t0 = time.perf_counter()
         ev, n_ev = core.run(p, st, cnt, t_end, float(transient), float(rtol), float(atol), flags,
                             period, ev, n_ev, win_t0, win_dt, win_x, win_v, int(chunk_steps))
         wall += time.perf_counter() - t0
         if progress is not None:
-            n_imp = int(np.count_nonzero(ev[:n_ev, 0] == core.IMPACT))
-            progress(float(st[core.S_T]), t_end, n_imp)
+            n_imp = int(np.count_nonzero(ev[:n_ev, 0] == IMPACT))
+            progress(float(st[S_T]), t_end, n_imp)
 
     ev = ev[:n_ev]
     events = {}
@@ -171,11 +175,11 @@ def simulate(
     attrs.update(
         omega=float(omega), transient=float(transient), duration=float(duration), x0=float(x0),
         v0=float(v0), solver=SOLVER_NAME, rtol=float(rtol), atol=float(atol),
-        n_steps=int(cnt[core.C_STEPS]), n_rejected=int(cnt[core.C_REJECT]), n_rhs=int(cnt[core.C_RHS]),
-        n_implicit_steps=int(cnt[core.C_SLOW_STEPS]), n_stick=int(cnt[core.C_STICK]),
-        n_slow_reversal=int(cnt[core.C_SLOW_TRANSIT]), time_implicit=float(st[core.S_TSLOW]),
-        n_dense=int(cnt[core.C_DENSE]), n_dip_checks=int(cnt[core.C_DIP]),
-        n_newton=int(cnt[core.C_NEWTON]), n_transformed_steps=int(cnt[core.C_TRANSFORMED]),
-        n_fallback=int(cnt[core.C_FALLBACK]), wall_time=wall, recorded=",".join(record),
+        n_steps=int(cnt[C_STEPS]), n_rejected=int(cnt[C_REJECT]), n_rhs=int(cnt[C_RHS]),
+        n_implicit_steps=int(cnt[C_SLOW_STEPS]), n_stick=int(cnt[C_STICK]),
+        n_slow_reversal=int(cnt[C_SLOW_TRANSIT]), time_implicit=float(st[S_TSLOW]),
+        n_dense=int(cnt[C_DENSE]), n_dip_checks=int(cnt[C_DIP]),
+        n_newton=int(cnt[C_NEWTON]), n_transformed_steps=int(cnt[C_TRANSFORMED]),
+        n_fallback=int(cnt[C_FALLBACK]), wall_time=wall, recorded=",".join(record),
     )
     return SimulationResult(events=events, trajectory=trajectory, attrs=attrs, final_state=st.copy())

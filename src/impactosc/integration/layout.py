@@ -1,0 +1,79 @@
+"""Named constants shared by the model, the steppers, the core and ``simulate``.
+
+The numba core passes its data as plain float64/int64 arrays (cacheable on disk, no
+jitclasses), so every index into them is a name defined here, once. This module imports
+nothing from the package: everyone may import it.
+
+Arrays and their index names
+    p    model parameters and forcing frequency        P_*      (model.ModelParams.as_array)
+    st   resumable integrator state of a run           S_*      (core.initial_state)
+    cnt  work counters of a run                        C_*      (simulate attributes n_*)
+    ev   event rows (kind, t, a, b)                    IMPACT, PENETRATION, NEAR_MISS, POINCARE
+"""
+
+# --- model parameters: index into the array p -------------------------------------------
+(P_M, P_M0E, P_K, P_C, P_T, P_EPS, P_KI, P_B, P_N1, P_N2, P_N3, P_XI, P_OMEGA) = range(13)
+N_PARAMS = 13
+
+# --- which smooth vector field is active on a piece -------------------------------------
+FREE, CONTACT, CUT = 0, 1, 2  # free flight; contact; contact past the Hunt-Crossley cut (F_I = 0)
+
+# --- independent variable of a piece (dop853.deriv) -------------------------------------
+TIME = 0  # s = t
+SQRTH = 1  # s = sgn * sqrt(x - xI): contact onset (sgn +1) or exit (sgn -1); h^n1 smooth in s
+WVEL = 2  # s = -sgn * |v|^n3: contact around v = 0, where |v|^n3 is smooth in s
+UVEL = 3  # s = sgn * asinh(v / eps): free flight through the friction band
+
+# --- resumable state vector st ----------------------------------------------------------
+(
+    S_T,  # absolute time
+    S_X,
+    S_V,
+    S_PHASE,  # FREE / CONTACT / CUT
+    S_SLOW,  # 1 while the implicit (sticking / slow reversal) phase runs
+    S_H,  # step size to try next (0: choose afresh)
+    S_PDIR,  # sign of v before the implicit phase began (0: none pending)
+    S_PT,  # time of the pending extremum (implicit phase)
+    S_PX,  # x of the pending extremum
+    S_ISEC,  # index i of the next Poincare time 2 pi i / w
+    S_WIN,  # next trajectory-window sample
+    S_TSLOW,  # total time spent in implicit phases
+    S_VCUT,  # |v| beyond which the restitution bracket is negative
+    S_MODE,  # TIME / SQRTH / WVEL / UVEL
+    S_S,  # value of the piece's own variable
+    S_SGN,  # orientation of the piece's variable
+    S_V1,  # velocity at which a contact piece changes variable
+    S_TREF,  # start time of a transformed piece (its t is measured from here)
+    S_NINV,  # consecutive invalid transformed steps
+    S_TAU,  # time since S_TREF inside a transformed piece
+) = range(20)
+N_STATE = 20
+
+# --- counters cnt ------------------------------------------------------------------------
+(
+    C_STEPS,  # accepted explicit steps
+    C_REJECT,  # rejected steps (explicit and implicit)
+    C_RHS,  # right-hand-side evaluations
+    C_SLOW_STEPS,  # implicit step attempts
+    C_STICK,  # implicit phases that stuck (|net force| < T)
+    C_SLOW_TRANSIT,  # implicit phases that were slow reversals
+    C_DENSE,  # dense outputs built
+    C_NEWTON,  # Newton iterations of the implicit solver
+    C_DIP,  # dense-output checks for v touching zero inside a step
+    C_TRANSFORMED,  # accepted steps in a transformed variable
+    C_FALLBACK,  # transformed pieces that fell back to time stepping
+) = range(11)
+N_COUNT = 11
+
+# --- event kinds (column 0 of ev) and the bit that asks for each --------------------------
+IMPACT, PENETRATION, NEAR_MISS, POINCARE = 0, 1, 2, 3
+EVENT_NAMES = ("impacts", "penetrations", "near_misses", "poincare")  # indexed by kind
+RECORD_IMPACTS = 1 << IMPACT
+RECORD_PENETRATIONS = 1 << PENETRATION
+RECORD_NEAR_MISSES = 1 << NEAR_MISS
+RECORD_POINCARE = 1 << POINCARE
+
+
+def record_flags(names) -> int:
+    """Bit mask asking the core for the event kinds named in `names` (see EVENT_NAMES)."""
+    return sum(1 << kind for kind, name in enumerate(EVENT_NAMES) if name in names)
