@@ -38,8 +38,9 @@ rule bifurcation_coarse:
         "../envs/impactosc.yaml"
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
+    # the coarse pass is sweep part "coarse": the script of rule bifurcation_chunk
     script:
-        "../scripts/bifurcation_part.py"
+        "../scripts/bifurcation_chunk.py"
 
 
 rule bifurcation_chunk:
@@ -63,7 +64,7 @@ rule bifurcation_chunk:
         sweep=BIF_WILDCARDS["sweep"],
         chunk=BIF_WILDCARDS["chunk"],
     script:
-        "../scripts/bifurcation_part.py"
+        "../scripts/bifurcation_chunk.py"
 
 
 rule bifurcation_merge:
@@ -125,6 +126,7 @@ rule fig02:
         "results/logs/fig02.log",
     conda:
         "../envs/impactosc.yaml"
+    # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
     script:
         "../scripts/bifurcation_figure.py"
 
@@ -146,6 +148,7 @@ rule fig03b:
         "results/logs/fig03b.log",
     conda:
         "../envs/impactosc.yaml"
+    # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
     script:
         "../scripts/bifurcation_figure.py"
 
@@ -167,6 +170,7 @@ rule bifurcation_overlay:
         "results/logs/bifurcation_overlay.log",
     conda:
         "../envs/impactosc.yaml"
+    # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
     script:
         "../scripts/bifurcation_figure.py"
 
@@ -203,7 +207,7 @@ rule map2d_part:
     wildcard_constraints:
         chunk=BIF_WILDCARDS["chunk"],
     script:
-        "../scripts/bifurcation_map_part.py"
+        "../scripts/map2d_part.py"
 
 
 rule map2d:
@@ -220,7 +224,7 @@ rule map2d:
     conda:
         "../envs/impactosc.yaml"
     script:
-        "../scripts/bifurcation_map.py"
+        "../scripts/map2d.py"
 
 
 ALL_TARGETS.extend(

@@ -6,7 +6,7 @@
 # file; restyling a figure reruns neither a simulation nor a statistic.
 import re
 
-from impactosc.chaotic import ensemble_runs
+from impactosc.analysis.chaotic import ensemble_runs
 
 CHAOTIC = config["chaotic"]
 CHAOTIC_CAPTIONS = "Chaotic regime (Figs 6-11)"
@@ -41,6 +41,7 @@ rule chaotic_member:
         "../envs/impactosc.yaml"
     wildcard_constraints:
         member="|".join(re.escape(m) for m in CHAOTIC_MEMBERS),
+    # an ensemble member is a scene run with its own x0 and tolerances: the script of rule simulate_scene
     script:
         "../scripts/simulate_scene.py"
 
@@ -95,7 +96,7 @@ rule chaotic_stats:
     conda:
         "../envs/impactosc.yaml"
     script:
-        "../scripts/chaotic_tables.py"
+        "../scripts/chaotic_stats.py"
 
 
 for _nn, _inputs in (
@@ -126,6 +127,7 @@ for _nn, _inputs in (
             f"results/logs/fig{_nn:02d}.log",
         conda:
             "../envs/impactosc.yaml"
+        # one script draws fig06..fig11 (params.figure selects): the chaotic figure family
         script:
             "../scripts/chaotic_figure.py"
 

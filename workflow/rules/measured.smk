@@ -5,7 +5,7 @@
 # same datasets as a simulation run) -> the chaotic group's statistics and figure rules
 # (via config chaotic.second_train) and the bifurcation group's Fig 2 (via config
 # bifurcation.fig02.experimental).  Targets: measured_noise_study, measured_rows.
-from impactosc.surrogate import panel_hooked
+from impactosc.measured.surrogate import panel_hooked
 
 MEAS = config["measured"]
 MEAS_REPORT = "Measured records (experimental panels)"
@@ -53,7 +53,7 @@ rule measured_chaos_events:
     conda:
         "../envs/impactosc.yaml"
     script:
-        "../scripts/measured_extract.py"
+        "../scripts/measured_chaos_events.py"
 
 
 rule measured_fig02_points:

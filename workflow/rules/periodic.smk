@@ -97,6 +97,7 @@ rule before_grazing_stats:
         "results/logs/before_grazing_stats.log",
     conda:
         "../envs/impactosc.yaml"
+    # same statistics as rule periodic_stats, on the branch run: the script of that rule
     script:
         "../scripts/periodic_stats.py"
 
@@ -116,7 +117,7 @@ rule grazing_stats:
     conda:
         "../envs/impactosc.yaml"
     script:
-        "../scripts/periodic_grazing_stats.py"
+        "../scripts/grazing_stats.py"
 
 
 rule periodic_rows:
@@ -143,7 +144,7 @@ rule fig01:
     conda:
         "../envs/impactosc.yaml"
     script:
-        "../scripts/periodic_fig01.py"
+        "../scripts/fig01.py"
 
 
 rule fig03a:
@@ -160,7 +161,7 @@ rule fig03a:
     conda:
         "../envs/impactosc.yaml"
     script:
-        "../scripts/periodic_fig03a.py"
+        "../scripts/fig03a.py"
 
 
 rule fig04:
@@ -180,7 +181,7 @@ rule fig04:
     conda:
         "../envs/impactosc.yaml"
     script:
-        "../scripts/periodic_fig04.py"
+        "../scripts/fig04.py"
 
 
 rule fig05:
@@ -195,7 +196,7 @@ rule fig05:
     conda:
         "../envs/impactosc.yaml"
     script:
-        "../scripts/periodic_fig05.py"
+        "../scripts/fig05.py"
 
 
 rule grazing:
@@ -211,7 +212,7 @@ rule grazing:
     conda:
         "../envs/impactosc.yaml"
     script:
-        "../scripts/periodic_grazing_fig.py"
+        "../scripts/grazing.py"
 
 
 ALL_TARGETS.extend(

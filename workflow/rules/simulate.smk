@@ -11,7 +11,7 @@ rule numba_cache:
     conda:
         "../envs/impactosc.yaml"
     script:
-        "../scripts/warm_numba_cache.py"
+        "../scripts/numba_cache.py"
 
 
 rule simulate_scene:

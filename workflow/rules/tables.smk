@@ -12,4 +12,4 @@ rule paper_vs_replication:
     conda:
         "../envs/impactosc.yaml"
     script:
-        "../scripts/merge_tables.py"
+        "../scripts/paper_vs_replication.py"

@@ -83,7 +83,7 @@ rule work_precision:
     conda:
         "../envs/impactosc.yaml"
     script:
-        "../scripts/wp_figure.py"
+        "../scripts/work_precision.py"
 
 
 rule hard_cases:
@@ -99,7 +99,7 @@ rule hard_cases:
     conda:
         "../envs/impactosc.yaml"
     script:
-        "../scripts/wp_hard_cases.py"
+        "../scripts/hard_cases.py"
 
 
 rule wp_rows:
