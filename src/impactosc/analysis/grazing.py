@@ -13,6 +13,9 @@ transition gives an independent estimate of the zero (:func:`extrapolate_gap_zer
 The generic pieces (:func:`find_grazing_step`, :func:`bisect_transition`,
 :func:`extrapolate_gap_zero`) take plain arrays and callables so they are tested on
 synthetic gap curves; :func:`model_trial` and :func:`locate_grazing` bind them to the core.
+
+A second locator, :func:`grazing_by_clearance_secant`, finds where the clearance of one
+orbit's near miss is zero (a secant in w), for runs that must set the depth or gap itself.
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ __all__ = [
     "Trial", "GrazingBracket", "GapFit", "find_grazing_step", "bisect_transition",
     "extrapolate_gap_zero", "sweep_summary", "model_trial", "locate_grazing", "branch_grid",
     "grazing_statistics", "scan_from_rest", "regular_grid", "grazing_summary_file",
+    "settle_orbit", "grazing_by_clearance_secant",
 ]
 
 
@@ -363,3 +367,62 @@ def grazing_summary_file(branch_path, bisection_path, from_rest_path, paper_omeg
                              summaries["branch"]["period"], summaries["from_rest"]["period"])
     out["per_w"] = {name: {k: np.asarray(v).tolist() for k, v in s.items()} for name, s in summaries.items()}
     return out
+
+
+# ---------------------------------------------------------------- grazing of an orbit, by secant
+
+def _signed_clearance(events):
+    """(value, time) of the x maximum closest to the obstacle: +depth of a contact,
+    -gap of a near miss."""
+    nm, pen = events["near_misses"], events["penetrations"]
+    vals = np.concatenate([-nm["gap"], pen["h"]])
+    ts = np.concatenate([nm["t"], pen["t"]])
+    if vals.size == 0:
+        raise ValueError("no maximum of x recorded")
+    k = int(np.argmin(np.abs(vals)))
+    return float(vals[k]), float(ts[k])
+
+
+def settle_orbit(omega, state, params, periods, record_periods=3, rtol=1e-10, atol=1e-12, window_dt=None):
+    """Continue the attractor from `state` (x, v at phase 0) for `periods` forcing periods,
+    record `record_periods` more; returns (signed clearance, its time, end state, result).
+
+    The signed clearance is the x maximum closest to the obstacle: +depth of a contact,
+    -gap of a near miss; the result records impacts, penetrations, near misses and the
+    Poincare section (and the trajectory every `window_dt` s if given).
+    """
+    from ..integration.simulate import Window, simulate
+
+    period = 2 * math.pi / omega
+    t0, t1 = periods * period, (periods + record_periods) * period
+    win = Window(t0, t1, window_dt) if window_dt else None
+    res = simulate(omega, t0, t1 - t0, x0=state[0], v0=state[1], params=params, rtol=rtol, atol=atol,
+                   window=win, record=("impacts", "penetrations", "near_misses", "poincare"))
+    g, tg = _signed_clearance(res.events)
+    pc = res.events["poincare"]
+    return g, tg, (float(pc["x"][-1]), float(pc["v"][-1])), res
+
+
+def grazing_by_clearance_secant(params, w_far=23.06, w_near=23.05, settle_from_rest=800, periods=150, tol=1e-12,
+                                max_iter=12):
+    """Grazing w of the period-1 branch to `tol` metres of clearance: secant on the signed
+    clearance g(w) of its near miss (:func:`settle_orbit`), each orbit continued from the
+    previous one. Returns (w*, slope dg/dw, state at phase 0 of the orbit at w*).
+
+    Unlike :func:`locate_grazing` (bisection on the impact count of a followed branch, a
+    bracket for the paper's table) this converges on g = 0 itself, so that w can be set to
+    give a contact or near miss of a chosen size (the grazing hard case,
+    :mod:`impactosc.benchmarks.hardcases.grazing`).
+    """
+    g_a, _, s_a, _ = settle_orbit(w_far, (0.0, 0.0), params, settle_from_rest)
+    if g_a >= 0:
+        raise RuntimeError(f"w = {w_far}: expected a near miss on the period-1 branch, got clearance {g_a:.3g} m")
+    w_a, (g_b, _, s_b, _), w_b = w_far, settle_orbit(w_near, s_a, params, periods), w_near
+    for _ in range(max_iter):
+        slope = (g_b - g_a) / (w_b - w_a)
+        w_n = w_b - g_b / slope
+        g_n, _, s_n, _ = settle_orbit(w_n, s_b, params, periods)
+        w_a, g_a, s_a, w_b, g_b, s_b = w_b, g_b, s_b, w_n, g_n, s_n
+        if abs(g_n) < tol:
+            return w_n, slope, s_n
+    raise RuntimeError(f"grazing secant did not converge: |g| = {abs(g_b):.3g} m at w = {w_b}")
