@@ -168,11 +168,13 @@ def test_sweep_smoke_core_fastest_and_accurate():
 
 
 def test_figure_from_synthetic_rows(tmp_path):
+    from impactosc.plotting import save_figure
     from impactosc.plotting.work_precision import plot_work_precision
 
     rows = [dict(r, horizon=1.5, reference_penetration_error=1e-15, reference_poincare_x_error=1e-13,
                  penetration_error=r.get("impact_time_error", math.nan) * 1e-3,
                  poincare_x_error=r.get("impact_time_error", math.nan) * 1e-2) for r in _rows()]
     stats = _stat_rows()
-    plot_work_precision(rows, stats, tmp_path / "wp.png", tmp_path / "wp.pdf", jit={"cold": 27.0, "cached": 0.8})
+    fig = plot_work_precision(rows, stats, jit={"cold": 27.0, "cached": 0.8})
+    save_figure(fig, tmp_path / "wp.png", tmp_path / "wp.pdf")
     assert (tmp_path / "wp.png").stat().st_size > 10_000 and (tmp_path / "wp.pdf").stat().st_size > 5_000

@@ -10,6 +10,7 @@ import json
 
 from impactosc.benchmarks.tables import read_table, write_table
 from impactosc.benchmarks.workprecision import headline, statistics_summary
+from impactosc.plotting import save_figure
 from impactosc.plotting.work_precision import plot_work_precision
 
 
@@ -26,7 +27,7 @@ def main(scene_csvs, stats_csv, jit_json, levels, out):
     write_table(out.headline, [{**h, "jit_cold": jit["cold"], "jit_cached": jit["cached"]} for h in head])
     stats = _stats_rows(read_table(stats_csv))
     write_table(out.statistics_summary, statistics_summary(stats))
-    plot_work_precision(rows, stats, out.png, out.pdf, jit=jit)
+    save_figure(plot_work_precision(rows, stats, jit=jit), out.png, out.pdf)
 
 
 main(snakemake.input.scenes, snakemake.input.stats, snakemake.input.jit,  # noqa: F821

@@ -18,7 +18,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..benchmarks.workprecision import CORE, METRIC_LABELS, METRICS
-from .style import DOUBLE, apply_style, save_figure
+from .style import DOUBLE, apply_style
 
 STYLES = {
     CORE: dict(color="black", marker="o", lw=1.6, ms=3.5, zorder=5),
@@ -102,8 +102,9 @@ def _stat_panel(ax, stats_rows, key, label):
     ax.grid(True, which="major", lw=0.3, alpha=0.5)
 
 
-def plot_work_precision(rows, stats_rows, png, pdf, jit: dict | None = None, n_ensemble: int | None = None):
-    """Draw the figure from the rows of work_precision.csv and the statistics CSV."""
+def plot_work_precision(rows, stats_rows, *, jit: dict | None = None, n_ensemble: int | None = None):
+    """The figure from the rows of work_precision.csv and the statistics CSV (save it with
+    :func:`impactosc.plotting.style.save_figure`)."""
     apply_style()
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
     fig = plt.figure(figsize=(DOUBLE, DOUBLE * (0.36 * len(scenes) + 0.36)))
@@ -122,4 +123,4 @@ def plot_work_precision(rows, stats_rows, png, pdf, jit: dict | None = None, n_e
     note += (f"\nBottom: chaotic scene (100 s + 400 s) at each core rtol; band: mean $\\pm$ 2 std of {n_ens} "
              "realisations.")
     fig.suptitle(note, fontsize=6)
-    save_figure(fig, png, pdf)
+    return fig
