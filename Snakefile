@@ -1,5 +1,7 @@
 # Replication workflow of "Properties of impact events in the model of forced impacting
 # oscillator" (model BC). Full rebuild: snakemake -j2. One target per figure: see README.
+# Every path of results/ is defined in workflow/rules/common.smk; the other rules files
+# read no globals of each other, so their order below does not matter.
 
 
 configfile: "config/config.yaml"
@@ -14,12 +16,11 @@ include: "workflow/rules/measured.smk"
 include: "workflow/rules/work_precision.smk"
 include: "workflow/rules/benchmark.smk"
 include: "workflow/rules/combined.smk"
-include: "workflow/rules/tables.smk"
 
 
 rule all:
     default_target: True
     input:
         ALL_TARGETS,
-        expand(rules.simulate_scene.output.run, scene=config["scenes"]),
-        rules.paper_vs_replication.output if TABLE_ROWS else [],
+        expand(SCENE_RUN, scene=config["scenes"]),
+        [PAPER_TABLE_CSV, PAPER_TABLE_MD] if TABLE_ROWS else [],

@@ -3,15 +3,15 @@
 
 rule benchmark_core:
     input:
-        cache=rules.numba_cache.output.marker,
+        cache=NUMBA_CACHE,
     output:
-        csv="results/tables/benchmark_core.csv",
-        md="results/tables/benchmark_core.md",
+        csv=BENCHMARK_CORE_CSV,
+        md=BENCHMARK_CORE_MD,
     params:
         rtols=[1e-8, 1e-10],
         repeats=5,
     log:
-        "results/logs/benchmark_core.log",
+        logfile("benchmark", "benchmark_core"),
     conda:
         "../envs/impactosc.yaml"
     script:

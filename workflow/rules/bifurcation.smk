@@ -15,25 +15,23 @@ BIF_SWEEPS = list(BIF["sweeps"])
 BIF_COMMON = {"per_w": BIF["per_w"], "model": config["model"], "solver": config["solver"]}
 
 
-BIF_SWEEP = "results/bifurcation/{sweep}.h5"  # merged sweep file of a configured sweep
-# The grazing group's bracket, when that rule is part of the workflow.
-BIF_GRAZING_REFERENCE = rules.grazing_stats.output.stats if rules.has("grazing_stats") else []
-
 BIF_WILDCARDS = {"sweep": "|".join(BIF_SWEEPS), "chunk": r"\d+"}
 
 
 rule bifurcation_coarse:
     input:
-        cache=rules.numba_cache.output.marker,
+        cache=NUMBA_CACHE,
     output:
-        seeds="results/bifurcation/{sweep}/coarse.h5",
+        seeds=BIF_COARSE,
     params:
         **BIF_COMMON,
         grid=lambda wc: BIF["sweeps"][wc.sweep],
         stride=BIF["stride"],
         part="coarse",
     log:
-        "results/logs/bifurcation_{sweep}_coarse.log",
+        logfile("bifurcation", "bifurcation_coarse_{sweep}"),
+    benchmark:
+        benchmark_file("bifurcation", "bifurcation_coarse_{sweep}")
     conda:
         "../envs/impactosc.yaml"
     wildcard_constraints:
@@ -45,11 +43,11 @@ rule bifurcation_coarse:
 
 rule bifurcation_chunk:
     input:
-        cache=rules.numba_cache.output.marker,
+        cache=NUMBA_CACHE,
         # every chunk but the first starts from the coarse pass (chunk 0 starts like the sequential sweep)
         seeds=lambda wc: expand(rules.bifurcation_coarse.output.seeds, sweep=wc.sweep) if int(wc.chunk) else [],
     output:
-        chunk="results/bifurcation/{sweep}/chunk{chunk}.h5",
+        chunk=BIF_CHUNK,
     params:
         **BIF_COMMON,
         grid=lambda wc: BIF["sweeps"][wc.sweep],
@@ -57,7 +55,9 @@ rule bifurcation_chunk:
         chunks=BIF["chunks"],
         part=lambda wc: int(wc.chunk),
     log:
-        "results/logs/bifurcation_{sweep}_chunk{chunk}.log",
+        logfile("bifurcation", "bifurcation_chunk_{sweep}_{chunk}"),
+    benchmark:
+        benchmark_file("bifurcation", "bifurcation_chunk_{sweep}_{chunk}")
     conda:
         "../envs/impactosc.yaml"
     wildcard_constraints:
@@ -76,7 +76,7 @@ rule bifurcation_merge:
     params:
         grid=lambda wc: BIF["sweeps"][wc.sweep],
     log:
-        "results/logs/bifurcation_{sweep}_merge.log",
+        logfile("bifurcation", "bifurcation_merge_{sweep}"),
     conda:
         "../envs/impactosc.yaml"
     wildcard_constraints:
@@ -88,13 +88,13 @@ rule bifurcation_merge:
 rule bifurcation_tables:
     input:
         sweeps=expand(BIF_SWEEP, sweep=BIF_SWEEPS),
-        grazing=BIF_GRAZING_REFERENCE,
+        grazing=GRAZING_STATS,  # the periodic group's grazing bracket
     output:
-        per_w="results/tables/bifurcation_per_w.csv",
-        segments="results/tables/bifurcation_segments.csv",
-        transitions="results/tables/bifurcation_transitions.csv",
-        stats="results/stats/bifurcation.json",
-        rows="results/tables/rows/bifurcation.csv",
+        per_w=BIF_TABLES["per_w"],
+        segments=BIF_TABLES["segments"],
+        transitions=BIF_TABLES["transitions"],
+        stats=BIF_STATS,
+        rows=rows_file("bifurcation"),
     params:
         names=BIF_SWEEPS,
         reading=BIF["reading"],
@@ -102,7 +102,7 @@ rule bifurcation_tables:
         overlay=BIF["overlay"]["sweeps"],
         command="snakemake -j2 bifurcation_tables",
     log:
-        "results/logs/bifurcation_tables.log",
+        logfile("bifurcation", "bifurcation_tables"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -123,7 +123,7 @@ rule fig02:
         model=config["model"],
         experimental=BIF["fig02"]["experimental"],
     log:
-        "results/logs/fig02.log",
+        logfile("bifurcation", "fig02"),
     conda:
         "../envs/impactosc.yaml"
     # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
@@ -136,8 +136,8 @@ rule fig03b:
         sweeps=expand(BIF_SWEEP, sweep=BIF["fig03b"]["sweep"]),
         stats=rules.bifurcation_tables.output.stats,
     output:
-        png=report("results/figures/fig03b.png", caption="../report/fig03b.rst", category=BIF_REPORT),
-        pdf="results/figures/fig03b.pdf",
+        png=report(panel("fig03b")[0], caption="../report/fig03b.rst", category=BIF_REPORT),
+        pdf=panel("fig03b")[1],
     params:
         figure="fig03b",
         names=[BIF["fig03b"]["sweep"]],
@@ -145,7 +145,7 @@ rule fig03b:
         zoom_near=23.0,
         zoom_half_width=0.6,
     log:
-        "results/logs/fig03b.log",
+        logfile("bifurcation", "fig03b"),
     conda:
         "../envs/impactosc.yaml"
     # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
@@ -159,15 +159,17 @@ rule bifurcation_overlay:
         stats=rules.bifurcation_tables.output.stats,
     output:
         png=report(
-            "results/figures/bifurcation_overlay.png", caption="../report/bifurcation_overlay.rst", category=BIF_REPORT
+            supplementary("bifurcation", "bifurcation_overlay")[0],
+            caption="../report/bifurcation_overlay.rst",
+            category=BIF_REPORT,
         ),
-        pdf="results/figures/bifurcation_overlay.pdf",
+        pdf=supplementary("bifurcation", "bifurcation_overlay")[1],
     params:
         figure="overlay",
         names=BIF["overlay"]["sweeps"],
         model=config["model"],
     log:
-        "results/logs/bifurcation_overlay.log",
+        logfile("bifurcation", "bifurcation_overlay"),
     conda:
         "../envs/impactosc.yaml"
     # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
@@ -179,11 +181,11 @@ rule bifurcation_benchmark:
     input:
         sweeps=expand(BIF_SWEEP, sweep=BIF_SWEEPS),
     output:
-        json="results/stats/bifurcation_benchmark.json",
+        json=BIF_BENCHMARK,
     params:
         names=BIF_SWEEPS,
     log:
-        "results/logs/bifurcation_benchmark.log",
+        logfile("bifurcation", "bifurcation_benchmark"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -192,16 +194,18 @@ rule bifurcation_benchmark:
 
 rule map2d_part:
     input:
-        cache=rules.numba_cache.output.marker,
+        cache=NUMBA_CACHE,
     output:
-        part="results/bifurcation/map2d/part{chunk}.h5",
+        part=MAP2D_PART,
     params:
         **BIF_COMMON,
         map=BIF["map2d"],
         reading=BIF["reading"],
         part=lambda wc: int(wc.chunk),
     log:
-        "results/logs/map2d_part{chunk}.log",
+        logfile("bifurcation", "map2d_part_{chunk}"),
+    benchmark:
+        benchmark_file("bifurcation", "map2d_part_{chunk}")
     conda:
         "../envs/impactosc.yaml"
     wildcard_constraints:
@@ -214,13 +218,13 @@ rule map2d:
     input:
         parts=expand(rules.map2d_part.output.part, chunk=range(BIF["map2d"]["chunks"])),
     output:
-        map="results/bifurcation/map2d.h5",
-        png=report("results/figures/map2d.png", caption="../report/map2d.rst", category=BIF_REPORT),
-        pdf="results/figures/map2d.pdf",
+        map=MAP2D,
+        png=report(supplementary("bifurcation", "map2d")[0], caption="../report/map2d.rst", category=BIF_REPORT),
+        pdf=supplementary("bifurcation", "map2d")[1],
     params:
         model=config["model"],
     log:
-        "results/logs/map2d.log",
+        logfile("bifurcation", "map2d"),
     conda:
         "../envs/impactosc.yaml"
     script:

@@ -11,21 +11,20 @@ from impactosc.analysis.chaotic import ensemble_runs
 CHAOTIC = config["chaotic"]
 CHAOTIC_CAPTIONS = "Chaotic regime (Figs 6-11)"
 CHAOTIC_MEMBERS = ensemble_runs(scene(CHAOTIC["scene"]), config["solver"], CHAOTIC["ensemble"])
-CHAOTIC_SCENE_RUN = rules.simulate_scene.output.run.format(scene=CHAOTIC["scene"])
+CHAOTIC_SCENE_RUN = scene_run(CHAOTIC["scene"])
 CHAOTIC_TRAINS = {"model": (CHAOTIC_SCENE_RUN, "model")}
 if CHAOTIC["second_train"]:
     CHAOTIC_TRAINS["second"] = (CHAOTIC["second_train"]["events"], CHAOTIC["second_train"]["label"])
 # statistics files of the figures with an optional second train (8-10), and of the model alone
-CHAOTIC_STATS_PATTERN = "results/stats/chaotic_{train}.json"
-CHAOTIC_STATS = expand(CHAOTIC_STATS_PATTERN, train=list(CHAOTIC_TRAINS))
-CHAOTIC_MODEL_STATS = expand(CHAOTIC_STATS_PATTERN, train="model")
+CHAOTIC_STATS = expand(CHAOTIC_TRAIN_STATS, train=list(CHAOTIC_TRAINS))
+CHAOTIC_MODEL_STATS = expand(CHAOTIC_TRAIN_STATS, train="model")
 
 
 rule chaotic_member:
     input:
-        cache=rules.numba_cache.output.marker,
+        cache=NUMBA_CACHE,
     output:
-        run="results/runs/chaos_ensemble/{member}.h5",
+        run=CHAOTIC_MEMBER_RUN,
     params:
         model=config["model"],
         solver=lambda wc: {k: CHAOTIC_MEMBERS[wc.member][k] for k in ("rtol", "atol")},
@@ -36,7 +35,9 @@ rule chaotic_member:
             "window": None,
         },
     log:
-        "results/logs/chaotic_member_{member}.log",
+        logfile("chaotic", "chaotic_member_{member}"),
+    benchmark:
+        benchmark_file("chaotic", "chaotic_member_{member}")
     conda:
         "../envs/impactosc.yaml"
     wildcard_constraints:
@@ -50,12 +51,12 @@ rule chaotic_train_stats:
     input:
         events=lambda wc: CHAOTIC_TRAINS[wc.train][0],
     output:
-        json=CHAOTIC_STATS_PATTERN,
+        json=CHAOTIC_TRAIN_STATS,
     params:
         label=lambda wc: CHAOTIC_TRAINS[wc.train][1],
         analysis=CHAOTIC["analysis"],
     log:
-        "results/logs/chaotic_train_stats_{train}.log",
+        logfile("chaotic", "chaotic_train_stats_{train}"),
     conda:
         "../envs/impactosc.yaml"
     wildcard_constraints:
@@ -69,12 +70,12 @@ rule chaotic_ensemble:
         runs=[CHAOTIC_SCENE_RUN]
         + expand(rules.chaotic_member.output.run, member=sorted(CHAOTIC_MEMBERS)),
     output:
-        json="results/stats/chaotic_ensemble.json",
-        csv="results/tables/chaotic_ensemble.csv",
+        json=CHAOTIC_ENSEMBLE_STATS,
+        csv=CHAOTIC_ENSEMBLE_TABLE,
     params:
         analysis=CHAOTIC["analysis"],
     log:
-        "results/logs/chaotic_ensemble.log",
+        logfile("chaotic", "chaotic_ensemble"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -87,12 +88,12 @@ rule chaotic_stats:
         ensemble=rules.chaotic_ensemble.output.json,
         run=CHAOTIC_SCENE_RUN,
     output:
-        rows="results/tables/rows/chaotic.csv",
-        mixture="results/tables/isi_mixture.csv",
+        rows=rows_file("chaotic"),
+        mixture=ISI_MIXTURE_TABLE,
     params:
         command="snakemake -j1 chaotic_stats",
     log:
-        "results/logs/chaotic_stats.log",
+        logfile("chaotic", "chaotic_stats"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -124,7 +125,7 @@ for _nn, _inputs in (
             figure=_nn,
             portrait_span=CHAOTIC["portrait_span"] if _nn == 6 else None,
         log:
-            f"results/logs/fig{_nn:02d}.log",
+            logfile("chaotic", f"fig{_nn:02d}"),
         conda:
             "../envs/impactosc.yaml"
         # one script draws fig06..fig11 (params.figure selects): the chaotic figure family

@@ -1,27 +1,42 @@
-# Paper figures whose panels come from different figure groups: Fig 3 = 3a (impact-map
-# construction, periodic group) beside 3b (ISI bifurcation diagram, bifurcation group).
+# Products that join several figure groups (group "combined"): Fig 3 = 3a (impact-map
+# construction, periodic group) beside 3b (ISI bifurcation diagram, bifurcation group), and
+# the table of every number the paper states next to ours, merged from the groups' rows.
 
 
 rule fig03:
     input:
-        run=FIG03A_RUN,
-        sweeps=expand(BIF_SWEEP, sweep=BIF["fig03b"]["sweep"]),
-        stats=rules.bifurcation_tables.output.stats,
+        run=scene_run(config["periodic"]["fig03a"]["scene"]),
+        sweeps=expand(BIF_SWEEP, sweep=config["bifurcation"]["fig03b"]["sweep"]),
+        stats=BIF_STATS,
     output:
-        png=report("results/figures/fig03.png", caption="../report/fig03.rst", category="Impact map (paper Fig 3)"),
-        pdf="results/figures/fig03.pdf",
+        png=report(figure(3)[0], caption="../report/fig03.rst", category="Impact map (paper Fig 3)"),
+        pdf=figure(3)[1],
     params:
-        sweep=BIF["fig03b"]["sweep"],
-        start=PERIODIC["fig03a"]["start"],
-        span=PERIODIC["fig03a"]["span"],
+        sweep=config["bifurcation"]["fig03b"]["sweep"],
+        start=config["periodic"]["fig03a"]["start"],
+        span=config["periodic"]["fig03a"]["span"],
         zoom_near=23.0,
         zoom_half_width=0.6,
     log:
-        "results/logs/fig03.log",
+        logfile("combined", "fig03"),
     conda:
         "../envs/impactosc.yaml"
     script:
         "../scripts/fig03.py"
+
+
+rule paper_vs_replication:
+    input:
+        rows=lambda wc: TABLE_ROWS,
+    output:
+        csv=PAPER_TABLE_CSV,
+        md=PAPER_TABLE_MD,
+    log:
+        logfile("combined", "paper_vs_replication"),
+    conda:
+        "../envs/impactosc.yaml"
+    script:
+        "../scripts/paper_vs_replication.py"
 
 
 ALL_TARGETS.extend(rules.fig03.output)

@@ -1,8 +1,11 @@
-# Helpers shared by all rules: configuration validation, the numba cache location, and the
-# target lists that each rules file extends (rule all and the numbers table collect them).
+# Helpers shared by all rules: configuration validation, the numba cache location, every
+# path pattern of results/, and the target lists that each rules file extends (rule all and
+# the numbers table collect them). Rules files read only globals defined here (and their
+# own), never another rules file's, so the order of the include: lines does not matter.
 from pathlib import Path
 
 import impactosc
+from snakemake.exceptions import WorkflowError
 from impactosc.config import validate_config
 
 config = validate_config(config, workflow.source_path("../schemas/config.schema.yaml"))
@@ -18,11 +21,124 @@ ALL_TARGETS = []
 TABLE_ROWS = []
 
 
+def all_local_cores(wildcards):
+    """Threads of a timing rule: every core of a local run (snakemake -jN: N), so that no other
+    job runs beside it; 1 where no total is defined (an executor such as SLURM without --cores,
+    where each job has its own allocation). A plain `threads: workflow.cores` would stop the
+    whole workflow from parsing there (issue 17)."""
+    try:
+        return workflow.cores
+    except WorkflowError:
+        return 1
+
+
 def scene(name):
     """The validated config entry of one scene."""
     return config["scenes"][name]
 
 
+# ---------------------------------------------------------------------------------------
+# results/ layout (results/README.md): one folder per stage, one subfolder per group
+#   runs/<group>/     simulation and sweep output (HDF5), raw measurements
+#   stats/<group>/    statistics (JSON) read by figures and tables
+#   tables/<group>/   numbers (CSV/MD), incl. the group's rows of the paper table
+#   figures/          the paper's figures figNN (and fig03a, fig03b); supplementary ones in figures/<group>/
+#   logs/<group>/, benchmarks/<group>/   one file per job: <rule>[_<wildcards>]
+# Groups: scenes (simulate.smk), periodic, bifurcation, chaotic, measured, work_precision,
+# benchmark (benchmark.smk), combined (combined.smk: products that join several groups).
+# ---------------------------------------------------------------------------------------
+NUMBA_CACHE = "results/.numba_cache_ready"  # marker: the core is compiled into the shared cache
+
+
+def logfile(group, name):
+    """Log file of one job; name = the rule's name plus its wildcards, e.g. simulate_scene_{scene}."""
+    return f"results/logs/{group}/{name}.log"
+
+
+def benchmark_file(group, name):
+    """Snakemake benchmark (wall time, memory) of one job of a rule."""
+    return f"results/benchmarks/{group}/{name}.tsv"
+
+
 def figure(nn):
     """PNG and PDF paths of paper figure NN (two-digit string or int)."""
     return [f"results/figures/fig{int(nn):02d}.png", f"results/figures/fig{int(nn):02d}.pdf"]
+
+
+def panel(name):
+    """PNG and PDF paths of a paper figure's panel (fig03a, fig03b)."""
+    return [f"results/figures/{name}.png", f"results/figures/{name}.pdf"]
+
+
+def supplementary(group, name):
+    """PNG and PDF paths of a supplementary figure of a group."""
+    return [f"results/figures/{group}/{name}.png", f"results/figures/{group}/{name}.pdf"]
+
+
+def rows_file(group):
+    """A group's rows of the paper-vs-replication table (impactosc.paper.table format)."""
+    return f"results/tables/{group}/paper_rows.csv"
+
+
+# scenes: one run file per scene of the config (rule simulate_scene)
+SCENE_RUN = "results/runs/scenes/{scene}.h5"
+
+
+def scene_run(name):
+    """Run file of one configured scene."""
+    return SCENE_RUN.format(scene=name)
+
+
+# periodic group
+GRAZING_BRANCH = "results/runs/periodic/grazing_branch.h5"
+GRAZING_BISECTION = "results/runs/periodic/grazing_bisection.json"
+GRAZING_FROM_REST = "results/runs/periodic/grazing_from_rest.h5"
+BRANCH_BEFORE_GRAZING_RUN = "results/runs/periodic/branch_before_grazing.h5"
+PERIODIC_STATS = "results/stats/periodic/periodic.json"
+PERIOD4_SPECTRUM = "results/stats/periodic/spectrum_period4.json"
+BEFORE_GRAZING_STATS = "results/stats/periodic/before_grazing.json"
+GRAZING_STATS = "results/stats/periodic/grazing.json"
+
+# bifurcation group (sweeps, their reading, the 2-D map)
+BIF_COARSE = "results/runs/bifurcation/{sweep}/coarse.h5"
+BIF_CHUNK = "results/runs/bifurcation/{sweep}/chunk{chunk}.h5"
+BIF_SWEEP = "results/runs/bifurcation/{sweep}.h5"  # merged sweep file of a configured sweep
+BIF_STATS = "results/stats/bifurcation/bifurcation.json"
+BIF_BENCHMARK = "results/stats/bifurcation/bifurcation_benchmark.json"
+BIF_TABLES = {
+    kind: f"results/tables/bifurcation/bifurcation_{kind}.csv" for kind in ("per_w", "segments", "transitions")
+}
+MAP2D_PART = "results/runs/bifurcation/map2d/part{chunk}.h5"
+MAP2D = "results/runs/bifurcation/map2d.h5"
+
+# chaotic group
+CHAOTIC_MEMBER_RUN = "results/runs/chaotic/ensemble/{member}.h5"
+CHAOTIC_TRAIN_STATS = "results/stats/chaotic/chaotic_{train}.json"  # train: model, second
+CHAOTIC_ENSEMBLE_STATS = "results/stats/chaotic/chaotic_ensemble.json"
+CHAOTIC_ENSEMBLE_TABLE = "results/tables/chaotic/chaotic_ensemble.csv"
+ISI_MIXTURE_TABLE = "results/tables/chaotic/isi_mixture.csv"
+
+# measured group (config chaotic.second_train and bifurcation.fig02.experimental name the
+# two files the other groups read)
+MEAS_SURROGATE = "results/runs/measured/surrogate_{kind}.h5"
+MEAS_CHAOS_EVENTS = "results/runs/measured/chaos_events.h5"
+MEAS_FIG02_POINTS = "results/runs/measured/fig02_experimental.h5"
+MEAS_NOISE_STATS = "results/stats/measured/measured_noise_study.json"
+MEAS_NOISE_TABLE = "results/tables/measured/measured_noise_study.csv"
+
+# work_precision group (and the hard cases)
+WP_MEASURE = "results/runs/work_precision/{wp_scene}.csv"
+WP_JIT = "results/runs/work_precision/jit.json"
+WP_TABLE = "results/tables/work_precision/work_precision.csv"
+WP_HEADLINE = "results/tables/work_precision/work_precision_headline.csv"
+WP_STATISTICS = "results/tables/work_precision/work_precision_statistics.csv"
+WP_STATISTICS_SUMMARY = "results/tables/work_precision/work_precision_statistics_summary.csv"
+HARD_CASES_TABLE = "results/tables/work_precision/hard_cases.csv"
+
+# benchmark group
+BENCHMARK_CORE_CSV = "results/tables/benchmark/benchmark_core.csv"
+BENCHMARK_CORE_MD = "results/tables/benchmark/benchmark_core.md"
+
+# combined: the table of every number the paper states (named in README: kept at the top)
+PAPER_TABLE_CSV = "results/tables/paper_vs_replication.csv"
+PAPER_TABLE_MD = "results/tables/paper_vs_replication.md"

@@ -9,10 +9,8 @@ from impactosc.measured.surrogate import panel_hooked
 
 MEAS = config["measured"]
 MEAS_REPORT = "Measured records (experimental panels)"
-MEAS_CHAOS_EVENTS = "results/measured/chaos_events.h5"
-MEAS_FIG02_POINTS = "results/measured/fig02_experimental.h5"
-MEAS_CHAOS_RECORD = MEAS["chaos"]["record"] or "results/measured/surrogate_chaos.h5"
-MEAS_FIG02_RECORDS = MEAS["fig02"]["records"] or "results/measured/surrogate_sweep.h5"
+MEAS_CHAOS_RECORD = MEAS["chaos"]["record"] or MEAS_SURROGATE.format(kind="chaos")
+MEAS_FIG02_RECORDS = MEAS["fig02"]["records"] or MEAS_SURROGATE.format(kind="sweep")
 
 
 MEAS_HOOK_CHAOS = panel_hooked("chaotic.second_train", config["chaotic"]["second_train"], "events",
@@ -23,15 +21,17 @@ MEAS_HOOK_FIG02 = panel_hooked("bifurcation.fig02.experimental", config["bifurca
 
 rule measured_surrogate:
     input:
-        cache=rules.numba_cache.output.marker,
+        cache=NUMBA_CACHE,
     output:
-        record="results/measured/surrogate_{kind}.h5",
+        record=MEAS_SURROGATE,
     params:
         surrogate=MEAS["surrogate"],
         model=config["model"],
         solver=config["solver"],
     log:
-        "results/logs/measured_surrogate_{kind}.log",
+        logfile("measured", "measured_surrogate_{kind}"),
+    benchmark:
+        benchmark_file("measured", "measured_surrogate_{kind}")
     conda:
         "../envs/impactosc.yaml"
     wildcard_constraints:
@@ -49,7 +49,7 @@ rule measured_chaos_events:
         x_impact=MEAS["chaos"]["x_impact"],
         noise=MEAS["chaos"]["noise"],
     log:
-        "results/logs/measured_chaos_events.log",
+        logfile("measured", "measured_chaos_events"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -62,7 +62,7 @@ rule measured_fig02_points:
     output:
         points=MEAS_FIG02_POINTS,
     log:
-        "results/logs/measured_fig02_points.log",
+        logfile("measured", "measured_fig02_points"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -71,10 +71,10 @@ rule measured_fig02_points:
 
 rule measured_noise_study:
     input:
-        cache=rules.numba_cache.output.marker,
+        cache=NUMBA_CACHE,
     output:
-        csv="results/tables/measured_noise_study.csv",
-        json="results/stats/measured_noise_study.json",
+        csv=MEAS_NOISE_TABLE,
+        json=MEAS_NOISE_STATS,
     params:
         study=MEAS["noise_study"],
         surrogate=MEAS["surrogate"],
@@ -82,7 +82,9 @@ rule measured_noise_study:
         model=config["model"],
         solver=config["solver"],
     log:
-        "results/logs/measured_noise_study.log",
+        logfile("measured", "measured_noise_study"),
+    benchmark:
+        benchmark_file("measured", "measured_noise_study")
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -94,15 +96,15 @@ rule measured_noise_figure:
         json=rules.measured_noise_study.output.json,
     output:
         png=report(
-            "results/figures/measured_noise_study.png",
+            supplementary("measured", "measured_noise_study")[0],
             caption="../report/measured_noise_study.rst",
             category=MEAS_REPORT,
         ),
-        pdf="results/figures/measured_noise_study.pdf",
+        pdf=supplementary("measured", "measured_noise_study")[1],
     params:
         density_rate=MEAS["noise_study"]["density_rate"],
     log:
-        "results/logs/measured_noise_figure.log",
+        logfile("measured", "measured_noise_figure"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -115,16 +117,16 @@ if MEAS_HOOK_CHAOS:
 
     rule measured_rows:
         input:
-            second=expand(CHAOTIC_STATS_PATTERN, train="second"),
-            model=CHAOTIC_MODEL_STATS,
+            second=expand(CHAOTIC_TRAIN_STATS, train="second"),
+            model=expand(CHAOTIC_TRAIN_STATS, train="model"),
             noise=rules.measured_noise_study.output.json,
         output:
-            rows="results/tables/rows/measured.csv",
+            rows=rows_file("measured"),
         params:
             is_surrogate=MEAS["chaos"]["record"] is None,
             command="snakemake -j1 measured_rows",
         log:
-            "results/logs/measured_rows.log",
+            logfile("measured", "measured_rows"),
         conda:
             "../envs/impactosc.yaml"
         script:

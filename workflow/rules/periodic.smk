@@ -9,24 +9,25 @@ PERIODIC = config["periodic"]
 PERIODIC_REPORT = "Periodic regime and grazing (paper Figs 1, 3a, 4, 5)"
 
 # Run files of the configured scenes this group reads (rule simulate_scene).
-PERIOD4_RUN = expand(rules.simulate_scene.output.run, scene="period4")[0]
-BEFORE_GRAZING_FROM_REST_RUN = expand(rules.simulate_scene.output.run, scene="before_grazing")[0]
-FIG03A_RUN = expand(rules.simulate_scene.output.run, scene=PERIODIC["fig03a"]["scene"])[0]
+PERIOD4_RUN = scene_run("period4")
+BEFORE_GRAZING_FROM_REST_RUN = scene_run("before_grazing")
 
 
 rule periodic_branch:
     input:
-        cache=rules.numba_cache.output.marker,
+        cache=NUMBA_CACHE,
     output:
-        branch="results/runs/grazing_branch.h5",
-        bisection="results/runs/grazing_bisection.json",
+        branch=GRAZING_BRANCH,
+        bisection=GRAZING_BISECTION,
     params:
         branch=PERIODIC["branch"],
         grazing=PERIODIC["grazing"],
         model=config["model"],
         solver=config["solver"],
     log:
-        "results/logs/periodic_branch.log",
+        logfile("periodic", "periodic_branch"),
+    benchmark:
+        benchmark_file("periodic", "periodic_branch")
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -35,16 +36,18 @@ rule periodic_branch:
 
 rule periodic_from_rest:
     input:
-        cache=rules.numba_cache.output.marker,
+        cache=NUMBA_CACHE,
     output:
-        sweep="results/runs/grazing_from_rest.h5",
+        sweep=GRAZING_FROM_REST,
     params:
         scan=PERIODIC["from_rest"],
         n_record=PERIODIC["branch"]["n_record"],
         model=config["model"],
         solver=config["solver"],
     log:
-        "results/logs/periodic_from_rest.log",
+        logfile("periodic", "periodic_from_rest"),
+    benchmark:
+        benchmark_file("periodic", "periodic_from_rest")
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -55,13 +58,15 @@ rule periodic_before_grazing:
     input:
         branch=rules.periodic_branch.output.branch,
     output:
-        run="results/runs/branch_before_grazing.h5",
+        run=BRANCH_BEFORE_GRAZING_RUN,
     params:
         scene=PERIODIC["before_grazing"],
         model=config["model"],
         solver=config["solver"],
     log:
-        "results/logs/periodic_before_grazing.log",
+        logfile("periodic", "periodic_before_grazing"),
+    benchmark:
+        benchmark_file("periodic", "periodic_before_grazing")
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -73,13 +78,13 @@ rule periodic_stats:
         after_grazing=PERIOD4_RUN,
         before_grazing_from_rest=BEFORE_GRAZING_FROM_REST_RUN,
     output:
-        stats="results/stats/periodic.json",
-        spectrum="results/stats/spectrum_period4.json",
+        stats=PERIODIC_STATS,
+        spectrum=PERIOD4_SPECTRUM,
     params:
         spectrum=PERIODIC["spectrum"],
         spectrum_of="after_grazing",
     log:
-        "results/logs/periodic_stats.log",
+        logfile("periodic", "periodic_stats"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -90,11 +95,11 @@ rule before_grazing_stats:
     input:
         before_grazing_branch=rules.periodic_before_grazing.output.run,
     output:
-        stats="results/stats/before_grazing.json",
+        stats=BEFORE_GRAZING_STATS,
     params:
         spectrum=PERIODIC["spectrum"],
     log:
-        "results/logs/before_grazing_stats.log",
+        logfile("periodic", "before_grazing_stats"),
     conda:
         "../envs/impactosc.yaml"
     # same statistics as rule periodic_stats, on the branch run: the script of that rule
@@ -108,12 +113,12 @@ rule grazing_stats:
         bisection=rules.periodic_branch.output.bisection,
         from_rest=rules.periodic_from_rest.output.sweep,
     output:
-        stats="results/stats/grazing.json",
+        stats=GRAZING_STATS,
     params:
         paper_omegas=PERIODIC["grazing"]["paper_omegas"],
         n_fit=PERIODIC["grazing"]["n_fit"],
     log:
-        "results/logs/grazing_stats.log",
+        logfile("periodic", "grazing_stats"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -126,9 +131,9 @@ rule periodic_rows:
         before=rules.before_grazing_stats.output.stats,
         grazing=rules.grazing_stats.output.stats,
     output:
-        rows="results/tables/rows/periodic.csv",
+        rows=rows_file("periodic"),
     log:
-        "results/logs/periodic_rows.log",
+        logfile("periodic", "periodic_rows"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -140,7 +145,7 @@ rule fig01:
         png=report(figure(1)[0], caption="../report/fig01.rst", category=PERIODIC_REPORT),
         pdf=figure(1)[1],
     log:
-        "results/logs/fig01.log",
+        logfile("periodic", "fig01"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -149,15 +154,15 @@ rule fig01:
 
 rule fig03a:
     input:
-        run=FIG03A_RUN,
+        run=scene_run(PERIODIC["fig03a"]["scene"]),
     output:
-        png=report("results/figures/fig03a.png", caption="../report/fig03a.rst", category=PERIODIC_REPORT),
-        pdf="results/figures/fig03a.pdf",
+        png=report(panel("fig03a")[0], caption="../report/fig03a.rst", category=PERIODIC_REPORT),
+        pdf=panel("fig03a")[1],
     params:
         start=PERIODIC["fig03a"]["start"],
         span=PERIODIC["fig03a"]["span"],
     log:
-        "results/logs/fig03a.log",
+        logfile("periodic", "fig03a"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -177,7 +182,7 @@ rule fig04:
     params:
         inset=PERIODIC["fig04"]["inset"],
     log:
-        "results/logs/fig04.log",
+        logfile("periodic", "fig04"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -192,7 +197,7 @@ rule fig05:
         png=report(figure(5)[0], caption="../report/fig05.rst", category=PERIODIC_REPORT),
         pdf=figure(5)[1],
     log:
-        "results/logs/fig05.log",
+        logfile("periodic", "fig05"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -203,12 +208,12 @@ rule grazing:
     input:
         stats=rules.grazing_stats.output.stats,
     output:
-        png=report("results/figures/grazing.png", caption="../report/grazing.rst", category=PERIODIC_REPORT),
-        pdf="results/figures/grazing.pdf",
+        png=report(supplementary("periodic", "grazing")[0], caption="../report/grazing.rst", category=PERIODIC_REPORT),
+        pdf=supplementary("periodic", "grazing")[1],
     params:
         window=[PERIODIC["from_rest"]["start"], PERIODIC["from_rest"]["stop"]],
     log:
-        "results/logs/grazing.log",
+        logfile("periodic", "grazing"),
     conda:
         "../envs/impactosc.yaml"
     script:

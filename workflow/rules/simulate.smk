@@ -1,13 +1,14 @@
-# Simulation rules: run a scene of the config through the shared numba core.
+# Simulation rules (group "scenes"): compile the core once, run a scene of the config
+# through the shared numba core.
 
 
 rule numba_cache:
     input:
         sources=CORE_SOURCES,
     output:
-        marker="results/.numba_cache_ready",
+        marker=NUMBA_CACHE,
     log:
-        "results/logs/numba_cache.log",
+        logfile("scenes", "numba_cache"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -16,15 +17,17 @@ rule numba_cache:
 
 rule simulate_scene:
     input:
-        cache=rules.numba_cache.output.marker,
+        cache=NUMBA_CACHE,
     output:
-        run="results/runs/{scene}.h5",
+        run=SCENE_RUN,
     params:
         model=config["model"],
         solver=config["solver"],
         scene=lambda wc: scene(wc.scene),
     log:
-        "results/logs/simulate_{scene}.log",
+        logfile("scenes", "simulate_scene_{scene}"),
+    benchmark:
+        benchmark_file("scenes", "simulate_scene_{scene}")
     conda:
         "../envs/impactosc.yaml"
     wildcard_constraints:

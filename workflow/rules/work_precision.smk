@@ -3,7 +3,8 @@
 # reference from another method (wp_measure); the chaotic statistics against tolerance
 # (wp_statistics); JIT compile time apart (wp_jit); then table, speed ratios and figure.
 # hard_cases: every hard case of impactosc.benchmarks.hardcases at full length, one CSV.
-# Timing rules claim all cores, so no other job of the workflow runs beside them.
+# Timing rules claim all cores of a local run (threads: all_local_cores), so no other job
+# of the workflow runs beside them; under a cluster executor each job has its own allocation.
 WP = config["work_precision"]
 HC = config["hard_cases"]
 WP_CAPTIONS = "Work-precision and hard cases"
@@ -11,16 +12,16 @@ WP_CAPTIONS = "Work-precision and hard cases"
 
 rule wp_measure:
     input:
-        cache=rules.numba_cache.output.marker,
+        cache=NUMBA_CACHE,
     output:
-        csv="results/work_precision/{wp_scene}.csv",
+        csv=WP_MEASURE,
     params:
         model=config["model"],
         wp=WP,
         entry=lambda wc: WP["scenes"][wc.wp_scene],
-    threads: workflow.cores
+    threads: all_local_cores
     log:
-        "results/logs/wp_measure_{wp_scene}.log",
+        logfile("work_precision", "wp_measure_{wp_scene}"),
     conda:
         "../envs/impactosc.yaml"
     wildcard_constraints:
@@ -31,18 +32,18 @@ rule wp_measure:
 
 rule wp_statistics:
     input:
-        cache=rules.numba_cache.output.marker,
+        cache=NUMBA_CACHE,
     output:
-        csv="results/tables/work_precision_statistics.csv",
+        csv=WP_STATISTICS,
     params:
         model=config["model"],
         scene=scene(WP["statistics"]["scene"]),
         stats=WP["statistics"],
         atol_ratio=WP["atol_ratio"],
         analysis=config["chaotic"]["analysis"],
-    threads: workflow.cores
+    threads: all_local_cores
     log:
-        "results/logs/wp_statistics.log",
+        logfile("work_precision", "wp_statistics"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -51,10 +52,10 @@ rule wp_statistics:
 
 rule wp_jit:
     output:
-        json="results/work_precision/jit.json",
-    threads: workflow.cores
+        json=WP_JIT,
+    threads: all_local_cores
     log:
-        "results/logs/wp_jit.log",
+        logfile("work_precision", "wp_jit"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -67,19 +68,19 @@ rule work_precision:
         stats=rules.wp_statistics.output.csv,
         jit=rules.wp_jit.output.json,
     output:
-        table="results/tables/work_precision.csv",
-        headline="results/tables/work_precision_headline.csv",
-        statistics_summary="results/tables/work_precision_statistics_summary.csv",
+        table=WP_TABLE,
+        headline=WP_HEADLINE,
+        statistics_summary=WP_STATISTICS_SUMMARY,
         png=report(
-            "results/figures/work_precision.png",
+            supplementary("work_precision", "work_precision")[0],
             caption="../report/work_precision.rst",
             category=WP_CAPTIONS,
         ),
-        pdf="results/figures/work_precision.pdf",
+        pdf=supplementary("work_precision", "work_precision")[1],
     params:
         levels=WP["headline_errors"],
     log:
-        "results/logs/work_precision.log",
+        logfile("work_precision", "work_precision"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -88,14 +89,14 @@ rule work_precision:
 
 rule hard_cases:
     input:
-        cache=rules.numba_cache.output.marker,
+        cache=NUMBA_CACHE,
     output:
-        csv="results/tables/hard_cases.csv",
+        csv=HARD_CASES_TABLE,
     params:
         hc=HC,
-    threads: workflow.cores
+    threads: all_local_cores
     log:
-        "results/logs/hard_cases.log",
+        logfile("work_precision", "hard_cases"),
     conda:
         "../envs/impactosc.yaml"
     script:
@@ -108,11 +109,11 @@ rule wp_rows:
         summary=rules.work_precision.output.statistics_summary,
         headline=rules.work_precision.output.headline,
     output:
-        rows="results/tables/rows/work_precision.csv",
+        rows=rows_file("work_precision"),
     params:
         command="snakemake -j2 work_precision hard_cases",
     log:
-        "results/logs/wp_rows.log",
+        logfile("work_precision", "wp_rows"),
     conda:
         "../envs/impactosc.yaml"
     script:
