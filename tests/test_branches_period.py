@@ -10,17 +10,8 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.analysis.bifurcation import (
-    FAILED,
-    NONPERIODIC,
-    BranchTable,
-    detect_period,
-    differing_windows,
-    find_grazings,
-    impacts_per_orbit,
-    segments,
-    transitions,
-)
+from impactosc.analysis.bifurcation import BranchTable, differing_windows, find_grazings, segments, transitions
+from impactosc.analysis.orbits import FAILED, NONPERIODIC, detect_period, impacts_per_orbit
 
 TOL = 1e-6  # m, the workflow's default x_tol
 RNG = np.random.default_rng(2024)

@@ -2,11 +2,11 @@
 
 Why: a diagram drawn as a cloud of points shows period doublings, chaos and grazing to the
 eye only; this module turns the sweep data into numbers that a table can hold and a test
-can check. Along a sweep (:class:`impactosc.sweep.SweepResult`) every w gets
+can check. Along a sweep (:class:`impactosc.sweeps.continuation.SweepResult`) every w gets
 
-- the period p of its Poincare sequence in forcing periods (:func:`detect_period`, 0 when
+- the period p of its Poincare sequence in forcing periods (:func:`impactosc.analysis.orbits.detect_period`, 0 when
   the sequence does not repeat within the record: chaotic, quasi-periodic or unsettled),
-- the impacts q per orbit period (:func:`impacts_per_orbit`) and so the impact rate q/p,
+- the impacts q per orbit period (:func:`impactosc.analysis.orbits.impacts_per_orbit`) and so the impact rate q/p,
 - the number of distinct inter-impact intervals (the branches of the ISI diagram).
 
 Runs of equal (p, q) form segments; between consecutive segments of at least
@@ -15,7 +15,7 @@ Runs of equal (p, q) form segments; between consecutive segments of at least
 the edge of a non-periodic window, or another period change. An impact-adding jump whose
 lower-rate side carries a near miss whose gap closes linearly on the jump is a grazing
 bifurcation (:func:`find_grazings`; the gap line is
-:func:`impactosc.grazing.extrapolate_gap_zero`, shared with the grazing figure).
+:func:`impactosc.analysis.grazing.extrapolate_gap_zero`, shared with the grazing figure).
 """
 
 from __future__ import annotations
@@ -26,79 +26,16 @@ from fractions import Fraction
 
 import numpy as np
 
-from .grazing import extrapolate_gap_zero
 from ..statistics import distinct_levels
+from ..sweeps.continuation import OK
+from .grazing import extrapolate_gap_zero
+from .orbits import FAILED, NONPERIODIC, detect_period, impacts_per_orbit
 
 __all__ = [
-    "NONPERIODIC", "FAILED", "detect_period", "impacts_per_orbit", "BranchTable", "classify_sweep",
+    "BranchTable", "classify_sweep",
     "Segment", "segments", "Transition", "transitions", "Grazing", "find_grazings", "differing_windows",
     "MapResult", "save_map", "load_map", "merge_maps", "SweepReading", "read_sweep", "paper_rows",
 ]
-
-NONPERIODIC = 0  # period of a sequence that does not repeat within the record
-FAILED = -1  # period of a w whose run was abandoned (see impactosc.sweep)
-
-
-def detect_period(points, tol, max_period: int | None = None, min_repeats: int = 3) -> int:
-    """Smallest p with |y[i+p] - y[i]| <= tol for every i and component; 0 if there is none.
-
-    Why: the period of a Poincare sequence in forcing periods is the diagram's main
-    reading (1 on the main branch, 2, 4, ... after period doublings, 0 in chaos). A fixed
-    tolerance is used rather than a relative one because settled orbits repeat to ~1e-13 m
-    while distinct branch points lie micrometres to millimetres apart.
-
-    Parameters
-    ----------
-    points : array_like, shape (n,) or (n, d)
-        The sequence, e.g. x at the sections (m) or columns (x, v).
-    tol : float or array_like of shape (d,)
-        Largest allowed difference per component (units of the columns), > 0.
-    max_period : int, optional
-        Largest p tried; default n // min_repeats, so every phase of the orbit is seen at
-        least `min_repeats` times (a long random record cannot pass by chance).
-    min_repeats : int, default 3
-        Used only for the default max_period.
-    """
-    y = np.asarray(points, dtype=float)
-    if y.ndim == 1:
-        y = y[:, None]
-    if y.ndim != 2 or y.shape[0] < 2:
-        raise ValueError(f"points must have shape (n,) or (n, d) with n >= 2, got {np.shape(points)}")
-    if not np.all(np.isfinite(y)):
-        raise ValueError("points must be finite (abandoned w values have no period to detect)")
-    tol = np.broadcast_to(np.asarray(tol, dtype=float), (y.shape[1],))
-    if not np.all(np.isfinite(tol)) or np.any(tol <= 0):
-        raise ValueError(f"tol must be finite and > 0, got {tol}")
-    if not isinstance(min_repeats, (int, np.integer)) or min_repeats < 2:
-        raise ValueError(f"min_repeats must be an integer >= 2, got {min_repeats!r}")
-    n = y.shape[0]
-    max_period = n // min_repeats if max_period is None else int(max_period)
-    if not 1 <= max_period < n:
-        raise ValueError(f"max_period must be in [1, {n - 1}] for {n} points, got {max_period}")
-    for p in range(1, max_period + 1):
-        if np.all(np.abs(y[p:] - y[:-p]) <= tol):
-            return p
-    return NONPERIODIC
-
-
-def impacts_per_orbit(impact_times, forcing_period: float, n_record: int, period: int) -> int:
-    """Impacts in one orbit period (period forcing periods), counted over all whole orbits.
-
-    Why count over many orbits: an impact that falls exactly on a window edge would make
-    single windows differ by one; over K whole orbits the count is K q +- 1, so q =
-    round(count / K) is exact for K >= 3. Times are measured from the start of the record
-    (s), which is a Poincare time.
-    """
-    t = np.asarray(impact_times, dtype=float)
-    if not (math.isfinite(forcing_period) and forcing_period > 0):
-        raise ValueError(f"forcing_period must be finite and > 0 s, got {forcing_period}")
-    if period < 1 or n_record < period:
-        raise ValueError(f"need 1 <= period <= n_record, got period {period}, n_record {n_record}")
-    k = n_record // period
-    span = k * period * forcing_period
-    count = int(np.count_nonzero((t >= 0) & (t < span * (1 - 1e-12))))
-    return int(round(count / k))
-
 
 @dataclass
 class BranchTable:
@@ -153,8 +90,6 @@ def classify_sweep(result, x_tol: float = 1e-6, v_tol: float = 1e-4, isi_tol: fl
     0.1 mm/s: far above the ~1e-13 m to which settled orbits repeat, far below the
     spacing of distinct branch points); isi_tol (s) groups equal ISIs.
     """
-    from ..sweeps.continuation import OK
-
     n = len(result)
     n_rec = result.poincare_x.shape[1]
     period = np.full(n, FAILED, dtype=np.int64)

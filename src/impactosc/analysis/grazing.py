@@ -26,6 +26,10 @@ from typing import Callable
 
 import numpy as np
 
+from ..integration.simulate import Window, simulate
+from ..sweeps.continuation import continuation, load_sweep, merge_chunks
+from .orbits import poincare_period
+
 __all__ = [
     "Trial", "GrazingBracket", "GapFit", "find_grazing_step", "bisect_transition",
     "extrapolate_gap_zero", "sweep_summary", "model_trial", "locate_grazing", "branch_grid",
@@ -213,8 +217,6 @@ def model_trial(settings, reference_impacts_per_period: float) -> Callable[[floa
     The attractor is classified as a contact when its impacts per forcing period differ
     from `reference_impacts_per_period` (that of the branch just before grazing).
     """
-    from ..sweeps.continuation import continuation
-
     def trial(omega: float, state) -> Trial:
         res = continuation([omega], settings, x0=state[0], v0=state[1], first_transient=settings.n_transient)
         s = sweep_summary(res)
@@ -317,8 +319,6 @@ def scan_from_rest(omegas, settings, transient: float, progress=None):
     up to whole forcing periods, then records settings.n_record periods. Returns one
     :class:`impactosc.sweep.SweepResult` over `omegas` (monotone).
     """
-    from ..sweeps.continuation import continuation, merge_chunks
-
     if not (isinstance(transient, (int, float, np.floating)) and math.isfinite(transient) and transient >= 0):
         raise ValueError(f"transient must be a finite number >= 0 s, got {transient!r}")
     parts = []
@@ -347,9 +347,6 @@ def grazing_summary_file(branch_path, bisection_path, from_rest_path, paper_omeg
     periods, 0 = none up to half the record: chaotic or unsettled).
     """
     import json
-
-    from .periodic import poincare_period
-    from ..sweeps.continuation import load_sweep
 
     branch, _ = load_sweep(branch_path)
     rest, _ = load_sweep(from_rest_path)
@@ -391,8 +388,6 @@ def settle_orbit(omega, state, params, periods, record_periods=3, rtol=1e-10, at
     -gap of a near miss; the result records impacts, penetrations, near misses and the
     Poincare section (and the trajectory every `window_dt` s if given).
     """
-    from ..integration.simulate import Window, simulate
-
     period = 2 * math.pi / omega
     t0, t1 = periods * period, (periods + record_periods) * period
     win = Window(t0, t1, window_dt) if window_dt else None

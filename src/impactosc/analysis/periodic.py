@@ -16,6 +16,7 @@ from fractions import Fraction
 
 import numpy as np
 
+from ..files import read_run
 from ..statistics import (
     amplitude_spectrum,
     distinct_levels,
@@ -23,9 +24,10 @@ from ..statistics import (
     find_peaks_spectrum,
     inter_impact_intervals,
 )
+from .orbits import poincare_period
 
 __all__ = [
-    "ImpactMapNumbers", "impact_map_numbers", "poincare_period", "SpectrumAnalysis", "analyse_spectrum",
+    "ImpactMapNumbers", "impact_map_numbers", "SpectrumAnalysis", "analyse_spectrum",
     "branch_state", "write_json", "run_summary", "table_rows",
 ]
 
@@ -77,27 +79,6 @@ def impact_map_numbers(impact_times, omega: float, rel_tol: float = 1e-3) -> Imp
     q = lev.total / period
     return ImpactMapNumbers(int(t.size), tuple(map(float, lev.levels)), tuple(map(int, lev.counts)),
                             float(lev.total), period, float(q), max(round(q), 1) * period)
-
-
-def poincare_period(x, v, x_tol: float = 1e-8, v_tol: float = 1e-6, max_period: int | None = None) -> int:
-    """Smallest p with |x_{i+p} - x_i| <= x_tol and |v_{i+p} - v_i| <= v_tol for all i; 0 if none.
-
-    Why: the period of the attractor in forcing periods (1 for the orbit before grazing,
-    3 after it at w = 23.03); 0 marks a chaotic or not yet settled record. Default
-    tolerances (10 nm, 1 um/s) are far above the integration error of the core and far
-    below the Poincare-point spacing of the orbits here (tens of um).
-    """
-    from .bifurcation import detect_period  # one period detector serves every figure group
-
-    x = np.asarray(x, dtype=float)
-    v = np.asarray(v, dtype=float)
-    if x.ndim != 1 or x.shape != v.shape or x.size < 2:
-        raise ValueError(f"x and v must be 1-D of the same length >= 2, got {x.shape}, {v.shape}")
-    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
-        raise ValueError("x and v must be finite")
-    max_period = x.size // 2 if max_period is None else int(max_period)
-    max_period = max(1, min(max_period, x.size - 1))
-    return int(detect_period(np.column_stack([x, v]), (x_tol, v_tol), max_period=max_period))
 
 
 @dataclass(frozen=True)
@@ -220,8 +201,6 @@ def run_summary(path, spectrum_options: dict | None = None) -> tuple[dict, Spect
     near-miss gap (m) and slowest impact (m/s), and the Poincare period; spectrum is
     :func:`analyse_spectrum` of x over the trajectory window (None without one).
     """
-    from ..files import read_run
-
     events, attrs, traj = read_run(path)
     omega = float(attrs["omega"])
     span = float(attrs["duration"])

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..analysis.chaotic import ImpactTrain, analyse_train, key_numbers
 from ..integration.model import ModelParams
 from ..integration.reference import solve_reference
 from ..integration.simulate import simulate, warm_up
@@ -301,8 +302,6 @@ STAT_KEYS = ("n_impacts", "cv2_paper", "cv2", "isi_first_maximum", "isi_last_max
 
 def train_statistics(times, t_start, t_stop, omega, options=None) -> dict:
     """The numbers the chaotic group reports (impactosc.chaotic): counts, C_V^2, maxima."""
-    from ..analysis.chaotic import ImpactTrain, analyse_train, key_numbers
-
     train = ImpactTrain(times, t_start, t_stop, omega=omega)
     k = key_numbers(analyse_train(train, options, parts=("stationarity", "variability", "isi_density")))
     return {"n_impacts": k["n_impacts"], "window_counts": k["window_counts"], "cv2_paper": k["cv2_paper"],

@@ -18,9 +18,11 @@ import math
 
 import numpy as np
 
+from ..analysis.chaotic import ImpactTrain, analyse_train
 from ..integration.model import ModelParams
-from .records import Record
 from ..integration.simulate import Window, simulate
+from .extract import ExtractOptions, extract_events
+from .records import Record
 
 __all__ = ["LABEL", "panel_hooked", "noise_study", "measured_rows", "SurrogateOptions", "mismatched_params", "surrogate_record", "surrogate_sweep"]
 
@@ -129,8 +131,6 @@ def _match(true_t, found_t):
 
 def _train_numbers(times, t0, t1, omega, analysis):
     """Scalars of the noise study from :func:`impactosc.chaotic.analyse_train`."""
-    from ..analysis.chaotic import ImpactTrain, analyse_train
-
     a = analyse_train(ImpactTrain(times, t0, t1, omega=omega), analysis, ("variability", "isi_density", "acf"))
     d = a["isi_density"]
     g, dens, mx = np.asarray(d["kde_grid"]), np.asarray(d["kde_density"]), np.asarray(d["maxima"])
@@ -157,8 +157,6 @@ def noise_study(omega, transient, duration, rates, noises, *, analysis=None, mis
     sigma_t, and C_V^2 (paper and dimensionless), ISI modes / valley depth and significant
     ACF-spectrum peaks; the ISI kernel densities are returned under ``kde`` per row.
     """
-    from .extract import ExtractOptions, extract_events
-
     out = []
     for rate in rates:
         base = SurrogateOptions(rate=float(rate), noise=0.0, mismatch=mismatch or {}, seed=seed)

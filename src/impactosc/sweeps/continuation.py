@@ -30,6 +30,8 @@ from typing import Callable, Sequence
 import h5py
 import numpy as np
 
+from .. import __version__
+from ..files import atomic_write, check_writable, git_commit
 from ..integration.model import ModelParams
 from ..integration.simulate import DEFAULT_ATOL, DEFAULT_RTOL, simulate
 
@@ -425,9 +427,6 @@ _ARRAYS = ("poincare_x", "poincare_v", "impact_t", "impact_v", "impact_offsets")
 
 def save_sweep(path, result: SweepResult, **attrs) -> Path:
     """Write a sweep to HDF5 atomically (temporary name, then rename); extra attrs are stored too."""
-    from .. import __version__
-    from ..files import atomic_write, check_writable, git_commit
-
     path = check_writable(path)
     with atomic_write(path) as tmp, h5py.File(tmp, "w") as f:
         for name in _ARRAYS:
