@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from impactosc.benchmarks import workprecision as wp
-from impactosc.benchmarks.tables import read_table, write_table
+from impactosc.files import read_table, write_table
 from impactosc.integration.model import ModelParams
 from impactosc.integration.reference import solve_reference
 

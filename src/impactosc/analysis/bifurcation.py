@@ -346,30 +346,18 @@ _MAP_ARRAYS = ("values", "omega", "period", "impacts", "rate", "n_isi_levels")
 
 def save_map(path, m: MapResult, **attrs) -> None:
     """Write a map (or a chunk of its rows) to HDF5 atomically."""
-    import os
-    import tempfile
-    from pathlib import Path
-
     import h5py
 
-    from ..files import check_writable
+    from ..files import atomic_write, check_writable
 
-    path = check_writable(Path(path))
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        with h5py.File(tmp, "w") as f:
-            for k in _MAP_ARRAYS:
-                f.create_dataset(k, data=getattr(m, k))
-            f.attrs["parameter"] = m.parameter
-            f.attrs["wall_time"] = m.wall_time
-            for k, v in attrs.items():
-                f.attrs[k] = v
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+    path = check_writable(path)
+    with atomic_write(path) as tmp, h5py.File(tmp, "w") as f:
+        for k in _MAP_ARRAYS:
+            f.create_dataset(k, data=getattr(m, k))
+        f.attrs["parameter"] = m.parameter
+        f.attrs["wall_time"] = m.wall_time
+        for k, v in attrs.items():
+            f.attrs[k] = v
 
 
 def load_map(path) -> MapResult:

@@ -22,10 +22,7 @@ recomputing anything.  :func:`paper_rows` compares the model numbers with the pa
 
 from __future__ import annotations
 
-import csv
 import dataclasses
-import io
-import json
 import math
 from collections import Counter
 from dataclasses import dataclass
@@ -35,7 +32,7 @@ import numpy as np
 from scipy import stats as sps
 
 from .. import statistics as st
-from ..files import atomic_write, read_run
+from ..files import read_json, read_run, write_csv, write_json
 from ..statistics._validation import as_event_times, as_finite_1d
 
 __all__ = [
@@ -915,64 +912,3 @@ def paper_rows(model: dict, ensemble: dict, spectrum: dict, command: str) -> lis
             _yes(pen["n_modes"] >= 3 and pen.get("main_is_deepest", False)
                  and bool(np.all((secondary >= 0.3) & (secondary <= 0.8)))), "2.2 Fig 11")
     return rows
-
-
-# ------------------------------------------------------------------------------ JSON
-
-def _jsonable(obj):
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _jsonable(obj.tolist())
-    if isinstance(obj, (np.bool_,)):
-        return bool(obj)
-    if isinstance(obj, np.integer):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        v = float(obj)
-        return v if math.isfinite(v) else None
-    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
-        return _jsonable(dataclasses.asdict(obj))
-    return obj
-
-
-def write_json(path, data: dict) -> Path:
-    """Write ``data`` (numpy arrays allowed; NaN/inf become null) atomically as JSON."""
-    path = Path(path)
-    with atomic_write(path) as tmp, open(tmp, "w") as f:
-        json.dump(_jsonable(data), f, indent=1)
-    return path
-
-
-def write_csv(path, rows: list[dict]) -> Path:
-    """Write dict rows (columns from the first row, in order) atomically as CSV."""
-    if not rows:
-        raise ValueError(f"no rows to write to {path}")
-    columns = list(rows[0])
-    buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=columns, lineterminator="\n")
-    w.writeheader()
-    for r in rows:
-        if set(r) - set(columns):
-            raise ValueError(f"row has columns {sorted(set(r) - set(columns))} not in {columns}")
-        w.writerow({c: _csv_value(r.get(c, "")) for c in columns})
-    path = Path(path)
-    with atomic_write(path) as tmp, open(tmp, "w", newline="") as f:
-        f.write(buf.getvalue())
-    return path
-
-
-def _csv_value(v):
-    if isinstance(v, (float, np.floating)):
-        return format(float(v), ".6g")
-    return "" if v is None else v
-
-
-def read_json(path) -> dict:
-    """Read a statistics JSON written by :func:`write_json`."""
-    path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"statistics file {path} does not exist")
-    return json.loads(path.read_text())

@@ -26,6 +26,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..files import read_json
 from ..integration.simulate import Window, simulate
 from ..sweeps.continuation import continuation, load_sweep, merge_chunks
 from .orbits import poincare_period
@@ -346,12 +347,9 @@ def grazing_summary_file(branch_path, bisection_path, from_rest_path, paper_omeg
     Each per-w summary gets the Poincare period of the recorded attractor (forcing
     periods, 0 = none up to half the record: chaotic or unsettled).
     """
-    import json
-
     branch, _ = load_sweep(branch_path)
     rest, _ = load_sweep(from_rest_path)
-    with open(bisection_path) as f:
-        bracket = json.load(f)
+    bracket = read_json(bisection_path)
     summaries = {}
     for name, sweep in (("branch", branch), ("from_rest", rest)):
         s = sweep_summary(sweep)

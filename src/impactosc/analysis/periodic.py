@@ -28,7 +28,7 @@ from .orbits import poincare_period
 
 __all__ = [
     "ImpactMapNumbers", "impact_map_numbers", "SpectrumAnalysis", "analyse_spectrum",
-    "branch_state", "write_json", "run_summary", "table_rows",
+    "branch_state", "run_summary", "table_rows",
 ]
 
 
@@ -155,42 +155,6 @@ def branch_state(sweep, omega: float, abs_tol: float = 1e-9) -> tuple[float, flo
     if abs(sweep.omega[i] - omega) > abs_tol:
         raise ValueError(f"w = {omega} is not a grid point of the branch (nearest {sweep.omega[i]})")
     return float(sweep.x_end[i]), float(sweep.v_end[i])
-
-
-def write_json(path, data) -> None:
-    """Write `data` as indented JSON atomically (temporary name, then rename)."""
-    import json
-    import os
-    import tempfile
-    from pathlib import Path
-
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w") as f:
-            json.dump(_finite_or_none(data), f, indent=1, allow_nan=False)
-            f.write("\n")
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
-
-
-def _finite_or_none(obj):
-    """JSON has no NaN/inf: map them to null (numpy reads null back as NaN with dtype=float)."""
-    if isinstance(obj, dict):
-        return {str(k): _finite_or_none(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple, np.ndarray)):
-        return [_finite_or_none(v) for v in obj]
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(obj) else None
-    return obj
 
 
 def run_summary(path, spectrum_options: dict | None = None) -> tuple[dict, SpectrumAnalysis | None]:

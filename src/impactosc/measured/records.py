@@ -238,13 +238,6 @@ def read_record(path, *, time_column="t", x_column="x", units=None, omega=None) 
     raise ValueError(f"{path}: unknown record format {path.suffix!r}; use .csv or .h5")
 
 
-def _atomic(path, write):
-    path = Path(path)
-    with atomic_write(path) as tmp:
-        write(tmp)
-    return path
-
-
 def write_record(path, t, x, *, omega=None, meta=None, units="m") -> Path:
     """Write a record (x in metres) as CSV (in ``units``) or HDF5 (in m), atomically."""
     path = Path(path)
@@ -279,25 +272,27 @@ def write_record(path, t, x, *, omega=None, meta=None, units="m") -> Path:
                     f.attrs[k] = v
     else:
         raise ValueError(f"{path}: unknown record format {path.suffix!r}; use .csv or .h5")
-    return _atomic(path, write)
+    with atomic_write(path) as tmp:
+        write(tmp)
+    return path
 
 
 def write_record_set(path, records) -> Path:
     """Write records (each with an omega) into one HDF5 record set, atomically."""
-    def write(tmp):
-        with h5py.File(tmp, "w") as f:
-            g = f.create_group("records")
-            for i, rec in enumerate(records):
-                if rec.omega is None:
-                    raise ValueError(f"record {i} ({rec.path}) has no omega; a record set needs one per record")
-                r = g.create_group(f"{i:04d}")
-                r.create_dataset("t", data=rec.t, compression="gzip")
-                r.create_dataset("x", data=rec.x, compression="gzip")
-                r.attrs["omega"] = rec.omega
-                r.attrs["units"] = "m"
-                for k, v in rec.meta.items():
-                    r.attrs[k] = v
-    return _atomic(path, write)
+    path = Path(path)
+    with atomic_write(path) as tmp, h5py.File(tmp, "w") as f:
+        g = f.create_group("records")
+        for i, rec in enumerate(records):
+            if rec.omega is None:
+                raise ValueError(f"record {i} ({rec.path}) has no omega; a record set needs one per record")
+            r = g.create_group(f"{i:04d}")
+            r.create_dataset("t", data=rec.t, compression="gzip")
+            r.create_dataset("x", data=rec.x, compression="gzip")
+            r.attrs["omega"] = rec.omega
+            r.attrs["units"] = "m"
+            for k, v in rec.meta.items():
+                r.attrs[k] = v
+    return path
 
 
 def read_record_set(path) -> list[Record]:
