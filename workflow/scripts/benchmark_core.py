@@ -4,6 +4,10 @@ Reads params rtols/repeats; writes snakemake.output.csv (one row per solver and 
 snakemake.output.md (the same table plus JIT times and the speed-up at each rtol).
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import csv
 import logging
 import math
@@ -11,8 +15,7 @@ import math
 from impactosc.benchmarks.core_speed import jit_times, measure
 
 
-def main(rtols, repeats, csv_path, md_path, log_path):
-    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s")
+def main(rtols, repeats, csv_path, md_path):
     jit = jit_times()
     logging.info("JIT: %s", jit)
     rows = measure(rtols=rtols, repeats=repeats, log=logging.info)
@@ -39,4 +42,4 @@ def main(rtols, repeats, csv_path, md_path, log_path):
 
 
 main(snakemake.params.rtols, snakemake.params.repeats, snakemake.output.csv,  # noqa: F821
-     snakemake.output.md, snakemake.log[0])  # noqa: F821
+     snakemake.output.md)  # noqa: F821

@@ -6,6 +6,10 @@ per core, and over all sweeps the span from the first job's start to the last jo
 (the wall time of the sweep jobs under the -j used), and a log.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import json
 import logging
 from pathlib import Path
@@ -13,8 +17,7 @@ from pathlib import Path
 from impactosc.sweeps.continuation import load_sweep
 
 
-def main(paths, names, out, log_path):
-    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s", force=True)
+def main(paths, names, out):
     report = {"sweeps": {}}
     first, last = [], []
     for name, path in zip(names, paths):
@@ -41,4 +44,4 @@ def main(paths, names, out, log_path):
     logging.info(json.dumps(report))
 
 
-main(snakemake.input.sweeps, snakemake.params.names, snakemake.output.json, snakemake.log[0])  # noqa: F821
+main(snakemake.input.sweeps, snakemake.params.names, snakemake.output.json)  # noqa: F821

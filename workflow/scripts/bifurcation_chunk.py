@@ -5,6 +5,10 @@ chunk after the first, snakemake.input.seeds (the coarse pass); writes snakemake
 (sweep HDF5, impactosc.sweep format, with start/finish times for the benchmark) and a log.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import logging
 import time
 
@@ -12,8 +16,7 @@ from impactosc.analysis.grazing import regular_grid
 from impactosc.sweeps.continuation import SweepSettings, coarse_pass, load_sweep, plan_chunks, run_chunk, save_sweep
 
 
-def main(params, seeds_path, output, log_path):
-    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s", force=True)
+def main(params, seeds_path, output):
     grid = regular_grid(params.grid["start"], params.grid["stop"], params.grid["step"])
     settings = SweepSettings.from_config(params.per_w, params.model, params.solver)
     started = time.time()
@@ -42,4 +45,4 @@ def main(params, seeds_path, output, log_path):
 
 seeds = snakemake.input.get("seeds") or None  # noqa: F821
 main(snakemake.params, seeds if isinstance(seeds, (str, type(None))) else seeds[0],
-     snakemake.output[0], snakemake.log[0])  # noqa: F821
+     snakemake.output[0])  # noqa: F821

@@ -6,6 +6,10 @@ reading snakemake.input.stats (transitions to mark) and, for fig02, an optional 
 diagram (snakemake.params.experimental); writes snakemake.output.png/.pdf and a log.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import json
 import logging
 from pathlib import Path
@@ -16,8 +20,7 @@ from impactosc.plotting import save_figure
 from impactosc.plotting.bifurcation import fig02_poincare, fig03b_arguments, fig03b_isi, marks_of, overlay_figure
 from impactosc.sweeps.continuation import load_sweep
 
-def main(inp, params, out, log_path):
-    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s", force=True)
+def main(inp, params, out):
     stats = json.loads(Path(inp.stats).read_text())
     sweeps = {n: load_sweep(p) for n, p in zip(params.names, inp.sweeps)}
     x_obstacle = params.model["xI"]
@@ -53,4 +56,4 @@ def main(inp, params, out, log_path):
     logging.info("wrote %s", out.png)
 
 
-main(snakemake.input, snakemake.params, snakemake.output, snakemake.log[0])  # noqa: F821
+main(snakemake.input, snakemake.params, snakemake.output)  # noqa: F821

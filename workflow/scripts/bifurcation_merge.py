@@ -6,6 +6,10 @@ snakemake.output.sweep (impactosc.sweep format) whose attributes list every job'
 finish and number of w values (for the benchmark) and a log.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import logging
 
 import numpy as np
@@ -13,8 +17,7 @@ import numpy as np
 from impactosc.sweeps.continuation import load_sweep, merge_chunks, save_sweep
 
 
-def main(chunk_paths, coarse_paths, name, grid, output, log_path):
-    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s", force=True)
+def main(chunk_paths, coarse_paths, name, grid, output):
     coarse_paths = [coarse_paths] if isinstance(coarse_paths, str) else list(coarse_paths)
     chunk_paths = [chunk_paths] if isinstance(chunk_paths, str) else list(chunk_paths)
     parts = [load_sweep(p) for p in coarse_paths + chunk_paths]
@@ -35,4 +38,4 @@ def main(chunk_paths, coarse_paths, name, grid, output, log_path):
 
 
 main(snakemake.input.chunks, snakemake.input.get("coarse", []), snakemake.wildcards.sweep,  # noqa: F821
-     snakemake.params.grid, snakemake.output.sweep, snakemake.log[0])  # noqa: F821
+     snakemake.params.grid, snakemake.output.sweep)  # noqa: F821

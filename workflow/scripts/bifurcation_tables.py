@@ -1,10 +1,14 @@
 """Read the bifurcation diagrams: periods, transitions, grazing, hysteresis, paper rows.
 
 Reads snakemake.input.sweeps (sweep files named by snakemake.params.names) and, if given,
-snakemake.input.grazing (the grazing group's results/stats/grazing.json); writes
+snakemake.input.grazing (the grazing group's results/stats/periodic/grazing.json); writes
 snakemake.output: per_w, segments, transitions (CSV tables), stats (JSON digest the
 figures mark transitions from), rows (paper-vs-replication rows), and a log.
 """
+
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
 
 import csv
 import json
@@ -24,8 +28,7 @@ def _write_csv(path, rows, columns):
         w.writerows(rows)
 
 
-def main(inp, params, out, log_path):
-    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s", force=True)
+def main(inp, params, out):
     r = params.reading
     readings = {}
     for name, path in zip(params.names, inp.sweeps):
@@ -64,4 +67,4 @@ def main(inp, params, out, log_path):
     logging.info("%d paper rows, %d hysteresis windows", len(rows), len(windows))
 
 
-main(snakemake.input, snakemake.params, snakemake.output, snakemake.log[0])  # noqa: F821
+main(snakemake.input, snakemake.params, snakemake.output)  # noqa: F821

@@ -5,8 +5,12 @@ tolerances / initial states); writes snakemake.output.json (ensemble_summary) an
 snakemake.output.csv (one row of key numbers per run).
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
 import time
-from pathlib import Path
 
 from impactosc.analysis.chaotic import (
     AnalysisOptions,
@@ -22,4 +26,4 @@ members = ensemble_members(snakemake.input.runs, AnalysisOptions.from_config(sna
 summary = ensemble_summary(members)
 write_json(snakemake.output.json, summary)  # noqa: F821
 write_csv(snakemake.output.csv, ensemble_table(members))  # noqa: F821
-Path(snakemake.log[0]).write_text(f"{len(members)} runs; {time.perf_counter() - t0:.2f} s\n")  # noqa: F821
+logging.info(f"{len(members)} runs; {time.perf_counter() - t0:.2f} s")

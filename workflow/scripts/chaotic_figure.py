@@ -5,7 +5,11 @@ Reads snakemake.input.run (Figs 6, 7: the scene's run file) or snakemake.input.s
 snakemake.output.png and .pdf.  All drawing lives in impactosc.plotting.chaotic.
 """
 
-from pathlib import Path
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
 
 from impactosc.plotting import save_figure
 from impactosc.plotting.chaotic import make_figure
@@ -16,4 +20,4 @@ stats = list(inputs.stats) if "stats" in inputs.keys() else []
 fig = make_figure(snakemake.params.figure, run=run, stats=stats,  # noqa: F821
                   portrait_span=snakemake.params.portrait_span)  # noqa: F821
 save_figure(fig, snakemake.output.png, snakemake.output.pdf)  # noqa: F821
-Path(snakemake.log[0]).write_text(f"figure {snakemake.params.figure}: {run or ', '.join(stats)}\n")  # noqa: F821
+logging.info(f"figure {snakemake.params.figure}: {run or ', '.join(stats)}")  # noqa: F821

@@ -2,10 +2,14 @@
 
 Reads snakemake.input.model (statistics JSON of the scene's train), .ensemble (spread over
 realisations) and .run (the scene's trajectory window, for the Fig 6b spectrum); writes
-snakemake.output.rows (results/tables/rows/chaotic.csv) and .mixture (isi_mixture.csv).
+snakemake.output.rows (results/tables/chaotic/paper_rows.csv) and .mixture (isi_mixture.csv).
 """
 
-from pathlib import Path
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
 
 from impactosc.analysis.chaotic import mixture_table, paper_rows, read_json, trajectory_spectrum, write_csv
 from impactosc.files import read_run
@@ -20,6 +24,6 @@ spectrum = trajectory_spectrum(traj["t"], traj["x"], attrs["omega"])
 rows = paper_rows(model, ensemble, spectrum, snakemake.params.command)  # noqa: F821
 write_rows(snakemake.output.rows, rows)  # noqa: F821
 write_csv(snakemake.output.mixture, mixture_table(model))  # noqa: F821
-Path(snakemake.log[0]).write_text(  # noqa: F821
+logging.info(
     "".join(f"{r['agrees']:>4}  {r['quantity']}: paper {r['paper']} | ours {r['replication']}\n" for r in rows)
 )

@@ -1,10 +1,14 @@
 """Fig 1: schematic of the rig with the symbols of model BC. Reads nothing; writes
 snakemake.output.png and .pdf."""
 
-from pathlib import Path
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
 
 from impactosc.plotting import save_figure
 from impactosc.plotting.schematic import fig01_rig
 
 save_figure(fig01_rig(), snakemake.output.png, snakemake.output.pdf)  # noqa: F821
-Path(snakemake.log[0]).write_text(f"wrote {snakemake.output.png} and {snakemake.output.pdf}\n")  # noqa: F821
+logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")  # noqa: F821

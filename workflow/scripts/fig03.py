@@ -4,7 +4,12 @@ Reads snakemake.input.run (run file with a trajectory window), snakemake.input.s
 decreasing sweep) and snakemake.input.stats (its reading); writes snakemake.output.png/.pdf.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import json
+import logging
 from pathlib import Path
 
 import matplotlib.pyplot as plt
@@ -17,7 +22,7 @@ from impactosc.plotting.style import DOUBLE
 from impactosc.sweeps.continuation import load_sweep
 
 
-def main(inp, params, out, log_path):
+def main(inp, params, out):
     apply_style()
     events, attrs, traj = read_run(inp.run)
     if traj is None:
@@ -38,7 +43,7 @@ def main(inp, params, out, log_path):
     axes_b[0].set_title("")  # replaced by the panel label on the left
     axes_b[0].set_title(r"(b) inter-impact intervals, decreasing $\omega$", loc="left")
     save_figure(fig, out.png, out.pdf)
-    Path(log_path).write_text(f"wrote {out.png} and {out.pdf}\n")
+    logging.info(f"wrote {out.png} and {out.pdf}")
 
 
-main(snakemake.input, snakemake.params, snakemake.output, snakemake.log[0])  # noqa: F821
+main(snakemake.input, snakemake.params, snakemake.output)  # noqa: F821

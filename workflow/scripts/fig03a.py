@@ -4,7 +4,11 @@ Reads snakemake.input.run (a run file with a trajectory window) and snakemake.pa
 (start, span in s); writes snakemake.output.png and .pdf.
 """
 
-from pathlib import Path
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
 
 from impactosc.files import read_run
 from impactosc.plotting import save_figure
@@ -16,4 +20,4 @@ if traj is None:
 fig = fig03a_impact_construction(traj["t"], traj["x"], events["impacts"]["t"], attrs["param_xI"],
                                  snakemake.params.start, snakemake.params.span)  # noqa: F821
 save_figure(fig, snakemake.output.png, snakemake.output.pdf)  # noqa: F821
-Path(snakemake.log[0]).write_text(f"wrote {snakemake.output.png} and {snakemake.output.pdf}\n")  # noqa: F821
+logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")  # noqa: F821

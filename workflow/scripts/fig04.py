@@ -5,8 +5,12 @@ spectrum JSON), .stats and .before_stats (periodic.json, before_grazing.json: in
 snakemake.output.png and .pdf.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import json
-from pathlib import Path
+import logging
 
 from impactosc.files import read_run
 from impactosc.plotting import save_figure
@@ -30,4 +34,4 @@ for key, path, tag, sk in (("before", snakemake.input.before, "(branch, before g
                    "inset": ((attrs["param_xI"] + box["dx"][0], attrs["param_xI"] + box["dx"][1]), tuple(box["v"]))}
 fig = fig04_grazing_portraits(panels["before"], panels["after"], spectrum, attrs["param_xI"])
 save_figure(fig, snakemake.output.png, snakemake.output.pdf)  # noqa: F821
-Path(snakemake.log[0]).write_text(f"wrote {snakemake.output.png} and {snakemake.output.pdf}\n")  # noqa: F821
+logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")  # noqa: F821

@@ -4,8 +4,12 @@ Reads snakemake.input.run (the period-4 scene) and .stats (periodic.json); write
 snakemake.output.png and .pdf.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import json
-from pathlib import Path
+import logging
 
 import numpy as np
 
@@ -18,4 +22,4 @@ with open(snakemake.input.stats) as f:  # noqa: F821
     numbers = json.load(f)["after_grazing"]["impact_map"]
 fig = fig05_impact_map(np.diff(events["impacts"]["t"]), numbers, attrs["omega"])
 save_figure(fig, snakemake.output.png, snakemake.output.pdf)  # noqa: F821
-Path(snakemake.log[0]).write_text(f"wrote {snakemake.output.png} and {snakemake.output.pdf}\n")  # noqa: F821
+logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")  # noqa: F821

@@ -1,10 +1,14 @@
 """Supplementary figure: the grazing bifurcation located (gap and impact count vs w, bracket).
 
-Reads snakemake.input.stats (results/stats/grazing.json); writes snakemake.output.png and .pdf.
+Reads snakemake.input.stats (results/stats/periodic/grazing.json); writes snakemake.output.png and .pdf.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import json
-from pathlib import Path
+import logging
 
 from impactosc.plotting import save_figure
 from impactosc.plotting.periodic import grazing_evidence
@@ -14,4 +18,4 @@ with open(snakemake.input.stats) as f:  # noqa: F821
 fig = grazing_evidence(stats["per_w"]["branch"], stats["per_w"]["from_rest"], stats, stats["paper_omegas"],
                        snakemake.params.window)  # noqa: F821
 save_figure(fig, snakemake.output.png, snakemake.output.pdf)  # noqa: F821
-Path(snakemake.log[0]).write_text(f"wrote {snakemake.output.png} and {snakemake.output.pdf}\n")  # noqa: F821
+logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")  # noqa: F821

@@ -1,11 +1,15 @@
 """Statistics of the grazing: bracket, gap extrapolation, attractors at the paper's w.
 
 Reads snakemake.input.branch and .from_rest (sweep HDF5) and .bisection (JSON); writes
-snakemake.output.stats (results/stats/grazing.json: the claim and the per-w arrays the
+snakemake.output.stats (results/stats/periodic/grazing.json: the claim and the per-w arrays the
 supplementary figure plots).
 """
 
-from pathlib import Path
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
 
 from impactosc.analysis.grazing import grazing_summary_file
 from impactosc.analysis.periodic import write_json
@@ -13,4 +17,4 @@ from impactosc.analysis.periodic import write_json
 write_json(snakemake.output.stats, grazing_summary_file(  # noqa: F821
     snakemake.input.branch, snakemake.input.bisection, snakemake.input.from_rest,  # noqa: F821
     snakemake.params.paper_omegas, snakemake.params.n_fit))  # noqa: F821
-Path(snakemake.log[0]).write_text(f"wrote {snakemake.output.stats}\n")  # noqa: F821
+logging.info(f"wrote {snakemake.output.stats}")  # noqa: F821

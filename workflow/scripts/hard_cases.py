@@ -5,18 +5,21 @@ per check: case, check, measured, bound, unit, passed, detail; see
 impactosc.benchmarks.hardcases.run_all) and a log of every measurement.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import logging
 
 from impactosc.benchmarks.hardcases import run_all
 from impactosc.benchmarks.tables import write_table
 
 
-def main(hc, out, log_path):
-    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s")
+def main(hc, out):
     rows = run_all(hc, log=logging.info)
     write_table(out, rows)
     failed = [r["check"] for r in rows if r["passed"] is False]
     logging.info("%d checks, %d failed%s", len(rows), len(failed), "".join(f"\n  FAILED: {c}" for c in failed))
 
 
-main(snakemake.params.hc, snakemake.output.csv, snakemake.log[0])  # noqa: F821
+main(snakemake.params.hc, snakemake.output.csv)  # noqa: F821

@@ -4,6 +4,10 @@ Reads snakemake.input.parts (map HDF5 row groups, in order); writes snakemake.ou
 (joined map HDF5), snakemake.output.png/.pdf and a log.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import logging
 
 from impactosc.analysis.bifurcation import load_map, merge_maps, save_map
@@ -13,8 +17,7 @@ from impactosc.plotting.bifurcation import map2d_figure
 UNITS = {"xI": (1e3, "mm"), "m0e": (1e3, "g m")}
 
 
-def main(parts, model, out, log_path):
-    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s", force=True)
+def main(parts, model, out):
     parts = [parts] if isinstance(parts, str) else list(parts)
     m = merge_maps([load_map(p) for p in parts])
     save_map(out.map, m)
@@ -24,4 +27,4 @@ def main(parts, model, out, log_path):
     logging.info("map %s: %d x %d cells, %.1f core seconds", m.parameter, m.values.size, m.omega.size, m.wall_time)
 
 
-main(snakemake.input.parts, snakemake.params.model, snakemake.output, snakemake.log[0])  # noqa: F821
+main(snakemake.input.parts, snakemake.params.model, snakemake.output)  # noqa: F821

@@ -4,6 +4,10 @@ Reads snakemake.params (map settings, per-w settings, model, solver, reading, pa
 n); writes snakemake.output.part (map HDF5 of those rows, impactosc.branches format) and a log.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import logging
 import time
 
@@ -14,8 +18,7 @@ from impactosc.analysis.grazing import regular_grid
 from impactosc.sweeps.continuation import SweepSettings, parameter_rows
 
 
-def main(params, output, log_path):
-    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s", force=True)
+def main(params, output):
     m = params.map
     grid = regular_grid(m["omega"]["start"], m["omega"]["stop"], m["omega"]["step"])
     values = np.array_split(np.linspace(m["values"]["start"], m["values"]["stop"], m["values"]["n"]),
@@ -34,4 +37,4 @@ def main(params, output, log_path):
              started=started, finished=finished)
 
 
-main(snakemake.params, snakemake.output.part, snakemake.log[0])  # noqa: F821
+main(snakemake.params, snakemake.output.part)  # noqa: F821

@@ -5,7 +5,11 @@ snakemake.params (None: metadata / estimated); writes snakemake.output.events in
 run-file contract (impactosc.io) so the chaotic statistics treat it like a simulation.
 """
 
-from pathlib import Path
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
 
 from impactosc.measured.extract import ExtractOptions, extract_events
 from impactosc.files import write_run
@@ -15,8 +19,8 @@ p = snakemake.params  # noqa: F821
 rec = read_record(snakemake.input.record)  # noqa: F821
 events, attrs = extract_events(rec, p.x_impact, ExtractOptions(noise=p.noise))
 write_run(snakemake.output.events, events, attrs)  # noqa: F821
-Path(snakemake.log[0]).write_text(  # noqa: F821
+logging.info(
     f"{rec.path} ({rec.label}): {attrs['n_impacts']} impacts; x_impact {attrs['x_impact']:.6g} m "
     f"({attrs['x_impact_source']}); noise {attrs['noise_sigma']:.3g} m; timing sigma median "
-    f"{attrs['timing_sigma_median']:.3g} s, max {attrs['timing_sigma_max']:.3g} s; dt {attrs['sample_interval']:.3g} s\n"
+    f"{attrs['timing_sigma_median']:.3g} s, max {attrs['timing_sigma_max']:.3g} s; dt {attrs['sample_interval']:.3g} s"
 )

@@ -4,7 +4,11 @@ Reads snakemake.input.records (record set: HDF5 or CSV manifest, impactosc.recor
 writes snakemake.output.points, HDF5 with flat datasets omega (rad/s) and x (m).
 """
 
-from pathlib import Path
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
 
 import h5py
 
@@ -21,4 +25,4 @@ with h5py.File(tmp, "w") as f:
         f.create_dataset(k, data=v)
     f.attrs["label"] = recs[0].label
 tmp.replace(out)
-Path(snakemake.log[0]).write_text(f"{len(recs)} records, {pts['x'].size} Poincare points\n")  # noqa: F821
+logging.info(f"{len(recs)} records, {pts['x'].size} Poincare points")

@@ -4,7 +4,11 @@ Reads snakemake.input.json (rows of impactosc.surrogate.noise_study); writes
 snakemake.output.png and .pdf (drawing in impactosc.plotting.measured).
 """
 
-from pathlib import Path
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
 
 from impactosc.analysis.chaotic import read_json
 from impactosc.plotting import save_figure
@@ -13,4 +17,4 @@ from impactosc.plotting.measured import noise_study_figure
 rows = read_json(snakemake.input.json)["rows"]  # noqa: F821
 fig = noise_study_figure(rows, snakemake.params.density_rate)  # noqa: F821
 save_figure(fig, snakemake.output.png, snakemake.output.pdf)  # noqa: F821
-Path(snakemake.log[0]).write_text(f"{len(rows)} rows\n")  # noqa: F821
+logging.info(f"{len(rows)} rows")

@@ -5,8 +5,12 @@ analysis: chaotic.analysis options); writes snakemake.output.csv (one row per ra
 x extraction method) and .json (the same rows with ISI kernel densities, for the figure).
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
 import time
-from pathlib import Path
 
 from impactosc.analysis.chaotic import AnalysisOptions, write_csv, write_json
 from impactosc.integration.model import ModelParams
@@ -23,4 +27,4 @@ columns = ["rate_hz", "noise_m", "method", "n_true", "n_found", "missed", "extra
            "timing_max_z", "frac_beyond_5sigma", "sigma_t_median_s", "noise_estimate_m", "cv2_paper", "cv2",
            "isi_n_modes", "isi_maxima", "isi_valley_ratio", "acf_n_significant", "note"]
 write_csv(snakemake.output.csv, [{k: r.get(k, "") for k in columns} for r in rows])  # noqa: F821
-Path(snakemake.log[0]).write_text(f"{len(rows)} rows in {time.perf_counter() - t0:.1f} s\n")  # noqa: F821
+logging.info(f"{len(rows)} rows in {time.perf_counter() - t0:.1f} s")

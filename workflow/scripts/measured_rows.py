@@ -4,7 +4,11 @@ Reads snakemake.input.second (statistics JSON of the record's train), .model (th
 and .noise (noise-study JSON); writes snakemake.output.rows.
 """
 
-from pathlib import Path
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
 
 from impactosc.analysis.chaotic import read_json
 from impactosc.measured.surrogate import measured_rows
@@ -14,4 +18,4 @@ rows = measured_rows(read_json(snakemake.input.second[0]), read_json(snakemake.i
                      read_json(snakemake.input.noise)["rows"],  # noqa: F821
                      is_surrogate=snakemake.params.is_surrogate, command=snakemake.params.command)  # noqa: F821
 write_rows(snakemake.output.rows, rows)  # noqa: F821
-Path(snakemake.log[0]).write_text("".join(f"{r['agrees']:>4}  {r['quantity']}: {r['replication']}\n" for r in rows))  # noqa: F821
+logging.info("".join(f"{r['agrees']:>4}  {r['quantity']}: {r['replication']}\n" for r in rows))

@@ -5,8 +5,12 @@ wildcards.kind 'chaos': one record of the chaotic regime (snakemake.params.surro
 snakemake.output.record in the measured-record format (impactosc.records).
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -31,5 +35,4 @@ else:
                            n_initial=g["n_initial"], **p.solver)
     write_record_set(snakemake.output.record, recs)  # noqa: F821
     msg = f"sweep: {len(recs)} records, w = {omegas[0]:g}..{omegas[-1]:g} rad/s"
-Path(snakemake.log[0]).write_text(f"{msg}; noise {opts.noise:g} m, mismatch {opts.mismatch}; "  # noqa: F821
-                                  f"{time.perf_counter() - t0:.1f} s\n")
+logging.info(f"{msg}; noise {opts.noise:g} m, mismatch {opts.mismatch}; {time.perf_counter() - t0:.1f} s")

@@ -5,6 +5,10 @@ solver); restarts from the branch end state at that w (at phi = 0, so t = 0 cont
 branch) and writes snakemake.output.run (HDF5 run file with a trajectory window) and a log.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import logging
 
 from impactosc.files import write_run
@@ -14,8 +18,7 @@ from impactosc.integration.simulate import Window, simulate
 from impactosc.sweeps.continuation import load_sweep
 
 
-def main(branch: str, scene: dict, model: dict, solver: dict, out: str, log: str):
-    logging.basicConfig(filename=log, level=logging.INFO, format="%(asctime)s %(message)s")
+def main(branch: str, scene: dict, model: dict, solver: dict, out: str):
     sweep, _ = load_sweep(branch)
     x0, v0 = branch_state(sweep, scene["omega"])
     end = scene["transient"] + scene["duration"]
@@ -28,4 +31,4 @@ def main(branch: str, scene: dict, model: dict, solver: dict, out: str, log: str
 
 
 main(snakemake.input.branch, snakemake.params.scene, snakemake.params.model, snakemake.params.solver,  # noqa: F821
-     snakemake.output.run, snakemake.log[0])  # noqa: F821
+     snakemake.output.run)  # noqa: F821

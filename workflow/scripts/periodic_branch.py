@@ -5,6 +5,10 @@ snakemake.output.branch (sweep HDF5, impactosc.sweep format, branch order) and
 snakemake.output.bisection (JSON: the bracket and every bisection trial), and a log.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import logging
 
 from impactosc.analysis.grazing import branch_grid, locate_grazing
@@ -13,8 +17,7 @@ from impactosc.analysis.periodic import write_json
 from impactosc.sweeps.continuation import SweepSettings, continuation, save_sweep
 
 
-def main(branch: dict, grazing: dict, model: dict, solver: dict, out_branch: str, out_bisection: str, log: str):
-    logging.basicConfig(filename=log, level=logging.INFO, format="%(asctime)s %(message)s")
+def main(branch: dict, grazing: dict, model: dict, solver: dict, out_branch: str, out_bisection: str):
     settings = SweepSettings(n_transient=branch["n_transient"], n_record=branch["n_record"],
                              n_initial=branch["n_initial"], params=ModelParams(**model), rtol=solver["rtol"],
                              atol=solver["atol"])
@@ -35,4 +38,4 @@ def main(branch: dict, grazing: dict, model: dict, solver: dict, out_branch: str
 
 
 main(snakemake.params.branch, snakemake.params.grazing, snakemake.params.model, snakemake.params.solver,  # noqa: F821
-     snakemake.output.branch, snakemake.output.bisection, snakemake.log[0])  # noqa: F821
+     snakemake.output.branch, snakemake.output.bisection)  # noqa: F821

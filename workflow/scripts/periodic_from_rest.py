@@ -4,6 +4,10 @@ Reads snakemake.params (from_rest grid and transient, branch record length, mode
 solver); writes snakemake.output.sweep (sweep HDF5, impactosc.sweep format) and a log.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import logging
 
 from impactosc.analysis.grazing import regular_grid, scan_from_rest
@@ -11,8 +15,7 @@ from impactosc.integration.model import ModelParams
 from impactosc.sweeps.continuation import SweepSettings, save_sweep
 
 
-def main(scan: dict, n_record: int, model: dict, solver: dict, out: str, log: str):
-    logging.basicConfig(filename=log, level=logging.INFO, format="%(asctime)s %(message)s")
+def main(scan: dict, n_record: int, model: dict, solver: dict, out: str):
     settings = SweepSettings(n_transient=0, n_record=n_record, n_initial=0, params=ModelParams(**model),
                              rtol=solver["rtol"], atol=solver["atol"])
     grid = regular_grid(scan["start"], scan["stop"], scan["step"])
@@ -22,4 +25,4 @@ def main(scan: dict, n_record: int, model: dict, solver: dict, out: str, log: st
 
 
 main(snakemake.params.scan, snakemake.params.n_record, snakemake.params.model,  # noqa: F821
-     snakemake.params.solver, snakemake.output.sweep, snakemake.log[0])  # noqa: F821
+     snakemake.params.solver, snakemake.output.sweep)  # noqa: F821

@@ -1,12 +1,16 @@
 """Rows of the paper-vs-replication table for section 2.1, Fig 4 and the grazing w.
 
-Reads snakemake.input.stats (results/stats/periodic.json), .before
-(results/stats/before_grazing.json) and .grazing
-(results/stats/grazing.json); writes snakemake.output.rows (CSV, impactosc.table format).
+Reads snakemake.input.stats (results/stats/periodic/periodic.json), .before
+(results/stats/periodic/before_grazing.json) and .grazing
+(results/stats/periodic/grazing.json); writes snakemake.output.rows (CSV, impactosc.table format).
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import json
-from pathlib import Path
+import logging
 
 from impactosc.analysis.periodic import table_rows
 from impactosc.paper.table import write_rows
@@ -18,4 +22,4 @@ with open(snakemake.input.before) as f:  # noqa: F821
 with open(snakemake.input.grazing) as f:  # noqa: F821
     grazing = json.load(f)
 write_rows(snakemake.output.rows, table_rows(stats, grazing))  # noqa: F821
-Path(snakemake.log[0]).write_text(f"wrote {snakemake.output.rows}\n")  # noqa: F821
+logging.info(f"wrote {snakemake.output.rows}")  # noqa: F821

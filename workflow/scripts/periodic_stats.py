@@ -6,7 +6,11 @@ impactosc.periodic.run_summary per input) and, when params.spectrum_of names an 
 snakemake.output.spectrum (its spectrum of x with lines and labels, JSON; Fig 4c).
 """
 
-from pathlib import Path
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
 
 from impactosc.analysis.periodic import run_summary, write_json
 
@@ -18,4 +22,4 @@ for name, path in snakemake.input.items():  # noqa: F821
 write_json(snakemake.output.stats, stats)  # noqa: F821
 if spectrum_of:
     write_json(snakemake.output.spectrum, spectra[spectrum_of].to_dict())  # noqa: F821
-Path(snakemake.log[0]).write_text(f"wrote {', '.join(map(str, snakemake.output))}\n")  # noqa: F821
+logging.info(f"wrote {', '.join(map(str, snakemake.output))}")  # noqa: F821

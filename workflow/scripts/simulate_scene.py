@@ -4,6 +4,10 @@ Reads the scene entry (omega, transient, duration, events, window) and the model
 config from snakemake.params; writes snakemake.output.run (atomically) and a log.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import logging
 
 from impactosc.files import write_run
@@ -11,8 +15,7 @@ from impactosc.integration.model import ModelParams
 from impactosc.integration.simulate import Window, simulate
 
 
-def run_scene(model: dict, solver: dict, scene: dict, output: str, log_path: str) -> None:
-    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s")
+def run_scene(model: dict, solver: dict, scene: dict, output: str) -> None:
     window = Window(**scene["window"]) if scene.get("window") else None
 
     def progress(t, t_end, n_imp):
@@ -27,4 +30,4 @@ def run_scene(model: dict, solver: dict, scene: dict, output: str, log_path: str
 
 
 run_scene(snakemake.params.model, snakemake.params.solver, snakemake.params.scene,  # noqa: F821
-          snakemake.output.run, snakemake.log[0])  # noqa: F821
+          snakemake.output.run)  # noqa: F821

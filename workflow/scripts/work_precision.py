@@ -6,7 +6,12 @@ at each impact-time error level, with JIT times), .statistics_summary (each tole
 statistics against the ensemble) and the figure .png/.pdf.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import json
+import logging
 
 from impactosc.benchmarks.tables import read_table, write_table
 from impactosc.benchmarks.workprecision import headline, statistics_summary
@@ -28,6 +33,7 @@ def main(scene_csvs, stats_csv, jit_json, levels, out):
     stats = _stats_rows(read_table(stats_csv))
     write_table(out.statistics_summary, statistics_summary(stats))
     save_figure(plot_work_precision(rows, stats, jit=jit), out.png, out.pdf)
+    logging.info("%d measurements, %d headline rows; wrote %s", len(rows), len(head), out.png)
 
 
 main(snakemake.input.scenes, snakemake.input.stats, snakemake.input.jit,  # noqa: F821

@@ -4,16 +4,21 @@ Reads nothing; writes snakemake.output.json ({"cold": s, "cached": s}), which th
 work-precision figure and table report apart from the (compile-free) timings.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import json
+import logging
 from pathlib import Path
 
 from impactosc.benchmarks.core_speed import jit_times
 
 
-def main(out, log_path):
+def main(out):
     jit = jit_times()
-    Path(log_path).write_text(f"JIT compile: {jit}\n")
+    logging.info(f"JIT compile: {jit}")
     Path(out).write_text(json.dumps(jit) + "\n")
 
 
-main(snakemake.output.json, snakemake.log[0])  # noqa: F821
+main(snakemake.output.json)  # noqa: F821

@@ -5,6 +5,10 @@ writes snakemake.output.csv (one row per solver and tolerance: wall time, RHS ev
 errors against the reference; see impactosc.benchmarks.workprecision.sweep_case) and a log.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import logging
 
 from impactosc.benchmarks.tables import write_table
@@ -12,8 +16,7 @@ from impactosc.benchmarks.workprecision import CORE, Case, sweep_case
 from impactosc.integration.model import ModelParams
 
 
-def main(model, wp, name, entry, out, log_path):
-    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s")
+def main(model, wp, name, entry, out):
     case = Case(name, entry["omega"], entry["settle"], entry["horizon"], entry["starts"], entry["spacing"])
     rows = sweep_case(case, ModelParams(**model), wp["rtols"], wp["atol_ratio"], [CORE, *wp["scipy_methods"]],
                       wp["reference"], core_repeats=wp["core_repeats"], scipy_repeats=wp["scipy_repeats"],
@@ -22,4 +25,4 @@ def main(model, wp, name, entry, out, log_path):
 
 
 main(snakemake.params.model, snakemake.params.wp, snakemake.wildcards.wp_scene,  # noqa: F821
-     snakemake.params.entry, snakemake.output.csv, snakemake.log[0])  # noqa: F821
+     snakemake.params.entry, snakemake.output.csv)  # noqa: F821

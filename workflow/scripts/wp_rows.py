@@ -4,13 +4,21 @@ Reads snakemake.input (hard_cases.csv, the statistics summary and the speed head
 writes snakemake.output.rows (impactosc.table.write_rows format).
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
+
 from impactosc.benchmarks.tables import read_table
 from impactosc.benchmarks.workprecision import paper_rows
 from impactosc.paper.table import write_rows
 
 
 def main(hard, summary, headline, out, command):
-    write_rows(out, paper_rows(read_table(hard), read_table(summary), read_table(headline), command))
+    rows = paper_rows(read_table(hard), read_table(summary), read_table(headline), command)
+    write_rows(out, rows)
+    logging.info("%d rows to %s", len(rows), out)
 
 
 main(snakemake.input.hard, snakemake.input.summary, snakemake.input.headline,  # noqa: F821

@@ -5,6 +5,10 @@ the chaotic group's analysis options); writes snakemake.output.csv (rows of kind
 and "ensemble", see impactosc.benchmarks.workprecision.statistics_convergence) and a log.
 """
 
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
 import logging
 
 from impactosc.benchmarks.tables import write_table
@@ -13,8 +17,7 @@ from impactosc.analysis.chaotic import AnalysisOptions
 from impactosc.integration.model import ModelParams
 
 
-def main(model, scene, stats, atol_ratio, analysis, out, log_path):
-    logging.basicConfig(filename=log_path, level=logging.INFO, format="%(asctime)s %(message)s")
+def main(model, scene, stats, atol_ratio, analysis, out):
     rows = statistics_convergence(scene["omega"], scene["transient"], scene["duration"], stats["rtols"], atol_ratio,
                                   stats["ensemble_x0"], stats["ensemble_rtol"], ModelParams(**model),
                                   AnalysisOptions.from_config(analysis), log=logging.info)
@@ -22,4 +25,4 @@ def main(model, scene, stats, atol_ratio, analysis, out, log_path):
 
 
 main(snakemake.params.model, snakemake.params.scene, snakemake.params.stats,  # noqa: F821
-     snakemake.params.atol_ratio, snakemake.params.analysis, snakemake.output.csv, snakemake.log[0])  # noqa: F821
+     snakemake.params.atol_ratio, snakemake.params.analysis, snakemake.output.csv)  # noqa: F821
