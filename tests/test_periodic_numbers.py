@@ -7,8 +7,9 @@ import numpy as np
 import pytest
 
 from impactosc.analysis.orbits import poincare_period
-from impactosc.analysis.periodic import analyse_spectrum, impact_map_numbers, table_rows
+from impactosc.analysis.periodic import analyse_spectrum, impact_map_numbers
 from impactosc.files import write_json
+from impactosc.paper.rows import periodic_rows as table_rows
 
 OMEGA = 23.03
 LEVELS = np.array([0.09034927, 0.19520570, 0.25988248])  # s

@@ -83,7 +83,8 @@ def test_panel_label_guard():
 
 def test_noise_study_and_rows():
     from impactosc.analysis.chaotic import AnalysisOptions, ImpactTrain, analyse_train
-    from impactosc.measured.surrogate import measured_rows, noise_study
+    from impactosc.measured.surrogate import noise_study
+    from impactosc.paper.rows import measured_rows
 
     o = AnalysisOptions(acf_surrogates=20, ks_bootstrap=0, mixture_restarts=1, fano_windows=(0.5, 1.0, 2.0))
     rows = noise_study(40.86, 100.0, 30.0, [2000.0], [0.0, 2e-5], analysis=o)

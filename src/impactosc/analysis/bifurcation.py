@@ -34,7 +34,7 @@ from .orbits import FAILED, NONPERIODIC, detect_period, impacts_per_orbit
 __all__ = [
     "BranchTable", "classify_sweep",
     "Segment", "segments", "Transition", "transitions", "Grazing", "find_grazings", "differing_windows",
-    "MapResult", "save_map", "load_map", "merge_maps", "SweepReading", "read_sweep", "paper_rows",
+    "MapResult", "save_map", "load_map", "merge_maps", "SweepReading", "read_sweep",
 ]
 
 @dataclass
@@ -418,64 +418,3 @@ def read_sweep(result, name: str, x_tol=1e-6, v_tol=1e-4, isi_tol=1e-4, min_poin
     return SweepReading(name=name, direction=table.direction, table=table, segments=segments(table),
                         transitions=transitions(table, min_points), grazings=find_grazings(table, min_points, n_fit),
                         failed_omegas=[float(w) for w in table.omega[table.period == FAILED]])
-
-
-def _fmt_bracket(t: Transition) -> str:
-    lo, hi = sorted((t.omega_before, t.omega_after))
-    return f"{t.omega:.2f} rad/s (between {lo:.3f} and {hi:.3f})"
-
-
-def paper_rows(decreasing: SweepReading, command: str, start: float = 40.86, near_fraction: float = 0.10,
-               grazing_about: float = 23.0, grazing_tol: float = 0.5, paper_bracket=(23.03, 23.05),
-               reference_grazing: dict | None = None) -> list[dict]:
-    """Rows of the paper-vs-replication table that the Fig 3b sweep answers.
-
-    The paper states: reverse period doublings "close to the starting w = 40.86" and extra
-    ISI branches (grazing) "at about w = 23"; Fig 4 puts the grazing between 23.05 and 23.03.
-    reference_grazing: the grazing group's bisection (results/stats/grazing.json), if any.
-    """
-    rows = []
-    pds = [t for t in decreasing.transitions if t.kind == "period doubling"]
-    lower = start * (1 - near_fraction)
-    if pds:
-        rep = "; ".join(f"{t.detail} at {_fmt_bracket(t)}" for t in pds if t.omega >= lower)
-        chaos = [t for t in decreasing.transitions if t.kind == "non-periodic boundary" and t.omega >= lower]
-        if chaos:
-            rep += f"; non-periodic (with periodic windows) above {min(chaos, key=lambda t: t.omega).omega:.2f} rad/s"
-        agrees = "yes" if any(t.omega >= lower for t in pds) else "no"
-    else:
-        rep, agrees = "no period doubling detected", "no"
-    rows.append({"section": "Fig 3b", "quantity": f"reverse period doublings on decreasing w from {start}",
-                 "paper": f"close to the starting w = {start} rad/s (no value given)", "replication": rep,
-                 "tolerance": f"a period-doubling cascade within {near_fraction:.0%} below {start} "
-                              f"(w >= {lower:.2f} rad/s); the paper states no number",
-                 "agrees": agrees, "command": command})
-    graz = [g for g in decreasing.grazings]
-    if graz:
-        g = min(graz, key=lambda g: abs(g.omega_zero - grazing_about))
-        lo, hi = g.bracket
-        rep = (f"grazing at {g.omega_zero:.3f} rad/s (zero of the near-miss gap line), between grid points "
-               f"{lo:.3f} and {hi:.3f}; {g.transition.detail}")
-        ok_about = abs(g.omega_zero - grazing_about) <= grazing_tol
-        rows.append({"section": "Fig 3b", "quantity": "additional ISI branches below the main curve (grazing)",
-                     "paper": f"at about w = {grazing_about:g} rad/s", "replication": rep,
-                     "tolerance": f"+-{grazing_tol} rad/s (the paper rounds to 'about {grazing_about:g}')",
-                     "agrees": "yes" if ok_about else "no", "command": command})
-        plo, phi = paper_bracket
-        inside = plo <= g.omega_zero <= phi
-        ref = ""
-        if reference_grazing:
-            ref = (f"; grazing group's bisection: {reference_grazing['omega_g']:.4f} rad/s, "
-                   f"difference {g.omega_zero - reference_grazing['omega_g']:+.4f}")
-        step = decreasing.table.step
-        rows.append({"section": "Fig 3b / Fig 4", "quantity": "grazing w on the decreasing sweep",
-                     "paper": f"between {phi} (before) and {plo} (after) rad/s",
-                     "replication": f"{g.omega_zero:.4f} rad/s{ref}",
-                     "tolerance": f"inside [{plo}, {phi}] (sweep step {step:.3f} rad/s; the gap line "
-                                  f"interpolates between grid points)",
-                     "agrees": "yes" if inside else "no", "command": command})
-    else:
-        rows.append({"section": "Fig 3b", "quantity": "additional ISI branches below the main curve (grazing)",
-                     "paper": f"at about w = {grazing_about:g} rad/s", "replication": "no grazing detected",
-                     "tolerance": f"+-{grazing_tol} rad/s", "agrees": "no", "command": command})
-    return rows

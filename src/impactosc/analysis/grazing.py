@@ -28,6 +28,7 @@ import numpy as np
 
 from ..files import read_json
 from ..integration.simulate import Window, simulate
+from ..paper.numbers import GRAZING
 from ..sweeps.continuation import continuation, load_sweep, merge_chunks
 from .orbits import poincare_period
 
@@ -274,7 +275,7 @@ def _attractor_at(summary: dict, omega: float, periods=None) -> dict | None:
     return out
 
 
-def grazing_statistics(branch: dict, bracket: dict, from_rest: dict, paper_omegas=(23.05, 23.03), n_fit: int = 5,
+def grazing_statistics(branch: dict, bracket: dict, from_rest: dict, paper_omegas=GRAZING["omegas"], n_fit: int = 5,
                        branch_periods=None, rest_periods=None) -> dict:
     """Everything the grazing claim rests on, as a JSON-ready dict.
 
@@ -340,7 +341,7 @@ def regular_grid(start: float, stop: float, step: float) -> np.ndarray:
     return np.round(start + math.copysign(step, stop - start) * np.arange(n + 1), 9)
 
 
-def grazing_summary_file(branch_path, bisection_path, from_rest_path, paper_omegas=(23.05, 23.03),
+def grazing_summary_file(branch_path, bisection_path, from_rest_path, paper_omegas=GRAZING["omegas"],
                          n_fit: int = 5) -> dict:
     """:func:`grazing_statistics` from the workflow's files, plus the per-w arrays to plot.
 

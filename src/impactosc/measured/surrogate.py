@@ -24,7 +24,7 @@ from ..integration.simulate import Window, simulate
 from .extract import ExtractOptions, extract_events
 from .records import Record
 
-__all__ = ["LABEL", "panel_hooked", "noise_study", "measured_rows", "SurrogateOptions", "mismatched_params", "surrogate_record", "surrogate_sweep"]
+__all__ = ["LABEL", "panel_hooked", "noise_study", "SurrogateOptions", "mismatched_params", "surrogate_record", "surrogate_sweep"]
 
 LABEL = "surrogate (model + noise)"
 
@@ -187,68 +187,6 @@ def noise_study(omega, transient, duration, rates, noises, *, analysis=None, mis
                     row["note"] = str(exc)
                 out.append(row)
     return out
-
-
-def measured_rows(second: dict, model: dict, noise_rows: list[dict], *, is_surrogate: bool, command: str):
-    """Rows of the paper-vs-replication table for the experimental panels (Figs 8b, 9b, 10).
-
-    ``second`` and ``model`` are :func:`impactosc.chaotic.analyse_train` results of the
-    record's train and of the model's.  While the record is the surrogate, the paper's
-    experimental numbers cannot be checked: the rows say so (agrees = n.a.) and report what
-    the record path gives.
-    """
-    label = second["train"]["label"]
-    src = f"{label} (not the rig)" if is_surrogate else label
-    verdict = (lambda ok: "n.a.") if is_surrogate else (lambda ok: "yes" if ok else "no")
-    cv, cvm = second["variability"]["cv2_paper"], model["variability"]["cv2_paper"]
-    isi = second["isi_density"]
-    mx = np.asarray(isi["maxima"], dtype=float)
-    rel = np.asarray(isi["maxima_relative_height"], dtype=float)
-    acf = second["acf"]
-    rows = [
-        {"quantity": "Fig 8b: C_V^2 (var/mean of the ISIs, s) of the measured train, large i",
-         "paper": "about 0.03, a little above the model's",
-         "replication": f"{src}: {cv:.4f} s (model {cvm:.4f} s), {second['train']['n_impacts']} impacts",
-         "tolerance": "[0.025, 0.035) s and above the model's", "agrees": verdict(0.025 <= cv < 0.035 and cv > cvm)},
-        {"quantity": "Fig 9b: ISI density of the measured train",
-         "paper": "substantial maximum for long intervals, weakly expressed extremum for short ones",
-         "replication": f"{src}: {isi['n_modes']} maxima at " + ", ".join(f"{m:.3f}" for m in mx)
-         + " s, relative heights " + ", ".join(f"{r:.2f}" for r in rel),
-         "tolerance": "long-interval maximum the highest; short-interval maximum lower",
-         "agrees": verdict(mx.size >= 2 and rel[-1] == 1.0)},
-        {"quantity": "Fig 10 lower: ACF-spectrum extrema of the measured train",
-         "paper": "two weakly prevailing extrema (noise)",
-         "replication": f"{src}: {acf['n_significant']} peak(s) above the shuffled-surrogate level, at f = "
-         + ", ".join(f"{f:.3f}" for f in acf["peak_frequency"]),
-         "tolerance": "two extrema", "agrees": verdict(len(acf["peak_frequency"]) >= 2)},
-    ]
-    rates = sorted({r["rate_hz"] for r in noise_rows})
-    if rates:
-        rate = min(rates, key=lambda r: abs(r - 2000.0))  # a data-acquisition card's rate
-        at = [r for r in noise_rows if r["rate_hz"] == rate]
-        exact = next(r for r in at if r["method"] == "exact events")
-        parts = []
-        for r in at:
-            if r["method"] != "hysteresis" or "isi_n_modes" not in r:
-                continue
-            parts.append(f"{1e6 * r['noise_m']:g} um: {r['isi_n_modes']} max., C_V^2 {r['cv2_paper']:.4f} s, "
-                         f"{r['missed']} missed/{r['extra']} extra")
-        naive = [r for r in at if r["method"] == "naive threshold" and "cv2_paper" in r]
-        worst = max(naive, key=lambda r: r["noise_m"]) if naive else None
-        rows.append({
-            "quantity": "sensor noise turns the bimodal ISI distribution unimodal (paper, after Sauer 1995)",
-            "paper": "stated, not quantified",
-            "replication": f"model + white noise on x at {rate:g} Hz, hysteresis extraction (exact events: "
-            f"{exact['isi_n_modes']} max., C_V^2 {exact['cv2_paper']:.4f} s): " + "; ".join(parts)
-            + (f". Naive threshold crossing at {1e6 * worst['noise_m']:g} um: {worst['extra']} false impacts, "
-               f"C_V^2 {worst['cv2_paper']:.4f} s" if worst else "")
-            + ". Unimodal only once noise hides the shallow contacts (missed impacts); "
-            "results/tables/measured_noise_study.csv",
-            "tolerance": "n.a. (beyond the paper: measurement noise on x, not noise in the dynamics)",
-            "agrees": "n.a."})
-    for r in rows:
-        r.update(section="2.2 experimental panels", command=command)
-    return rows
 
 
 def panel_hooked(name: str, entry: dict | None, path_key: str, path: str, is_surrogate: bool) -> bool:

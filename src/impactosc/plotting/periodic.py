@@ -13,6 +13,7 @@ import numpy as np
 from matplotlib import pyplot as plt
 from matplotlib.patches import Rectangle
 
+from ..paper.numbers import PERIODIC
 from .style import DOUBLE, SINGLE, apply_style
 
 MM = 1e3  # m -> mm
@@ -165,7 +166,7 @@ def fig05_impact_map(isi, numbers: dict, omega: float):
     b.set_ylabel(f"count per {width * 1e3:g} ms bin")
     b.set_title(f"(b) {numbers['n_impacts']} impacts, {s.size} intervals", loc="left")
     q = round(numbers["periods_in_total"])
-    b.text(0.02, 0.97, f"$\\sum$ levels = {numbers['total']:.5f} s (paper: 0.8184 s)\n"
+    b.text(0.02, 0.97, f"$\\sum$ levels = {numbers['total']:.5f} s (paper: {PERIODIC['levels_sum']} s)\n"
            f"${q}\\cdot 2\\pi/\\omega$ = {q * 2 * math.pi / omega:.5f} s",
            transform=b.transAxes, ha="left", va="top", fontsize=6.5)
     return fig
