@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from impactosc.analysis.chaotic import AnalysisOptions, ImpactTrain, analyse_train, load_train
+from impactosc.analysis.chaotic import analyse_train
+from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain, load_train
 from impactosc.measured.extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
 from impactosc.files import write_run
 from impactosc.measured.surrogate import SurrogateOptions, surrogate_record

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from impactosc.analysis.orbits import poincare_period
-from impactosc.analysis.periodic import analyse_spectrum, impact_map_numbers
+from impactosc.analysis.periodic import impact_map_numbers
+from impactosc.analysis.spectra import analyse_spectrum
 from impactosc.files import write_json
 from impactosc.paper.rows import periodic_rows as table_rows
 

@@ -17,7 +17,8 @@ import pytest
 
 from impactosc.analysis.grazing import branch_grid, extrapolate_gap_zero, find_grazing_step, locate_grazing, sweep_summary
 from impactosc.analysis.orbits import poincare_period
-from impactosc.analysis.periodic import analyse_spectrum, branch_state, impact_map_numbers
+from impactosc.analysis.periodic import branch_state, impact_map_numbers
+from impactosc.analysis.spectra import analyse_spectrum
 from impactosc.integration.simulate import Window, simulate
 from impactosc.sweeps.continuation import SweepSettings, continuation
 

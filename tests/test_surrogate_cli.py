@@ -82,7 +82,8 @@ def test_panel_label_guard():
 
 
 def test_noise_study_and_rows():
-    from impactosc.analysis.chaotic import AnalysisOptions, ImpactTrain, analyse_train
+    from impactosc.analysis.chaotic import analyse_train
+    from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain
     from impactosc.measured.surrogate import noise_study
     from impactosc.paper.rows import measured_rows
 

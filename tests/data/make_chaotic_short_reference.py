@@ -18,7 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from impactosc import __version__
-from impactosc.analysis.chaotic import AnalysisOptions, ImpactTrain, analyse_train, key_numbers
+from impactosc.analysis.chaotic import analyse_train, key_numbers
+from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain
 from impactosc.integration.simulate import simulate
 
 OMEGA, TRANSIENT, DURATION = 40.86, 100.0, 100.0

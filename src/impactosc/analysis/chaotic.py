@@ -1,10 +1,10 @@
-"""Train-level analysis of an impact train (paper section 2.2, Figs 6-11), for any source.
+"""Section 2.2 of the paper (Figs 6-11): all statistics of one impact train, for any source.
 
-An :class:`ImpactTrain` is impact onset times on a known observation span, optionally
-with penetrations and the forcing frequency.  It can come from a simulation run file or
-from a measured record written in the same HDF5 contract (:func:`load_train`), so the
-experimental path reuses this module untouched.  :func:`analyse_train` turns a train into
-one JSON-ready dict of statistics built on :mod:`impactosc.statistics`:
+Why: one function, :func:`analyse_train`, serves the model, every ensemble member, the
+surrogate and measured records, so every panel and table row is computed the same way
+whatever the train's origin (the train and the options are
+:mod:`impactosc.analysis.impact_train`). It returns one JSON-ready dict of statistics
+built on :mod:`impactosc.statistics`:
 
 ``train``         size, span, rate, mean ISI, forcing period
 ``stationarity``  counts in equal windows and the chi-square equal-rate test
@@ -17,7 +17,16 @@ one JSON-ready dict of statistics built on :mod:`impactosc.statistics`:
 ``penetrations``  histogram, kernel density and modes of the penetrations H_j
 
 Units: seconds, metres, rad/s.  Curves are stored so figures are redrawn without
-recomputing anything.  :func:`paper_rows` compares the model numbers with the paper.
+recomputing anything.  :func:`key_numbers` takes the scalars the ensemble and the table
+use, :func:`ensemble_members` those of every re-run, :func:`mixture_table` the rows of
+the ISI mixture table.
+
+The rest of section 2.2 lives in its own modules and is imported here too, so that
+``from impactosc.analysis import chaotic as ch`` reaches the whole section: the spread over
+realisations (:mod:`impactosc.analysis.ensemble`), the Fig 6b spectrum
+(:mod:`impactosc.analysis.spectra`), the rows of the paper table
+(:func:`impactosc.paper.rows.chaotic_rows`, here ``paper_rows``) and the statistics files
+(:mod:`impactosc.files`).
 """
 
 from __future__ import annotations
@@ -25,7 +34,6 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections import Counter
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -34,22 +42,25 @@ from scipy import stats as sps
 from .. import statistics as st
 from ..files import read_json, read_run, write_csv, write_json
 from ..paper.rows import chaotic_rows as paper_rows
-from ..statistics._validation import as_event_times, as_finite_1d
+from .ensemble import ensemble_runs, ensemble_summary, ensemble_table
+from .impact_train import AnalysisOptions, ImpactTrain, load_train
+from .spectra import trajectory_spectrum
 
 __all__ = [
     "PARTS",
+    "ENSEMBLE_PARTS",
+    "analyse_train",
+    "key_numbers",
+    "ensemble_members",
+    "mixture_table",
+    # defined in their own modules (see above)
     "AnalysisOptions",
     "ImpactTrain",
     "load_train",
-    "analyse_train",
-    "key_numbers",
-    "ENSEMBLE_PARTS",
     "ensemble_runs",
-    "ensemble_members",
     "ensemble_summary",
     "ensemble_table",
     "trajectory_spectrum",
-    "mixture_table",
     "paper_rows",
     "write_json",
     "read_json",
@@ -57,182 +68,6 @@ __all__ = [
 ]
 
 PARTS = ("stationarity", "variability", "poisson", "isi_density", "mixture", "acf", "penetrations")
-
-
-@dataclass(frozen=True)
-class AnalysisOptions:
-    """Settings of :func:`analyse_train` (the ``chaotic.analysis`` config section).
-
-    Attributes
-    ----------
-    n_windows : int
-        Equal windows for the stationarity test (paper: 5 x 80 s).
-    histogram_bins : int
-        Bars of the ISI and penetration histograms (paper: 10).
-    kde_bandwidth : str or float
-        ``gaussian_kde`` bandwidth rule ("scott", "silverman") or factor.
-    min_prominence : float
-        Relative prominence a density maximum needs to count as a mode.
-    fano_windows : tuple of float
-        Counting-window lengths (s) of the Fano curve; lengths that fit fewer than
-        ``min_fano_windows`` times into the span are skipped.
-    min_fano_windows : int
-    acf_kmax : int
-        Largest paper index k of the ACF (lags 0 .. kmax-1); capped at n // 2.
-    acf_n_peaks : int
-        ACF-spectrum peaks reported (paper: 2).
-    acf_min_prominence : float
-        Relative prominence of an ACF-spectrum peak.
-    acf_surrogates : int
-        Shuffled-ISI surrogates for the significance level of the ACF spectrum (0: none).
-    mixture_families : tuple of str
-    mixture_components : tuple of int
-    mixture_restarts : int
-    ks_bootstrap : int
-        Bootstrap replicates of the exponential KS test.
-    alpha : float
-        Significance level of every test.
-    seed : int
-        Seed of every random step (surrogates, bootstrap, EM restarts).
-    """
-
-    n_windows: int = 5
-    histogram_bins: int = 10
-    kde_bandwidth: str | float = "scott"
-    min_prominence: float = 0.05
-    fano_windows: tuple = (0.25, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 40.0, 80.0)
-    min_fano_windows: int = 4
-    acf_kmax: int = 50
-    acf_n_peaks: int = 2
-    acf_min_prominence: float = 0.05
-    acf_surrogates: int = 200
-    mixture_families: tuple = st.FAMILIES
-    mixture_components: tuple = (1, 2, 3)
-    mixture_restarts: int = 8
-    ks_bootstrap: int = 999
-    alpha: float = 0.05
-    seed: int = 0
-
-    def __post_init__(self):
-        for name, low in (("n_windows", 2), ("histogram_bins", 1), ("acf_kmax", 4),
-                          ("acf_n_peaks", 1), ("min_fano_windows", 2)):
-            if int(getattr(self, name)) < low:
-                raise ValueError(f"{name} must be >= {low}, got {getattr(self, name)}")
-        if not 0 < self.alpha < 1:
-            raise ValueError(f"alpha must be in (0, 1), got {self.alpha}")
-        if not 0 <= self.min_prominence < 1 or not 0 <= self.acf_min_prominence < 1:
-            raise ValueError("min_prominence and acf_min_prominence must be in [0, 1)")
-        if self.acf_surrogates < 0 or self.ks_bootstrap < 0:
-            raise ValueError("acf_surrogates and ks_bootstrap must be >= 0")
-        if not self.fano_windows or min(self.fano_windows) <= 0:
-            raise ValueError(f"fano_windows must be positive lengths in s, got {self.fano_windows}")
-        if not self.mixture_components or min(self.mixture_components) < 1:
-            raise ValueError(f"mixture_components must be >= 1, got {self.mixture_components}")
-        unknown = set(self.mixture_families) - set(st.FAMILIES)
-        if unknown or not self.mixture_families:
-            raise ValueError(f"mixture_families must be a subset of {st.FAMILIES}, got {self.mixture_families}")
-        # lists from a YAML config become tuples, so options stay hashable and comparable
-        for name in ("fano_windows", "mixture_families", "mixture_components"):
-            object.__setattr__(self, name, tuple(getattr(self, name)))
-
-    @classmethod
-    def from_config(cls, cfg: dict | None) -> "AnalysisOptions":
-        """Options from a config dict; unknown keys raise ValueError naming them."""
-        cfg = dict(cfg or {})
-        known = {f.name for f in dataclasses.fields(cls)}
-        unknown = set(cfg) - known
-        if unknown:
-            raise ValueError(f"unknown analysis option(s) {sorted(unknown)}; known: {sorted(known)}")
-        return cls(**cfg)
-
-
-@dataclass(frozen=True)
-class ImpactTrain:
-    """Impact onset times observed on ``[t_start, t_stop]`` (s).
-
-    Attributes
-    ----------
-    times : ndarray
-        Impact onset times T_j (s), strictly increasing, inside the span, at least 10.
-    t_start, t_stop : float
-        Observation span (s); windows and Fano counts tile it (not first/last impact).
-    penetrations : ndarray or None
-        Maximal penetrations H_j (m), >= 0.
-    omega : float or None
-        Forcing frequency (rad/s), for comparing time scales with 2 pi / omega.
-    label : str
-        Name shown in figures and tables (e.g. "model", "surrogate").
-    span_source : str
-        Where the span came from (attributes or the impact times).
-    """
-
-    times: np.ndarray
-    t_start: float
-    t_stop: float
-    penetrations: np.ndarray | None = None
-    omega: float | None = None
-    label: str = "train"
-    span_source: str = "given"
-
-    def __post_init__(self):
-        t = as_event_times(self.times, "times", min_size=10)
-        a, b = float(self.t_start), float(self.t_stop)
-        if not (math.isfinite(a) and math.isfinite(b)) or b <= a:
-            raise ValueError(f"observation span must satisfy t_start < t_stop, got [{a}, {b}]")
-        if t[0] < a or t[-1] > b:
-            raise ValueError(
-                f"impact times [{t[0]}, {t[-1]}] s lie outside the observation span [{a}, {b}] s"
-            )
-        object.__setattr__(self, "times", t)
-        object.__setattr__(self, "t_start", a)
-        object.__setattr__(self, "t_stop", b)
-        if self.penetrations is not None:
-            h = as_finite_1d(self.penetrations, "penetrations")
-            if np.any(h < 0):
-                raise ValueError("penetrations must be >= 0 m")
-            object.__setattr__(self, "penetrations", h)
-        if self.omega is not None:
-            w = float(self.omega)
-            if not math.isfinite(w) or w <= 0:
-                raise ValueError(f"omega must be a positive frequency in rad/s, got {self.omega!r}")
-            object.__setattr__(self, "omega", w)
-
-    @property
-    def intervals(self) -> np.ndarray:
-        """Inter-impact intervals S_j (s)."""
-        return np.diff(self.times)
-
-    @property
-    def duration(self) -> float:
-        """Length of the observation span (s)."""
-        return self.t_stop - self.t_start
-
-
-def load_train(path, label: str | None = None) -> ImpactTrain:
-    """Read an impact train from an HDF5 run file (simulated or measured, io contract).
-
-    Needs ``impacts/t``; uses ``penetrations/h`` and the ``omega`` attribute if present.
-    The span is taken, in this order, from attributes ``t_start``/``t_stop``, from
-    ``transient`` and ``transient + duration`` (simulation runs), or else from the first and
-    last impact (recorded in ``span_source``; it biases window counts slightly).
-    """
-    events, attrs, _ = read_run(path)
-    if "impacts" not in events or "t" not in events["impacts"]:
-        raise ValueError(f"{path}: no impacts/t dataset; not an impact-train file")
-    t = np.asarray(events["impacts"]["t"], dtype=float)
-    if "t_start" in attrs and "t_stop" in attrs:
-        a, b, source = float(attrs["t_start"]), float(attrs["t_stop"]), "attributes t_start/t_stop"
-    elif "transient" in attrs and "duration" in attrs:
-        a = float(attrs["transient"])
-        b, source = a + float(attrs["duration"]), "attributes transient/duration"
-    elif t.size:
-        a, b, source = float(t[0]), float(t[-1]), "first and last impact"
-    else:
-        raise ValueError(f"{path}: the file holds no impacts")
-    h = events.get("penetrations", {}).get("h")
-    omega = attrs.get("omega")
-    return ImpactTrain(t, a, b, penetrations=h, omega=omega,
-                       label=label or Path(path).stem, span_source=source)
 
 
 # ----------------------------------------------------------------------------- parts
@@ -539,47 +374,6 @@ def analyse_train(train: ImpactTrain, options: AnalysisOptions | None = None,
     return out
 
 
-# ------------------------------------------------------------------ spectrum (Fig. 6)
-
-def trajectory_spectrum(t, x, omega: float, n_peaks: int = 5, low_band: float = 0.9) -> dict:
-    """Amplitude spectrum of x(t) with its dominant line and low-frequency content (Fig. 6b).
-
-    Why: the paper reports one dominant peak at the forcing frequency and a dense set of
-    lower frequencies; this measures both (peak frequency and the share of the signal
-    power below ``low_band * omega``).
-
-    Parameters
-    ----------
-    t, x : array_like
-        Uniformly sampled time (s) and displacement (m).
-    omega : float
-        Forcing frequency (rad/s).
-    n_peaks : int
-        Strongest lines reported.
-    low_band : float
-        Upper edge of the low-frequency band as a fraction of omega.
-    """
-    t = as_event_times(t, "t", min_size=8)
-    dt = np.diff(t)
-    if not np.allclose(dt, dt[0], rtol=1e-6, atol=0):
-        raise ValueError("trajectory must be uniformly sampled")
-    spec = st.amplitude_spectrum(x, float(dt[0]))
-    peaks = st.find_peaks_spectrum(spec, n_peaks=n_peaks)
-    power = spec.amplitude**2
-    total = power[1:].sum()
-    low = power[1:][spec.omega[1:] < low_band * omega].sum()
-    return {
-        "spectrum": spec,
-        "peak_omega": peaks.omega,
-        "peak_amplitude": peaks.amplitude,
-        "dominant_omega": float(peaks.omega[0]),
-        "d_omega": spec.d_omega,
-        "dominant_to_next": float(peaks.amplitude[0] / peaks.amplitude[1]) if peaks.omega.size > 1 else None,
-        "low_band": low_band,
-        "low_power_fraction": float(low / total),
-    }
-
-
 # ------------------------------------------------------------------ summaries, tables
 
 def key_numbers(stats: dict) -> dict:
@@ -616,34 +410,6 @@ def key_numbers(stats: dict) -> dict:
 ENSEMBLE_PARTS = ("stationarity", "variability", "isi_density", "mixture", "acf", "penetrations")
 
 
-def ensemble_runs(scene: dict, solver: dict, ensemble: dict) -> dict:
-    """Re-runs of a scene that differ only in tolerance or x(0): name -> rtol, atol, x0.
-
-    Why: each is an independent realisation of the attractor (a chaotic trajectory
-    decorrelates within seconds), so together they measure the realisation spread.  atol
-    is scaled with rtol in the solver's ratio; names are unique and file-name safe.
-
-    Parameters
-    ----------
-    scene : dict
-        Scene config (uses ``x0``, default 0).
-    solver : dict
-        ``rtol`` and ``atol`` of the scene run.
-    ensemble : dict
-        ``rtol`` (list of tolerances) and ``x0`` (list of initial displacements, m).
-    """
-    ratio = solver["atol"] / solver["rtol"]
-    runs = {}
-    for rtol in ensemble.get("rtol", []):
-        runs[f"rtol{rtol:.0e}"] = {"rtol": rtol, "atol": rtol * ratio, "x0": scene.get("x0", 0.0)}
-    for x0 in ensemble.get("x0", []):
-        runs[f"x0{x0:+.1e}"] = {"rtol": solver["rtol"], "atol": solver["atol"], "x0": x0}
-    n = len(ensemble.get("rtol", [])) + len(ensemble.get("x0", []))
-    if len(runs) != n:
-        raise ValueError("ensemble tolerances or initial states repeat (after rounding to names)")
-    return runs
-
-
 def ensemble_members(paths, options: AnalysisOptions | None = None) -> dict:
     """Key numbers of each run file, keyed by file stem, with the run's rtol and x(0).
 
@@ -661,58 +427,6 @@ def ensemble_members(paths, options: AnalysisOptions | None = None) -> dict:
             raise ValueError(f"two ensemble runs share the name {name!r}")
         members[name] = k
     return members
-
-
-def ensemble_table(members: dict) -> list[dict]:
-    """One row per ensemble member for a CSV (lists joined by spaces)."""
-    rows = []
-    for name, k in members.items():
-        row = {"run": name}
-        for key, v in k.items():
-            row[key] = " ".join(str(x) for x in v) if isinstance(v, list) else v
-        rows.append(row)
-    return rows
-
-
-def ensemble_summary(members: dict) -> dict:
-    """Spread of key numbers over realisations of the same attractor.
-
-    Why: a chaotic train reproduces statistics, not exact counts; runs that differ only
-    in tolerance or initial state are independent realisations, and their spread is the
-    honest uncertainty of every number compared with the paper.
-
-    Parameters
-    ----------
-    members : dict of str -> dict
-        Member name -> :func:`key_numbers` output (at least 2 members).
-
-    Returns
-    -------
-    dict
-        ``members`` (as given), ``numeric`` (name -> mean, sd, min, max, n) for scalar
-        numbers (run settings ``rtol`` and ``x0`` excluded), ``window_counts`` (all windows pooled: mean, sd) and ``categorical``
-        (name -> value counts).
-    """
-    if len(members) < 2:
-        raise ValueError(f"an ensemble needs at least 2 members, got {len(members)}")
-    names = sorted({k for m in members.values() for k in m} - {"rtol", "x0"})
-    numeric, categorical = {}, {}
-    for k in names:
-        vals = [m.get(k) for m in members.values() if m.get(k) is not None]
-        if not vals or isinstance(vals[0], list):
-            continue
-        if isinstance(vals[0], str):
-            categorical[k] = dict(Counter(vals))
-        else:
-            a = np.asarray(vals, dtype=float)
-            numeric[k] = {"mean": float(a.mean()), "sd": float(a.std(ddof=1)) if a.size > 1 else 0.0,
-                          "min": float(a.min()), "max": float(a.max()), "n": int(a.size)}
-    out = {"members": members, "numeric": numeric, "categorical": categorical}
-    wc = [m["window_counts"] for m in members.values() if "window_counts" in m]
-    if wc:
-        w = np.asarray(wc, dtype=float).ravel()
-        out["window_counts"] = {"mean": float(w.mean()), "sd": float(w.std(ddof=1)), "n": int(w.size)}
-    return out
 
 
 def mixture_table(stats: dict) -> list[dict]:

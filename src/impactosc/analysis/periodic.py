@@ -3,7 +3,8 @@
 Why: the paper's numbers for the periodic attractor at w = 23.03 rad/s (impacts in 100 s,
 distinct inter-impact intervals of equal count and their sum; the values are in
 :data:`impactosc.paper.numbers.PERIODIC`) and its reading of the Fig. 4c spectrum (a
-secondary frequency w1 < w and the combinations k w +/- w1) are recomputed here from a run
+secondary frequency w1 < w and the combinations k w +/- w1, measured by
+:func:`impactosc.analysis.spectra.analyse_spectrum`) are recomputed here from a run
 file, together with what the model says about them (the sum of the intervals is a whole
 number of forcing periods; w1 is a rational fraction of w, i.e. a subharmonic, not a
 second incommensurate frequency). :func:`impactosc.paper.rows.periodic_rows` puts them
@@ -14,23 +15,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from fractions import Fraction
 
 import numpy as np
 
 from ..files import read_run
-from ..statistics import (
-    amplitude_spectrum,
-    distinct_levels,
-    estimate_secondary_frequency,
-    find_peaks_spectrum,
-    inter_impact_intervals,
-)
+from ..statistics import distinct_levels, inter_impact_intervals
 from .orbits import poincare_period
+from .spectra import SpectrumAnalysis, analyse_spectrum
 
 __all__ = [
-    "ImpactMapNumbers", "impact_map_numbers", "SpectrumAnalysis", "analyse_spectrum",
-    "branch_state", "run_summary",
+    "ImpactMapNumbers", "impact_map_numbers", "branch_state", "run_summary",
 ]
 
 
@@ -81,69 +75,6 @@ def impact_map_numbers(impact_times, omega: float, rel_tol: float = 1e-3) -> Imp
     q = lev.total / period
     return ImpactMapNumbers(int(t.size), tuple(map(float, lev.levels)), tuple(map(int, lev.counts)),
                             float(lev.total), period, float(q), max(round(q), 1) * period)
-
-
-@dataclass(frozen=True)
-class SpectrumAnalysis:
-    """Spectrum of x(t) with its lines, w1 and the paper's combination labels (Fig. 4c).
-
-    omega_axis, amplitude: the spectrum up to max_omega (rad/s, m); peaks_omega,
-    peaks_amplitude: the lines; omega1: the secondary frequency (NaN if none) and
-    ratio = omega1 / w with its nearest fraction p/q (q <= max_denominator); labels: label ->
-    (expected, found) rad/s; harmonics_only: every line is within tol of a multiple of w.
-    """
-
-    omega: float
-    omega_axis: np.ndarray
-    amplitude: np.ndarray
-    peaks_omega: np.ndarray
-    peaks_amplitude: np.ndarray
-    omega1: float
-    ratio: float
-    ratio_fraction: tuple
-    labels: dict
-    harmonics_only: bool
-    resolution: float
-
-    def to_dict(self) -> dict:
-        return {"omega": self.omega, "omega1": self.omega1, "omega1_over_omega": self.ratio,
-                "omega1_over_omega_fraction": list(self.ratio_fraction), "labels": self.labels,
-                "harmonics_only": self.harmonics_only, "resolution": self.resolution,
-                "peaks_omega": self.peaks_omega.tolist(), "peaks_amplitude": self.peaks_amplitude.tolist(),
-                "omega_axis": self.omega_axis.tolist(), "amplitude": self.amplitude.tolist()}
-
-
-def analyse_spectrum(x, dt: float, omega: float, max_omega: float = 80.0, prominence_db: float = 10.0,
-                     dynamic_range_db: float = 60.0, max_denominator: int = 12) -> SpectrumAnalysis:
-    """Lines of the spectrum of x(t) up to max_omega, w1 and the a, b, c, d, f combinations.
-
-    Why: Fig. 4c. The peak finder keeps lines within `dynamic_range_db` of the strongest
-    (60 dB keeps the labelled combinations and drops the Hann-window leakage floor); w1
-    is the strongest non-harmonic line below w confirmed by the combinations
-    (:func:`impactosc.statistics.estimate_secondary_frequency`). A line counts as a harmonic
-    when it is within 1.5 bins of k w.
-    """
-    sp = amplitude_spectrum(x, dt)
-    keep = sp.omega <= max_omega
-    peaks = find_peaks_spectrum(sp, prominence_db=prominence_db, dynamic_range_db=dynamic_range_db)
-    sel = peaks.omega <= max_omega
-    p_om, p_amp = peaks.omega[sel], peaks.amplitude[sel]
-    order = np.argsort(p_om)
-    p_om, p_amp = p_om[order], p_amp[order]
-    tol = 1.5 * sp.d_omega
-    k = np.rint(p_om / omega)
-    harmonics_only = bool(np.all((k >= 1) & (np.abs(p_om - k * omega) <= tol)))
-    omega1, ratio, frac, labels = math.nan, math.nan, (0, 0), {}
-    if not harmonics_only:
-        sec = estimate_secondary_frequency(peaks, omega, tol=tol)
-        omega1 = sec.omega1
-        ratio = omega1 / omega
-        f = Fraction(ratio).limit_denominator(max_denominator)
-        frac = (f.numerator, f.denominator)
-        labels = {lab.label: {"k": lab.k, "m": lab.m, "expected": lab.expected, "found": lab.found}
-                  for lab in sec.labels}
-    return SpectrumAnalysis(float(omega), sp.omega[keep], sp.amplitude[keep], p_om, p_amp, float(omega1),
-                            float(ratio), frac, labels, harmonics_only, float(sp.d_omega))
 
 
 def branch_state(sweep, omega: float, abs_tol: float = 1e-9) -> tuple[float, float]:

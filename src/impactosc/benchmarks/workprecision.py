@@ -28,7 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..analysis.chaotic import ImpactTrain, analyse_train, key_numbers
+from ..analysis.chaotic import analyse_train, key_numbers
+from ..analysis.impact_train import ImpactTrain
 from ..integration.model import ModelParams
 from ..integration.reference import solve_reference
 from ..integration.simulate import simulate, warm_up

@@ -18,7 +18,8 @@ import math
 
 import numpy as np
 
-from ..analysis.chaotic import ImpactTrain, analyse_train
+from ..analysis.chaotic import analyse_train
+from ..analysis.impact_train import ImpactTrain
 from ..integration.model import ModelParams
 from ..integration.simulate import Window, simulate
 from .extract import ExtractOptions, extract_events
