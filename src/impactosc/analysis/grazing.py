@@ -2,7 +2,7 @@
 
 Why a dedicated module: the paper places a grazing bifurcation "at about w = 23" (between
 23.05 and 23.03 rad/s on the branch followed with decreasing w) by eye. Here it is located
-from the model: follow the attractor in w (:func:`impactosc.sweep.continuation`), track the
+from the model: follow the attractor in w (:func:`impactosc.sweeps.continuation.continuation`), track the
 smallest free-flight gap ``xI - max x`` (near miss) and the impacts per forcing period, find
 the step of the branch where the near miss closing on zero is replaced by a contact
 (:func:`find_grazing_step`), and bisect that step from the branch's own state
@@ -200,7 +200,7 @@ def extrapolate_gap_zero(omegas, gaps, n_fit: int = 5) -> GapFit:
 
 
 def sweep_summary(result) -> dict:
-    """Per-w arrays of a :class:`impactosc.sweep.SweepResult` that grazing needs.
+    """Per-w arrays of a :class:`impactosc.sweeps.continuation.SweepResult` that grazing needs.
 
     impacts_per_period (impacts in the record / recorded periods), min_impact_v (m/s, NaN
     without impacts), min_gap (m), omega; arrays in sweep order.
@@ -319,7 +319,7 @@ def scan_from_rest(omegas, settings, transient: float, progress=None):
     Why: the paper's scenes (Figs 4, 5) are single runs from rest; with coexisting
     attractors they need not sit on the branch. Each w discards `transient` seconds rounded
     up to whole forcing periods, then records settings.n_record periods. Returns one
-    :class:`impactosc.sweep.SweepResult` over `omegas` (monotone).
+    :class:`impactosc.sweeps.continuation.SweepResult` over `omegas` (monotone).
     """
     if not (isinstance(transient, (int, float, np.floating)) and math.isfinite(transient) and transient >= 0):
         raise ValueError(f"transient must be a finite number >= 0 s, got {transient!r}")

@@ -32,7 +32,7 @@ OMEGA, TRANSIENT, DURATION, ERR_HORIZON = 40.86, 100.0, 400.0, 1.5
 
 def jit_times() -> dict:
     """Seconds to compile the core into an empty cache, and to load it from that cache."""
-    code = "import time; t=time.perf_counter(); from impactosc.simulate import warm_up; warm_up(); print(time.perf_counter()-t)"
+    code = "import time; t=time.perf_counter(); from impactosc.integration.simulate import warm_up; warm_up(); print(time.perf_counter()-t)"
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache)
         out = {}

@@ -100,7 +100,7 @@ def run_core(omega, t_end, x0, v0, params, rtol, atol) -> dict:
 
 
 def run_scipy(omega, t_end, x0, v0, params, method, rtol, atol, max_pieces=100_000) -> dict:
-    """The same events with SciPy ``solve_ivp``: :func:`impactosc.reference.solve_reference`
+    """The same events with SciPy ``solve_ivp``: :func:`impactosc.integration.reference.solve_reference`
     (split at contact onset, exit and the Hunt-Crossley cut; penetrations are v = 0 events in
     contact) with Poincare points from SciPy's dense output at t_i = 2 pi i / w.
     """
@@ -302,7 +302,7 @@ STAT_KEYS = ("n_impacts", "cv2_paper", "cv2", "isi_first_maximum", "isi_last_max
 
 
 def train_statistics(times, t_start, t_stop, omega, options=None) -> dict:
-    """The numbers the chaotic group reports (impactosc.chaotic): counts, C_V^2, maxima."""
+    """The numbers the chaotic group reports (impactosc.analysis.chaotic): counts, C_V^2, maxima."""
     train = ImpactTrain(times, t_start, t_stop, omega=omega)
     k = key_numbers(analyse_train(train, options, parts=("stationarity", "variability", "isi_density")))
     return {"n_impacts": k["n_impacts"], "window_counts": k["window_counts"], "cv2_paper": k["cv2_paper"],

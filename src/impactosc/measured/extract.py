@@ -2,7 +2,7 @@
 
 Why: the model's events are located exactly on the integrator's dense output; a measured
 record only has samples (1-5 kHz) with sensor noise.  This module turns a
-:class:`impactosc.records.Record` into the same event datasets as ``impactosc simulate``
+:class:`impactosc.measured.records.Record` into the same event datasets as ``impactosc simulate``
 (``impacts/t, v``; ``penetrations/t, h``; ``poincare/t, x, v`` when omega is known), so
 every downstream rule treats a record and a simulation alike.
 
@@ -222,7 +222,7 @@ def extract_events(record: Record, x_impact: float | None = None,
                    options: ExtractOptions | None = None) -> tuple[dict, dict]:
     """Events of a record in the run-file contract, and the attributes describing them.
 
-    Returns ``(events, attrs)`` for :func:`impactosc.io.write_run`.  attrs hold x_impact
+    Returns ``(events, attrs)`` for :func:`impactosc.files.write_run`.  attrs hold x_impact
     (and how it was obtained), the noise level, hysteresis, sample interval, the timing
     uncertainty (median and maximum of the per-impact sigma_t), t_start/t_stop (the
     record's span) and omega when known.

@@ -1,9 +1,9 @@
 """Measured displacement records: reading, validating and writing (CSV and HDF5).
 
 Why: the paper's experimental panels come from a rig whose data are not public.  A user's
-own record (or the clearly labelled surrogate of :mod:`impactosc.surrogate`) enters the
+own record (or the clearly labelled surrogate of :mod:`impactosc.measured.surrogate`) enters the
 workflow here, is checked, and then goes through exactly the event extraction
-(:mod:`impactosc.extract`) and statistics used for the model.
+(:mod:`impactosc.measured.extract`) and statistics used for the model.
 
 One record per file: uniformly sampled time (s) and displacement (m or mm, declared).
 

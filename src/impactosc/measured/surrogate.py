@@ -2,7 +2,7 @@
 
 Why: until a user supplies measured records, the paper's experimental panels are drawn
 from this stand-in, which goes through exactly the record path (CSV/HDF5 record ->
-:mod:`impactosc.extract` -> statistics).  It is always labelled
+:mod:`impactosc.measured.extract` -> statistics).  It is always labelled
 ``"surrogate (model + noise)"`` and carries its settings as metadata, never called
 experimental.
 
@@ -131,7 +131,7 @@ def _match(true_t, found_t):
 
 
 def _train_numbers(times, t0, t1, omega, analysis):
-    """Scalars of the noise study from :func:`impactosc.chaotic.analyse_train`."""
+    """Scalars of the noise study from :func:`impactosc.analysis.chaotic.analyse_train`."""
     a = analyse_train(ImpactTrain(times, t0, t1, omega=omega), analysis, ("variability", "isi_density", "acf"))
     d = a["isi_density"]
     g, dens, mx = np.asarray(d["kde_grid"]), np.asarray(d["kde_density"]), np.asarray(d["maxima"])

@@ -1,1 +1,2 @@
-"""The paper: every number it states, the rows that put ours beside them, and the table."""
+"""The paper: every number it states (numbers), the rows that put ours beside them (rows),
+and the table they make (table)."""
