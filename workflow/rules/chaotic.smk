@@ -6,7 +6,7 @@
 # file; restyling a figure reruns neither a simulation nor a statistic.
 import re
 
-from impactosc.analysis.chaotic import ensemble_runs
+from impactosc.analysis.ensemble import ensemble_runs
 
 CHAOTIC = config["chaotic"]
 CHAOTIC_CAPTIONS = "Chaotic regime (Figs 6-11)"
