@@ -15,7 +15,8 @@ import json
 import logging
 from pathlib import Path
 
-from impactosc.analysis.bifurcation import differing_windows, paper_rows, read_sweep
+from impactosc.analysis.bifurcation import differing_windows, read_sweep
+from impactosc.paper.rows import bifurcation_rows as paper_rows
 from impactosc.sweeps.continuation import load_sweep
 from impactosc.paper.table import write_rows
 

@@ -12,14 +12,10 @@ configure_logging(snakemake)  # noqa: F821
 import logging
 import time
 
-from impactosc.analysis.chaotic import (
-    AnalysisOptions,
-    ensemble_members,
-    ensemble_summary,
-    ensemble_table,
-    write_csv,
-    write_json,
-)
+from impactosc.analysis.chaotic import ensemble_members
+from impactosc.analysis.ensemble import ensemble_summary, ensemble_table
+from impactosc.analysis.impact_train import AnalysisOptions
+from impactosc.files import write_csv, write_json
 
 t0 = time.perf_counter()
 members = ensemble_members(snakemake.input.runs, AnalysisOptions.from_config(snakemake.params.analysis))  # noqa: F821

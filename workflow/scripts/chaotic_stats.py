@@ -11,8 +11,10 @@ configure_logging(snakemake)  # noqa: F821
 
 import logging
 
-from impactosc.analysis.chaotic import mixture_table, paper_rows, read_json, trajectory_spectrum, write_csv
-from impactosc.files import read_run
+from impactosc.analysis.chaotic import mixture_table
+from impactosc.analysis.spectra import trajectory_spectrum
+from impactosc.files import read_json, read_run, write_csv
+from impactosc.paper.rows import chaotic_rows as paper_rows
 from impactosc.paper.table import write_rows
 
 model = read_json(snakemake.input.model[0])  # noqa: F821

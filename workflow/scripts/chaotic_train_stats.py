@@ -11,7 +11,9 @@ configure_logging(snakemake)  # noqa: F821
 import logging
 import time
 
-from impactosc.analysis.chaotic import AnalysisOptions, analyse_train, load_train, write_json
+from impactosc.analysis.chaotic import analyse_train
+from impactosc.analysis.impact_train import AnalysisOptions, load_train
+from impactosc.files import write_json
 
 t0 = time.perf_counter()
 train = load_train(snakemake.input.events, label=snakemake.params.label)  # noqa: F821

@@ -12,7 +12,7 @@ configure_logging(snakemake)  # noqa: F821
 import logging
 
 from impactosc.analysis.grazing import grazing_summary_file
-from impactosc.analysis.periodic import write_json
+from impactosc.files import write_json
 
 write_json(snakemake.output.stats, grazing_summary_file(  # noqa: F821
     snakemake.input.branch, snakemake.input.bisection, snakemake.input.from_rest,  # noqa: F821

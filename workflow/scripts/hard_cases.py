@@ -12,7 +12,7 @@ configure_logging(snakemake)  # noqa: F821
 import logging
 
 from impactosc.benchmarks.hardcases import run_all
-from impactosc.benchmarks.tables import write_table
+from impactosc.files import write_table
 
 
 def main(hc, out):

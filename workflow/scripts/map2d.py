@@ -10,7 +10,7 @@ configure_logging(snakemake)  # noqa: F821
 
 import logging
 
-from impactosc.analysis.bifurcation import load_map, merge_maps, save_map
+from impactosc.sweeps.maps import load_map, merge_maps, save_map
 from impactosc.plotting import save_figure
 from impactosc.plotting.bifurcation import map2d_figure
 

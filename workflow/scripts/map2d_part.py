@@ -13,7 +13,8 @@ import time
 
 import numpy as np
 
-from impactosc.analysis.bifurcation import MapResult, classify_sweep, save_map
+from impactosc.analysis.bifurcation import classify_sweep
+from impactosc.sweeps.maps import MapResult, save_map
 from impactosc.analysis.grazing import regular_grid
 from impactosc.sweeps.continuation import SweepSettings, parameter_rows
 

@@ -10,7 +10,7 @@ configure_logging(snakemake)  # noqa: F821
 
 import logging
 
-from impactosc.analysis.chaotic import read_json
+from impactosc.files import read_json
 from impactosc.plotting import save_figure
 from impactosc.plotting.measured import noise_study_figure
 

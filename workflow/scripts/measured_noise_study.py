@@ -12,7 +12,8 @@ configure_logging(snakemake)  # noqa: F821
 import logging
 import time
 
-from impactosc.analysis.chaotic import AnalysisOptions, write_csv, write_json
+from impactosc.analysis.impact_train import AnalysisOptions
+from impactosc.files import write_csv, write_json
 from impactosc.integration.model import ModelParams
 from impactosc.measured.surrogate import noise_study
 

@@ -10,8 +10,8 @@ configure_logging(snakemake)  # noqa: F821
 
 import logging
 
-from impactosc.analysis.chaotic import read_json
-from impactosc.measured.surrogate import measured_rows
+from impactosc.files import read_json
+from impactosc.paper.rows import measured_rows
 from impactosc.paper.table import write_rows
 
 rows = measured_rows(read_json(snakemake.input.second[0]), read_json(snakemake.input.model[0]),  # noqa: F821

@@ -13,7 +13,7 @@ import logging
 
 from impactosc.analysis.grazing import branch_grid, locate_grazing
 from impactosc.integration.model import ModelParams
-from impactosc.analysis.periodic import write_json
+from impactosc.files import write_json
 from impactosc.sweeps.continuation import SweepSettings, continuation, save_sweep
 
 

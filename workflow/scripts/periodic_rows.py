@@ -12,7 +12,7 @@ configure_logging(snakemake)  # noqa: F821
 import json
 import logging
 
-from impactosc.analysis.periodic import table_rows
+from impactosc.paper.rows import periodic_rows as table_rows
 from impactosc.paper.table import write_rows
 
 with open(snakemake.input.stats) as f:  # noqa: F821

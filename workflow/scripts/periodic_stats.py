@@ -12,7 +12,8 @@ configure_logging(snakemake)  # noqa: F821
 
 import logging
 
-from impactosc.analysis.periodic import run_summary, write_json
+from impactosc.analysis.periodic import run_summary
+from impactosc.files import write_json
 
 opts = snakemake.params.spectrum  # noqa: F821
 spectrum_of = snakemake.params.get("spectrum_of")  # noqa: F821

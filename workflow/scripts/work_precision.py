@@ -13,7 +13,7 @@ configure_logging(snakemake)  # noqa: F821
 import json
 import logging
 
-from impactosc.benchmarks.tables import read_table, write_table
+from impactosc.files import read_table, write_table
 from impactosc.benchmarks.workprecision import headline, statistics_summary
 from impactosc.plotting import save_figure
 from impactosc.plotting.work_precision import plot_work_precision

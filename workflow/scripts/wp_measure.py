@@ -11,7 +11,7 @@ configure_logging(snakemake)  # noqa: F821
 
 import logging
 
-from impactosc.benchmarks.tables import write_table
+from impactosc.files import write_table
 from impactosc.benchmarks.workprecision import CORE, Case, sweep_case
 from impactosc.integration.model import ModelParams
 

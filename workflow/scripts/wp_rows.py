@@ -10,8 +10,8 @@ configure_logging(snakemake)  # noqa: F821
 
 import logging
 
-from impactosc.benchmarks.tables import read_table
-from impactosc.benchmarks.workprecision import paper_rows
+from impactosc.files import read_table
+from impactosc.paper.rows import numerics_rows as paper_rows
 from impactosc.paper.table import write_rows
 
 

@@ -11,9 +11,9 @@ configure_logging(snakemake)  # noqa: F821
 
 import logging
 
-from impactosc.benchmarks.tables import write_table
+from impactosc.files import write_table
 from impactosc.benchmarks.workprecision import statistics_convergence
-from impactosc.analysis.chaotic import AnalysisOptions
+from impactosc.analysis.impact_train import AnalysisOptions
 from impactosc.integration.model import ModelParams
 
 
