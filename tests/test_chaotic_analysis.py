@@ -14,7 +14,10 @@ import numpy as np
 import pytest
 
 from impactosc.analysis import chaotic as ch
-from impactosc.files import write_run
+from impactosc.analysis.ensemble import ensemble_runs, ensemble_summary, ensemble_table
+from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain, load_train
+from impactosc.analysis.spectra import trajectory_spectrum
+from impactosc.files import read_json, write_csv, write_json, write_run
 
 # Fast settings: fewer EM restarts, bootstrap replicates and surrogates than the workflow.
 FAST = dict(mixture_components=(1, 2), mixture_restarts=4, ks_bootstrap=199, acf_surrogates=100)
@@ -23,7 +26,7 @@ FAST = dict(mixture_components=(1, 2), mixture_restarts=4, ks_bootstrap=199, acf
 def _train(intervals, t0=100.0, **kw):
     """Train from intervals, observed from t0 to just after the last impact."""
     times = t0 + 0.01 + np.concatenate([[0.0], np.cumsum(intervals)])
-    return ch.ImpactTrain(times, t0, float(times[-1]) + 0.01, **kw)
+    return ImpactTrain(times, t0, float(times[-1]) + 0.01, **kw)
 
 
 @pytest.fixture(scope="module")
@@ -32,8 +35,8 @@ def poisson_stats():
     rng = np.random.default_rng(20240601)
     n = rng.poisson(7.0 * 400.0)
     times = np.sort(rng.uniform(100.0, 500.0, n))
-    train = ch.ImpactTrain(times, 100.0, 500.0, omega=40.86, label="poisson")
-    return ch.analyse_train(train, ch.AnalysisOptions(**FAST))
+    train = ImpactTrain(times, 100.0, 500.0, omega=40.86, label="poisson")
+    return ch.analyse_train(train, AnalysisOptions(**FAST))
 
 
 @pytest.fixture(scope="module")
@@ -53,7 +56,7 @@ def mixture_stats(mixture_sample):
     h = np.concatenate([rng.normal(60e-6, 6e-6, 600), rng.normal(120e-6, 8e-6, 800),
                         rng.normal(190e-6, 5e-6, 1601)])
     train = _train(s, penetrations=h, omega=40.86, label="mixture")
-    return ch.analyse_train(train, ch.AnalysisOptions(**FAST))
+    return ch.analyse_train(train, AnalysisOptions(**FAST))
 
 
 # --------------------------------------------------------------------------- Poisson
@@ -92,7 +95,7 @@ def test_poisson_no_periodicity_one_component(poisson_stats):
 def test_periodic_train():
     rng = np.random.default_rng(5)
     train = _train(0.1 + rng.normal(0.0, 1e-4, 3000), omega=40.86, label="periodic")
-    s = ch.analyse_train(train, ch.AnalysisOptions(**FAST),
+    s = ch.analyse_train(train, AnalysisOptions(**FAST),
                          parts=("stationarity", "variability", "poisson"))
     assert s["variability"]["cv2"] < 1e-5  # (1e-4 / 0.1)^2 = 1e-6
     # a periodic count in a window of w = (m + p) periods is m or m + 1 (fraction p of the
@@ -156,7 +159,7 @@ def test_period3_pattern_gives_one_third_peak():
     n = 1000
     pattern = np.tile([0.05, 0.2, 0.2], n)
     s = pattern + rng.normal(0.0, 0.03, pattern.size).clip(-0.04, 0.04)
-    stats = ch.analyse_train(_train(s), ch.AnalysisOptions(**FAST), parts=("isi_density", "acf"))
+    stats = ch.analyse_train(_train(s), AnalysisOptions(**FAST), parts=("isi_density", "acf"))
     acf = stats["acf"]
     assert acf["value"][0] == 1.0
     assert acf["peak_frequency"][0] == pytest.approx(1 / 3, abs=0.01)
@@ -176,29 +179,29 @@ def test_iid_train_has_no_significant_acf_peak(mixture_stats):
 def test_train_validation():
     t = np.arange(20.0)
     with pytest.raises(ValueError, match="outside the observation span"):
-        ch.ImpactTrain(t, 1.0, 30.0)
+        ImpactTrain(t, 1.0, 30.0)
     with pytest.raises(ValueError, match="t_start < t_stop"):
-        ch.ImpactTrain(t, 30.0, 0.0)
+        ImpactTrain(t, 30.0, 0.0)
     with pytest.raises(ValueError, match="strictly increasing"):
-        ch.ImpactTrain(t[::-1], 0.0, 30.0)
+        ImpactTrain(t[::-1], 0.0, 30.0)
     with pytest.raises(ValueError, match="too few"):
-        ch.ImpactTrain(t[:5], 0.0, 30.0)
+        ImpactTrain(t[:5], 0.0, 30.0)
     with pytest.raises(ValueError, match="penetrations must be >= 0"):
-        ch.ImpactTrain(t, 0.0, 30.0, penetrations=-np.ones(20))
+        ImpactTrain(t, 0.0, 30.0, penetrations=-np.ones(20))
     with pytest.raises(ValueError, match="omega"):
-        ch.ImpactTrain(t, 0.0, 30.0, omega=-1.0)
+        ImpactTrain(t, 0.0, 30.0, omega=-1.0)
 
 
 def test_options_validation():
     with pytest.raises(ValueError, match="unknown analysis option"):
-        ch.AnalysisOptions.from_config({"n_window": 5})
+        AnalysisOptions.from_config({"n_window": 5})
     with pytest.raises(ValueError, match="alpha"):
-        ch.AnalysisOptions(alpha=1.5)
+        AnalysisOptions(alpha=1.5)
     with pytest.raises(ValueError, match="n_windows"):
-        ch.AnalysisOptions(n_windows=1)
+        AnalysisOptions(n_windows=1)
     with pytest.raises(ValueError, match="mixture_families"):
-        ch.AnalysisOptions(mixture_families=("weibull",))
-    opts = ch.AnalysisOptions.from_config({"fano_windows": [1, 2], "mixture_components": [2]})
+        AnalysisOptions(mixture_families=("weibull",))
+    opts = AnalysisOptions.from_config({"fano_windows": [1, 2], "mixture_components": [2]})
     assert opts.fano_windows == (1, 2) and opts.mixture_components == (2,)
     with pytest.raises(ValueError, match="unknown part"):
         ch.analyse_train(_train(np.full(20, 0.1)), parts=("spectrum",))
@@ -207,7 +210,7 @@ def test_options_validation():
 def test_fano_windows_too_long_for_span():
     train = _train(np.random.default_rng(1).exponential(0.1, 50))
     with pytest.raises(ValueError, match="no Fano window fits"):
-        ch.analyse_train(train, ch.AnalysisOptions(fano_windows=(100.0,)), parts=("variability",))
+        ch.analyse_train(train, AnalysisOptions(fano_windows=(100.0,)), parts=("variability",))
 
 
 def test_config_analysis_section_matches_options():
@@ -218,7 +221,7 @@ def test_config_analysis_section_matches_options():
 
     root = Path(__file__).resolve().parents[1]
     cfg = load_config(root / "config/config.yaml", root / "workflow/schemas/config.schema.yaml")
-    opts = ch.AnalysisOptions.from_config(cfg["chaotic"]["analysis"])
+    opts = AnalysisOptions.from_config(cfg["chaotic"]["analysis"])
     assert opts.histogram_bins == 10 and opts.n_windows == 5  # the paper's choices
 
 
@@ -230,32 +233,32 @@ def test_load_train_span_sources(tmp_path):
     attrs = {"omega": 40.86, "transient": 100.0, "duration": 4.0}
     write_run(tmp_path / "sim.h5", {"impacts": {"t": t, "v": np.ones(30)},
                                     "penetrations": {"t": t, "h": h}}, attrs)
-    tr = ch.load_train(tmp_path / "sim.h5")
+    tr = load_train(tmp_path / "sim.h5")
     assert (tr.t_start, tr.t_stop, tr.label) == (100.0, 104.0, "sim")
     assert tr.omega == 40.86 and tr.penetrations.size == 30
     write_run(tmp_path / "meas.h5", {"impacts": {"t": t}}, {"t_start": 99.0, "t_stop": 105.0, **attrs})
-    tr = ch.load_train(tmp_path / "meas.h5", label="surrogate")
+    tr = load_train(tmp_path / "meas.h5", label="surrogate")
     assert (tr.t_start, tr.t_stop, tr.label) == (99.0, 105.0, "surrogate")
     assert tr.penetrations is None
     write_run(tmp_path / "bare.h5", {"impacts": {"t": t}}, {})
-    tr = ch.load_train(tmp_path / "bare.h5")
+    tr = load_train(tmp_path / "bare.h5")
     assert (tr.t_start, tr.t_stop) == (t[0], t[-1]) and tr.omega is None
     assert tr.span_source == "first and last impact"
     write_run(tmp_path / "none.h5", {"poincare": {"t": t}}, {})
     with pytest.raises(ValueError, match="no impacts/t"):
-        ch.load_train(tmp_path / "none.h5")
+        load_train(tmp_path / "none.h5")
 
 
 def test_json_roundtrip(tmp_path, poisson_stats):
-    path = ch.write_json(tmp_path / "s.json", {**poisson_stats, "bad": np.array([np.nan, 1.0])})
-    back = ch.read_json(path)
+    path = write_json(tmp_path / "s.json", {**poisson_stats, "bad": np.array([np.nan, 1.0])})
+    back = read_json(path)
     assert back["bad"] == [None, 1.0]
     assert back["train"]["n_impacts"] == poisson_stats["train"]["n_impacts"]
     assert back["stationarity"]["counts"] == poisson_stats["stationarity"]["counts"].tolist()
     json.dumps(back)  # plain JSON types only
     assert ch.key_numbers(back) == json.loads(json.dumps(ch.key_numbers(poisson_stats)))
     with pytest.raises(FileNotFoundError):
-        ch.read_json(tmp_path / "missing.json")
+        read_json(tmp_path / "missing.json")
 
 
 def test_ensemble_summary():
@@ -264,15 +267,15 @@ def test_ensemble_summary():
         "b": {"n_impacts": 14, "window_counts": [6, 8], "mixture_best": "gamma x2", "rtol": 1e-9},
         "c": {"n_impacts": 12, "window_counts": [7, 5], "mixture_best": "gamma x3", "rtol": 1e-9},
     }
-    s = ch.ensemble_summary(members)
+    s = ensemble_summary(members)
     assert s["numeric"]["n_impacts"] == {"mean": 12.0, "sd": 2.0, "min": 10.0, "max": 14.0, "n": 3}
     assert "rtol" not in s["numeric"]
     assert s["window_counts"]["mean"] == 6.0 and s["window_counts"]["n"] == 6
     assert s["categorical"]["mixture_best"] == {"gamma x2": 2, "gamma x3": 1}
-    rows = ch.ensemble_table(members)
+    rows = ensemble_table(members)
     assert rows[0]["window_counts"] == "5 5"
     with pytest.raises(ValueError, match="at least 2 members"):
-        ch.ensemble_summary({"a": members["a"]})
+        ensemble_summary({"a": members["a"]})
 
 
 def test_trajectory_spectrum_dominant_line():
@@ -282,22 +285,22 @@ def test_trajectory_spectrum_dominant_line():
     rng = np.random.default_rng(2)
     slow = np.convolve(rng.normal(size=t.size), np.ones(200) / 200, mode="same")  # < ~15 rad/s
     x = 1e-3 * np.sin(omega * t) + 2e-4 * slow
-    sp = ch.trajectory_spectrum(t, x, omega)
+    sp = trajectory_spectrum(t, x, omega)
     assert abs(sp["dominant_omega"] - omega) < sp["d_omega"]
     assert 0.0 < sp["low_power_fraction"] < 0.5
     with pytest.raises(ValueError, match="uniformly sampled"):
-        ch.trajectory_spectrum(np.r_[t[:10], t[11:20]], x[:19], omega)
+        trajectory_spectrum(np.r_[t[:10], t[11:20]], x[:19], omega)
 
 
 def test_csv_writer(tmp_path):
-    p = ch.write_csv(tmp_path / "x.csv", [{"a": 1.0 / 3, "b": None}, {"a": 2, "b": "z"}])
+    p = write_csv(tmp_path / "x.csv", [{"a": 1.0 / 3, "b": None}, {"a": 2, "b": "z"}])
     assert p.read_text() == "a,b\n0.333333,\n2,z\n"
     with pytest.raises(ValueError, match="no rows"):
-        ch.write_csv(tmp_path / "y.csv", [])
+        write_csv(tmp_path / "y.csv", [])
 
 
 def test_ensemble_runs_names_and_tolerances():
-    runs = ch.ensemble_runs({"x0": 0.0}, {"rtol": 1e-10, "atol": 1e-12},
+    runs = ensemble_runs({"x0": 0.0}, {"rtol": 1e-10, "atol": 1e-12},
                             {"rtol": [1e-8], "x0": [1e-4, -1e-3]})
     assert runs == {
         "rtol1e-08": {"rtol": 1e-8, "atol": pytest.approx(1e-10), "x0": 0.0},
@@ -305,4 +308,4 @@ def test_ensemble_runs_names_and_tolerances():
         "x0-1.0e-03": {"rtol": 1e-10, "atol": 1e-12, "x0": -1e-3},
     }
     with pytest.raises(ValueError, match="repeat"):
-        ch.ensemble_runs({}, {"rtol": 1e-10, "atol": 1e-12}, {"x0": [1e-4, 1.00001e-4]})
+        ensemble_runs({}, {"rtol": 1e-10, "atol": 1e-12}, {"x0": [1e-4, 1.00001e-4]})

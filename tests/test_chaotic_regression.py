@@ -21,15 +21,19 @@ import numpy as np
 import pytest
 
 from impactosc.analysis import chaotic as ch
-from impactosc.files import write_run
+from impactosc.analysis.ensemble import ensemble_summary
+from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain, load_train
+from impactosc.analysis.spectra import trajectory_spectrum
+from impactosc.files import read_json, write_json, write_run
 from impactosc.plotting import save_figure
 from impactosc.plotting.chaotic import make_figure
 from impactosc.integration.simulate import Window, simulate
+from impactosc.paper.rows import chaotic_rows
 from impactosc.paper.table import write_rows
 
 REF = json.loads((Path(__file__).parent / "data" / "chaotic_short_reference.json").read_text())
 SCENE = REF["scene"]
-OPTIONS = ch.AnalysisOptions.from_config(REF["options"])
+OPTIONS = AnalysisOptions.from_config(REF["options"])
 CONTINUOUS = ("n_impacts", "cv2_paper", "cv2", "isi_first_maximum", "isi_last_maximum",
               "acf_peak_frequency")
 
@@ -42,7 +46,7 @@ def _short_run(x0=0.0, window=None):
 
 
 def _stats(res, label):
-    train = ch.ImpactTrain(res.events["impacts"]["t"], SCENE["transient"],
+    train = ImpactTrain(res.events["impacts"]["t"], SCENE["transient"],
                            SCENE["transient"] + SCENE["duration"],
                            penetrations=res.events["penetrations"]["h"], omega=SCENE["omega"],
                            label=label)
@@ -83,10 +87,10 @@ def test_short_scene_conclusions(short_stats):
 
 def test_paper_rows_are_well_formed(short_stats, short_run, tmp_path):
     other = _stats(_short_run(x0=1e-3), "other")
-    ens = ch.ensemble_summary({"a": ch.key_numbers(short_stats), "b": ch.key_numbers(other)})
+    ens = ensemble_summary({"a": ch.key_numbers(short_stats), "b": ch.key_numbers(other)})
     traj = short_run.trajectory
-    spectrum = ch.trajectory_spectrum(traj["t"], traj["x"], SCENE["omega"])
-    rows = ch.paper_rows(ch.read_json(ch.write_json(tmp_path / "m.json", short_stats)), ens,
+    spectrum = trajectory_spectrum(traj["t"], traj["x"], SCENE["omega"])
+    rows = chaotic_rows(read_json(write_json(tmp_path / "m.json", short_stats)), ens,
                          spectrum, "cmd")
     write_rows(tmp_path / "rows.csv", rows)  # checks the columns
     assert all(r["section"].startswith("2.2") and r["agrees"] in ("yes", "no", "n.a.") for r in rows)
@@ -101,13 +105,13 @@ def test_paper_rows_are_well_formed(short_stats, short_run, tmp_path):
 def test_figures_build(short_stats, short_run, tmp_path):
     """Figs 6-11 render from a run file / statistics JSONs, with and without a second train."""
     run = write_run(tmp_path / "run.h5", short_run.events, short_run.attrs, short_run.trajectory)
-    model = ch.write_json(tmp_path / "model.json", short_stats)
+    model = write_json(tmp_path / "model.json", short_stats)
     # a second train as a measured record may come: no penetrations, no forcing frequency,
     # span from its first and last impact
     bare = write_run(tmp_path / "bare.h5", {"impacts": short_run.events["impacts"]}, {})
-    second_stats = ch.analyse_train(ch.load_train(bare, label="surrogate"), OPTIONS)
+    second_stats = ch.analyse_train(load_train(bare, label="surrogate"), OPTIONS)
     assert second_stats["penetrations"] is None and "forcing_period" not in second_stats["isi_density"]
-    second = ch.write_json(tmp_path / "second.json", second_stats)
+    second = write_json(tmp_path / "second.json", second_stats)
     for nn, kw in ((6, {"run": run, "portrait_span": 5.0}), (7, {"run": run}),
                    (8, {"stats": [model, second]}), (9, {"stats": [model]}),
                    (10, {"stats": [model, second]}), (11, {"stats": [model]})):
@@ -128,7 +132,7 @@ def test_figure_input_errors(short_stats, short_run, tmp_path):
     bare = write_run(tmp_path / "bare.h5", short_run.events, short_run.attrs)
     with pytest.raises(ValueError, match="no trajectory window"):
         make_figure(6, run=bare)
-    no_pen = ch.write_json(tmp_path / "np.json", dict(short_stats, penetrations=None))
+    no_pen = write_json(tmp_path / "np.json", dict(short_stats, penetrations=None))
     with pytest.raises(ValueError, match="no penetrations"):
         make_figure(11, stats=[no_pen])
 
@@ -139,16 +143,16 @@ def test_full_scene_against_paper(tmp_path):
     runs = [simulate(40.86, 100.0, 400.0, x0=x0, record=("impacts", "penetrations"),
                      window=Window(100.0, 500.0, 2e-3) if x0 == 0 else None)
             for x0 in (0.0, 5e-4, -5e-4, 1e-3)]
-    opts = ch.AnalysisOptions()
+    opts = AnalysisOptions()
     stats = []
     for i, r in enumerate(runs):
-        tr = ch.ImpactTrain(r.events["impacts"]["t"], 100.0, 500.0,
+        tr = ImpactTrain(r.events["impacts"]["t"], 100.0, 500.0,
                             penetrations=r.events["penetrations"]["h"], omega=40.86, label=f"r{i}")
         stats.append(ch.analyse_train(tr, opts))
-    ens = ch.ensemble_summary({s["train"]["label"]: ch.key_numbers(s) for s in stats})
-    spectrum = ch.trajectory_spectrum(runs[0].trajectory["t"], runs[0].trajectory["x"], 40.86)
-    model = ch.read_json(ch.write_json(tmp_path / "full.json", stats[0]))
-    rows = {r["quantity"]: r for r in ch.paper_rows(model, ens, spectrum, "slow test")}
+    ens = ensemble_summary({s["train"]["label"]: ch.key_numbers(s) for s in stats})
+    spectrum = trajectory_spectrum(runs[0].trajectory["t"], runs[0].trajectory["x"], 40.86)
+    model = read_json(write_json(tmp_path / "full.json", stats[0]))
+    rows = {r["quantity"]: r for r in chaotic_rows(model, ens, spectrum, "slow test")}
     for q, r in rows.items():
         if q.startswith(("impacts in", "Fig 10")):
             continue  # judged against a 12-run ensemble in the workflow; 4 runs are too few

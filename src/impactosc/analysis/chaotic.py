@@ -21,12 +21,11 @@ recomputing anything.  :func:`key_numbers` takes the scalars the ensemble and th
 use, :func:`ensemble_members` those of every re-run, :func:`mixture_table` the rows of
 the ISI mixture table.
 
-The rest of section 2.2 lives in its own modules and is imported here too, so that
-``from impactosc.analysis import chaotic as ch`` reaches the whole section: the spread over
+The rest of section 2.2 lives in its own modules, imported from there: the spread over
 realisations (:mod:`impactosc.analysis.ensemble`), the Fig 6b spectrum
-(:mod:`impactosc.analysis.spectra`), the rows of the paper table
-(:func:`impactosc.paper.rows.chaotic_rows`, here ``paper_rows``) and the statistics files
-(:mod:`impactosc.files`).
+(:func:`impactosc.analysis.spectra.trajectory_spectrum`), the rows of the paper table
+(:func:`impactosc.paper.rows.chaotic_rows`) and the statistics files
+(:func:`impactosc.files.write_json`, :func:`~impactosc.files.read_json`).
 """
 
 from __future__ import annotations
@@ -40,11 +39,8 @@ import numpy as np
 from scipy import stats as sps
 
 from .. import statistics as st
-from ..files import read_json, read_run, write_csv, write_json
-from ..paper.rows import chaotic_rows as paper_rows
-from .ensemble import ensemble_runs, ensemble_summary, ensemble_table
+from ..files import read_run
 from .impact_train import AnalysisOptions, ImpactTrain, load_train
-from .spectra import trajectory_spectrum
 
 __all__ = [
     "PARTS",
@@ -53,18 +49,6 @@ __all__ = [
     "key_numbers",
     "ensemble_members",
     "mixture_table",
-    # defined in their own modules (see above)
-    "AnalysisOptions",
-    "ImpactTrain",
-    "load_train",
-    "ensemble_runs",
-    "ensemble_summary",
-    "ensemble_table",
-    "trajectory_spectrum",
-    "paper_rows",
-    "write_json",
-    "read_json",
-    "write_csv",
 ]
 
 PARTS = ("stationarity", "variability", "poisson", "isi_density", "mixture", "acf", "penetrations")
@@ -332,7 +316,7 @@ def analyse_train(train: ImpactTrain, options: AnalysisOptions | None = None,
     -------
     dict
         Keys ``train``, ``options`` and one per computed part (see module docstring);
-        numpy arrays are converted to lists by :func:`write_json`.
+        numpy arrays are converted to lists by :func:`impactosc.files.write_json`.
     """
     o = options or AnalysisOptions()
     unknown = set(parts) - set(PARTS)

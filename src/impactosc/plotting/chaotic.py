@@ -2,7 +2,7 @@
 
 Figures 6 and 7 are drawn from the scene's run file (trajectory window, Poincare points,
 impact times); Figures 8-11 only from statistics JSON files of
-:func:`impactosc.chaotic.analyse_train`, so restyling reruns neither a simulation nor a
+:func:`impactosc.analysis.chaotic.analyse_train`, so restyling reruns neither a simulation nor a
 statistic.  Figures 8-10 take one train (the model) or two (model and a measured or
 surrogate record, the paper's experimental panels); the second row/panel is labelled with
 the train's own label, so a surrogate is never shown as an experiment.
@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..analysis import chaotic as ch
 from .. import statistics as st
-from ..files import read_run
+from ..analysis.spectra import trajectory_spectrum
+from ..files import read_json, read_run
 from .style import DOUBLE, SINGLE, apply_style, plt
 
 __all__ = ["fig06", "fig07", "fig08", "fig09", "fig10", "fig11", "make_figure"]
@@ -45,7 +45,7 @@ def fig06(trajectory: dict, omega: float, x_obstacle: float, portrait_span: floa
     fill the attractor's outline into a solid blob); the spectrum uses the whole window.
     """
     apply_style()
-    spectrum = spectrum or ch.trajectory_spectrum(trajectory["t"], trajectory["x"], omega)
+    spectrum = spectrum or trajectory_spectrum(trajectory["t"], trajectory["x"], omega)
     fig, (a, b) = plt.subplots(1, 2, figsize=(DOUBLE, 6.0 * CM))
     t = _a(trajectory["t"])
     seg = t <= t[0] + portrait_span
@@ -278,7 +278,7 @@ def make_figure(nn, run=None, stats=(), portrait_span: float | None = None):
         raise ValueError(f"figure {nn} is not in the chaotic group (6-11)")
     if not stats:
         raise ValueError(f"figure {nn} needs at least one statistics file")
-    trains = [ch.read_json(p) for p in stats]
+    trains = [read_json(p) for p in stats]
     if nn == 11:
         return fig11(trains[0])
     return {8: fig08, 9: fig09, 10: fig10}[nn](trains)
