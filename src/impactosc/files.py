@@ -150,7 +150,8 @@ def write_csv(path, rows: list[dict], columns=None, *, floats: str = ".6g", yes_
         be empty).
     floats : str
         Format spec of float cells (".6g": tables for reading; ".10g": measurements that
-        are read back and compared).
+        are read back and compared; "": the shortest form that reads back exactly, as
+        Python prints the float).
     yes_no : bool
         Write booleans as yes/no (else True/False).
     join_lists : bool

@@ -10,23 +10,17 @@ from _logging import configure_logging
 
 configure_logging(snakemake)  # noqa: F821
 
-import csv
-import json
 import logging
-from pathlib import Path
 
 from impactosc.analysis.bifurcation import differing_windows, read_sweep
+from impactosc.files import read_json, write_csv, write_json
 from impactosc.paper.rows import bifurcation_rows as paper_rows
 from impactosc.sweeps.continuation import load_sweep
 from impactosc.paper.table import write_rows
 
-
-def _write_csv(path, rows, columns):
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=columns, lineterminator="\n")
-        w.writeheader()
-        w.writerows(rows)
+# Float cells as Python prints them (shortest round-trip form), as these tables always were:
+# their w values are already rounded to 6 decimals by the reading, so no further rounding.
+FLOATS = ""
 
 
 def main(inp, params, out):
@@ -39,9 +33,9 @@ def main(inp, params, out):
                      len(readings[name].segments), len(readings[name].transitions), len(readings[name].grazings),
                      len(readings[name].failed_omegas))
     per_w = [{"sweep": n, **row} for n, rd in readings.items() for row in rd.table.rows()]
-    _write_csv(out.per_w, per_w, list(per_w[0]))
+    write_csv(out.per_w, per_w, list(per_w[0]), floats=FLOATS)
     segs = [{"sweep": n, **s.to_dict()} for n, rd in readings.items() for s in rd.segments]
-    _write_csv(out.segments, segs, list(segs[0]))
+    write_csv(out.segments, segs, list(segs[0]), floats=FLOATS)
     summaries = {n: rd.summary() for n, rd in readings.items()}
     trans = [{"sweep": n, **t} for n, s in summaries.items() for t in s["transitions"]]
     a, b = params.overlay
@@ -52,10 +46,10 @@ def main(inp, params, out):
                       "omega": round(0.5 * (lo + hi), 6), "width": round(hi - lo, 6), "is_grazing": False})
     columns = ["sweep", "kind", "omega", "width", "omega_before", "omega_after", "before", "after", "detail",
                "is_grazing", "grazing_omega_zero"]
-    _write_csv(out.transitions, [{k: t[k] for k in columns} for t in trans], columns)
+    write_csv(out.transitions, [{k: t[k] for k in columns} for t in trans], columns, floats=FLOATS)
     reference = None
     if inp.get("grazing"):
-        reference = json.loads(Path(inp.grazing).read_text())
+        reference = read_json(inp.grazing)
     rows = paper_rows(readings[params.fig03b], params.command, reference_grazing=reference)
     write_rows(out.rows, rows)
     ref = None
@@ -64,7 +58,7 @@ def main(inp, params, out):
                "omega_contact": reference["bracket"]["omega_contact"]}
     stats = {"sweeps": summaries, "directions_differ": {"sweeps": [a, b], "windows": windows},
              "reference_grazing": ref}
-    Path(out.stats).write_text(json.dumps(stats, indent=1))
+    write_json(out.stats, stats)
     logging.info("%d paper rows, %d hysteresis windows", len(rows), len(windows))
 
 
