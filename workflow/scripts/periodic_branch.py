@@ -34,7 +34,7 @@ def main(branch: dict, grazing: dict, model: dict, solver: dict, out_branch: str
     bracket = locate_grazing(result, settings, grazing["tol"])
     logging.info("grazing bracket [%.7f, %.7f] after %d trials", bracket.omega_contact, bracket.omega_miss,
                  len(bracket.trials))
-    write_json(out_bisection, bracket.to_dict())
+    write_json(out_bisection, bracket.to_dict(), final_newline=True)
 
 
 main(snakemake.params.branch, snakemake.params.grazing, snakemake.params.model, snakemake.params.solver,  # noqa: F821
