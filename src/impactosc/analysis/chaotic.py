@@ -414,7 +414,7 @@ def ensemble_members(paths, options: AnalysisOptions | None = None) -> dict:
 
 
 def mixture_table(stats: dict) -> list[dict]:
-    """One row per mixture fit (best BIC first), for results/tables/isi_mixture.csv."""
+    """One row per mixture fit (best BIC first), for results/tables/chaotic/isi_mixture.csv."""
     rows = []
     for f in stats["mixture"]["fits"]:
         fmt = lambda a, spec: " ".join(format(float(v), spec) for v in a)  # noqa: E731

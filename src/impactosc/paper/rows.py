@@ -7,7 +7,7 @@ results (statistics dicts as read back from JSON, or readings) and returns dicts
 columns of :data:`impactosc.paper.table.COLUMNS`; each row says what counts as agreement
 and why.
 
-periodic_rows      section 2.1, Fig 4 and the grazing w (results/stats/periodic.json, grazing.json)
+periodic_rows      section 2.1, Fig 4 and the grazing w (results/stats/periodic/periodic.json, grazing.json)
 bifurcation_rows   Fig 3b: reverse period doublings and the grazing on the decreasing sweep
 chaotic_rows       section 2.2, Figs 6-11, judged against an ensemble of realisations
 measured_rows      the experimental panels (Figs 8b, 9b, 10 lower) and the noise remark
@@ -35,8 +35,8 @@ __all__ = ["periodic_rows", "bifurcation_rows", "chaotic_rows", "measured_rows",
 def periodic_rows(stats: dict, grazing: dict) -> list[dict]:
     """Rows of the paper-vs-replication table for section 2.1, Fig 4 and the grazing w.
 
-    stats: results/stats/periodic.json merged with results/stats/before_grazing.json;
-    grazing: results/stats/grazing.json. Each row says
+    stats: results/stats/periodic/periodic.json merged with
+    results/stats/periodic/before_grazing.json; grazing: results/stats/periodic/grazing.json. Each row says
     what counts as agreement and why.
     """
     a = stats["after_grazing"]
@@ -46,9 +46,9 @@ def periodic_rows(stats: dict, grazing: dict) -> list[dict]:
     r = stats["before_grazing_from_rest"]
     br = grazing["bracket"]
     sec = "2.1 periodic regime"
-    cmd_p = "snakemake -j2 results/tables/rows/periodic.csv  (results/stats/periodic.json)"
-    cmd_g = "snakemake -j2 grazing  (results/stats/grazing.json)"
-    cmd_b = "snakemake -j2 results/stats/before_grazing.json"
+    cmd_p = "snakemake -j2 results/tables/periodic/paper_rows.csv  (results/stats/periodic/periodic.json)"
+    cmd_g = "snakemake -j2 grazing  (results/stats/periodic/grazing.json)"
+    cmd_b = "snakemake -j2 results/stats/periodic/before_grazing.json"
     q = round(im["periods_in_total"])
     lo, hi = sorted((br["omega_contact"], br["omega_miss"]))
     wg = grazing["omega_g"]
@@ -122,7 +122,7 @@ def bifurcation_rows(decreasing: SweepReading, command: str, start: float = BIFU
 
     The paper states: reverse period doublings "close to the starting w = 40.86" and extra
     ISI branches (grazing) "at about w = 23"; Fig 4 puts the grazing between 23.05 and 23.03.
-    reference_grazing: the grazing group's bisection (results/stats/grazing.json), if any.
+    reference_grazing: the grazing bisection of the periodic group (results/stats/periodic/grazing.json), if any.
     """
     rows = []
     pds = [t for t in decreasing.transitions if t.kind == "period doubling"]
@@ -288,7 +288,7 @@ def chaotic_rows(model: dict, ensemble: dict, spectrum: dict, command: str) -> l
             f"means {' '.join(f'{v:.3f}' for v in f2['means'])} s; dBIC(1 vs 2 components) = "
             f"{mix.get('delta_bic_2_vs_1', float('nan')):.0f}; BIC-best overall {mix['best']}"
             + _mode_share(ensemble, "mixture_best"),
-            "n.a. (beyond the paper); see results/tables/isi_mixture.csv", "n.a.", "2.2 Fig 9")
+            "n.a. (beyond the paper); see results/tables/chaotic/isi_mixture.csv", "n.a.", "2.2 Fig 9")
 
     pois = model["poisson"]
     row("non-Poissonian impact train", "non-Poissonian (from C_V^2 < 1)", pois["conclusion"],
@@ -395,7 +395,7 @@ def measured_rows(second: dict, model: dict, noise_rows: list[dict], *, is_surro
             + (f". Naive threshold crossing at {1e6 * worst['noise_m']:g} um: {worst['extra']} false impacts, "
                f"C_V^2 {worst['cv2_paper']:.4f} s" if worst else "")
             + ". Unimodal only once noise hides the shallow contacts (missed impacts); "
-            "results/tables/measured_noise_study.csv",
+            "results/tables/measured/measured_noise_study.csv",
             "tolerance": "n.a. (beyond the paper: measurement noise on x, not noise in the dynamics)",
             "agrees": "n.a."})
     for r in rows:
@@ -433,7 +433,7 @@ def numerics_rows(hard: list[dict], stats_summary: list[dict], head: list[dict],
          "paper": f"Mathematica MaxStepSize = {MAX_STEP_SIZE['periodic']} s (periodic), "
                   f"{MAX_STEP_SIZE['chaotic']} s (chaotic)",
          "replication": f"no cap (event-split adaptive core): {grazing}{chatter}; {n_fail} of {len(hard)} hard-case "
-                        "checks failed (results/tables/hard_cases.csv)",
+                        "checks failed (results/tables/work_precision/hard_cases.csv)",
          "tolerance": "no impact missed or invented against independent references", "agrees": "n.a.",
          "command": command},
         {"section": "2.2 (numerics)", "quantity": "tolerance at which the chaotic statistics converge",
@@ -442,6 +442,7 @@ def numerics_rows(hard: list[dict], stats_summary: list[dict], head: list[dict],
                          f"at every core rtol up to {loosest:g}"
                          + (f"; not at rtol {', '.join(f'{u:g}' for u in unconv)}" if unconv else "")
                          + (f". Speed at equal impact-time error, core vs fastest SciPy: {speed_txt}" if speed else "")),
-         "tolerance": "3 sd of the ensemble (results/tables/work_precision_statistics_summary.csv)", "agrees": "n.a.",
+         "tolerance": "3 sd of the ensemble (results/tables/work_precision/work_precision_statistics_summary.csv)",
+         "agrees": "n.a.",
          "command": command},
     ]
