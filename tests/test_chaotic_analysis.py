@@ -1,4 +1,4 @@
-"""Train-level analysis (impactosc.chaotic) on synthetic impact trains with known answers.
+"""Train-level analysis (impactosc.analysis.chaotic) on synthetic impact trains with known answers.
 
 Poisson train: C_V^2 = 1, Fano factor 1, exponential intervals, no ACF periodicity, one
 mixture component.  Periodic train: C_V^2 = 0, Fano << 1, KS rejects.  A known two-component

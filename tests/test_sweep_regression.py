@@ -3,7 +3,7 @@
 The reference (tests/data/bifurcation_reference.json) is written by
 tests/data/make_bifurcation_reference.py with :func:`cascade_reading` below, so test and
 reference compute the same thing. The sweep runs 40.86 -> 36.86 rad/s in steps of 0.1 with
-the workflow's reading (impactosc.branches); it crosses chaos, period 16 -> 8 -> 4 -> 2 -> 1.
+the workflow's reading (impactosc.analysis.bifurcation); it crosses chaos, period 16 -> 8 -> 4 -> 2 -> 1.
 Each tolerance says why it is what it is.
 """
 

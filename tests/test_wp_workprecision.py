@@ -72,7 +72,7 @@ def test_case_validation():
 
 
 def test_scipy_contestant_is_the_reference_algorithm_plus_sections():
-    """Same method and tolerances as impactosc.reference.solve_reference: the same impacts
+    """Same method and tolerances as impactosc.integration.reference.solve_reference: the same impacts
     and penetrations to rounding (t_eval does not change SciPy's steps), plus Poincare points
     that agree with the core's at tight tolerance."""
     p = ModelParams()

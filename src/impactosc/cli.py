@@ -11,7 +11,7 @@ from . import __version__
 
 EPILOG = """\
 Units: SI throughout (s, m, m/s, rad/s). Model parameters are model BC of the paper
-(m=8.735 kg, k=1418.9 N/m, xI=-2.086e-3 m, ...); see impactosc.model.ModelParams.
+(m=8.735 kg, k=1418.9 N/m, xI=-2.086e-3 m, ...); see impactosc.integration.model.ModelParams.
 Example (the chaotic scene of the paper, ~2875 impacts):
   impactosc simulate --omega 40.86 --transient 100 --duration 400 --output chaos.h5
 """
@@ -57,7 +57,7 @@ def build_parser() -> argparse.ArgumentParser:
     ext = sub.add_parser(
         "extract", help="extract impact events from a measured (or surrogate) displacement record",
         description="Read a record (CSV with a '# key: value' metadata block and a header, or HDF5 "
-        "record/t, record/x; see impactosc.records), validate it, and write the same event datasets as "
+        "record/t, record/x; see impactosc.measured.records), validate it, and write the same event datasets as "
         "'simulate' (impacts/t, impacts/v, penetrations/t, penetrations/h, poincare/* when omega is "
         "known) to an HDF5 file. Impacts are upward crossings of XI with hysteresis; their times are "
         "interpolated below the sample interval and their uncertainties stored in impacts/sigma_t.",

@@ -2,7 +2,7 @@
 
 Run from the repository root: .venv/bin/python tests/data/make_periodic_reference.py [--full]
 The short scenes are those of tests/test_periodic_regression.py (shared through
-impactosc.periodic / impactosc.grazing, so the test and this script compute the same thing);
+impactosc.analysis.periodic / impactosc.analysis.grazing, so the test and this script compute the same thing);
 --full also stores the full branch from w = 40.86 (about 40 s) for the slow test.
 """
 

@@ -1,7 +1,7 @@
 # Measured records through the model's pipeline: the experimental panels of Figs 2 (left),
 # 8b, 9b and 10 (lower), and a supplementary noise study.
 # Stages: record (the user's, or a surrogate = model sampled like the rig, with sensor noise
-# and a small parameter mismatch, always labelled so) -> event extraction (impactosc.extract,
+# and a small parameter mismatch, always labelled so) -> event extraction (impactosc.measured.extract,
 # same datasets as a simulation run) -> the chaotic group's statistics and figure rules
 # (via config chaotic.second_train) and the bifurcation group's Fig 2 (via config
 # bifurcation.fig02.experimental).  Targets: measured_noise_study, measured_rows.

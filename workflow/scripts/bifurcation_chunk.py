@@ -2,7 +2,7 @@
 
 Reads snakemake.params (grid, per-w settings, model, solver, stride, chunking) and, for a
 chunk after the first, snakemake.input.seeds (the coarse pass); writes snakemake.output[0]
-(sweep HDF5, impactosc.sweep format, with start/finish times for the benchmark) and a log.
+(sweep HDF5, impactosc.sweeps.continuation format, with start/finish times for the benchmark) and a log.
 """
 
 from _logging import configure_logging

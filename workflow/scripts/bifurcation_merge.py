@@ -2,7 +2,7 @@
 
 Reads snakemake.input.chunks (chunk sweep files, in order) and snakemake.input.coarse
 (the seeding pass, if the sweep was chunked; only its timing is kept); writes
-snakemake.output.sweep (impactosc.sweep format) whose attributes list every job's start,
+snakemake.output.sweep (impactosc.sweeps.continuation format) whose attributes list every job's start,
 finish and number of w values (for the benchmark) and a log.
 """
 

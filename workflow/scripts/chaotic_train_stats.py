@@ -1,7 +1,7 @@
 """Statistics of one impact train (model run or measured/surrogate record).
 
 Reads snakemake.input.events (HDF5 run-file contract) and the analysis options in
-snakemake.params.analysis; writes snakemake.output.json (impactosc.chaotic.analyse_train).
+snakemake.params.analysis; writes snakemake.output.json (impactosc.analysis.chaotic.analyse_train).
 """
 
 from _logging import configure_logging

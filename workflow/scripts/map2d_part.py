@@ -1,7 +1,7 @@
 """One job of the 2-D map: a group of rows (parameter values), each a continuation in w.
 
 Reads snakemake.params (map settings, per-w settings, model, solver, reading, part k of
-n); writes snakemake.output.part (map HDF5 of those rows, impactosc.branches format) and a log.
+n); writes snakemake.output.part (map HDF5 of those rows, impactosc.sweeps.maps format) and a log.
 """
 
 from _logging import configure_logging

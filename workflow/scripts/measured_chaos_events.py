@@ -1,8 +1,8 @@
 """Extract impact events from one record (measured or surrogate).
 
-Reads snakemake.input.record (impactosc.records format), x_impact and noise from
+Reads snakemake.input.record (impactosc.measured.records format), x_impact and noise from
 snakemake.params (None: metadata / estimated); writes snakemake.output.events in the
-run-file contract (impactosc.io) so the chaotic statistics treat it like a simulation.
+run-file contract (impactosc.files) so the chaotic statistics treat it like a simulation.
 """
 
 from _logging import configure_logging

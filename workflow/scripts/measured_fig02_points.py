@@ -1,6 +1,6 @@
 """Poincare points of a bifurcation experiment (one record per w) for the Fig 2 left panel.
 
-Reads snakemake.input.records (record set: HDF5 or CSV manifest, impactosc.records);
+Reads snakemake.input.records (record set: HDF5 or CSV manifest, impactosc.measured.records);
 writes snakemake.output.points, HDF5 with flat datasets omega (rad/s) and x (m).
 """
 

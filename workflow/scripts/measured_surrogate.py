@@ -2,7 +2,7 @@
 
 wildcards.kind 'chaos': one record of the chaotic regime (snakemake.params.surrogate.chaos);
 'sweep': a record set, one short record per w of an increasing sweep (.sweep).  Writes
-snakemake.output.record in the measured-record format (impactosc.records).
+snakemake.output.record in the measured-record format (impactosc.measured.records).
 """
 
 from _logging import configure_logging

@@ -1,7 +1,7 @@
 """Follow the attractor with decreasing w and bracket the grazing w by bisection.
 
 Reads snakemake.params (branch grid and lengths, grazing tolerance, model, solver); writes
-snakemake.output.branch (sweep HDF5, impactosc.sweep format, branch order) and
+snakemake.output.branch (sweep HDF5, impactosc.sweeps.continuation format, branch order) and
 snakemake.output.bisection (JSON: the bracket and every bisection trial), and a log.
 """
 

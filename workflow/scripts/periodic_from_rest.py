@@ -1,7 +1,7 @@
 """Run every w of a grid from rest (x = v = 0 at t = 0) around the grazing.
 
 Reads snakemake.params (from_rest grid and transient, branch record length, model,
-solver); writes snakemake.output.sweep (sweep HDF5, impactosc.sweep format) and a log.
+solver); writes snakemake.output.sweep (sweep HDF5, impactosc.sweeps.continuation format) and a log.
 """
 
 from _logging import configure_logging

@@ -2,7 +2,7 @@
 
 Reads snakemake.input.stats (results/stats/periodic/periodic.json), .before
 (results/stats/periodic/before_grazing.json) and .grazing
-(results/stats/periodic/grazing.json); writes snakemake.output.rows (CSV, impactosc.table format).
+(results/stats/periodic/grazing.json); writes snakemake.output.rows (CSV, impactosc.paper.table format).
 """
 
 from _logging import configure_logging

@@ -2,7 +2,7 @@
 
 Reads every snakemake.input (run files; the input names become the keys of the output) and
 snakemake.params.spectrum (peak-finder options); writes snakemake.output.stats (JSON of
-impactosc.periodic.run_summary per input) and, when params.spectrum_of names an input,
+impactosc.analysis.periodic.run_summary per input) and, when params.spectrum_of names an input,
 snakemake.output.spectrum (its spectrum of x with lines and labels, JSON; Fig 4c).
 """
 

@@ -1,7 +1,7 @@
 """Rows of the paper-vs-replication table from the hard cases and the work-precision run.
 
 Reads snakemake.input (hard_cases.csv, the statistics summary and the speed headline);
-writes snakemake.output.rows (impactosc.table.write_rows format).
+writes snakemake.output.rows (impactosc.paper.table.write_rows format).
 """
 
 from _logging import configure_logging

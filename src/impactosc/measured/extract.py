@@ -239,7 +239,7 @@ def extract_events(record: Record, x_impact: float | None = None,
     elif x_impact is None:
         x_impact, det = estimate_x_impact(record)
         how = (f"estimated from the curvature of {det['n_contacts']} contact turning points "
-               f"(of {det['n_maxima']}; impactosc.extract.estimate_x_impact)")
+               f"(of {det['n_maxima']}; impactosc.measured.extract.estimate_x_impact)")
     else:
         how = "given"
     x_impact = float(x_impact)

@@ -175,8 +175,8 @@ def fig03b_arguments(res, attrs, summary, zoom_near, zoom_half_width):
 def period_strip(ax, rows):
     """One horizontal band per sweep, coloured by the period read at each w.
 
-    rows: list of (label, omega, period) with period as in impactosc.branches (0 = non-
-    periodic, -1 = no result).
+    rows: list of (label, omega, period) with period as in impactosc.analysis.orbits
+    (NONPERIODIC = 0: non-periodic, FAILED = -1: no result).
     """
     cmap, norm, labels = _period_colors()
     for k, (label, w, p) in enumerate(rows):

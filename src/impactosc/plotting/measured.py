@@ -1,7 +1,7 @@
 """Supplementary figure of the measured-records group: sensor noise and sampling against
 the extracted impact train (timing error, C_V^2, ISI bimodality).
 
-Reads the rows of :func:`impactosc.surrogate.noise_study` (as stored in its JSON).
+Reads the rows of :func:`impactosc.measured.surrogate.noise_study` (as stored in its JSON).
 """
 
 from __future__ import annotations

@@ -92,7 +92,7 @@ def fig04_grazing_portraits(before: dict, after: dict, spectrum: dict, x_impact_
 
     before/after: dicts with omega, x, v (trajectory samples), inset (((x0, x1), (v0, v1)) in
     m and m/s), note (inset text). spectrum: the spectrum statistics (omega_axis,
-    amplitude, peaks, omega1, labels, ...) of :func:`impactosc.periodic.analyse_spectrum`.
+    amplitude, peaks, omega1, labels, ...) of :func:`impactosc.analysis.spectra.analyse_spectrum`.
     """
     apply_style()
     fig = plt.figure(figsize=(DOUBLE, 12.0 / 2.54))
@@ -178,7 +178,7 @@ def grazing_evidence(branch: dict, from_rest: dict, stats: dict, paper_omegas=(2
     of the bracket: gap of the misses with the fitted line, impact velocity of the contacts.
 
     branch/from_rest: dicts of per-w arrays (omega, min_gap m, impacts_per_period,
-    min_impact_v m/s) from :func:`impactosc.grazing.sweep_summary`; stats: the grazing
+    min_impact_v m/s) from :func:`impactosc.analysis.grazing.sweep_summary`; stats: the grazing
     statistics (bracket with trials, fit).
     """
     apply_style()
