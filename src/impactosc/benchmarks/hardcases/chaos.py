@@ -51,12 +51,14 @@ def regularisation_case(eps_values=(1e-7, 1e-8, 1e-9), kI_factor=100.0, ensemble
     exactly f^(-2/5) (0.158 for f = 100), the restitution is unchanged. The forces the
     contact scaling ignores (forcing, spring, friction; F_o) bound the deviation at first
     order: |ratio / f^(-2/5) - 1| <= F_o / F_peak. The chaotic statistics do change (the
-    contact time shrinks, the attractor moves): reported, not bounded.
+    contact time shrinks, the attractor moves): reported, not bounded. The work (RHS
+    evaluations) may not grow beyond 2 x kI's: the scaling leaves the steps per contact
+    unchanged. Wall times are reported in the row's detail, never bounded here.
     """
     base = ModelParams()
     rows = []
     ens = [_chaos_stats(base, omega, transient, duration, x0=x0)[0] for x0 in ensemble_x0]
-    ref, wall0, _ = _chaos_stats(base, omega, transient, duration)
+    ref, wall0, attrs0 = _chaos_stats(base, omega, transient, duration)
     spread = np.std([e["n_impacts"] for e in ens], ddof=1)
     log(f"eps 1e-6: {ref['n_impacts']} impacts, wall {wall0:.3f} s; ensemble of {len(ens)}: n std {spread:.1f}")
     for eps in eps_values:
@@ -85,7 +87,7 @@ def regularisation_case(eps_values=(1e-7, 1e-8, 1e-9), kI_factor=100.0, ensemble
         rows.append(row("regularisation", f"kI x {kI_factor:g}, impact at {V:g} m/s: |H ratio / {kI_factor:g}^(-2/5) - 1| "
                         "(bound: other forces / peak contact force)", dev, f_other / f_peak, "1",
                         detail=f"H = {h[0]:.4g} m -> {h[1]:.4g} m, ratio {h[1] / h[0]:.5f} (scaling {expected:.5f})"))
-    st, wall, _ = _chaos_stats(stiff, omega, transient, duration)
+    st, wall, attrs = _chaos_stats(stiff, omega, transient, duration)
     z, worst = _z(st, ens)
     log(f"kI x {kI_factor:g}: {st['n_impacts']} impacts, worst z {z:.1f} ({worst}), wall {wall:.3f} s")
     rows.append(row("regularisation", f"kI x {kI_factor:g}: chaotic statistics, worst |z| against the kI ensemble "
@@ -93,8 +95,20 @@ def regularisation_case(eps_values=(1e-7, 1e-8, 1e-9), kI_factor=100.0, ensemble
                     detail=f"{st['n_impacts']} impacts (kI: {ref['n_impacts']}), C_V^2 {st['cv2_paper']:.4f} s "
                     f"({ref['cv2_paper']:.4f}), ISI maxima {st['isi_first_maximum']:.4f}/{st['isi_last_maximum']:.4f} s "
                     f"({ref['isi_first_maximum']:.4f}/{ref['isi_last_maximum']:.4f}); worst: {worst}"))
-    rows.append(row("regularisation", f"kI x {kI_factor:g}: wall time of the 500 s chaotic scene over kI's", wall / wall0,
-                    2.0, "ratio", detail=f"{wall:.3f} s against {wall0:.3f} s"))
+    # Work, not wall time (a timed bound failed on a loaded machine; speed goals live in the
+    # benchmarks). Bound 2: the contact is self-similar under kI -> f kI (h -> f^(-2/5) h,
+    # t -> f^(-2/5) t, v unchanged), so an adaptive step needs as many steps per contact as
+    # before and the free flight is unchanged; the work moves only with the impact count of
+    # the moved attractor (0.93 x kI's for f = 100; realisations of one attractor differ by
+    # ~1 %). The contact and friction-band pieces take ~80 % of the steps, so a ratio above 2
+    # means the work per contact grew more than ~2.2-fold with the stiffness: the contact
+    # scaling is no longer resolved at constant cost.
+    rhs, rhs0 = attrs["n_rhs"], attrs0["n_rhs"]
+    rows.append(row("regularisation", f"kI x {kI_factor:g}: RHS evaluations of the 500 s chaotic scene over kI's "
+                    "(bound: same work per contact, scaling law)", rhs / rhs0, 2.0, "ratio",
+                    detail=f"{rhs} against {rhs0} RHS evaluations, {attrs['n_steps']} against {attrs0['n_steps']} "
+                    f"steps; wall {wall:.3f} s against {wall0:.3f} s (ratio {wall / wall0:.2f}, information only: "
+                    "timings are judged in the benchmarks)"))
     return rows
 
 
