@@ -44,7 +44,7 @@ def regularisation_case(eps_values=(1e-7, 1e-8, 1e-9), kI_factor=100.0, ensemble
     eps: at the chaotic scene the velocities are ~0.1 m/s and the cart only rarely sticks,
     so eps from 1e-6 down to 1e-9 m/s may not move the statistics (impact count, 5 window
     counts, C_V^2, ISI density maxima) beyond 3 std of an ensemble of eps = 1e-6
-    realisations; the cost may not grow (bound: 2 x the eps = 1e-6 run).
+    realisations; the work (RHS evaluations) may not grow (bound: 2 x the eps = 1e-6 run).
 
     kI x f: both contact terms carry h^1.5, so at a fixed impact velocity the contact alone
     is invariant under h -> f^(-2/5) h, t -> f^(-2/5) t: the deepest penetration scales by
@@ -71,8 +71,17 @@ def regularisation_case(eps_values=(1e-7, 1e-8, 1e-9), kI_factor=100.0, ensemble
                         detail=f"{st['n_impacts']} impacts, windows {st['window_counts']}, C_V^2 "
                         f"{st['cv2_paper']:.4f} s, maxima {st['isi_first_maximum']:.4f}/{st['isi_last_maximum']:.4f} s; "
                         f"worst: {worst}; {attrs['n_stick']} sticks"))
-        rows.append(row("regularisation", f"eps {eps:g}: wall time of the 500 s chaotic scene over eps = 1e-6's",
-                        wall / wall0, 2.0, "ratio", detail=f"{wall:.3f} s against {wall0:.3f} s"))
+        # Work, not wall time (as for kI below). Bound 2: the friction band is crossed in
+        # asinh(v/eps) and sticking is handed to the implicit phase, so the work should not
+        # depend on eps (measured 1.02-1.10 x eps = 1e-6's for eps = 1e-7..1e-9, realisations
+        # differ by ~1 %); explicit steps through a stick, where the friction law's stiffness
+        # is ~T/(m eps), would need steps per stick growing as 1/eps.
+        rhs = attrs["n_rhs"]
+        rows.append(row("regularisation", f"eps {eps:g}: RHS evaluations of the 500 s chaotic scene over eps = 1e-6's",
+                        rhs / attrs0["n_rhs"], 2.0, "ratio",
+                        detail=f"{rhs} against {attrs0['n_rhs']} RHS evaluations, {attrs['n_steps']} against "
+                        f"{attrs0['n_steps']} steps; wall {wall:.3f} s against {wall0:.3f} s (ratio {wall / wall0:.2f}, "
+                        "information only: timings are judged in the benchmarks)"))
     # stiffer contact: single impacts from the same approach
     stiff = dataclasses.replace(base, kI=base.kI * kI_factor)
     expected = kI_factor ** -0.4
