@@ -28,6 +28,7 @@ def _finite(text: str) -> float:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    from .integration.layout import DEFAULT_STEP_BUDGET
     from .integration.simulate import ALL_EVENTS, DEFAULT_ATOL, DEFAULT_RTOL
 
     parser = argparse.ArgumentParser(prog="impactosc", description="Forced impacting oscillator (model BC): "
@@ -53,6 +54,10 @@ def build_parser() -> argparse.ArgumentParser:
     sim.add_argument("--events", default=",".join(ALL_EVENTS),
                      help=f"comma-separated events to store (default: all of {','.join(ALL_EVENTS)})")
     sim.add_argument("--output", required=True, help="HDF5 file to write (written atomically)")
+    sim.add_argument("--step-budget", type=_finite, default=DEFAULT_STEP_BUDGET, metavar="N",
+                     help="watchdog: step attempts allowed per forcing period of progress; a run that spends "
+                     f"them without advancing one period stops with an error naming where (default {DEFAULT_STEP_BUDGET:g}, "
+                     "~10^4 times what the chaotic scene needs)")
     sim.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     ext = sub.add_parser(
         "extract", help="extract impact events from a measured (or surrogate) displacement record",
@@ -145,6 +150,8 @@ def _simulate(args) -> int:
     from .integration.simulate import _validate
 
     _validate(args.omega, args.transient, args.duration, args.x0, args.v0, args.rtol, args.atol, window)
+    if args.step_budget < 100:
+        raise ValueError(f"--step-budget must be >= 100 step attempts per forcing period, got {args.step_budget:g}")
     jit = warm_up()
     last = [time.perf_counter()]
 
@@ -155,7 +162,7 @@ def _simulate(args) -> int:
             last[0] = now
 
     res = simulate(args.omega, args.transient, args.duration, x0=args.x0, v0=args.v0, rtol=args.rtol,
-                   atol=args.atol, window=window, record=record, progress=progress)
+                   atol=args.atol, window=window, record=record, progress=progress, step_budget=args.step_budget)
     res.attrs["jit_and_load_time"] = jit
     write_run(args.output, res.events, res.attrs, res.trajectory)
     n_imp = len(res.events["impacts"]["t"]) if "impacts" in res.events else 0
@@ -177,6 +184,9 @@ def main(argv=None) -> int:
     except (ValueError, FileNotFoundError, OSError) as exc:
         print(f"impactosc {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except RuntimeError as exc:  # the core stopped (StallError: where and why), nothing written
+        print(f"impactosc {args.command}: error: {exc}; nothing written", file=sys.stderr)
+        return 3
     except KeyboardInterrupt:
         print(f"impactosc {args.command}: interrupted, nothing written", file=sys.stderr)
         return 130

@@ -14,13 +14,22 @@ asinh(v / eps) through the friction band of a free-flight reversal. The singular
 then an exact end of the piece, and steps are set by accuracy, not by the singularity.
 When v = 0 falls where the net force cannot overcome dry friction (sticking) or barely can
 (slow reversal), the piece is handed to the implicit Radau solver until |v| leaves the
-friction band again. Any transformed piece that would become invalid (a vanishing
-acceleration or velocity) falls back to plain time stepping, which is always correct.
+friction band again. So is any piece whose explicit steps are held by stability rather
+than accuracy (h |da/dv| > STIFF_ENTER): the creep inside the contact where the
+Hunt-Crossley damping ~ |v|^n3 balances the other forces (found by randomized testing,
+issue 16); it returns to explicit steps once h |da/dv| < STIFF_EXIT. Any transformed
+piece that would become invalid (a vanishing acceleration or velocity) falls back to plain
+time stepping, which is always correct.
 
 Steps in time land exactly on every Poincare time t_i = i * (2 pi / w) (one
 multiplication, no accumulated time); inside a transformed piece the section is located
 on the dense output of t(s). A run can be split into calls of at most ``max_steps`` steps
 that resume from the saved state (``st``) without changing a single step.
+
+Never hang: a watchdog counts step attempts; a run that spends ``st[S_BUDGET]`` of them
+without advancing one forcing period stops with ``st[S_STATUS] = STALLED`` (step-size
+underflows stop with their own status); ``simulate`` turns a status into an error that
+names the time, the piece, the state and the step size.
 
 Event rows written to ``ev`` are (kind, t, a, b):
     IMPACT (t, v at onset), PENETRATION (t, h = x - xI at v = 0), NEAR_MISS (t, gap = xI - x
@@ -37,10 +46,12 @@ from numba import njit
 from . import dop853, radau
 from .layout import (
     C_DENSE, C_DIP, C_FALLBACK, C_REJECT, C_RHS, C_SLOW_STEPS, C_SLOW_TRANSIT, C_STEPS, C_STICK, C_TRANSFORMED,
-    CONTACT, CUT, FREE, IMPACT, N_COUNT, N_STATE, NEAR_MISS, P_B, P_EPS, P_M, P_N3, P_T, P_XI, PENETRATION,
+    CONTACT, CUT, FREE, IMPACT, N_COUNT, N_STATE, NEAR_MISS, P_B, P_C, P_EPS, P_KI, P_M, P_N2, P_N3, P_T, P_XI,
+    PENETRATION,
     POINCARE, RECORD_IMPACTS, RECORD_NEAR_MISSES, RECORD_PENETRATIONS, RECORD_POINCARE, S_H, S_ISEC, S_MODE,
     S_NINV, S_PDIR, S_PHASE, S_PT, S_PX, S_S, S_SGN, S_SLOW, S_T, S_TAU, S_TREF, S_TSLOW, S_V, S_V1, S_VCUT,
-    S_WIN, S_X, SQRTH, TIME, UVEL, WVEL,
+    S_WIN, S_X, SQRTH, TIME, UVEL, WVEL, C_ATTEMPTS, C_STIFF, S_BUDGET, S_MARK_N, S_MARK_T, S_STATUS, STALLED,
+    UNDERFLOW_EXPLICIT, UNDERFLOW_IMPLICIT, SLOW_FRICTION, SLOW_STIFF, DEFAULT_STEP_BUDGET,
 )
 from .model import accel, stick_force
 
@@ -57,6 +68,9 @@ RESTITUTION_SWITCH = 0.2  # ... until |v| = 0.2 v_onset on the way out, then sqr
 # (sqrt(h) at v = 0, |v|^n3 at h = 0): stepping away from a singular point is cheap
 # (steps grow geometrically), approaching one is not, so each is used only where it moves
 # away from its own singularity: sqrt(h) just after onset and before exit, |v|^n3 between.
+STIFF_ENTER = 4.0  # h |da/dv| above this: explicit steps are held by stability, not accuracy ...
+STIFF_EXIT = 1.0  # ... and the implicit phase that takes over ends once h |da/dv| is below this
+# (DOP853 is stable to h |da/dv| ~ 6 on the negative real axis; the gap is a hysteresis.)
 MIN_S_STEP = 1e-7  # a transformed step below this fraction of its s-range means degeneration
 MAX_INVALID = 3  # consecutive invalid transformed steps before falling back to time stepping
 
@@ -159,14 +173,69 @@ def _goes_implicit(p, phase, t, x):
 
 
 @njit(cache=True)
-def _enter_slow(p, st, cnt, t, x, v, direction):
+def _damping_rate(p, phase, x, v):
+    """-da/dv: viscous + friction slope + Hunt-Crossley slope (inf at v = 0 in contact).
+
+    Unlike model.jacobian (which caps |v| to keep Newton finite) this is the true slope:
+    at a creep of 1e-18 m/s the cap would hide a factor 1e5 of stiffness.
+    """
+    eps = p[P_EPS]
+    s2 = v * v + eps * eps
+    rate = p[P_C] + p[P_T] * eps * eps / (s2 * math.sqrt(s2))
+    h = x - p[P_XI]
+    if phase == CONTACT and h > 0.0 and p[P_B] > 0.0 and 0.0 < p[P_N3] < 1.0:
+        av = abs(v)
+        if av == 0.0:
+            return math.inf
+        rate += p[P_KI] * p[P_B] * h ** p[P_N2] * p[P_N3] * av ** (p[P_N3] - 1.0)
+    return rate / p[P_M]
+
+
+@njit(cache=True)
+def _stiff(p, phase, x, v, h):
+    """True when a step of size h is held by stability: h |da/dv| beyond STIFF_ENTER.
+
+    The Hunt-Crossley damping ~ |v|^n3 (n3 << 1) acts inside the contact like a very stiff
+    dry friction: where the elastic and external forces nearly balance, the cart creeps at
+    a tiny velocity and da/dv ~ |v|^(n3 - 1) grows without bound, so an explicit method is
+    pinned to steps ~ 6 / |da/dv| (1e-9 s and shrinking: the stall of issue 16).
+    """
+    return _damping_rate(p, phase, x, v) * h > STIFF_ENTER
+
+
+@njit(cache=True)
+def _creeps(p, phase, t, x, h):
+    """At v = 0 in contact: will the motion that follows be a stiff creep?
+
+    With net force f (damping aside), v grows until the Hunt-Crossley damping balances f,
+    at the creep velocity v_c = (|f| / (kI b h^n2))^(1/n3), where -da/dv = n3 |f| / (m v_c).
+    Stiff (hand it to the implicit solver) when that rate times the step h exceeds STIFF_ENTER.
+    """
+    if phase != CONTACT or p[P_B] <= 0.0 or not (0.0 < p[P_N3] < 1.0):
+        return False
+    depth = x - p[P_XI]
+    if depth <= 0.0:
+        return False
+    f = abs(stick_force(p, phase, t, x))
+    if f == 0.0:
+        return True
+    scale = p[P_KI] * p[P_B] * depth ** p[P_N2]
+    vc = (f / scale) ** (1.0 / p[P_N3])
+    if vc == 0.0:
+        return True
+    return p[P_N3] * f / (p[P_M] * vc) * h > STIFF_ENTER
+
+
+@njit(cache=True)
+def _enter_slow(p, st, cnt, t, x, v, direction, why=SLOW_FRICTION):
     """Start the implicit phase; `direction` is the sign v had before it reached the band."""
-    fs = stick_force(p, int(st[S_PHASE]), t, x)
-    if abs(fs) < p[P_T]:
+    if why == SLOW_STIFF:
+        cnt[C_STIFF] += 1
+    elif abs(stick_force(p, int(st[S_PHASE]), t, x)) < p[P_T]:
         cnt[C_STICK] += 1
     else:
         cnt[C_SLOW_TRANSIT] += 1
-    st[S_SLOW] = 1.0
+    st[S_SLOW] = float(why)
     st[S_MODE] = TIME
     st[S_PDIR] = direction
     st[S_PT] = t
@@ -286,11 +355,21 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
         if tref + t >= t_end or steps >= max_steps:
             break
         steps += 1
+        cnt[C_ATTEMPTS] += 1
+        if cnt[C_ATTEMPTS] - st[S_MARK_N] >= st[S_BUDGET]:  # watchdog: a period per budget
+            if tref + t - st[S_MARK_T] < period:
+                st[S_STATUS] = STALLED
+                break
+            st[S_MARK_N] = cnt[C_ATTEMPTS]
+            st[S_MARK_T] = tref + t
         t_target = min(t_end, t_sec)
         if st[S_SLOW] != 0.0:
             # ---------------- implicit phase: sticking or slow reversal ----------------
-            if h <= 0.0:
-                h = 0.1 * p[P_M] * eps / p[P_T]
+            if h <= 0.0:  # first step: the friction time scale, or (stiff creep) the held step
+                if st[S_SLOW] == SLOW_FRICTION and p[P_T] > 0.0:
+                    h = 0.1 * p[P_M] * eps / p[P_T]
+                else:
+                    h = -h if h < 0.0 else 1e-6 * period
             clamped = h >= t_target - t
             hs = t_target - t if clamped else h
             ok, x1, v1, err = radau.doubled_step(p, phase, t, x, v, hs, rtol, atol, work, cnt)
@@ -300,7 +379,8 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                 fac = 0.25 if not ok else max(0.2, 0.9 * err ** (-1.0 / 6.0))
                 h = hs * fac
                 if h < 1e-14 * max(1.0, abs(t)):
-                    raise RuntimeError("implicit step size underflow in the sticking phase")
+                    st[S_STATUS] = UNDERFLOW_IMPLICIT
+                    break
                 continue
             fac = 5.0 if err == 0.0 else min(5.0, 0.9 * err ** (-1.0 / 6.0))
             h_next = hs * fac if not clamped else max(h, hs * fac)
@@ -349,7 +429,11 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
             st[S_TSLOW] += t1 - t
             t, x, v = t1, x1, v1
             h = h_next
-            if abs(v) > vband:
+            if st[S_SLOW] == SLOW_STIFF:
+                leave = _damping_rate(p, phase, x, v) * h < STIFF_EXIT
+            else:
+                leave = abs(v) > vband
+            if leave:
                 if _sign(v) == -st[S_PDIR]:
                     ev, n_ev = _record_extremum(p, ev, n_ev, flags, t_record, phase, st[S_PT], st[S_PX], st[S_PDIR])
                 st[S_SLOW] = 0.0
@@ -512,6 +596,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
             else:
                 d0t, d0x, d0v = dop853.deriv(p, mode, phase, sgn, q, s1, tref, t1, x1, v1)
                 cnt[C_RHS] += 1
+            dt_step = t1 - t  # the time the accepted step covered
             t, x, v, s = t1, x1, v1, s1
             h = h_next
             new_mode = mode
@@ -527,6 +612,9 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                     st[S_PHASE] = phase
                     if _goes_implicit(p, phase, ta, x):
                         _enter_slow(p, st, cnt, ta, x, v, 1.0)
+                        new_mode = TIME
+                    elif _creeps(p, phase, ta, x, dt_step):
+                        _enter_slow(p, st, cnt, ta, x, v, 1.0, SLOW_STIFF)
                         new_mode = TIME
                     else:
                         ev, n_ev = _record_extremum(p, ev, n_ev, flags, t_record, phase, ta, x, 1.0)
@@ -604,7 +692,8 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
             cnt[C_REJECT] += 1
             h = hs * dop853.new_step_factor(err, False)
             if h < 4e-16 * max(1.0, abs(t)):
-                raise RuntimeError("explicit step size underflow")
+                st[S_STATUS] = UNDERFLOW_EXPLICIT
+                break
             continue
         cnt[C_STEPS] += 1
         fac = dop853.new_step_factor(err, False)
@@ -700,6 +789,8 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
                 st[S_PHASE] = phase
                 if _goes_implicit(p, phase, te, xe):
                     _enter_slow(p, st, cnt, te, xe, ve, sgn0)
+                elif _creeps(p, phase, te, xe, hs):
+                    _enter_slow(p, st, cnt, te, xe, ve, sgn0, SLOW_STIFF)
                 else:
                     ev, n_ev = _record_extremum(p, ev, n_ev, flags, t_record, phase, te, xe, sgn0)
             t, x, v = te, xe, ve
@@ -740,6 +831,9 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
         if abs(v) < vband and _goes_implicit(p, phase, t, x):
             _enter_slow(p, st, cnt, t, x, v, _sign(v))
             h = 0.0
+        elif (phase == CONTACT or abs(v) < vband) and _stiff(p, phase, x, v, hs):
+            _enter_slow(p, st, cnt, t, x, v, _sign(v), SLOW_STIFF)
+            h = hs  # the implicit solver starts from the step that stability held
         elif phase == FREE and p[P_T] > 0.0 and v * d0v < 0.0 and abs(v) < U_BAND * eps:
             # heading into the friction band of a reversal: continue in s = sgn asinh(v/eps)
             # (without dry friction there is no band, and time stepping is smooth through v = 0)
@@ -769,10 +863,16 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
     return ev, n_ev
 
 
-def initial_state(p, t0, x0, v0, period, vcut):
-    """Resumable state vector for a run that starts at (t0, x0, v0)."""
+def initial_state(p, t0, x0, v0, period, vcut, step_budget=DEFAULT_STEP_BUDGET):
+    """Resumable state vector for a run that starts at (t0, x0, v0).
+
+    `step_budget`: step attempts allowed per forcing period of simulated time; a run that
+    spends them without advancing a period stops with status STALLED (the watchdog).
+    """
     st = np.zeros(N_STATE)
     st[S_T], st[S_X], st[S_V] = t0, x0, v0
+    st[S_BUDGET] = float(step_budget)
+    st[S_MARK_T] = t0
     st[S_VCUT] = vcut
     st[S_PHASE] = _phase_of(p, x0, v0, vcut)
     # next Poincare index strictly after t0 (t0 itself is the initial condition)

@@ -17,12 +17,14 @@ N_PARAMS = 13
 
 # --- which smooth vector field is active on a piece -------------------------------------
 FREE, CONTACT, CUT = 0, 1, 2  # free flight; contact; contact past the Hunt-Crossley cut (F_I = 0)
+PHASE_NAMES = ("free flight", "contact", "contact past the Hunt-Crossley cut")
 
 # --- independent variable of a piece (dop853.deriv) -------------------------------------
 TIME = 0  # s = t
 SQRTH = 1  # s = sgn * sqrt(x - xI): contact onset (sgn +1) or exit (sgn -1); h^n1 smooth in s
 WVEL = 2  # s = -sgn * |v|^n3: contact around v = 0, where |v|^n3 is smooth in s
 UVEL = 3  # s = sgn * asinh(v / eps): free flight through the friction band
+MODE_NAMES = ("t", "sqrt(x - xI)", "|v|^n3", "asinh(v/eps)")
 
 # --- resumable state vector st ----------------------------------------------------------
 (
@@ -46,8 +48,23 @@ UVEL = 3  # s = sgn * asinh(v / eps): free flight through the friction band
     S_TREF,  # start time of a transformed piece (its t is measured from here)
     S_NINV,  # consecutive invalid transformed steps
     S_TAU,  # time since S_TREF inside a transformed piece
-) = range(20)
-N_STATE = 20
+    S_BUDGET,  # watchdog: step attempts allowed per forcing period of simulated time
+    S_MARK_N,  # watchdog: attempt count at the last progress mark
+    S_MARK_T,  # watchdog: absolute time at the last progress mark
+    S_STATUS,  # RUNNING, or why the core stopped before t_end (STALLED, UNDERFLOW_*)
+) = range(24)
+N_STATE = 24
+
+# --- S_SLOW: why the implicit phase runs ----------------------------------------------------
+EXPLICIT, SLOW_FRICTION, SLOW_STIFF = 0, 1, 2  # not implicit; friction band (stick / slow reversal); stiff creep
+
+# --- S_STATUS ------------------------------------------------------------------------------
+RUNNING = 0  # nothing wrong (a run that returns RUNNING at t < t_end just used up max_steps)
+STALLED = 1  # the watchdog's budget of step attempts was spent without a forcing period of progress
+UNDERFLOW_EXPLICIT = 2  # explicit step size below the resolution of t
+UNDERFLOW_IMPLICIT = 3  # implicit step size below the resolution of t
+STATUS_NAMES = ("running", "stalled", "explicit step size underflow", "implicit step size underflow")
+DEFAULT_STEP_BUDGET = 1_000_000  # attempts per forcing period: the chaotic scene needs ~130
 
 # --- counters cnt ------------------------------------------------------------------------
 (
@@ -62,8 +79,10 @@ N_STATE = 20
     C_DIP,  # dense-output checks for v touching zero inside a step
     C_TRANSFORMED,  # accepted steps in a transformed variable
     C_FALLBACK,  # transformed pieces that fell back to time stepping
-) = range(11)
-N_COUNT = 11
+    C_ATTEMPTS,  # step attempts of every kind (what the watchdog counts)
+    C_STIFF,  # implicit phases entered because explicit steps were stability-limited
+) = range(13)
+N_COUNT = 13
 
 # --- event kinds (column 0 of ev) and the bit that asks for each --------------------------
 IMPACT, PENETRATION, NEAR_MISS, POINCARE = 0, 1, 2, 3

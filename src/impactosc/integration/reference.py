@@ -17,6 +17,10 @@ from scipy.integrate import solve_ivp
 from .model import ModelParams
 
 
+class ReferenceBudgetExceeded(RuntimeError):
+    """The reference spent more right-hand-side evaluations than it was allowed."""
+
+
 def _forces(p: ModelParams, omega: float):
     def external(t, x, v):
         fr = p.T * v / math.sqrt(v * v + p.eps * p.eps)
@@ -33,21 +37,33 @@ def _forces(p: ModelParams, omega: float):
 
 
 def solve_reference(omega, t_end, *, x0=0.0, v0=0.0, params=None, method="DOP853",
-                    rtol=1e-13, atol=1e-15, max_pieces=1_000_000, poincare=False):
+                    rtol=1e-13, atol=1e-15, max_pieces=1_000_000, poincare=False, max_nfev=None):
     """Impact onsets (t, v) and penetrations (t, h) of model BC on [0, t_end] with SciPy.
 
     Returns a dict with arrays impacts_t, impacts_v, penetrations_t, penetrations_h and the
     counters nfev, n_pieces, wall_time. With ``poincare`` also poincare_t|x|v: SciPy's dense
     output at t_i = 2 pi i / w (``t_eval``, which does not change SciPy's steps).
+    With ``max_nfev`` the run raises :class:`ReferenceBudgetExceeded` after that many
+    right-hand-side evaluations (an explicit method pinned by a stiff creep never ends).
     """
     p = params or ModelParams()
     external, contact = _forces(p, omega)
     vcut = p.cut_velocity
 
+    calls = [0]
+    limit = math.inf if max_nfev is None else max_nfev
+
+    def counted(t):
+        calls[0] += 1
+        if calls[0] > limit:
+            raise ReferenceBudgetExceeded(f"SciPy {method}: more than {max_nfev} evaluations, stuck at t = {t:.12g} s")
+
     def rhs_free(t, y):
+        counted(t)
         return [y[1], external(t, y[0], y[1]) / p.m]
 
     def rhs_contact(t, y):
+        counted(t)
         return [y[1], (external(t, y[0], y[1]) - contact(y[0], y[1])) / p.m]
 
     def ev_onset(t, y):

@@ -17,7 +17,9 @@ import numpy as np
 from . import core
 from .layout import (
     C_DENSE, C_DIP, C_FALLBACK, C_NEWTON, C_REJECT, C_RHS, C_SLOW_STEPS, C_SLOW_TRANSIT, C_STEPS, C_STICK,
-    C_TRANSFORMED, EVENT_NAMES, IMPACT, N_COUNT, S_T, S_TSLOW, record_flags,
+    C_TRANSFORMED, EVENT_NAMES, IMPACT, N_COUNT, S_T, S_TSLOW, record_flags, C_ATTEMPTS, C_STIFF,
+    DEFAULT_STEP_BUDGET, MODE_NAMES, PHASE_NAMES, RUNNING, S_H, S_MODE, S_PHASE, S_SLOW, S_STATUS, S_V, S_X,
+    SLOW_FRICTION, SLOW_STIFF, STALLED, STATUS_NAMES,
 )
 from .model import ModelParams
 
@@ -25,6 +27,38 @@ ALL_EVENTS = EVENT_NAMES
 DEFAULT_RTOL = 1e-10
 DEFAULT_ATOL = 1e-12
 SOLVER_NAME = "DOP853 (explicit, dense output) + Radau IIA-5 (sticking phases), event-split"
+
+
+class StallError(RuntimeError):
+    """The core stopped before the end of the run (watchdog or step-size underflow).
+
+    The message names where: time, piece (vector field, variable, implicit or not), state
+    and step size; ``state`` holds the same as a dict for programs.
+    """
+
+    def __init__(self, message: str, state: dict):
+        super().__init__(message)
+        self.state = state
+
+
+def _stall_error(st, cnt, t_end: float, budget: float) -> StallError:
+    status = int(st[S_STATUS])
+    slow = int(st[S_SLOW])
+    piece = PHASE_NAMES[int(st[S_PHASE])]
+    if slow == SLOW_FRICTION:
+        piece += ", implicit (friction band)"
+    elif slow == SLOW_STIFF:
+        piece += ", implicit (stiff creep)"
+    else:
+        piece += f", explicit in {MODE_NAMES[int(st[S_MODE])]}"
+    state = dict(status=STATUS_NAMES[status], t=float(st[S_T]), t_end=t_end, piece=piece, x=float(st[S_X]),
+                 v=float(st[S_V]), step=float(st[S_H]), attempts=int(cnt[C_ATTEMPTS]))
+    why = STATUS_NAMES[status]
+    if status == STALLED:
+        why = f"stalled: {budget:.3g} step attempts without advancing one forcing period"
+    return StallError(f"core {why} at t = {state['t']:.12g} s of {t_end:.6g} s in {piece}: "
+                      f"x = {state['x']:.9g} m, v = {state['v']:.6g} m/s, step {state['step']:.3g} "
+                      f"after {state['attempts']} step attempts", state)
 
 
 @dataclass(frozen=True)
@@ -116,6 +150,7 @@ def simulate(
     window: Window | None = None,
     record: Iterable[str] = ALL_EVENTS,
     chunk_steps: int = 200_000,
+    step_budget: float = DEFAULT_STEP_BUDGET,
     progress: Callable[[float, float, int], None] | None = None,
     _timing_only: bool = False,
 ) -> SimulationResult:
@@ -126,6 +161,10 @@ def simulate(
     The core runs in calls of at most `chunk_steps` steps (the state carries over exactly,
     so this changes nothing but the memory held and the progress granularity);
     `progress(t, t_end, n_impacts)` is called after each.
+
+    Never hangs: a run that spends `step_budget` step attempts without advancing one
+    forcing period raises :class:`StallError` naming where it stuck (as does a step-size
+    underflow); the default budget is ~10^4 times what the chaotic scene needs.
     """
     params = params or ModelParams()
     record = tuple(record)
@@ -133,12 +172,14 @@ def simulate(
     if unknown:
         raise ValueError(f"unknown event kind(s) {sorted(unknown)}; choose from {list(ALL_EVENTS)}")
     _validate(omega, transient, duration, x0, v0, rtol, atol, window)
+    if not step_budget >= 100:
+        raise ValueError(f"step_budget must be >= 100 step attempts per forcing period, got {step_budget!r}")
     flags = record_flags(record)
 
     p = params.as_array(float(omega))
     period = 2.0 * math.pi / omega
     t_end = float(transient) + float(duration)
-    st = core.initial_state(p, 0.0, float(x0), float(v0), period, params.cut_velocity)
+    st = core.initial_state(p, 0.0, float(x0), float(v0), period, params.cut_velocity, float(step_budget))
     cnt = np.zeros(N_COUNT, dtype=np.int64)
     ev = np.empty((1024, 4))
     n_ev = 0
@@ -156,6 +197,8 @@ def simulate(
         ev, n_ev = core.run(p, st, cnt, t_end, float(transient), float(rtol), float(atol), flags,
                             period, ev, n_ev, win_t0, win_dt, win_x, win_v, int(chunk_steps))
         wall += time.perf_counter() - t0
+        if st[S_STATUS] != RUNNING:
+            raise _stall_error(st, cnt, t_end, step_budget)
         if progress is not None:
             n_imp = int(np.count_nonzero(ev[:n_ev, 0] == IMPACT))
             progress(float(st[S_T]), t_end, n_imp)
@@ -180,6 +223,7 @@ def simulate(
         n_slow_reversal=int(cnt[C_SLOW_TRANSIT]), time_implicit=float(st[S_TSLOW]),
         n_dense=int(cnt[C_DENSE]), n_dip_checks=int(cnt[C_DIP]),
         n_newton=int(cnt[C_NEWTON]), n_transformed_steps=int(cnt[C_TRANSFORMED]),
-        n_fallback=int(cnt[C_FALLBACK]), wall_time=wall, recorded=",".join(record),
+        n_fallback=int(cnt[C_FALLBACK]), n_stiff=int(cnt[C_STIFF]), n_attempts=int(cnt[C_ATTEMPTS]),
+        step_budget=float(step_budget), wall_time=wall, recorded=",".join(record),
     )
     return SimulationResult(events=events, trajectory=trajectory, attrs=attrs, final_state=st.copy())
