@@ -142,3 +142,8 @@ BENCHMARK_CORE_MD = "results/tables/benchmark/benchmark_core.md"
 # combined: the table of every number the paper states (named in README: kept at the top)
 PAPER_TABLE_CSV = "results/tables/paper_vs_replication.csv"
 PAPER_TABLE_MD = "results/tables/paper_vs_replication.md"
+
+# randomized differential testing of the core (benchmark group, opt-in: snakemake -j2 random_scenes)
+RANDOM_SCENES_PART = "results/tables/benchmark/random_scenes/part{part}.csv"
+RANDOM_SCENES_CSV = "results/tables/benchmark/random_scenes.csv"
+RANDOM_SCENES_MD = "results/tables/benchmark/random_scenes.md"

@@ -1,0 +1,42 @@
+"""Merge the parts of the randomized differential test (rule random_scenes).
+
+Reads input.parts (CSV rows of random_scenes_part); writes output.csv (all scenes, in
+scene order) and output.md (the summary the README quotes: scenes, horizon, impacts
+compared, worst difference, stalls, failures, scenes without a reference).
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
+import math
+
+from impactosc.benchmarks.random_scenes import BOUND, summary
+from impactosc.files import read_csv, write_csv, write_text
+
+NUMERIC = ("scene", "horizon", "compared", "worst_dt", "core_time", "reference_time")
+rows = [r for path in snakemake.input.parts for r in read_csv(path)]  # noqa: F821
+for r in rows:
+    for k in NUMERIC:
+        r[k] = float(r[k]) if r[k] not in ("", "nan") else math.nan
+    r["compared"] = int(r["compared"])
+    r["scene"] = int(r["scene"])
+rows.sort(key=lambda r: r["scene"])
+s = summary(rows)
+logging.info("summary: %s", s)
+write_csv(snakemake.output.csv, rows, floats="")  # noqa: F821
+rs = snakemake.params.rs  # noqa: F821
+lines = [
+    "# Randomized scenes: the core against SciPy (LSODA, two tolerances)", "",
+    f"Seed {rs['seed']}, {s['scenes']} scenes of {rs['horizon']:g} s, core rtol {rs['rtol']:g}; "
+    f"bound {BOUND:g} s on impact times over the horizon where the two references agree.", "",
+    "| scenes | mean horizon (s) | impacts compared | worst difference (s) | stalls | failures | no reference |",
+    "|---|---|---|---|---|---|---|",
+    f"| {s['scenes']} | {s['mean_horizon_s']:.3g} | {s['impacts_compared']} | {s['worst_dt_s']:.2g} | {s['stalls']} "
+    f"| {s['failures']} | {s['no_reference']} |", "",
+]
+bad = [r for r in rows if r["status"] != "ok"]
+if bad:
+    lines += ["Scenes not ok:", ""] + [f"- scene {r['scene']}: {r['status']}: {r['message']}" for r in bad]
+write_text(snakemake.output.md, "\n".join(lines) + "\n")  # noqa: F821

@@ -1,0 +1,25 @@
+"""One part of the randomized differential test of the core (rule random_scenes_part).
+
+Reads params.rs (seed, scenes, parts, horizon, rtol, atol) and wildcards.part; runs the
+scenes part, part + parts, part + 2 parts, ... of the seed's stream; writes output.csv
+(one row per scene: drawn parameters, status, horizon, impacts compared, worst difference).
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)  # noqa: F821
+
+import logging
+
+from impactosc.benchmarks.random_scenes import compare_scene, draw_scene
+from impactosc.files import write_csv
+
+rs = snakemake.params.rs  # noqa: F821
+part = int(snakemake.wildcards.part)  # noqa: F821
+rows = []
+for i in range(part, rs["scenes"], rs["parts"]):
+    row = compare_scene(draw_scene(rs["seed"], i), rs["horizon"], rtol=rs["rtol"], atol=rs["atol"])
+    logging.info("scene %d: %s, %d impacts over %.3g s, worst %.2g s (%s)", i, row["status"], row["compared"],
+                 row["horizon"], row["worst_dt"], row["reference"])
+    rows.append(row)
+write_csv(snakemake.output.csv, rows, floats="")  # noqa: F821
