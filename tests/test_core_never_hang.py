@@ -144,9 +144,16 @@ def test_random_scenes_match_scipy():
 def test_random_scenes_large():
     rows = run_scenes(2026, 200, horizon=1.5, log=lambda *a: None)
     s = summary(rows)
-    assert s["stalls"] == 0 and s["failures"] == 0
-    assert s["worst_dt_s"] < 1e-8
-    assert s["no_reference"] <= 0.1 * s["scenes"]
+    assert s["stalls"] == 0 and s["failures"] == 0  # each impact within 1e-8 s, or 1e-9 m for slow ones
+    assert s["worst_dt_s"] < 1e-7  # measured 2.4e-8 s, on a 7 mm/s impact (random_scenes.BOUND_X)
+    assert s["no_reference"] <= 0.1 * s["scenes"]  # measured 11 of 200
+
+
+def test_a_slow_impact_is_judged_by_its_position_error():
+    # scene 112 of seed 2026: its last impact (v = 7 mm/s) is 2.4e-8 s off at rtol 1e-11,
+    # 1.7e-10 m in position; at rtol 1e-12 the core matches LSODA and DOP853 at 1e-13
+    row = compare_scene(draw_scene(2026, 112), horizon=1.5)
+    assert row["status"] == "ok" and row["worst_dt"] > 1e-8 and row["worst_dx"] < 1e-9
 
 
 def test_compare_scene_reports_a_row_for_a_plain_scene():

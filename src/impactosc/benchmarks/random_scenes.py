@@ -44,7 +44,10 @@ BOX = {
     "v0": (-0.2, 0.2, "lin"),  # m/s
 }
 AGREE = 1e-7  # s: the two references agree on an impact time to this
-BOUND = 1e-8  # s: the core must match the tighter reference to this (observed worst: 1e-9)
+BOUND = 1e-8  # s: the core must match the tighter reference to this (observed worst: 5e-9) ...
+BOUND_X = 1e-9  # m: ... or, for a slow impact, to this in position: |dt| * v_impact. A crossing at
+# v = 7 mm/s turns a 2e-10 m global error (rtol 1e-11 over 1.4 s) into 3e-8 s (scene 112 of
+# seed 2026, which converges to the references at rtol 1e-12): ill-conditioned timing, not a bug.
 EDGE = 1e-3  # s: impacts this close to the horizon are not compared (a boundary case)
 # ODEPACK's LSODA switches itself between Adams and BDF: it follows the stiff creeps and
 # stick phases that pin an explicit reference (SciPy DOP853 spent 3e5 evaluations on 0.14 s
@@ -111,7 +114,8 @@ def compare_scene(scene: Scene, horizon: float = 3.0, rtol: float = 1e-11, atol:
     """One row: the core against the reference over their common horizon of agreement."""
     row = {"scene": scene.index, "omega": scene.omega, "x0": scene.x0, "v0": scene.v0,
            **{f"param_{k}": v for k, v in scene.params.to_dict().items()}}
-    row.update(reference="-", horizon=0.0, compared=0, worst_dt=math.nan, reference_time=math.nan, message="")
+    row.update(reference="-", horizon=0.0, compared=0, worst_dt=math.nan, worst_dx=math.nan, reference_time=math.nan,
+               message="")
     t1 = time.perf_counter()
     try:  # the core first: a stall is a finding whatever the reference does
         res = simulate(scene.omega, 0.0, horizon, x0=scene.x0, v0=scene.v0, params=scene.params, rtol=rtol,
@@ -130,13 +134,17 @@ def compare_scene(scene: Scene, horizon: float = 3.0, rtol: float = 1e-11, atol:
     h = agreement_horizon(ta, tb, horizon) - EDGE
     row.update(reference=method, horizon=max(h, 0.0), reference_time=time.perf_counter() - t0)
     tc = res.events["impacts"]["t"]
+    vr = ref_b["impacts_v"][tb < h]
     tc, tr = tc[tc < h], tb[tb < h]
     if tc.size != tr.size:
         row.update(status="count differs", compared=int(tr.size), worst_dt=math.nan,
                    message=f"core {tc.size} impacts, reference {tr.size} before t = {h:.6g} s")
         return row
-    worst = float(np.max(np.abs(tc - tr))) if tc.size else 0.0
-    row.update(status="ok" if worst <= BOUND else "time differs", compared=int(tr.size), worst_dt=worst,
+    dt = np.abs(tc - tr)
+    worst = float(dt.max()) if tc.size else 0.0
+    worst_dx = float(np.max(dt * np.abs(vr))) if tc.size else 0.0
+    ok = bool(np.all((dt <= BOUND) | (dt * np.abs(vr) <= BOUND_X)))
+    row.update(status="ok" if ok else "time differs", compared=int(tr.size), worst_dt=worst, worst_dx=worst_dx,
                message="")
     return row
 
@@ -154,7 +162,7 @@ def run_scenes(seed: int, n: int, horizon: float = 3.0, start: int = 0, log=prin
 
 def summary(rows: list[dict]) -> dict:
     """What the README quotes: scenes, horizon, impacts compared, worst difference, stalls, failures."""
-    worst = [r["worst_dt"] for r in rows if r["status"] == "ok"]
+    worst = [r["worst_dt"] for r in rows if r["status"] in ("ok", "time differs")]
     return {
         "scenes": len(rows),
         "mean_horizon_s": float(np.mean([r["horizon"] for r in rows])) if rows else 0.0,
