@@ -45,15 +45,14 @@ from numba import njit
 
 from . import dop853, radau
 from .layout import (
-    C_DENSE, C_DIP, C_FALLBACK, C_REJECT, C_RHS, C_SLOW_STEPS, C_SLOW_TRANSIT, C_STEPS, C_STICK, C_TRANSFORMED,
-    CONTACT, CUT, FREE, IMPACT, N_COUNT, N_STATE, NEAR_MISS, P_B, P_C, P_EPS, P_KI, P_M, P_N2, P_N3, P_T, P_XI,
-    PENETRATION,
-    POINCARE, RECORD_IMPACTS, RECORD_NEAR_MISSES, RECORD_PENETRATIONS, RECORD_POINCARE, S_H, S_ISEC, S_MODE,
-    S_NINV, S_PDIR, S_PHASE, S_PT, S_PX, S_S, S_SGN, S_SLOW, S_T, S_TAU, S_TREF, S_TSLOW, S_V, S_V1, S_VCUT,
-    S_WIN, S_X, SQRTH, TIME, UVEL, WVEL, C_ATTEMPTS, C_STIFF, S_BUDGET, S_MARK_N, S_MARK_T, S_STATUS, STALLED,
-    UNDERFLOW_EXPLICIT, UNDERFLOW_IMPLICIT, SLOW_FRICTION, SLOW_STIFF, DEFAULT_STEP_BUDGET,
+    C_ATTEMPTS, C_DENSE, C_DIP, C_FALLBACK, C_REJECT, C_RHS, C_SLOW_STEPS, C_SLOW_TRANSIT, C_STEPS, C_STICK, C_STIFF,
+    C_TRANSFORMED, CONTACT, CUT, DEFAULT_STEP_BUDGET, FREE, IMPACT, N_COUNT, N_STATE, NEAR_MISS, P_B, P_EPS, P_KI,
+    P_M, P_N2, P_N3, P_T, P_XI, PENETRATION, POINCARE, RECORD_IMPACTS, RECORD_NEAR_MISSES, RECORD_PENETRATIONS,
+    RECORD_POINCARE, S_BUDGET, S_H, S_ISEC, S_MARK_N, S_MARK_T, S_MODE, S_NINV, S_PDIR, S_PHASE, S_PT, S_PX, S_S,
+    S_SGN, S_SLOW, S_STATUS, S_T, S_TAU, S_TREF, S_TSLOW, S_V, S_V1, S_VCUT, S_WIN, S_X, SLOW_FRICTION, SLOW_STIFF,
+    SQRTH, STALLED, TIME, UNDERFLOW_EXPLICIT, UNDERFLOW_IMPLICIT, UVEL, WVEL,
 )
-from .model import accel, stick_force
+from .model import accel, damping_rate, stick_force
 
 BAND = 100.0  # the implicit phase ends when |v| > BAND * eps (friction slope then < 1e-6 T/eps)
 SLOW_FACTOR = 1.5  # v = 0 with |net force| < 1.5 T: stick or slow reversal -> implicit phase
@@ -173,25 +172,6 @@ def _goes_implicit(p, phase, t, x):
 
 
 @njit(cache=True)
-def _damping_rate(p, phase, x, v):
-    """-da/dv: viscous + friction slope + Hunt-Crossley slope (inf at v = 0 in contact).
-
-    Unlike model.jacobian (which caps |v| to keep Newton finite) this is the true slope:
-    at a creep of 1e-18 m/s the cap would hide a factor 1e5 of stiffness.
-    """
-    eps = p[P_EPS]
-    s2 = v * v + eps * eps
-    rate = p[P_C] + p[P_T] * eps * eps / (s2 * math.sqrt(s2))
-    h = x - p[P_XI]
-    if phase == CONTACT and h > 0.0 and p[P_B] > 0.0 and 0.0 < p[P_N3] < 1.0:
-        av = abs(v)
-        if av == 0.0:
-            return math.inf
-        rate += p[P_KI] * p[P_B] * h ** p[P_N2] * p[P_N3] * av ** (p[P_N3] - 1.0)
-    return rate / p[P_M]
-
-
-@njit(cache=True)
 def _stiff(p, phase, x, v, h):
     """True when a step of size h is held by stability: h |da/dv| beyond STIFF_ENTER.
 
@@ -200,7 +180,7 @@ def _stiff(p, phase, x, v, h):
     a tiny velocity and da/dv ~ |v|^(n3 - 1) grows without bound, so an explicit method is
     pinned to steps ~ 6 / |da/dv| (1e-9 s and shrinking: the stall of issue 16).
     """
-    return _damping_rate(p, phase, x, v) * h > STIFF_ENTER
+    return damping_rate(p, phase, x, v) * h > STIFF_ENTER
 
 
 @njit(cache=True)
@@ -430,7 +410,7 @@ def run(p, st, cnt, t_end, t_record, rtol, atol, flags, period, ev, n_ev, win_t0
             t, x, v = t1, x1, v1
             h = h_next
             if st[S_SLOW] == SLOW_STIFF:
-                leave = _damping_rate(p, phase, x, v) * h < STIFF_EXIT
+                leave = damping_rate(p, phase, x, v) * h < STIFF_EXIT
             else:
                 leave = abs(v) > vband
             if leave:

@@ -179,3 +179,22 @@ def jacobian(p, phase, t, x, v, chord):
                     # |v|^n3 has an infinite slope at v = 0; capping |v| keeps Newton finite.
                     dfdv -= p[P_KI] * p[P_B] * _pow(h, p[P_N2]) * p[P_N3] * vn / max(av, 1e-12)
     return dfdx / p[P_M], dfdv / p[P_M]
+
+
+@njit(cache=True)
+def damping_rate(p, phase, x, v):
+    """-da/dv: viscous + friction slope + Hunt-Crossley slope (inf at v = 0 in contact).
+
+    Unlike jacobian (which caps |v| to keep Newton finite) this is the true slope:
+    at a creep of 1e-18 m/s the cap would hide a factor 1e5 of stiffness.
+    """
+    eps = p[P_EPS]
+    s2 = v * v + eps * eps
+    rate = p[P_C] + p[P_T] * eps * eps / (s2 * math.sqrt(s2))
+    h = x - p[P_XI]
+    if phase == CONTACT and h > 0.0 and p[P_B] > 0.0 and 0.0 < p[P_N3] < 1.0:
+        av = abs(v)
+        if av == 0.0:
+            return math.inf
+        rate += p[P_KI] * p[P_B] * h ** p[P_N2] * p[P_N3] * av ** (p[P_N3] - 1.0)
+    return rate / p[P_M]
