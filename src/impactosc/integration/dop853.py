@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from . import tableau as tab
-from .layout import P_EPS, P_XI, SQRTH, TIME, UVEL, WVEL
+from .layout import P_EPS, P_XI, SQRTH, TIME, WVEL
 from .model import accel
 
 A = np.ascontiguousarray(tab.A)

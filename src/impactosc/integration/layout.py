@@ -8,6 +8,7 @@ Arrays and their index names
     p    model parameters and forcing frequency        P_*      (model.ModelParams.as_array)
     st   resumable integrator state of a run           S_*      (core.initial_state)
     cnt  work counters of a run                        C_*      (simulate attributes n_*)
+    rs   settings of one core.run call                 R_*      (core.run_settings)
     ev   event rows (kind, t, a, b)                    IMPACT, PENETRATION, NEAR_MISS, POINCARE
 """
 
@@ -54,6 +55,19 @@ MODE_NAMES = ("t", "sqrt(x - xI)", "|v|^n3", "asinh(v/eps)")
     S_STATUS,  # RUNNING, or why the core stopped before t_end (STALLED, UNDERFLOW_*)
 ) = range(24)
 N_STATE = 24
+
+# --- settings of a run: index into the array rs (core.run_settings) ------------------------
+(
+    R_T_END,  # absolute time at which the run stops
+    R_T_RECORD,  # events before this time are not recorded (the transient)
+    R_RTOL,
+    R_ATOL,
+    R_FLAGS,  # RECORD_* bits, as a float
+    R_PERIOD,  # forcing period 2 pi / w: Poincare times are its multiples
+    R_WIN_T0,  # first sample time of the trajectory window
+    R_WIN_DT,  # sample spacing of the trajectory window
+) = range(8)
+N_SETTINGS = 8
 
 # --- S_SLOW: why the implicit phase runs ----------------------------------------------------
 EXPLICIT, SLOW_FRICTION, SLOW_STIFF = 0, 1, 2  # not implicit; friction band (stick / slow reversal); stiff creep

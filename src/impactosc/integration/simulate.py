@@ -191,11 +191,11 @@ def simulate(
         win_x = win_v = np.empty(0)
         win_t0, win_dt = 0.0, 1.0
 
+    rs = core.run_settings(t_end, float(transient), float(rtol), float(atol), flags, period, win_t0, win_dt)
     wall = 0.0
     while st[S_T] < t_end:
         t0 = time.perf_counter()
-        ev, n_ev = core.run(p, st, cnt, t_end, float(transient), float(rtol), float(atol), flags,
-                            period, ev, n_ev, win_t0, win_dt, win_x, win_v, int(chunk_steps))
+        ev, n_ev = core.run(p, st, cnt, rs, ev, n_ev, win_x, win_v, int(chunk_steps))
         wall += time.perf_counter() - t0
         if st[S_STATUS] != RUNNING:
             raise _stall_error(st, cnt, t_end, step_budget)
