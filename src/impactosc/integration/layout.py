@@ -53,8 +53,11 @@ MODE_NAMES = ("t", "sqrt(x - xI)", "|v|^n3", "asinh(v/eps)")
     S_MARK_N,  # watchdog: attempt count at the last progress mark
     S_MARK_T,  # watchdog: absolute time at the last progress mark
     S_STATUS,  # RUNNING, or why the core stopped before t_end (STALLED, UNDERFLOW_*)
-) = range(24)
-N_STATE = 24
+    S_REJECTED,  # 1 after a rejected explicit step: the next accepted one may not grow (Hairer)
+    S_HACC,  # last accepted explicit step on this piece (0: none yet) ...
+    S_ERRACC,  # ... and its error norm: the predictive step controller's memory
+) = range(27)
+N_STATE = 27
 
 # --- settings of a run: index into the array rs (core.run_settings) ------------------------
 (

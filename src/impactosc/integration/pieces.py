@@ -34,7 +34,7 @@ from .events import (
 from .layout import (
     C_DENSE, C_DIP, C_FALLBACK, C_REJECT, C_RHS, C_STEPS, C_TRANSFORMED, CONTACT, CUT, FREE,
     P_EPS, P_M, P_N3, P_T, P_XI, R_ATOL, R_PERIOD, R_RTOL, R_T_END, S_H, S_ISEC, S_MODE, S_NINV, S_PHASE,
-    S_S, S_SGN, S_SLOW, S_STATUS, S_T, S_TAU, S_TREF, S_V, S_V1, S_VCUT, S_X, SLOW_STIFF,
+    S_ERRACC, S_HACC, S_REJECTED, S_S, S_SGN, S_SLOW, S_STATUS, S_T, S_TAU, S_TREF, S_V, S_V1, S_VCUT, S_X, SLOW_STIFF,
     SQRTH, TIME, UNDERFLOW_EXPLICIT, UVEL, WVEL,
 )
 from .model import accel, stick_force
@@ -71,6 +71,25 @@ def store(st, tau, x, v, s, h):
     st[S_H] = h
 
 
+@njit(cache=True, inline="always")
+def _step_factor(st, err, h):
+    """Step-size factor after an accepted step of size h with error norm err.
+
+    Hairer's rule (no growth right after a rejection), and Gustafsson's predictive
+    controller: when the error grows from step to step (approaching a singular point,
+    where each step shrinks the distance to it), the next step shrinks by the trend
+    instead of being tried at the same size and rejected (every other step before)."""
+    fac = dop853.new_step_factor(err, st[S_REJECTED] != 0.0)
+    if st[S_HACC] > 0.0 and err > 0.0:
+        trend = (st[S_HACC] / h) * (err * err / st[S_ERRACC]) ** (-dop853.ERROR_EXPONENT) / dop853.SAFETY
+        fac = min(fac, 1.0 / max(trend, 1.0 / dop853.MAX_FACTOR))
+    fac = max(fac, dop853.MIN_FACTOR)
+    st[S_REJECTED] = 0.0
+    st[S_HACC] = h
+    st[S_ERRACC] = max(1e-2, err)
+    return fac
+
+
 @njit(cache=True)
 def start_piece(p, st, cnt, d0, ta, x, v, h):
     """Begin the piece st[S_MODE] (variable st[S_S], orientation st[S_SGN]) at absolute time
@@ -78,6 +97,8 @@ def start_piece(p, st, cnt, d0, ta, x, v, h):
 
     h: the first step to try (0: choose one; < 0: choose one, but at most -h)."""
     mode = int(st[S_MODE])
+    st[S_REJECTED] = 0.0
+    st[S_HACC] = 0.0
     if mode == TIME:
         st[S_TREF] = 0.0
         store(st, ta, x, v, ta, h)
@@ -114,13 +135,14 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     cnt[C_RHS] += 12
     if err > 1.0:
         cnt[C_REJECT] += 1
+        st[S_REJECTED] = 1.0
         h = hs * dop853.new_step_factor(err, False)
         if h < 4e-16 * max(1.0, abs(t)):
             st[S_STATUS] = UNDERFLOW_EXPLICIT
         st[S_H] = h
         return ev, n_ev
     cnt[C_STEPS] += 1
-    fac = dop853.new_step_factor(err, False)
+    fac = _step_factor(st, err, hs)
     h_next = hs * fac if not clamped else max(h, hs * fac)
     t1 = t_target if clamped else t + hs
     built = False
@@ -278,6 +300,7 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
         scale = max(abs(s), abs(s_end) if s_end < math.inf else 0.0, 1e-3)
         if h >= MIN_S_STEP * scale:
             cnt[C_REJECT] += 1
+            st[S_REJECTED] = 1.0
             st[S_H] = h
             return ev, n_ev
         # steps collapse towards a point where the map degenerates (e.g. the
@@ -291,6 +314,13 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
             cnt[C_FALLBACK] += 1
             st[S_NINV] = 0
             st[S_MODE] = TIME
+            # a piece heading for v = 0 (the turn in |v|^n3, the band's first half) whose v
+            # component already crossed zero by round-off has reached its end: apply the
+            # reversal here, or time stepping from the far side would never see it (a
+            # penetration went unrecorded this way)
+            direction = 1.0 if mode == WVEL else -sgn
+            if ((mode == WVEL and sgn > 0.0) or (mode == UVEL and s < 0.0)) and v * direction <= 0.0:
+                ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, tref + t, x, v, direction, 0.0)
             start_piece(p, st, cnt, d0, tref + t, x, v, 0.0)
         else:
             st[S_H] = 0.25 * hs
@@ -298,7 +328,7 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
     st[S_NINV] = 0
     cnt[C_STEPS] += 1
     cnt[C_TRANSFORMED] += 1
-    fac = dop853.new_step_factor(err, False)
+    fac = _step_factor(st, err, hs)
     h_next = hs * fac if not clamped else max(h, hs * fac)
     s1 = s_end if clamped else s + hs
 
@@ -374,10 +404,22 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
             st[S_MODE] = WVEL
             st[S_SGN] = 1.0
             st[S_S] = -(v1 ** p[P_N3])
+            _switch_variable(p, st, cnt, d0, ta, x1, v1)
         else:
             st[S_MODE] = TIME
-        start_piece(p, st, cnt, d0, ta, x1, v1, 0.0)
+            start_piece(p, st, cnt, d0, ta, x1, v1, 0.0)
     return ev, n_ev
+
+
+@njit(cache=True)
+def _switch_variable(p, st, cnt, d0, ta, x, v):
+    """Continue the motion in the variable st[S_MODE] (set by the caller): the next step
+    covers the time the old variable's next step would have (h_s dt/ds carried over),
+    instead of a fresh start from a small step."""
+    h_time = st[S_H] * d0[0]
+    start_piece(p, st, cnt, d0, ta, x, v, 0.0)
+    if h_time > 0.0 and d0[0] > 0.0 and h_time / d0[0] < math.inf:
+        st[S_H] = h_time / d0[0]
 
 
 @njit(cache=True)
@@ -388,6 +430,7 @@ def _transformed_end(p, st, cnt, rs, ev, n_ev, d0, dt_step):
     mode, sgn = int(st[S_MODE]), st[S_SGN]
     ta, x, v = st[S_T], st[S_X], st[S_V]
     new_mode = mode
+    h = 0.0  # the next piece chooses its first step
     if mode == SQRTH:  # s = 0: exit from the obstacle
         ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_X_DOWN, ta, x, v, 0.0, dt_step)
         new_mode = TIME
@@ -402,19 +445,22 @@ def _transformed_end(p, st, cnt, rs, ev, n_ev, d0, dt_step):
             st[S_V1] = RESTITUTION_SWITCH * st[S_V1] / CONTACT_SWITCH
     elif mode == WVEL:  # |v| = V1 on the way out: sqrt(h) takes over to the exit
         if x > p[P_XI]:
-            new_mode = SQRTH
+            st[S_MODE] = SQRTH
             st[S_SGN] = -1.0
             st[S_S] = -math.sqrt(x - p[P_XI])
-        else:
-            new_mode = TIME
+            _switch_variable(p, st, cnt, d0, ta, x, v)
+            return ev, n_ev
+        new_mode = TIME
     elif st[S_S] == 0.0:  # UVEL at v = 0: an extremum of x in free flight
         ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, ta, x, v, -sgn, dt_step)
         if st[S_SLOW] == 0.0:
+            # asinh(v/eps) is as smooth through v = 0 as before it: keep the step
+            h = st[S_H]
             new_mode = UVEL
         else:
             new_mode = TIME
     else:  # UVEL out of the friction band
         new_mode = TIME
     st[S_MODE] = new_mode
-    start_piece(p, st, cnt, d0, ta, x, v, 0.0)
+    start_piece(p, st, cnt, d0, ta, x, v, h)
     return ev, n_ev
