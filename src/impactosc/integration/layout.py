@@ -26,6 +26,7 @@ SQRTH = 1  # s = sgn * sqrt(x - xI): contact onset (sgn +1) or exit (sgn -1); h^
 WVEL = 2  # s = -sgn * |v|^n3: contact around v = 0, where |v|^n3 is smooth in s
 UVEL = 3  # s = sgn * asinh(v / eps): free flight through the friction band
 MODE_NAMES = ("t", "sqrt(x - xI)", "|v|^n3", "asinh(v/eps)")
+MODE_KEYS = ("time", "sqrth", "wvel", "uvel")  # the same, as names of counters (simulate's n_attempts_*)
 
 # --- resumable state vector st ----------------------------------------------------------
 (
@@ -98,8 +99,9 @@ DEFAULT_STEP_BUDGET = 1_000_000  # attempts per forcing period: the chaotic scen
     C_FALLBACK,  # transformed pieces that fell back to time stepping
     C_ATTEMPTS,  # step attempts of every kind (what the watchdog counts)
     C_STIFF,  # implicit phases entered because explicit steps were stability-limited
-) = range(13)
-N_COUNT = 13
+    C_BY_MODE,  # explicit step attempts in each variable: C_BY_MODE + TIME / SQRTH / WVEL / UVEL
+) = range(14)
+N_COUNT = C_BY_MODE + 4
 
 # --- event kinds (column 0 of ev) and the bit that asks for each --------------------------
 IMPACT, PENETRATION, NEAR_MISS, POINCARE = 0, 1, 2, 3

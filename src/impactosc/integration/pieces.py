@@ -32,7 +32,7 @@ from .events import (
     apply_event, enter_slow, goes_implicit, record_poincare, sign, stiff,
 )
 from .layout import (
-    C_DENSE, C_DIP, C_FALLBACK, C_REJECT, C_RHS, C_STEPS, C_TRANSFORMED, CONTACT, CUT, FREE,
+    C_BY_MODE, C_DENSE, C_DIP, C_FALLBACK, C_REJECT, C_RHS, C_STEPS, C_TRANSFORMED, CONTACT, CUT, FREE,
     P_EPS, P_M, P_N3, P_T, P_XI, R_ATOL, R_PERIOD, R_RTOL, R_T_END, S_H, S_ISEC, S_MODE, S_NINV, S_PHASE,
     S_ERRACC, S_HACC, S_REJECTED, S_S, S_SGN, S_SLOW, S_STATUS, S_T, S_TAU, S_TREF, S_V, S_V1, S_VCUT, S_X, SLOW_STIFF,
     SQRTH, TIME, UNDERFLOW_EXPLICIT, UVEL, WVEL,
@@ -133,6 +133,7 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     hs = t_target - t if clamped else h
     t1, x1, v1, err = dop853.step(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, d0[0], d0[1], d0[2], hs, rtol, atol, K)
     cnt[C_RHS] += 12
+    cnt[C_BY_MODE + TIME] += 1
     if err > 1.0:
         cnt[C_REJECT] += 1
         st[S_REJECTED] = 1.0
@@ -289,6 +290,7 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
     hs = s_end - s if clamped else h
     t1, x1, v1, err = dop853.step(p, mode, phase, sgn, q, s, tref, t, x, v, d0[0], d0[1], d0[2], hs, rtol, atol, K)
     cnt[C_RHS] += 12
+    cnt[C_BY_MODE + mode] += 1
     valid = t1 > t and err < math.inf
     for j in range(13):
         if not K[j, 0] >= 0.0:

@@ -17,7 +17,7 @@ import numpy as np
 from . import core
 from .layout import (
     C_DENSE, C_DIP, C_FALLBACK, C_NEWTON, C_REJECT, C_RHS, C_SLOW_STEPS, C_SLOW_TRANSIT, C_STEPS, C_STICK,
-    C_TRANSFORMED, EVENT_NAMES, IMPACT, N_COUNT, S_T, S_TSLOW, record_flags, C_ATTEMPTS, C_STIFF,
+    C_TRANSFORMED, EVENT_NAMES, IMPACT, N_COUNT, S_T, S_TSLOW, record_flags, C_ATTEMPTS, C_BY_MODE, C_STIFF, MODE_KEYS,
     DEFAULT_STEP_BUDGET, MODE_NAMES, PHASE_NAMES, RUNNING, S_H, S_MODE, S_PHASE, S_SLOW, S_STATUS, S_V, S_X,
     SLOW_FRICTION, SLOW_STIFF, STALLED, STATUS_NAMES,
 )
@@ -224,6 +224,7 @@ def simulate(
         n_dense=int(cnt[C_DENSE]), n_dip_checks=int(cnt[C_DIP]),
         n_newton=int(cnt[C_NEWTON]), n_transformed_steps=int(cnt[C_TRANSFORMED]),
         n_fallback=int(cnt[C_FALLBACK]), n_stiff=int(cnt[C_STIFF]), n_attempts=int(cnt[C_ATTEMPTS]),
+        **{f"n_attempts_{name}": int(cnt[C_BY_MODE + mode]) for mode, name in enumerate(MODE_KEYS)},
         step_budget=float(step_budget), wall_time=wall, recorded=",".join(record),
     )
     return SimulationResult(events=events, trajectory=trajectory, attrs=attrs, final_state=st.copy())
