@@ -17,7 +17,7 @@ from numba import njit
 
 from . import tableau as tab
 from .layout import P_EPS, P_XI, SQRTH, TIME, WVEL
-from .model import accel
+from .model import accel, accel_vn
 
 A = np.ascontiguousarray(tab.A)
 B = np.ascontiguousarray(tab.B)
@@ -52,15 +52,18 @@ def deriv(p, mode, phase, sgn, q, s, tref, t, x, v):
         return dt, sgn * 2.0 * y, dt * a
     if mode == WVEL:
         w = max(-sgn * s, 0.0)
-        vv = sgn * w**q
-        a = accel(p, phase, tref + t, x, vv)
-        dv = -q * w ** (q - 1.0)
+        wq1 = w ** (q - 1.0)
+        vv = sgn * w * wq1  # v = sgn w^q, and |v|^n3 = w: one power for all three
+        a = accel_vn(p, phase, tref + t, x, vv, w)
+        dv = -q * wq1
         dt = dv / a if a != 0.0 else math.inf  # a = 0: outside this map's range
         return dt, vv * dt, dv
-    u = sgn * s
-    vv = p[P_EPS] * math.sinh(u)
+    # sinh and cosh from one exponential (expm1 keeps sinh accurate near u = 0)
+    em = math.expm1(sgn * s)
+    e = 1.0 + em
+    vv = p[P_EPS] * (0.5 * em * (1.0 + 1.0 / e))
     a = accel(p, phase, tref + t, x, vv)
-    dv = sgn * p[P_EPS] * math.cosh(u)
+    dv = sgn * p[P_EPS] * (0.5 * (e + 1.0 / e))
     dt = dv / a if a != 0.0 else math.inf  # a = 0: outside this map's range
     return dt, vv * dt, dv
 
