@@ -11,7 +11,7 @@ import sys
 import numpy as np
 import pytest
 
-from impactosc.benchmarks import peers
+from impactosc.benchmarks import cyrk_shim, peers
 from impactosc.integration.reference import solve_reference
 
 
@@ -62,8 +62,8 @@ def test_a_shim_that_does_not_build_is_reported(monkeypatch, tmp_path):
     pytest.importorskip("CyRK")
     pytest.importorskip("Cython")
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
-    monkeypatch.setattr(peers, "SHIM_SOURCE", "this is not Cython\n")
-    with pytest.raises(peers.PeerUnavailable, match="the CyRK shim could not be built"):
+    monkeypatch.setattr(cyrk_shim, "SHIM_SOURCE", "this is not Cython\n")
+    with pytest.raises(cyrk_shim.PeerUnavailable, match="the CyRK shim could not be built"):
         peers.load_cyrk_shim()
 
 

@@ -178,3 +178,114 @@ def test_figure_from_synthetic_rows(tmp_path):
     fig = plot_work_precision(rows, stats, jit={"cold": 27.0, "cached": 0.8})
     save_figure(fig, tmp_path / "wp.png", tmp_path / "wp.pdf")
     assert (tmp_path / "wp.png").stat().st_size > 10_000 and (tmp_path / "wp.pdf").stat().st_size > 5_000
+
+
+# ------------------------------------------------------------------ the compiled peers
+
+def _peer_rows():
+    rows = _rows()
+    for rtol, w, e, on in ((1e-4, 0.0008, 1e-5, "yes"), (1e-8, 0.0015, 1e-8, "yes"), (1e-12, 0.0019, 1e-11, "no")):
+        rows.append({"scene": "chaotic", "solver": "CyRK DOP853", "rtol": rtol, "status": "ok", "wall_time": w,
+                     "impact_time_error": e, "reference_impact_time_error": 1e-12, "on_attractor": on})
+    rows.append({"scene": "chaotic", "solver": "CyRK Vern8", "rtol": 1e-13, "status": "stopped", "wall_time": 0.003,
+                 "impact_time_error": math.inf, "reference_impact_time_error": 1e-12, "note": "start 1: stopped"})
+    rows.append({"scene": "chaotic", "solver": "heyoka Taylor (order 13) free flight", "rtol": 1e-10, "status": "floor",
+                 "wall_time": 1e-4, "reference_impact_time_error": 1e-12})
+    return rows
+
+
+def test_headline_names_the_fastest_compiled_peer_apart_from_scipy():
+    head = {r["error_level"]: r for r in wp.headline(_peer_rows(), {"impact_time_error": [1e-6, 1e-9, 1e-11]})}
+    # SciPy's columns are as without peers
+    assert head[1e-6]["best_scipy"] == "LSODA" and head[1e-6]["speedup"] == pytest.approx(0.2 / 0.002)
+    assert head[1e-6]["best_peer"] == "CyRK DOP853" and head[1e-6]["peer_over_core"] == pytest.approx(0.0015 / 0.002)
+    # the rtol 1e-12 run is accurate over 1.5 s but leaves the attractor in 500 s: it does not count
+    assert head[1e-11]["best_peer"] == "none" and math.isnan(head[1e-11]["peer_over_core"])
+    assert "best_peer" not in wp.headline(_rows(), {"impact_time_error": [1e-6]})[0]
+
+
+def test_attractor_columns_flag_a_run_that_stops_or_leaves():
+    on = wp.attractor_columns({"n_impacts_500s": 2890, "t_reached_500s": 500.0, "stop": ""}, 2898)
+    assert on["on_attractor"] is True and "attractor_note" not in on
+    off = wp.attractor_columns({"n_impacts_500s": 520, "t_reached_500s": 500.0, "stop": ""}, 2898)
+    assert off["on_attractor"] is False and "left the attractor" in off["attractor_note"]
+    stop = wp.attractor_columns({"n_impacts_500s": 1177, "t_reached_500s": 263.8, "stop": "step size"}, 2898)
+    assert stop["on_attractor"] is False and stop["attractor_note"].startswith("500 s run stopped at t = 263.8 s")
+
+
+def test_a_peer_that_is_not_installed_is_a_row_and_a_note(monkeypatch):
+    import sys
+
+    from impactosc.plotting.work_precision import unavailable_notes
+
+    monkeypatch.setitem(sys.modules, "CyRK", None)  # import CyRK now raises ImportError
+    monkeypatch.setitem(sys.modules, "heyoka", None)
+    status = wp.peer_status([wp.CORE, "DOP853", "CyRK DOP853", "CyRK Vern8"], heyoka=True)
+    assert set(status) == {"CyRK DOP853", "CyRK Vern8", "heyoka"}
+    assert all("not installed" in why for why in status.values())
+    rows = [{"scene": "chaotic", "solver": s, "status": "unavailable", "note": why} for s, why in status.items()]
+    assert unavailable_notes(rows, "chaotic") == ["CyRK not installed", "heyoka not installed"]
+    assert unavailable_notes(rows, "periodic") == []
+
+
+def test_figure_draws_peers_floors_and_failures(tmp_path):
+    from impactosc.plotting import save_figure
+    from impactosc.plotting.work_precision import plot_work_precision
+
+    rows = [dict(r, horizon=1.5, reference_penetration_error=1e-15, reference_poincare_x_error=1e-13,
+                 penetration_error=r.get("impact_time_error", math.nan) * 1e-3,
+                 poincare_x_error=r.get("impact_time_error", math.nan) * 1e-2) for r in _peer_rows()]
+    rows.append(dict(rows[0], solver="CyRK Vern7", status="unavailable", note="CyRK is not installed"))
+    fig = plot_work_precision(rows, _stat_rows(), jit={"cold": 27.0, "cached": 0.8})
+    labels = fig.subfigs[0].legends[0].get_texts()
+    assert {"CyRK DOP853", "open: off the attractor or stopped (labelled)"} <= {t.get_text() for t in labels}
+    assert any(t.get_text().startswith("floor: heyoka") for t in labels)
+    save_figure(fig, tmp_path / "wp.png", tmp_path / "wp.pdf")
+    assert (tmp_path / "wp.png").stat().st_size > 10_000
+
+
+@pytest.fixture(scope="module")
+def cyrk():
+    from impactosc.benchmarks import peers
+
+    pytest.importorskip("CyRK")
+    try:
+        peers.load_cyrk_shim()
+    except peers.PeerUnavailable as e:
+        pytest.skip(str(e))
+    return peers
+
+
+def test_peer_contestant_gives_the_events_of_the_others(cyrk):
+    """CyRK DOP853 at rtol 1e-12 in one right-hand side finds the reference's impacts,
+    penetrations and Poincare points over 1.5 s from rest (measured: 2.9e-11 s, 7e-14 m,
+    1.5e-12 m; the bounds leave a factor ~30 for other compilers and CPUs)."""
+    p = ModelParams()
+    ref = wp.run_scipy(40.86, 1.5, 0.0, 0.0, p, "DOP853", 1e-13, 1e-15)
+    run = wp.run_solver("CyRK DOP853", 40.86, 1.5, 0.0, 0.0, p, 1e-12, 1e-14)
+    assert run["success"] and run["t_reached"] == 1.5
+    e = wp.event_errors(run, ref)
+    assert e["n_impacts"] == e["n_impacts_ref"] == 10
+    assert run["penetrations_h"].size == ref["penetrations_h"].size
+    assert e["impact_time_error"] < 1e-9 and e["penetration_error"] < 3e-12 and e["poincare_x_error"] < 5e-11
+
+
+def test_sweep_with_a_peer_and_a_missing_one(cyrk, monkeypatch):
+    """A short sweep: the peer's row is complete, a method CyRK does not have is a row that says so."""
+    real = cyrk.cyrk_method
+
+    def method(name):
+        if name == "Nope":
+            raise cyrk.PeerUnavailable("no " + name)
+        return real(name)
+
+    monkeypatch.setattr(cyrk, "cyrk_method", method)
+    case = wp.Case("chaotic", 40.86, 100.0, 0.5)
+    ref = {"method": "DOP853", "rtol": 1e-13, "atol": 1e-15, "check_method": "LSODA", "check_rtol": 1e-12,
+           "check_atol": 1e-15}
+    rows = wp.sweep_case(case, ModelParams(), [1e-9], 1e-2, [wp.CORE, "CyRK DOP853", "CyRK Nope"], ref,
+                         core_repeats=1, peer_repeats=1, log=quiet)
+    by = {r["solver"]: r for r in rows}
+    assert by["CyRK Nope"]["status"] == "unavailable" and by["CyRK Nope"]["note"] == "no Nope"
+    peer = by["CyRK DOP853"]
+    assert peer["status"] == "ok" and peer["impact_time_error"] < 1e-6 and math.isnan(peer["rhs_evals"])

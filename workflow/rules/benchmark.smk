@@ -1,4 +1,8 @@
-# Speed of the core against SciPy on the chaotic scene (foundation issue's benchmark).
+# Speed of the core against the compiled peers (CyRK with numba cfuncs, heyoka's free-flight
+# floor; the `peers` extra, skipped with a note where not installed) and SciPy DOP853 on the
+# chaotic scene. A timing rule: it claims all cores of a local run (threads: all_local_cores),
+# so no other job of the workflow runs beside it.
+BC = config["benchmark_core"]
 
 
 rule benchmark_core:
@@ -6,10 +10,11 @@ rule benchmark_core:
         cache=NUMBA_CACHE,
     output:
         csv=BENCHMARK_CORE_CSV,
+        headline=BENCHMARK_CORE_HEADLINE,
         md=BENCHMARK_CORE_MD,
     params:
-        rtols=[1e-8, 1e-10],
-        repeats=5,
+        bc=BC,
+    threads: all_local_cores
     log:
         logfile("benchmark", "benchmark_core"),
     conda:

@@ -138,6 +138,7 @@ HARD_CASES_TABLE = "results/tables/work_precision/hard_cases.csv"
 # benchmark group
 BENCHMARK_CORE_CSV = "results/tables/benchmark/benchmark_core.csv"
 BENCHMARK_CORE_MD = "results/tables/benchmark/benchmark_core.md"
+BENCHMARK_CORE_HEADLINE = "results/tables/benchmark/benchmark_core_headline.csv"
 
 # combined: the table of every number the paper states (named in README: kept at the top)
 PAPER_TABLE_CSV = "results/tables/paper_vs_replication.csv"

@@ -1,6 +1,7 @@
 # Speed against error, and numerical stability on hard cases (issue 7).
-# work_precision: per scene, the core and SciPy's solvers over a tolerance sweep against a
-# reference from another method (wp_measure); the chaotic statistics against tolerance
+# work_precision: per scene, the core and SciPy's solvers (and, on work_precision.peers.scenes,
+# the compiled peers CyRK and heyoka's floor) over a tolerance sweep against a reference from
+# another method (wp_measure); the chaotic statistics against tolerance
 # (wp_statistics); JIT compile time apart (wp_jit); then table, speed ratios and figure.
 # hard_cases: every hard case of impactosc.benchmarks.hardcases at full length, one CSV.
 # Timing rules claim all cores of a local run (threads: all_local_cores), so no other job
@@ -8,6 +9,11 @@
 WP = config["work_precision"]
 HC = config["hard_cases"]
 WP_CAPTIONS = "Work-precision and hard cases"
+if set(WP["peers"]["scenes"]) - set(WP["scenes"]):
+    raise WorkflowError(
+        f"work_precision.peers.scenes: {sorted(set(WP['peers']['scenes']) - set(WP['scenes']))} "
+        f"are not work_precision.scenes ({sorted(WP['scenes'])})"
+    )
 
 
 rule wp_measure:

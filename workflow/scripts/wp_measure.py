@@ -1,8 +1,11 @@
-"""Measure one work-precision scene: the core and SciPy's solvers over the tolerance sweep.
+"""Measure one work-precision scene: the core, SciPy's solvers and (on the scenes of
+work_precision.peers.scenes) the compiled peers over the tolerance sweep.
 
 Reads snakemake.params (model, the work_precision config, the scene's name and entry);
 writes snakemake.output.csv (one row per solver and tolerance: wall time, RHS evaluations,
-errors against the reference; see impactosc.benchmarks.workprecision.sweep_case) and a log.
+errors against the reference, for the core and the peers the 500 s attractor check; a row
+per peer that is not installed and heyoka's free-flight floor; see
+impactosc.benchmarks.workprecision.sweep_case) and a log.
 """
 
 from _logging import configure_logging
@@ -12,15 +15,20 @@ configure_logging(snakemake)  # noqa: F821
 import logging
 
 from impactosc.files import write_table
-from impactosc.benchmarks.workprecision import CORE, Case, sweep_case
+from impactosc.benchmarks.workprecision import CORE, Case, peer_solvers, sweep_case
 from impactosc.integration.model import ModelParams
 
 
 def main(model, wp, name, entry, out):
     case = Case(name, entry["omega"], entry["settle"], entry["horizon"], entry["starts"], entry["spacing"])
-    rows = sweep_case(case, ModelParams(**model), wp["rtols"], wp["atol_ratio"], [CORE, *wp["scipy_methods"]],
+    pc = wp["peers"]
+    with_peers = name in pc["scenes"]
+    solvers = [CORE, *wp["scipy_methods"], *(peer_solvers(pc["methods"]) if with_peers else [])]
+    rows = sweep_case(case, ModelParams(**model), wp["rtols"], wp["atol_ratio"], solvers,
                       wp["reference"], core_repeats=wp["core_repeats"], scipy_repeats=wp["scipy_repeats"],
-                      repeat_below=wp["scipy_repeat_below"], time_cap=wp["scipy_time_cap"], log=logging.info)
+                      repeat_below=wp["scipy_repeat_below"], time_cap=wp["scipy_time_cap"],
+                      peer_repeats=pc["repeats"], attractor_check=with_peers and pc["attractor_check"],
+                      floor=with_peers and pc["heyoka"], log=logging.info)
     write_table(out, rows)
 
 

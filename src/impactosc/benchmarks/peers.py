@@ -45,7 +45,7 @@ compiled right-hand side with events:
     the C++ entry, and an ``Event`` is a C++ class with std::function and std::vector
     members that cannot be built from Python).
 
-So a Cython shim (SHIM_SOURCE, about 40 lines) builds the C++ ``Event`` around a numba cfunc
+So a Cython shim (SHIM_SOURCE, about 40 lines) builds a C++ ``Event`` around each numba cfunc
 event function and calls ``cysolve_ivp_noreturn``, which Cython imports from CyRK's own
 binary through its C-API capsule: the integration loop, the dense output and the Brent root
 finding of the events (on the dense output of each step, to 4 machine epsilons) all run in
@@ -58,8 +58,14 @@ It is compiled with -O0 (about 13 s instead of 17-25 s): cimporting cysolver_api
 CyRK's C++ sources into the shim's translation unit, but the shim only uses them to build
 its arguments; the 500 s run measured the same wall time (0.84 s vs 0.87 s, DOP853 at
 rtol 1e-10) with the shim at -O0 and at -O2.
-The shim passes t_eval = [t_end], so CyRK stores the impacts and the final state but not
+run_cyrk passes t_eval = [t_end], so CyRK stores the impacts and the final state but not
 every step (the project's core, too, keeps only what it is asked to record).
+:func:`cyrk_events` (the work-precision contestant, workprecision.py) asks for what the other
+contestants there give: impacts, penetrations (a second event, v = 0 crossed downwards, kept
+at x > xI) and Poincare points (t_eval at 2 pi i / w, CyRK's dense output).
+
+The timing rounds (:func:`measure_contestants`) take any :class:`Contestant`, so that
+core_speed.py times the core in the same rounds as the peers.
 
 heyoka (7.13.2 installs from PyPI here) gives a floor, not a peer: a Taylor method expands
 its right-hand side to high order, and the contact law switches (x >= xI, max(., 0)) and
@@ -76,24 +82,18 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import functools
-import hashlib
-import importlib.machinery
-import importlib.util
 import math
-import os
-import subprocess
 import sys
-import tempfile
 import time
 from dataclasses import dataclass
-from pathlib import Path
+from typing import Callable
 
 import numpy as np
 from numba import carray, cfunc, types
 
 from ..integration.layout import CONTACT, N_PARAMS, P_XI
 from ..integration.model import ModelParams, accel
-from .core_speed import DURATION, ERR_HORIZON, OMEGA, TRANSIENT, _impact_error
+from .scene import DURATION, ERR_HORIZON, OMEGA, TRANSIENT, impact_error
 
 T_END = TRANSIENT + DURATION
 PERIOD = 2 * math.pi / OMEGA
@@ -107,162 +107,11 @@ FREE_FLIGHT = dataclasses.replace(ModelParams(), xI=1.0)  # obstacle out of reac
 # A cap so that a solver pinned by the stiff contact reports failure instead of running for
 # minutes: the 500 s scene takes under 1e6 steps (Vern8 at rtol 1e-12: 8.9e5).
 MAX_STEPS = 50_000_000
-INSTALL_HINT = "pip install -e '.[peers]'"
+from .cyrk_shim import INSTALL_HINT, PeerUnavailable, cyrk_method, load_cyrk_shim  # noqa: F401 (re-exported)
 
-
-class PeerUnavailable(RuntimeError):
-    """A peer solver is not installed or its shim cannot be built; the message says why."""
-
-
-# --- CyRK: the Cython shim ----------------------------------------------------------------
-
-SHIM_SOURCE = '''\
-# distutils: language = c++
-# cython: language_level=3, boundscheck=False, wraparound=False
-"""impactosc's shim: CyRK's cysolve_ivp_noreturn with a cfunc right-hand side and one cfunc event."""
-from libc.stdint cimport uintptr_t
-from libcpp.limits cimport numeric_limits
-from libcpp.vector cimport vector
-
-from CyRK.cy.common cimport DiffeqFuncType, MAX_STEP
-from CyRK.cy.cysolver_api cimport CySolverBase, CySolverResult, ODEMethod, WrapCySolverResult, cysolve_ivp_noreturn
-from CyRK.cy.events cimport Event, EventFunc
-
-
-def solve(uintptr_t diffeq_address, uintptr_t event_address, int event_direction, int method,
-          double t_start, double t_end, const double[::1] y0, const double[::1] args,
-          double rtol, double atol, const double[::1] t_eval, size_t max_num_steps):
-    """Integrate; event_address 0 means no event.
-
-    Returns CyRK's WrapCySolverResult and where the solver stopped (t, [y]): the solver is
-    retained for this, so that a run that fails tells how far it got.
-    """
-    cdef vector[double] y0_vec = vector[double](y0.shape[0])
-    cdef vector[double] t_eval_vec = vector[double](t_eval.shape[0])
-    cdef vector[char] args_vec = vector[char](args.shape[0] * sizeof(double))
-    cdef double* args_ptr = <double*>args_vec.data()
-    cdef vector[Event] events_vec = vector[Event]()
-    cdef Py_ssize_t i
-    for i in range(y0.shape[0]):
-        y0_vec[i] = y0[i]
-    for i in range(t_eval.shape[0]):
-        t_eval_vec[i] = t_eval[i]
-    for i in range(args.shape[0]):
-        args_ptr[i] = args[i]
-    if event_address:
-        events_vec.emplace_back(<EventFunc>event_address, numeric_limits[size_t].max(), event_direction)
-    cdef WrapCySolverResult result = WrapCySolverResult()
-    result.build_cyresult(<ODEMethod>method)
-    cdef CySolverResult* result_ptr = result.cyresult_uptr.get()
-    with nogil:
-        # positionally: with keywords Cython compiles this call as a Python call (not without the GIL)
-        cysolve_ivp_noreturn(result_ptr, <DiffeqFuncType>diffeq_address, t_start, t_end, y0_vec,
-                             rtol, atol, args_vec, 0, max_num_steps, 2000, False, t_eval_vec, NULL,
-                             events_vec, vector[double](), vector[double](), MAX_STEP, 0.0, 0, True, NULL)
-    result.finalize()
-    cdef CySolverBase* solver = result_ptr.solver_uptr.get()
-    if solver == NULL:  # the setup failed; the result's message says why
-        return result, float("nan"), [float("nan")] * y0.shape[0]
-    return result, solver.t_now, [solver.y_now_ptr[i] for i in range(y0.shape[0])]
-'''
-
-_BUILD_SCRIPT = '''\
-import sys
-import CyRK, numpy
-from Cython.Build import cythonize
-from setuptools import Extension, setup
-name = sys.argv[1]
-ext = Extension(name, [name + ".pyx"], language="c++", include_dirs=CyRK.get_include() + [numpy.get_include()],
-                extra_compile_args=["-O0", "-std=c++20"],
-                define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_9_API_VERSION")])
-setup(ext_modules=cythonize([ext], quiet=True), script_args=["build_ext", "--inplace"])
-'''
-
-
-def _import_cyrk():
-    try:
-        import CyRK
-    except ImportError as e:
-        raise PeerUnavailable(f"CyRK is not installed ({e}); install the peers extra: {INSTALL_HINT}") from e
-    return CyRK
-
-
-def _shim_key(cyrk_version: str) -> str:
-    import Cython
-
-    digest = hashlib.sha256()
-    for part in (SHIM_SOURCE, _BUILD_SCRIPT, cyrk_version, Cython.__version__, np.__version__,
-                 sys.implementation.cache_tag, importlib.machinery.EXTENSION_SUFFIXES[0]):
-        digest.update(part.encode() + b"\0")
-    return digest.hexdigest()[:16]
-
-
-def shim_dir(key: str) -> Path:
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "impactosc" / f"cyrk-shim-{key}"
-
-
-def _built(directory: Path, name: str) -> Path | None:
-    for suffix in importlib.machinery.EXTENSION_SUFFIXES:
-        if (directory / (name + suffix)).is_file():
-            return directory / (name + suffix)
-    return None
-
-
-def _build_shim(directory: Path, name: str) -> Path:
-    """Compile the shim into `directory` once; concurrent callers wait on a file lock."""
-    import fcntl
-
-    directory.mkdir(parents=True, exist_ok=True)
-    with open(directory / ".lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        if (path := _built(directory, name)) is not None:
-            return path
-        with tempfile.TemporaryDirectory(dir=directory) as tmp:
-            Path(tmp, name + ".pyx").write_text(SHIM_SOURCE)
-            r = subprocess.run([sys.executable, "-c", _BUILD_SCRIPT, name], cwd=tmp, capture_output=True, text=True)
-            built = _built(Path(tmp), name)
-            if r.returncode != 0 or built is None:
-                tail = "\n".join((r.stderr or r.stdout).strip().splitlines()[-15:])
-                raise PeerUnavailable(f"the CyRK shim could not be built (needs Cython, setuptools and a C++20 "
-                                      f"compiler; {INSTALL_HINT}):\n{tail}")
-            os.replace(built, directory / built.name)  # atomic: a reader never sees half a library
-        return directory / built.name
-
-
-def load_cyrk_shim():
-    """The compiled shim module (built on first use); raises PeerUnavailable with the reason."""
-    cyrk = _import_cyrk()
-    try:
-        import Cython  # noqa: F401  (the build needs it; say so before starting a compiler)
-    except ImportError as e:
-        raise PeerUnavailable(f"Cython is needed to build the CyRK shim; {INSTALL_HINT}") from e
-    key = _shim_key(cyrk.__version__)
-    name = f"_impactosc_cyrk_shim_{key}"
-    if name in sys.modules:  # an extension module cannot be initialised twice in a process
-        return sys.modules[name]
-    directory = shim_dir(key)
-    path = _built(directory, name) or _build_shim(directory, name)
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    sys.modules[name] = module
-    return module
-
-
-def cyrk_method(name: str) -> int:
-    """CyRK's integer code of an integration method (names as in METHODS, any case)."""
-    from CyRK import ODEMethod
-
-    try:
-        return int(getattr(ODEMethod, name.upper()))
-    except AttributeError:
-        raise PeerUnavailable(f"CyRK {_import_cyrk().__version__} has no method {name!r}") from None
-
-
-# --- the model as CyRK sees it --------------------------------------------------------------
 
 _DBL_PTR = types.CPointer(types.float64)
+_EVENT_SIGNATURE = types.float64(types.float64, _DBL_PTR, _DBL_PTR)
 
 
 def _rhs(dy, t, y, p_ptr, pre_eval):
@@ -277,6 +126,10 @@ def _impact_event(t, y, p_ptr):
     return y[0] - p_ptr[P_XI]
 
 
+def _velocity_event(t, y, p_ptr):
+    return y[1]
+
+
 @functools.cache
 def model_cfuncs():
     """numba cfuncs (right-hand side, impact event) with CyRK's C signatures, compiled once.
@@ -286,8 +139,15 @@ def model_cfuncs():
     ModelParams.as_array travels as CyRK's args and is read back as double*.
     """
     rhs = cfunc(types.void(_DBL_PTR, types.float64, _DBL_PTR, _DBL_PTR, types.voidptr), cache=True)(_rhs)
-    event = cfunc(types.float64(types.float64, _DBL_PTR, _DBL_PTR), cache=True)(_impact_event)
+    event = cfunc(_EVENT_SIGNATURE, cache=True)(_impact_event)
     return rhs, event
+
+
+@functools.cache
+def velocity_cfunc():
+    """numba cfunc of the event v = 0 (EventFunc signature). Crossed downwards (direction -1)
+    at x > xI it is a deepest penetration, as the reference's v = 0 event inside contact."""
+    return cfunc(_EVENT_SIGNATURE, cache=True)(_velocity_event)
 
 
 @dataclass
@@ -301,26 +161,75 @@ class PeerRun:
     state_end: np.ndarray  # (x, v) there
     success: bool
     message: str
+    extra: dict = dataclasses.field(default_factory=dict)  # solver-specific counters for the row (e.g. RHS calls)
+
+
+def _solve_cyrk(method: str, t_end: float, rtol: float, atol: float, p: np.ndarray, y0, t_eval, events):
+    """(wall time, CyRK result, t reached, state there) of one shim call; events: (cfunc, direction) pairs."""
+    shim = load_cyrk_shim()
+    rhs, _ = model_cfuncs()
+    code = cyrk_method(method)
+    addresses = [int(e.address) for e, _ in events]
+    directions = [int(d) for _, d in events]
+    y0 = np.ascontiguousarray(y0, dtype=float)
+    t_eval = np.ascontiguousarray(t_eval, dtype=float)
+    start = time.perf_counter()
+    result, t_stop, y_stop = shim.solve(rhs.address, addresses, directions, code, 0.0, t_end, y0, p, rtol, atol,
+                                        t_eval, MAX_STEPS)
+    wall = time.perf_counter() - start
+    return wall, result, t_stop, np.array(y_stop)
 
 
 def run_cyrk(method: str, t_end: float, rtol: float, atol: float, *, params: ModelParams | None = None,
-             impacts: bool = True, omega: float = OMEGA) -> PeerRun:
-    """Integrate model BC from rest with CyRK over [0, t_end] in one right-hand side.
+             impacts: bool = True, omega: float = OMEGA, y0=(0.0, 0.0)) -> PeerRun:
+    """Integrate model BC from y0 = (x, v) (default rest) with CyRK over [0, t_end] in one right-hand side.
 
     With `impacts` the event x - xI (direction +1) is located on CyRK's dense output.
     The wall time covers the solver call only (the cfuncs and the shim are built before).
     """
-    shim = load_cyrk_shim()
-    rhs, event = model_cfuncs()
     p = (params or ModelParams()).as_array(omega)
-    code = cyrk_method(method)
-    start = time.perf_counter()
-    result, t_stop, y_stop = shim.solve(rhs.address, event.address if impacts else 0, 1, code, 0.0, t_end,
-                                        np.zeros(2), p, rtol, atol, np.array([t_end]), MAX_STEPS)
-    wall = time.perf_counter() - start
+    events = [(model_cfuncs()[1], 1)] if impacts else []
+    wall, result, t_stop, y_stop = _solve_cyrk(method, t_end, rtol, atol, p, y0, [t_end], events)
     impacts_t = np.asarray(result.t_events[0], float) if impacts else np.empty(0)
-    return PeerRun(wall, int(result.steps_taken), impacts_t, t_stop, np.array(y_stop), bool(result.success),
+    return PeerRun(wall, int(result.steps_taken), impacts_t, t_stop, y_stop, bool(result.success),
                    str(result.message))
+
+
+def _event_columns(result, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """(times, states (2, n)) of CyRK's event k; an event that never fired comes back 1-D empty."""
+    t = np.asarray(result.t_events[k], float)
+    y = np.asarray(result.y_events[k], float)
+    return t, (y if t.size else np.empty((2, 0)))
+
+
+def cyrk_events(method: str, omega: float, t_end: float, x0: float, v0: float, params: ModelParams,
+                rtol: float, atol: float) -> dict:
+    """Impacts, penetrations and Poincare points on (0, t_end] from (x0, v0), as
+    workprecision.run_core returns them, by CyRK in one right-hand side.
+
+    Impacts: x - xI crossed upwards; penetrations: v = 0 crossed downwards at x > xI (depth
+    x - xI); Poincare points: CyRK's dense output at t_i = 2 pi i / w (t_eval). Besides the
+    events: ``steps``, ``success``, ``t_reached`` and ``message`` (a run that stops early has
+    the events up to where it stopped); ``rhs_evals`` is NaN (CyRK does not count them).
+    """
+    p = params.as_array(omega)
+    period = 2 * math.pi / omega
+    sections = period * np.arange(1, int(math.floor(t_end / period * (1 + 1e-14))) + 1)
+    t_eval = sections if sections.size and sections[-1] >= t_end else np.append(sections, t_end)
+    events = [(model_cfuncs()[1], 1), (velocity_cfunc(), -1)]
+    _, result, t_stop, _ = _solve_cyrk(method, t_end, rtol, atol, p, (x0, v0), t_eval, events)
+    imp_t, imp_y = _event_columns(result, 0)
+    pen_t, pen_y = _event_columns(result, 1)
+    inside = (pen_y[0] > params.xI) & (pen_t > 0.0)  # (a start at rest reports v = 0 at t = 0, as SciPy does)
+    t_out, y_out = np.asarray(result.t, float), np.asarray(result.y, float)
+    at_section = np.isin(t_out, sections)
+    return {
+        "impacts_t": imp_t, "impacts_v": imp_y[1],
+        "penetrations_t": pen_t[inside], "penetrations_h": pen_y[0][inside] - params.xI,
+        "poincare_t": t_out[at_section], "poincare_x": y_out[0][at_section], "poincare_v": y_out[1][at_section],
+        "rhs_evals": math.nan, "steps": int(result.steps_taken), "success": bool(result.success),
+        "t_reached": float(t_stop), "message": str(result.message),
+    }
 
 
 # --- heyoka: the free-flight floor ----------------------------------------------------------
@@ -341,10 +250,10 @@ def heyoka_free_flight(tol: float = FLOOR_TOL, params: ModelParams = FREE_FLIGHT
     return hy.taylor_adaptive([(x, v), (v, force / params.m)], [0.0, 0.0], tol=tol)
 
 
-def run_heyoka(integrator, t_end: float) -> PeerRun:
-    """Propagate a heyoka integrator from rest at t = 0 to t_end (no impacts: free flight)."""
+def run_heyoka(integrator, t_end: float, y0=(0.0, 0.0)) -> PeerRun:
+    """Propagate a heyoka integrator from y0 = (x, v) (default rest) at t = 0 to t_end (no impacts: free flight)."""
     integrator.time = 0.0
-    integrator.state[:] = 0.0
+    integrator.state[:] = y0
     start = time.perf_counter()
     outcome = integrator.propagate_until(t_end)
     wall = time.perf_counter() - start
@@ -375,89 +284,148 @@ def _row(solver: str, kind: str, rtol: float, atol: float, runs: list[PeerRun], 
     status = "ok" if last.success else f"stopped at t = {last.t_reached:.6g} s: {last.message}"
     return dict(solver=solver, kind=kind, rtol=rtol, atol=atol, wall_time=float(np.median(walls)),
                 wall_time_min=min(walls), repeats=len(runs), t_reached=last.t_reached, steps=last.steps,
-                steps_per_period=last.steps / (last.t_reached / PERIOD), status=status, **extra)
+                steps_per_period=last.steps / (last.t_reached / PERIOD), status=status, **last.extra, **extra)
 
 
-def _repeat(run, repeats: int) -> list[PeerRun]:
-    return [run() for _ in range(repeats)]
+@dataclass
+class Contestant:
+    """One row of the scene's table: a timed 500 s run and, for a scene row, the 1.5 s run of its error.
 
-
-def measure_cyrk(methods=METHODS, rtols=RTOLS, repeats: int = 3, *, reference_impacts: int,
-                 ref_times: np.ndarray, log=print) -> list[dict]:
-    """The scene rows of CyRK (one per method and rtol) and its free-flight floor row.
-
-    The timed runs go round-robin over the rows (`repeats` rounds), so that a change in the
-    machine's load during the measurement spreads over all rows instead of favouring some.
+    kind "scene" (model BC with contact: error, impacts, on_attractor) or "floor" (free flight).
+    `run` and `short` return a PeerRun; `short` runs from rest to ERR_HORIZON with impacts.
     """
+
+    solver: str
+    kind: str
+    rtol: float
+    atol: float
+    run: Callable[[], PeerRun]
+    short: Callable[[], PeerRun] | None = None
+
+
+def serpentine(items: list, round_index: int) -> list:
+    """The order of one timing round: forward in even rounds, backward in odd ones, so that
+    every item's mean position (and its share of a drift in the machine's load) is alike."""
+    return list(items) if round_index % 2 == 0 else list(reversed(items))
+
+
+def measure_contestants(contestants: list[Contestant], repeats: int, *, reference_impacts: int,
+                        ref_times: np.ndarray, log=print) -> list[dict]:
+    """Rows of the contestants: errors first (untimed), then `repeats` timing rounds in which
+    every contestant runs once (serpentine order), so that a change in the machine's load
+    spreads over all rows instead of favouring some; wall_time is the median of the rounds."""
+    if int(repeats) < 1:
+        raise ValueError(f"repeats must be >= 1, got {repeats}")
+    errors = {}
+    for i, c in enumerate(contestants):
+        if c.short is not None:
+            short = c.short()
+            errors[i] = impact_error(short.impacts_t, ref_times) if short.success else math.inf
+    runs = {i: [] for i in range(len(contestants))}
+    for k in range(int(repeats)):
+        log(f"round {k + 1} of {repeats}: {len(contestants)} runs of {T_END:g} s")
+        for i in serpentine(range(len(contestants)), k):
+            runs[i].append(contestants[i].run())
+    rows = []
+    for i, c in enumerate(contestants):
+        done = runs[i]
+        if c.kind == "scene":
+            n = int(np.count_nonzero(done[-1].impacts_t >= TRANSIENT))
+            rows.append(_row(c.solver, c.kind, c.rtol, c.atol, done, impact_time_error_1p5s=errors[i], n_impacts=n,
+                             on_attractor=done[-1].success and on_attractor(n, reference_impacts)))
+        else:
+            rows.append(_row(c.solver, c.kind, c.rtol, c.atol, done))
+        log(_line(rows[-1]))
+    return rows
+
+
+def cyrk_contestants(methods=METHODS, rtols=RTOLS, log=print) -> list[Contestant]:
+    """CyRK per method and rtol on the scene, and its free-flight floor; compiles the cfuncs and
+    the shim and makes one short run outside any timing. Raises PeerUnavailable."""
     load_cyrk_shim()
     model_cfuncs()
     run_cyrk("DOP853", 0.1, 1e-6, 1e-8)  # first call of the shim outside any timing
-    configs = []
+    out = []
     for method in methods:
         try:
             cyrk_method(method)
         except PeerUnavailable as e:
             log(f"skipped: {e}")
             continue
-        configs += [(method, rtol) for rtol in rtols]
-    errors = {}
-    for method, rtol in configs:
-        short = run_cyrk(method, ERR_HORIZON, rtol, rtol * 1e-2)
-        errors[method, rtol] = _impact_error(short.impacts_t, ref_times) if short.success else math.inf
-    runs = {config: [] for config in configs}
-    for i in range(repeats):
-        log(f"round {i + 1} of {repeats}: {len(configs)} runs of {T_END:g} s")
-        for method, rtol in configs:
-            runs[method, rtol].append(run_cyrk(method, T_END, rtol, rtol * 1e-2))
-    rows = []
-    for (method, rtol), done in runs.items():
-        n = int(np.count_nonzero(done[-1].impacts_t >= TRANSIENT))
-        rows.append(_row(f"CyRK {method}", "scene", rtol, rtol * 1e-2, done,
-                         impact_time_error_1p5s=errors[method, rtol], n_impacts=n,
-                         on_attractor=done[-1].success and on_attractor(n, reference_impacts)))
-        log(_line(rows[-1]))
-    floor = _repeat(lambda: run_cyrk("DOP853", T_END, FLOOR_TOL, FLOOR_TOL * 1e-2, params=FREE_FLIGHT,
-                                     impacts=False), repeats)
-    rows.append(_row("CyRK DOP853 free flight", "floor", FLOOR_TOL, FLOOR_TOL * 1e-2, floor))
-    log(_line(rows[-1]))
-    return rows
+        for rtol in rtols:
+            atol = rtol * 1e-2
+            out.append(Contestant(f"CyRK {method}", "scene", rtol, atol,
+                                  run=functools.partial(run_cyrk, method, T_END, rtol, atol),
+                                  short=functools.partial(run_cyrk, method, ERR_HORIZON, rtol, atol)))
+    out.append(Contestant("CyRK DOP853 free flight", "floor", FLOOR_TOL, FLOOR_TOL * 1e-2,
+                          run=functools.partial(run_cyrk, "DOP853", T_END, FLOOR_TOL, FLOOR_TOL * 1e-2,
+                                                params=FREE_FLIGHT, impacts=False)))
+    return out
+
+
+def heyoka_contestants() -> list[Contestant]:
+    """heyoka's free-flight floor (500 s at tol 1e-10), compiled and run once before any
+    timing. Raises PeerUnavailable."""
+    integrator = heyoka_free_flight()
+    run_heyoka(integrator, 1.0)
+    return [Contestant(f"heyoka Taylor (order {integrator.order}) free flight", "floor", FLOOR_TOL, FLOOR_TOL,
+                       run=functools.partial(run_heyoka, integrator, T_END))]
+
+
+def peer_contestants(methods=METHODS, rtols=RTOLS, heyoka: bool = True,
+                     log=print) -> tuple[list[Contestant], list[str]]:
+    """The installed peers' contestants, and a message per peer that is skipped (not installed,
+    or the CyRK shim cannot be built)."""
+    out, skipped = [], []
+    try:
+        out += cyrk_contestants(methods, rtols, log=log)
+    except PeerUnavailable as e:
+        skipped.append(f"CyRK skipped: {e}")
+    if heyoka:
+        try:
+            out += heyoka_contestants()
+        except PeerUnavailable as e:
+            skipped.append(f"heyoka skipped: {e}")
+    for message in skipped:
+        log(message)
+    return out, skipped
+
+
+def measure_cyrk(methods=METHODS, rtols=RTOLS, repeats: int = 3, *, reference_impacts: int,
+                 ref_times: np.ndarray, log=print) -> list[dict]:
+    """The scene rows of CyRK (one per method and rtol) and its free-flight floor row, timed
+    round-robin (:func:`measure_contestants`)."""
+    return measure_contestants(cyrk_contestants(methods, rtols, log=log), repeats,
+                               reference_impacts=reference_impacts, ref_times=ref_times, log=log)
 
 
 def measure_heyoka(repeats: int = 3, log=print) -> list[dict]:
     """heyoka's free-flight floor row (500 s at tol 1e-10, compilation excluded)."""
-    integrator = heyoka_free_flight()
-    run_heyoka(integrator, 1.0)
-    runs = _repeat(lambda: run_heyoka(integrator, T_END), repeats)
-    row = _row(f"heyoka Taylor (order {integrator.order}) free flight", "floor", FLOOR_TOL, FLOOR_TOL, runs)
-    log(_line(row))
-    return [row]
+    return measure_contestants(heyoka_contestants(), repeats, reference_impacts=0, ref_times=np.empty(0), log=log)
+
+
+def reference_times() -> np.ndarray:
+    """Impact times over the first ERR_HORIZON s from rest: SciPy DOP853 split at contacts at rtol 1e-13."""
+    from ..integration.reference import solve_reference
+
+    return solve_reference(OMEGA, ERR_HORIZON, rtol=REF_RTOL, atol=REF_ATOL)["impacts_t"]
 
 
 def measure(methods=METHODS, rtols=RTOLS, repeats: int = 3, *, reference_impacts: int | None = None,
             heyoka: bool = True, log=print) -> list[dict]:
-    """All rows: CyRK per method and rtol, then the free-flight floors (CyRK, heyoka).
+    """All rows: CyRK per method and rtol, then the free-flight floors (CyRK, heyoka), timed
+    round-robin together.
 
     A peer that is not installed (or whose shim cannot be built) is skipped with a message.
     `reference_impacts` (the attractor's count) defaults to :func:`reference_impact_count`.
     """
-    from ..integration.reference import solve_reference
-
     if reference_impacts is None:
         reference_impacts = reference_impact_count()
     log(f"attractor: the core at rtol {CORE_RTOL:g} has {reference_impacts} impacts in "
         f"{TRANSIENT:g}-{T_END:g} s; on_attractor = within {ATTRACTOR_TOLERANCE:.0%}")
-    ref_times = solve_reference(OMEGA, ERR_HORIZON, rtol=REF_RTOL, atol=REF_ATOL)["impacts_t"]
-    rows = []
-    try:
-        rows += measure_cyrk(methods, rtols, repeats, reference_impacts=reference_impacts, ref_times=ref_times,
-                             log=log)
-    except PeerUnavailable as e:
-        log(f"CyRK skipped: {e}")
-    if heyoka:
-        try:
-            rows += measure_heyoka(repeats, log=log)
-        except PeerUnavailable as e:
-            log(f"heyoka skipped: {e}")
+    contestants, _ = peer_contestants(methods, rtols, heyoka, log=log)
+    rows = measure_contestants(contestants, repeats, reference_impacts=reference_impacts, ref_times=reference_times(),
+                               log=log)
     for r in rows:
         r["reference_impacts"] = reference_impacts
     return rows
@@ -465,8 +433,10 @@ def measure(methods=METHODS, rtols=RTOLS, repeats: int = 3, *, reference_impacts
 
 def best_peer(rows: list[dict], max_error: float = 2.5e-9) -> dict | None:
     """The fastest scene row (solver, rtol) with 1.5 s impact-time error <= max_error that stays
-    on the attractor; None if there is none. Floor rows (no contact) never qualify."""
-    ok = [r for r in rows if r.get("kind", "scene") == "scene" and r.get("on_attractor")
+    on the attractor; None if there is none. Floor rows (no contact) never qualify.
+
+    Rows read back from a CSV (impactosc.files.read_table) say on_attractor "yes"/"no"."""
+    ok = [r for r in rows if r.get("kind", "scene") == "scene" and r.get("on_attractor") in (True, "yes")
           and r["impact_time_error_1p5s"] <= max_error]
     return min(ok, key=lambda r: r["wall_time"], default=None)
 

@@ -18,10 +18,24 @@ singular.)
 
 Timing follows DiffEqBenchmarks: minimum of several runs, JIT compile time excluded (and
 reported apart), the same events requested from every solver.
+
+Compiled peers (impactosc.benchmarks.peers, the ``peers`` extra): CyRK's DOP853, Vern8 and
+Vern7 ("CyRK <method>") are contestants like SciPy's: the same starts, horizon, events and
+errors; they integrate the model in one right-hand side (no splitting at contacts) with
+numba cfunc events (impacts; v = 0 inside contact for penetrations) located on their dense
+output, and Poincare points from t_eval. A peer that stops early (step-size underflow) is
+a row with status "stopped" and infinite errors, not a dropped row. With
+``attractor_check`` the core and the peers also run the scene's w from rest for 100 s +
+400 s at each rtol (untimed): a run whose impact count in 100-500 s is not within 10 % of
+the core's at rtol 1e-10, or that stops, has on_attractor "no" (SciPy is not checked: about
+a minute per run). heyoka's free-flight floor (the same starts and horizon without contact)
+is a row with status "floor". A peer that is not installed is a row with status
+"unavailable" and the reason in its note.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass
@@ -32,7 +46,8 @@ from ..analysis.chaotic import analyse_train, key_numbers
 from ..analysis.impact_train import ImpactTrain
 from ..integration.model import ModelParams
 from ..integration.reference import solve_reference
-from ..integration.simulate import simulate, warm_up
+from ..integration.simulate import StallError, simulate, warm_up
+from . import peers
 
 CORE = "impactosc core"
 SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
@@ -113,11 +128,111 @@ def run_scipy(omega, t_end, x0, v0, params, method, rtol, atol, max_pieces=100_0
     return res
 
 
+PEER_PREFIX = "CyRK "
+
+
+def is_peer(solver: str) -> bool:
+    """Whether `solver` names a compiled peer ("CyRK <method>")."""
+    return solver.startswith(PEER_PREFIX)
+
+
+def peer_solvers(methods) -> list[str]:
+    """Contestant names of CyRK's methods."""
+    return [PEER_PREFIX + m for m in methods]
+
+
+def run_peer(solver, omega, t_end, x0, v0, params, rtol, atol) -> dict:
+    """The same events with a compiled peer (peers.cyrk_events); the dict also says whether the
+    run reached t_end (success, t_reached, message)."""
+    return peers.cyrk_events(solver[len(PEER_PREFIX):], omega, t_end, x0, v0, params, rtol, atol)
+
+
 def run_solver(solver, omega, t_end, x0, v0, params, rtol, atol) -> dict:
-    """Dispatch to the core or one of SciPy's methods."""
+    """Dispatch to the core, a compiled peer or one of SciPy's methods."""
     if solver == CORE:
         return run_core(omega, t_end, x0, v0, params, rtol, atol)
+    if is_peer(solver):
+        return run_peer(solver, omega, t_end, x0, v0, params, rtol, atol)
     return run_scipy(omega, t_end, x0, v0, params, solver, rtol, atol)
+
+
+# ------------------------------------------------------------ the 500 s attractor check
+
+def long_run(solver, omega, params, rtol, atol) -> dict:
+    """Impacts in 100-500 s of a run from rest (the benchmark scene's length) by the core or a
+    peer, untimed: n_impacts_500s, t_reached_500s and why it stopped (empty if it did not)."""
+    t_end = peers.TRANSIENT + peers.DURATION
+    if solver == CORE:
+        try:
+            res = simulate(omega, peers.TRANSIENT, peers.DURATION, params=params, rtol=rtol, atol=atol,
+                           record=("impacts",))
+        except StallError as e:
+            return {"n_impacts_500s": math.nan, "t_reached_500s": float(e.state.get("t", math.nan)), "stop": str(e)}
+        return {"n_impacts_500s": len(res.events["impacts"]["t"]), "t_reached_500s": t_end, "stop": ""}
+    run = peers.run_cyrk(solver[len(PEER_PREFIX):], t_end, rtol, atol, params=params, omega=omega)
+    return {"n_impacts_500s": int(np.count_nonzero(run.impacts_t >= peers.TRANSIENT)), "t_reached_500s": run.t_reached,
+            "stop": "" if run.success else run.message}
+
+
+def attractor_columns(run: dict, reference: int) -> dict:
+    """Columns of a row from :func:`long_run`: the count, where it stopped, on_attractor and a
+    note for a run that is not on the attractor."""
+    ok = not run["stop"] and peers.on_attractor(run["n_impacts_500s"], reference)
+    out = {"n_impacts_500s": run["n_impacts_500s"], "t_reached_500s": run["t_reached_500s"],
+           "reference_impacts_500s": reference, "on_attractor": ok}
+    if run["stop"]:
+        out["attractor_note"] = f"500 s run stopped at t = {run['t_reached_500s']:.6g} s: {run['stop']}"
+    elif not ok:
+        out["attractor_note"] = (f"500 s run: {run['n_impacts_500s']} impacts in 100-500 s against {reference}: "
+                                 "left the attractor")
+    return out
+
+
+def peer_status(solvers, *, heyoka: bool) -> dict:
+    """For each peer in `solvers` (and "heyoka" if asked), None if it can run here, else why not
+    (peers.PeerUnavailable's message). Builds the CyRK shim and the cfuncs (outside any timing)."""
+    out = {}
+    cyrk = [s for s in solvers if is_peer(s)]
+    if cyrk:
+        try:
+            peers.load_cyrk_shim()
+            peers.model_cfuncs()
+            peers.velocity_cfunc()
+            peers.run_cyrk("DOP853", 0.1, 1e-6, 1e-8)
+            reason = None
+        except peers.PeerUnavailable as e:
+            reason = str(e)
+        for s in cyrk:
+            out[s] = reason
+            if reason is None:
+                try:
+                    peers.cyrk_method(s[len(PEER_PREFIX):])
+                except peers.PeerUnavailable as e:
+                    out[s] = str(e)
+    if heyoka:
+        try:
+            import heyoka  # noqa: F401
+
+            out["heyoka"] = None
+        except ImportError as e:
+            out["heyoka"] = f"heyoka is not installed ({e}); {peers.INSTALL_HINT}"
+    return out
+
+
+def heyoka_floor(case: Case, starts, params: ModelParams, repeats: int, tol: float = peers.FLOOR_TOL) -> dict:
+    """heyoka's Taylor integrator over the scene's starts and horizon without contact (obstacle
+    out of reach): wall time summed over the starts of the minimum of `repeats` runs."""
+    integrator = peers.heyoka_free_flight(tol, dataclasses.replace(params, xI=1.0), case.omega)
+    peers.run_heyoka(integrator, case.horizon)  # outside the timing
+    wall = 0.0
+    for x0, v0 in starts:
+        out, wmin, _, _ = best_time(lambda: peers.run_heyoka(integrator, case.horizon, (x0, v0)), repeats)
+        if not out.success:
+            raise RuntimeError(f"heyoka stopped at t = {out.t_reached:g} s: {out.message}")
+        wall += wmin
+    return {"solver": f"heyoka Taylor (order {integrator.order}) free flight", "rtol": tol, "atol": tol,
+            "status": "floor", "wall_time": wall, "repeats": repeats,
+            "note": "no contact (obstacle out of reach): a floor, not a competitor"}
 
 
 # --------------------------------------------------------------------------- the errors
@@ -207,52 +322,83 @@ def references(case: Case, starts, params, ref: dict) -> tuple[list[dict], list[
 
 def sweep_case(case: Case, params: ModelParams, rtols, atol_ratio: float, solvers, ref: dict,
                core_repeats: int = 7, scipy_repeats: int = 3, repeat_below: float = 2.0,
-               time_cap: float = 60.0, log=print) -> list[dict]:
+               time_cap: float = 60.0, peer_repeats: int = 7, attractor_check: bool = False,
+               floor: bool = False, log=print) -> list[dict]:
     """One row per (solver, rtol): wall time (sum over the starts of the minimum of the
     repeats), RHS evaluations and the errors against the reference.
 
     A SciPy solver is not run at tighter tolerances once one of its runs took longer than
     `time_cap` s (its row says so); a run that fails (step-size collapse) is reported as
-    failed with SciPy's message.
+    failed with SciPy's message; a peer's run that stops early is a row with status
+    "stopped" (wall time measured, errors inf). Peers ("CyRK <method>" in `solvers`) that
+    cannot run here get one row with status "unavailable". With `attractor_check` the core's
+    and the peers' rows carry their 500 s impact count and on_attractor (:func:`long_run`);
+    with `floor` heyoka's free-flight floor is added (:func:`heyoka_floor`).
     """
     warm_up()  # JIT compile (or cache load) stays out of every timing
     starts = attractor_starts(case, params)
     refs, checks, unc = references(case, starts, params, ref)
     log(f"{case.name}: {len(starts)} start(s), reference impacts {unc['n_impacts_ref']}, uncertainty "
         + ", ".join(f"{k} {unc[k]:.2e}" for k in METRICS))
+    base = {"scene": case.name, "omega": case.omega, "horizon": case.horizon, "n_starts": len(starts),
+            **{f"reference_{k}": unc[k] for k in METRICS}}
     rows = []
+    missing = peer_status(solvers, heyoka=floor)  # (builds the CyRK shim before any timing)
+    for solver, reason in missing.items():
+        if reason is not None:
+            rows.append({**base, "solver": solver, "status": "unavailable", "note": reason})
+            log(f"{case.name} {solver}: unavailable ({reason.splitlines()[0]})")
+    solvers = [s for s in solvers if missing.get(s) is None]
+    reference_500s = None
+    if attractor_check and (CORE in solvers or any(is_peer(s) for s in solvers)):
+        reference_500s = long_run(CORE, case.omega, params, peers.CORE_RTOL, peers.CORE_ATOL)["n_impacts_500s"]
+        log(f"{case.name}: the core at rtol {peers.CORE_RTOL:g} has {reference_500s} impacts in 100-500 s from rest")
     for solver in solvers:
         capped = None
         for rtol in rtols:
             atol = rtol * atol_ratio
-            row = {"scene": case.name, "omega": case.omega, "horizon": case.horizon, "n_starts": len(starts),
-                   "solver": solver, "rtol": rtol, "atol": atol}
-            row.update({f"reference_{k}": unc[k] for k in METRICS})
+            row = {**base, "solver": solver, "rtol": rtol, "atol": atol}
             if capped is not None:
                 rows.append({**row, "status": "skipped", "note": f"rtol {capped:g} already took > {time_cap:g} s"})
                 continue
             # the primary reference's own method is measured against the check reference,
             # so that no solver is judged by a tighter run of itself
             against = checks if solver == ref["method"] else refs
-            reps = core_repeats if solver == CORE else scipy_repeats
-            below = math.inf if solver == CORE else repeat_below
+            reps = core_repeats if solver == CORE else (peer_repeats if is_peer(solver) else scipy_repeats)
+            below = repeat_below if solver in SCIPY_METHODS else math.inf
+            if reference_500s is not None and (solver == CORE or is_peer(solver)):
+                row.update(attractor_columns(long_run(solver, case.omega, params, rtol, atol), reference_500s))
             try:
-                walls, meds, nrep, rhs, errs = 0.0, 0.0, 0, 0, []
-                for (x0, v0), r in zip(starts, against):
+                walls, meds, nrep, rhs, errs, stops = 0.0, 0.0, 0, 0, [], []
+                for k, ((x0, v0), r) in enumerate(zip(starts, against)):
                     out, wmin, wmed, n = best_time(
                         lambda: run_solver(solver, case.omega, case.horizon, x0, v0, params, rtol, atol), reps, below)
                     walls, meds, nrep, rhs = walls + wmin, meds + wmed, max(nrep, n), rhs + out["rhs_evals"]
+                    if not out.get("success", True):
+                        stops.append(f"start {k + 1}: stopped at t = {out['t_reached']:.6g} s of {case.horizon:g} s: "
+                                     f"{out['message']}")
+                        continue
                     errs.append(event_errors(out, r))
             except RuntimeError as exc:
                 rows.append({**row, "status": "failed", "note": str(exc)})
                 log(f"{case.name} {solver} rtol {rtol:g}: failed ({exc})")
                 continue
+            if stops:
+                rows.append({**row, "status": "stopped", "wall_time": walls, "wall_time_median": meds, "repeats": nrep,
+                             "rhs_evals": rhs, **{k: math.inf for k in (*METRICS, "poincare_v_error")},
+                             "note": "; ".join(stops)})
+                log(f"{case.name} {solver} rtol {rtol:g}: {walls:.4g} s, {rows[-1]['note']}")
+                continue
             note = f"errors against the {ref['check_method']} reference" if against is checks else ""
             rows.append({**row, "status": "ok", "wall_time": walls, "wall_time_median": meds, "repeats": nrep,
                          "rhs_evals": rhs, **_worst(errs), "note": note})
-            log(f"{case.name} {solver} rtol {rtol:g}: {walls:.4g} s, impact err {rows[-1]['impact_time_error']:.2e}")
+            log(f"{case.name} {solver} rtol {rtol:g}: {walls:.4g} s, impact err {rows[-1]['impact_time_error']:.2e}"
+                + (f", {rows[-1]['attractor_note']}" if "attractor_note" in rows[-1] else ""))
             if solver != CORE and walls > time_cap:
                 capped = rtol
+    if floor and missing.get("heyoka") is None:
+        rows.append({**base, **heyoka_floor(case, starts, params, peer_repeats)})
+        log(f"{case.name} {rows[-1]['solver']}: {rows[-1]['wall_time']:.4g} s")
     return rows
 
 
@@ -262,37 +408,52 @@ def cost_at_error(rows: list[dict], scene: str, solver: str, metric: str, level:
     """Least wall time of any run of `solver` on `scene` whose error is <= level (nan if none).
 
     A step function on the measured points, not an interpolation: the time one actually
-    has to spend to be at least that accurate.
+    has to spend to be at least that accurate. A run whose 500 s check left the attractor
+    (on_attractor no) does not count.
     """
     walls = [r["wall_time"] for r in rows if r["scene"] == scene and r["solver"] == solver
-             and r.get("status") == "ok" and r[metric] <= level]
+             and r.get("status") == "ok" and r.get("on_attractor") not in (False, "no") and r[metric] <= level]
     return min(walls) if walls else math.nan
 
 
+def _fastest(rows, scene, solvers, metric, level):
+    """(costs per solver, the fastest solver or None) at an error level."""
+    costs = {s: cost_at_error(rows, scene, s, metric, level) for s in solvers}
+    finite = {s: c for s, c in costs.items() if not math.isnan(c)}
+    return costs, (min(finite, key=finite.get) if finite else None)
+
+
 def headline(rows: list[dict], levels: dict) -> list[dict]:
-    """Speed ratio at equal error: the fastest SciPy solver's cost over the core's.
+    """Speed ratio at equal error: the fastest SciPy solver's cost over the core's, and the
+    fastest compiled peer's (if any were measured) over the core's.
 
     levels: metric -> list of error levels. One row per (scene, metric, level).
     """
     out = []
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
-    solvers = list(dict.fromkeys(r["solver"] for r in rows if r["solver"] != CORE))
+    solvers = list(dict.fromkeys(r["solver"] for r in rows if r["solver"] in SCIPY_METHODS))
+    compiled = list(dict.fromkeys(r["solver"] for r in rows if is_peer(str(r["solver"]))
+                                  and r.get("status") != "unavailable"))
     for scene in scenes:
         unc = next(r for r in rows if r["scene"] == scene)
         for metric, lv in levels.items():
             for level in lv:
                 core = cost_at_error(rows, scene, CORE, metric, level)
-                costs = {s: cost_at_error(rows, scene, s, metric, level) for s in solvers}
-                finite = {s: c for s, c in costs.items() if not math.isnan(c)}
-                best = min(finite, key=finite.get) if finite else None
-                out.append({
+                costs, best = _fastest(rows, scene, solvers, metric, level)
+                row = {
                     "scene": scene, "metric": metric, "error_level": level,
                     "reference_uncertainty": unc[f"reference_{metric}"],
                     "core_wall_time": core, "best_scipy": best or "none",
-                    "best_scipy_wall_time": finite[best] if best else math.nan,
-                    "speedup": finite[best] / core if best and core > 0 else math.nan,
+                    "best_scipy_wall_time": costs[best] if best else math.nan,
+                    "speedup": costs[best] / core if best and core > 0 else math.nan,
                     **{f"{s}_wall_time": c for s, c in costs.items()},
-                })
+                }
+                if compiled:
+                    peer_costs, peer = _fastest(rows, scene, compiled, metric, level)
+                    row.update({"best_peer": peer or "none",
+                                "best_peer_wall_time": peer_costs[peer] if peer else math.nan,
+                                "peer_over_core": peer_costs[peer] / core if peer and core > 0 else math.nan})
+                out.append(row)
     return out
 
 
