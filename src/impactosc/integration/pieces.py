@@ -336,41 +336,21 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
 
     # terminal events inside the step, and what else falls inside it (the run's end,
     # Poincare times, window samples): all from the interpolant of t(s), x(s), v(s)
-    kind = EV_NONE
-    if phase == FREE and x1 - p[P_XI] > 0.0:
-        kind = EV_X_UP
-    elif phase == CONTACT and x1 - p[P_XI] < 0.0:
-        kind = EV_X_DOWN
-    elif phase == CONTACT and v1 <= -st[S_VCUT]:
-        kind = EV_CUT_ON
-    t_end, t_sec = rs[R_T_END], st[S_ISEC] * rs[R_PERIOD]
+    kind = _terminal_event(p, st, phase, x1, v1)
     t_stop = tref + t1  # absolute
-    inside = t_stop > t_end or t_stop > t_sec or window_due(st, rs, win_x, t_stop)
+    inside = t_stop > rs[R_T_END] or t_stop > st[S_ISEC] * rs[R_PERIOD] or window_due(st, rs, win_x, t_stop)
     th_ev = 2.0
     if kind != EV_NONE or inside:
         dop853.dense_prepare(p, mode, phase, sgn, q, s, tref, t, x, v, t1, x1, v1, hs, K, F)
         cnt[C_DENSE] += 1
         cnt[C_RHS] += 3
-        if kind == EV_X_UP:
-            th_ev = bisect(F, x, 1, p[P_XI], 0.0, 1.0, -1.0)
-        elif kind == EV_X_DOWN:
-            th_ev = bisect(F, x, 1, p[P_XI], 0.0, 1.0, 1.0)
-        elif kind == EV_CUT_ON:
-            th_ev = bisect(F, v, 2, -st[S_VCUT], 0.0, 1.0, 1.0)
+        th_ev = _locate(p, st, F, x, v, kind)
     th_end = 2.0
     if inside:
         if kind != EV_NONE:
             t_stop = tref + dop853.dense_eval(F, t, th_ev, 0)
-        if t_stop > t_end:
-            th_end = bisect(F, t, 0, t_end - tref, 0.0, 1.0, -1.0)
-            t_stop = t_end
-        while t_sec < t_stop:  # Poincare times inside the piece: exact t, interpolated state
-            th = bisect(F, t, 0, t_sec - tref, 0.0, 1.0, -1.0)
-            ev, n_ev = record_poincare(st, rs, ev, n_ev, t_sec, dop853.dense_eval(F, x, th, 1),
-                                       dop853.dense_eval(F, v, th, 2))
-            t_sec = st[S_ISEC] * rs[R_PERIOD]
-        if window_due(st, rs, win_x, t_stop):
-            sample_window(F, mode, tref, t, x, v, hs, t_stop, st, rs, win_x, win_v)
+        ev, n_ev, th_end = _sections_and_window(st, rs, F, ev, n_ev, win_x, win_v, mode, tref, t, x, v, hs, t_stop)
+    t_end = rs[R_T_END]
     if th_end <= 1.0 and th_end < th_ev:  # the run ends inside this piece
         st[S_MODE] = TIME
         st[S_TREF] = 0.0
@@ -422,6 +402,50 @@ def _switch_variable(p, st, cnt, d0, ta, x, v):
     start_piece(p, st, cnt, d0, ta, x, v, 0.0)
     if h_time > 0.0 and d0[0] > 0.0 and h_time / d0[0] < math.inf:
         st[S_H] = h_time / d0[0]
+
+
+@njit(cache=True, inline="always")
+def _terminal_event(p, st, phase, x1, v1):
+    """The event that ends the piece inside a transformed step, judged at the step's end
+    (inside a piece x and v are monotone, so a crossing shows there)."""
+    if phase == FREE and x1 - p[P_XI] > 0.0:
+        return EV_X_UP
+    if phase == CONTACT and x1 - p[P_XI] < 0.0:
+        return EV_X_DOWN
+    if phase == CONTACT and v1 <= -st[S_VCUT]:
+        return EV_CUT_ON
+    return EV_NONE
+
+
+@njit(cache=True, inline="always")
+def _locate(p, st, F, x, v, kind):
+    """Fraction of the step at which the event `kind` happens, on its interpolant F."""
+    if kind == EV_X_UP:
+        return bisect(F, x, 1, p[P_XI], 0.0, 1.0, -1.0)
+    if kind == EV_X_DOWN:
+        return bisect(F, x, 1, p[P_XI], 0.0, 1.0, 1.0)
+    if kind == EV_CUT_ON:
+        return bisect(F, v, 2, -st[S_VCUT], 0.0, 1.0, 1.0)
+    return 2.0
+
+
+@njit(cache=True)
+def _sections_and_window(st, rs, F, ev, n_ev, win_x, win_v, mode, tref, t, x, v, hs, t_stop):
+    """Poincare times and window samples up to absolute time t_stop inside a transformed
+    step (exact times, interpolated state); returns (ev, n_ev, theta at the run's end or 2)."""
+    th_end = 2.0
+    if t_stop > rs[R_T_END]:
+        th_end = bisect(F, t, 0, rs[R_T_END] - tref, 0.0, 1.0, -1.0)
+        t_stop = rs[R_T_END]
+    t_sec = st[S_ISEC] * rs[R_PERIOD]
+    while t_sec < t_stop:
+        th = bisect(F, t, 0, t_sec - tref, 0.0, 1.0, -1.0)
+        ev, n_ev = record_poincare(st, rs, ev, n_ev, t_sec, dop853.dense_eval(F, x, th, 1),
+                                   dop853.dense_eval(F, v, th, 2))
+        t_sec = st[S_ISEC] * rs[R_PERIOD]
+    if window_due(st, rs, win_x, t_stop):
+        sample_window(F, mode, tref, t, x, v, hs, t_stop, st, rs, win_x, win_v)
+    return ev, n_ev, th_end
 
 
 @njit(cache=True)
