@@ -167,6 +167,28 @@ def test_sweep_smoke_core_fastest_and_accurate():
     assert lsoda[1e-10]["wall_time"] > 10 * core[1e-10]["wall_time"]
 
 
+def test_a_contestant_that_raises_is_a_failed_row(monkeypatch):
+    """SciPy's event location can raise ValueError (brentq: "f(a) and f(b) must have different
+    signs"; LSODA at rtol 1e-13 on the periodic scene did): that point is a failed row with the
+    message, and the sweep goes on."""
+    case = wp.Case("chaotic", 40.86, 100.0, 0.3)
+    ref = {"method": "DOP853", "rtol": 1e-12, "atol": 1e-14, "check_method": "LSODA", "check_rtol": 1e-11,
+           "check_atol": 1e-14}
+    real = wp.run_solver
+
+    def run_solver(solver, *args):
+        if solver == "LSODA":
+            raise ValueError("f(a) and f(b) must have different signs")
+        return real(solver, *args)
+
+    monkeypatch.setattr(wp, "run_solver", run_solver)
+    rows = wp.sweep_case(case, ModelParams(), [1e-8], 1e-2, [wp.CORE, "LSODA"], ref, core_repeats=1,
+                         scipy_repeats=1, log=quiet)
+    status = {r["solver"]: (r["status"], r.get("note", "")) for r in rows}
+    assert status[wp.CORE][0] == "ok"
+    assert status["LSODA"] == ("failed", "ValueError: f(a) and f(b) must have different signs")
+
+
 def test_figure_from_synthetic_rows(tmp_path):
     from impactosc.plotting import save_figure
     from impactosc.plotting.work_precision import plot_work_precision

@@ -379,8 +379,9 @@ def sweep_case(case: Case, params: ModelParams, rtols, atol_ratio: float, solver
                                      f"{out['message']}")
                         continue
                     errs.append(event_errors(out, r))
-            except RuntimeError as exc:
-                rows.append({**row, "status": "failed", "note": str(exc)})
+            except (RuntimeError, ValueError) as exc:  # a contestant that fails (SciPy's event location
+                # can raise brentq's "f(a) and f(b) must have different signs") is a failed row, not a crash
+                rows.append({**row, "status": "failed", "note": f"{type(exc).__name__}: {exc}"})
                 log(f"{case.name} {solver} rtol {rtol:g}: failed ({exc})")
                 continue
             if stops:
