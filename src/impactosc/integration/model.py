@@ -107,13 +107,15 @@ def _pow(h, n):
     return h**n
 
 
-@njit(cache=True)
+# The right-hand-side pieces are inlined into the steppers (numba inline="always"): 6-16 % off
+# the chaotic scene's wall time in two A/B rounds, events bit-identical; compile +5-10 s.
+@njit(cache=True, inline="always")
 def contact_force(p, x, v):
     """Hunt-Crossley force kI*max(bracket, 0) for penetration x - xI > 0, else 0."""
     return contact_force_vn(p, x, v, abs(v) ** p[P_N3])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def contact_force_vn(p, x, v, vn):
     """contact_force with vn = |v|^n3 given (a piece in the variable |v|^n3 has it: one pow less)."""
     h = x - p[P_XI]
@@ -130,7 +132,7 @@ def contact_force_vn(p, x, v, vn):
     return p[P_KI] * bracket
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def external_force(p, t, x, v):
     """Everything but the contact: forcing - spring - viscous - regularised dry friction."""
     w = p[P_OMEGA]
@@ -138,7 +140,7 @@ def external_force(p, t, x, v):
     return p[P_M0E] * w * w * math.sin(w * t) - p[P_K] * x - p[P_C] * v - friction
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def accel(p, phase, t, x, v):
     """x'' on the smooth piece `phase` (FREE and CUT have no contact force)."""
     f = external_force(p, t, x, v)
@@ -147,7 +149,7 @@ def accel(p, phase, t, x, v):
     return f / p[P_M]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def accel_vn(p, phase, t, x, v, vn):
     """accel with vn = |v|^n3 given."""
     f = external_force(p, t, x, v)
