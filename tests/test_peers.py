@@ -67,16 +67,6 @@ def test_a_shim_that_does_not_build_is_reported(monkeypatch, tmp_path):
         peers.load_cyrk_shim()
 
 
-@pytest.fixture(scope="module")
-def cyrk():
-    pytest.importorskip("CyRK")
-    try:
-        peers.load_cyrk_shim()
-    except peers.PeerUnavailable as e:
-        pytest.skip(str(e))
-    return peers
-
-
 def test_cyrk_dop853_reproduces_the_reference_impact_times(cyrk):
     """DOP853 in one right-hand side, impacts located by CyRK's events on its dense output.
 

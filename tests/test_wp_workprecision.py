@@ -266,18 +266,6 @@ def test_figure_draws_peers_floors_and_failures(tmp_path):
     assert (tmp_path / "wp.png").stat().st_size > 10_000
 
 
-@pytest.fixture(scope="module")
-def cyrk():
-    from impactosc.benchmarks import peers
-
-    pytest.importorskip("CyRK")
-    try:
-        peers.load_cyrk_shim()
-    except peers.PeerUnavailable as e:
-        pytest.skip(str(e))
-    return peers
-
-
 def test_peer_contestant_gives_the_events_of_the_others(cyrk):
     """CyRK DOP853 at rtol 1e-12 in one right-hand side finds the reference's impacts,
     penetrations and Poincare points over 1.5 s from rest (measured: 2.9e-11 s, 7e-14 m,

@@ -112,6 +112,8 @@ def _pow(h, n):
 @njit(cache=True, inline="always")
 def contact_force(p, x, v):
     """Hunt-Crossley force kI*max(bracket, 0) for penetration x - xI > 0, else 0."""
+    if x - p[P_XI] <= 0.0:  # no contact: no power to take
+        return 0.0
     return contact_force_vn(p, x, v, abs(v) ** p[P_N3])
 
 
