@@ -1,25 +1,36 @@
 # Two commands do everything on a fresh machine with Python 3.11:
 #   make        install into .venv and run the full workflow (snakemake -j2)
-#   make test   install into .venv and run the default (fast) tests
+#   make test   install into .venv and run the default (fast) tests, lint and format checks
+# Both install the exact versions of requirements.lock (hash-checked); `make lock` refreshes it.
 PYTHON ?= python3
+LOCK := requirements.lock
 VENV := .venv
 BIN := $(VENV)/bin
 JOBS ?= 2
 
-.PHONY: all install test test-slow report lint check-cluster check-slurm clean
+.PHONY: all install lock test test-slow report lint format check-cluster check-slurm clean
 
 all: install
 	$(BIN)/snakemake -j$(JOBS)
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --upgrade pip
 
-$(VENV)/.installed: $(BIN)/python pyproject.toml
-	$(BIN)/python -m pip install --quiet -e '.[test,peers]'
+# The tested environment: every package pinned with its hashes (extras test, peers and slurm),
+# then the package itself, built by the locked setuptools (no unpinned build environment).
+$(VENV)/.installed: $(BIN)/python $(LOCK) pyproject.toml
+	$(BIN)/python -m pip install --quiet --require-hashes --no-deps -r $(LOCK)
+	$(BIN)/python -m pip install --quiet --no-deps --no-build-isolation -e .
 	touch $@
 
 install: $(VENV)/.installed
+
+# Refresh the lock after changing pyproject's dependencies (uv resolves for every platform
+# from PyPI; uv is only the locking tool, not a dependency of the package).
+lock: $(BIN)/python
+	$(BIN)/python -m pip install --quiet uv
+	$(BIN)/uv pip compile pyproject.toml --extra test --extra peers --extra slurm --universal \
+		--python-version 3.11 --generate-hashes --index-url https://pypi.org/simple --quiet -o $(LOCK)
 
 test: install
 	$(BIN)/python -m pytest
@@ -33,20 +44,16 @@ report: install
 lint: install
 	$(BIN)/snakemake --lint
 
-$(VENV)/.installed-slurm: $(VENV)/.installed pyproject.toml
-	$(BIN)/python -m pip install --quiet -e '.[slurm]'
-	touch $@
-
 # The README's cluster route without a cluster (.ci/run, after make test): the SLURM profile
 # must parse and plan map2d. A dry run alone would not catch issue 17 (snakemake sets
 # --cores 1 for dry runs), so --summary builds the same DAG as a real run, without submitting.
-check-cluster: $(VENV)/.installed-slurm
+check-cluster: $(VENV)/.installed
 	$(BIN)/snakemake --workflow-profile workflow/profiles/slurm -n map2d
 	$(BIN)/snakemake --workflow-profile workflow/profiles/slurm --summary map2d > /dev/null
 	@echo "check-cluster: the SLURM profile plans map2d"
 
 # Opt-in, needs root: a one-node SLURM (Debian slurm-wlm, munge) runs a tiny map2d via sbatch.
-check-slurm: $(VENV)/.installed-slurm
+check-slurm: $(VENV)/.installed
 	bash workflow/slurm/check_slurm.sh --install
 
 clean:

@@ -17,8 +17,6 @@ rule benchmark_core:
     threads: all_local_cores
     log:
         logfile("benchmark", "benchmark_core"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/benchmark_core.py"
 
@@ -38,8 +36,6 @@ rule random_scenes_part:
         rs=config["random_scenes"],
     log:
         logfile("benchmark", "random_scenes_part_{part}"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/random_scenes_part.py"
 
@@ -54,7 +50,5 @@ rule random_scenes:
         rs=config["random_scenes"],
     log:
         logfile("benchmark", "random_scenes"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/random_scenes.py"

@@ -32,8 +32,6 @@ rule bifurcation_coarse:
         logfile("bifurcation", "bifurcation_coarse_{sweep}"),
     benchmark:
         benchmark_file("bifurcation", "bifurcation_coarse_{sweep}")
-    conda:
-        "../envs/impactosc.yaml"
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
     # the coarse pass is sweep part "coarse": the script of rule bifurcation_chunk
@@ -58,8 +56,6 @@ rule bifurcation_chunk:
         logfile("bifurcation", "bifurcation_chunk_{sweep}_{chunk}"),
     benchmark:
         benchmark_file("bifurcation", "bifurcation_chunk_{sweep}_{chunk}")
-    conda:
-        "../envs/impactosc.yaml"
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
         chunk=BIF_WILDCARDS["chunk"],
@@ -77,8 +73,6 @@ rule bifurcation_merge:
         grid=lambda wc: BIF["sweeps"][wc.sweep],
     log:
         logfile("bifurcation", "bifurcation_merge_{sweep}"),
-    conda:
-        "../envs/impactosc.yaml"
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
     script:
@@ -103,8 +97,6 @@ rule bifurcation_tables:
         command="snakemake -j2 bifurcation_tables",
     log:
         logfile("bifurcation", "bifurcation_tables"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/bifurcation_tables.py"
 
@@ -124,8 +116,6 @@ rule fig02:
         experimental=BIF["fig02"]["experimental"],
     log:
         logfile("bifurcation", "fig02"),
-    conda:
-        "../envs/impactosc.yaml"
     # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
     script:
         "../scripts/bifurcation_figure.py"
@@ -146,8 +136,6 @@ rule fig03b:
         zoom_half_width=0.6,
     log:
         logfile("bifurcation", "fig03b"),
-    conda:
-        "../envs/impactosc.yaml"
     # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
     script:
         "../scripts/bifurcation_figure.py"
@@ -170,8 +158,6 @@ rule bifurcation_overlay:
         model=config["model"],
     log:
         logfile("bifurcation", "bifurcation_overlay"),
-    conda:
-        "../envs/impactosc.yaml"
     # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
     script:
         "../scripts/bifurcation_figure.py"
@@ -186,8 +172,6 @@ rule bifurcation_benchmark:
         names=BIF_SWEEPS,
     log:
         logfile("bifurcation", "bifurcation_benchmark"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/bifurcation_benchmark.py"
 
@@ -206,8 +190,6 @@ rule map2d_part:
         logfile("bifurcation", "map2d_part_{chunk}"),
     benchmark:
         benchmark_file("bifurcation", "map2d_part_{chunk}")
-    conda:
-        "../envs/impactosc.yaml"
     wildcard_constraints:
         chunk=BIF_WILDCARDS["chunk"],
     script:
@@ -225,8 +207,6 @@ rule map2d:
         model=config["model"],
     log:
         logfile("bifurcation", "map2d"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/map2d.py"
 

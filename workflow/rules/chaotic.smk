@@ -38,8 +38,6 @@ rule chaotic_member:
         logfile("chaotic", "chaotic_member_{member}"),
     benchmark:
         benchmark_file("chaotic", "chaotic_member_{member}")
-    conda:
-        "../envs/impactosc.yaml"
     wildcard_constraints:
         member="|".join(re.escape(m) for m in CHAOTIC_MEMBERS),
     # an ensemble member is a scene run with its own x0 and tolerances: the script of rule simulate_scene
@@ -57,8 +55,6 @@ rule chaotic_train_stats:
         analysis=CHAOTIC["analysis"],
     log:
         logfile("chaotic", "chaotic_train_stats_{train}"),
-    conda:
-        "../envs/impactosc.yaml"
     wildcard_constraints:
         train="|".join(CHAOTIC_TRAINS),
     script:
@@ -76,8 +72,6 @@ rule chaotic_ensemble:
         analysis=CHAOTIC["analysis"],
     log:
         logfile("chaotic", "chaotic_ensemble"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/chaotic_ensemble.py"
 
@@ -94,8 +88,6 @@ rule chaotic_stats:
         command="snakemake -j1 chaotic_stats",
     log:
         logfile("chaotic", "chaotic_stats"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/chaotic_stats.py"
 
@@ -126,8 +118,6 @@ for _nn, _inputs in (
             portrait_span=CHAOTIC["portrait_span"] if _nn == 6 else None,
         log:
             logfile("chaotic", f"fig{_nn:02d}"),
-        conda:
-            "../envs/impactosc.yaml"
         # one script draws fig06..fig11 (params.figure selects): the chaotic figure family
         script:
             "../scripts/chaotic_figure.py"

@@ -19,8 +19,6 @@ rule fig03:
         zoom_half_width=0.6,
     log:
         logfile("combined", "fig03"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/fig03.py"
 
@@ -33,8 +31,6 @@ rule paper_vs_replication:
         md=PAPER_TABLE_MD,
     log:
         logfile("combined", "paper_vs_replication"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/paper_vs_replication.py"
 

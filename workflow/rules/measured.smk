@@ -32,8 +32,6 @@ rule measured_surrogate:
         logfile("measured", "measured_surrogate_{kind}"),
     benchmark:
         benchmark_file("measured", "measured_surrogate_{kind}")
-    conda:
-        "../envs/impactosc.yaml"
     wildcard_constraints:
         kind="chaos|sweep",
     script:
@@ -50,8 +48,6 @@ rule measured_chaos_events:
         noise=MEAS["chaos"]["noise"],
     log:
         logfile("measured", "measured_chaos_events"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/measured_chaos_events.py"
 
@@ -63,8 +59,6 @@ rule measured_fig02_points:
         points=MEAS_FIG02_POINTS,
     log:
         logfile("measured", "measured_fig02_points"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/measured_fig02_points.py"
 
@@ -85,8 +79,6 @@ rule measured_noise_study:
         logfile("measured", "measured_noise_study"),
     benchmark:
         benchmark_file("measured", "measured_noise_study")
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/measured_noise_study.py"
 
@@ -105,8 +97,6 @@ rule measured_noise_figure:
         density_rate=MEAS["noise_study"]["density_rate"],
     log:
         logfile("measured", "measured_noise_figure"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/measured_noise_figure.py"
 
@@ -127,8 +117,6 @@ if MEAS_HOOK_CHAOS:
             command="snakemake -j1 measured_rows",
         log:
             logfile("measured", "measured_rows"),
-        conda:
-            "../envs/impactosc.yaml"
         script:
             "../scripts/measured_rows.py"
 

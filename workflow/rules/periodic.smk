@@ -28,8 +28,6 @@ rule periodic_branch:
         logfile("periodic", "periodic_branch"),
     benchmark:
         benchmark_file("periodic", "periodic_branch")
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/periodic_branch.py"
 
@@ -48,8 +46,6 @@ rule periodic_from_rest:
         logfile("periodic", "periodic_from_rest"),
     benchmark:
         benchmark_file("periodic", "periodic_from_rest")
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/periodic_from_rest.py"
 
@@ -67,8 +63,6 @@ rule periodic_before_grazing:
         logfile("periodic", "periodic_before_grazing"),
     benchmark:
         benchmark_file("periodic", "periodic_before_grazing")
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/periodic_before_grazing.py"
 
@@ -85,8 +79,6 @@ rule periodic_stats:
         spectrum_of="after_grazing",
     log:
         logfile("periodic", "periodic_stats"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/periodic_stats.py"
 
@@ -100,8 +92,6 @@ rule before_grazing_stats:
         spectrum=PERIODIC["spectrum"],
     log:
         logfile("periodic", "before_grazing_stats"),
-    conda:
-        "../envs/impactosc.yaml"
     # same statistics as rule periodic_stats, on the branch run: the script of that rule
     script:
         "../scripts/periodic_stats.py"
@@ -119,8 +109,6 @@ rule grazing_stats:
         n_fit=PERIODIC["grazing"]["n_fit"],
     log:
         logfile("periodic", "grazing_stats"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/grazing_stats.py"
 
@@ -134,8 +122,6 @@ rule periodic_rows:
         rows=rows_file("periodic"),
     log:
         logfile("periodic", "periodic_rows"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/periodic_rows.py"
 
@@ -146,8 +132,6 @@ rule fig01:
         pdf=figure(1)[1],
     log:
         logfile("periodic", "fig01"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/fig01.py"
 
@@ -163,8 +147,6 @@ rule fig03a:
         span=PERIODIC["fig03a"]["span"],
     log:
         logfile("periodic", "fig03a"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/fig03a.py"
 
@@ -183,8 +165,6 @@ rule fig04:
         inset=PERIODIC["fig04"]["inset"],
     log:
         logfile("periodic", "fig04"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/fig04.py"
 
@@ -198,8 +178,6 @@ rule fig05:
         pdf=figure(5)[1],
     log:
         logfile("periodic", "fig05"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/fig05.py"
 
@@ -214,8 +192,6 @@ rule grazing:
         window=[PERIODIC["from_rest"]["start"], PERIODIC["from_rest"]["stop"]],
     log:
         logfile("periodic", "grazing"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/grazing.py"
 

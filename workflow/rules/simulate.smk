@@ -9,8 +9,6 @@ rule numba_cache:
         marker=NUMBA_CACHE,
     log:
         logfile("scenes", "numba_cache"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/numba_cache.py"
 
@@ -28,8 +26,6 @@ rule simulate_scene:
         logfile("scenes", "simulate_scene_{scene}"),
     benchmark:
         benchmark_file("scenes", "simulate_scene_{scene}")
-    conda:
-        "../envs/impactosc.yaml"
     wildcard_constraints:
         scene="|".join(config["scenes"]),
     script:

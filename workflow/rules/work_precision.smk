@@ -28,8 +28,6 @@ rule wp_measure:
     threads: all_local_cores
     log:
         logfile("work_precision", "wp_measure_{wp_scene}"),
-    conda:
-        "../envs/impactosc.yaml"
     wildcard_constraints:
         wp_scene="|".join(WP["scenes"]),
     script:
@@ -50,8 +48,6 @@ rule wp_statistics:
     threads: all_local_cores
     log:
         logfile("work_precision", "wp_statistics"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/wp_statistics.py"
 
@@ -62,8 +58,6 @@ rule wp_jit:
     threads: all_local_cores
     log:
         logfile("work_precision", "wp_jit"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/wp_jit.py"
 
@@ -87,8 +81,6 @@ rule work_precision:
         levels=WP["headline_errors"],
     log:
         logfile("work_precision", "work_precision"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/work_precision.py"
 
@@ -103,8 +95,6 @@ rule hard_cases:
     threads: all_local_cores
     log:
         logfile("work_precision", "hard_cases"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/hard_cases.py"
 
@@ -120,8 +110,6 @@ rule wp_rows:
         command="snakemake -j2 work_precision hard_cases",
     log:
         logfile("work_precision", "wp_rows"),
-    conda:
-        "../envs/impactosc.yaml"
     script:
         "../scripts/wp_rows.py"
 
