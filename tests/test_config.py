@@ -1,4 +1,5 @@
-"""The workflow config validates, and bad configs fail with a message naming the key."""
+"""The workflow config validates, bad configs fail with a message naming the key, and
+config/README.md is the schema rendered."""
 
 import copy
 from pathlib import Path
@@ -6,12 +7,15 @@ from pathlib import Path
 import pytest
 import yaml
 
+from impactosc.cli import main
 from impactosc.config import ConfigError, load_config, validate_config
+from impactosc.config_docs import render_file
 from impactosc.integration.model import ModelParams
 
 ROOT = Path(__file__).resolve().parents[1]
 SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
 CONFIG = ROOT / "config" / "config.yaml"
+README = ROOT / "config" / "README.md"
 
 
 @pytest.fixture()
@@ -33,11 +37,11 @@ def test_schema_documents_every_model_key():
 
 @pytest.mark.parametrize("mutate, key", [
     (lambda c: c["model"].__setitem__("m", -1.0), "model.m"),
-    (lambda c: c["model"].__setitem__("mass", 1.0), "model"),
+    (lambda c: c["model"].__setitem__("mass", 1.0), "model.mass"),
     (lambda c: c["model"].__setitem__("k", "stiff"), "model.k"),
     (lambda c: c["solver"].__setitem__("rtol", -1e-9), "solver.rtol"),
     (lambda c: c["scenes"]["chaos"].__setitem__("duration", -400), "scenes.chaos.duration"),
-    (lambda c: c["scenes"]["chaos"].__setitem__("omgea", 4), "scenes.chaos"),
+    (lambda c: c["scenes"]["chaos"].__setitem__("omgea", 4), "scenes.chaos.omgea"),
     (lambda c: c["scenes"]["chaos"].__setitem__("events", ["impacts", "sparks"]), "scenes.chaos.events.1"),
     (lambda c: c["scenes"]["chaos"]["window"].__setitem__("stop", 1e4), "scenes.chaos.window"),
 ])
@@ -52,3 +56,56 @@ def test_bad_config_names_the_key(config, mutate, key):
 def test_missing_config_file(tmp_path):
     with pytest.raises(ConfigError, match="does not exist"):
         load_config(tmp_path / "none.yaml", SCHEMA)
+
+
+def _errors(cfg) -> str:
+    with pytest.raises(ConfigError) as err:
+        validate_config(cfg, SCHEMA)
+    return str(err.value)
+
+
+def test_typo_is_an_unknown_key_with_a_suggestion(config):
+    config["model"]["kl"] = config["model"].pop("kI")
+    config["periodic"] = {"branch": {"strat": 40.0}}
+    config["chaotic"] = {"second_train": {"evnets": "a.h5", "label": "x"}}
+    msg = _errors(config)
+    assert "  model.kl: unknown key (did you mean 'kI'?)" in msg, msg
+    assert "  periodic.branch.strat: unknown key (did you mean 'start'?)" in msg, msg
+    assert "  chaotic.second_train.evnets: unknown key (did you mean 'events'?)" in msg, msg
+    assert "is a required property" not in msg, msg  # the suggested key is not reported missing too
+
+
+def test_unknown_key_without_close_match_lists_the_valid_keys(config):
+    config["solver"]["zzz"] = 1
+    msg = _errors(config)
+    assert "  solver.zzz: unknown key; valid keys: rtol, atol" in msg, msg
+
+
+def test_missing_required_key_is_reported(config):
+    del config["model"]["kI"]
+    assert "  model: 'kI' is a required property" in _errors(config)
+    config["model"]["mass"] = 1.0  # an unknown key not close to kI does not hide it
+    msg = _errors(config)
+    assert "  model: 'kI' is a required property" in msg and "  model.mass: unknown key" in msg, msg
+
+
+def test_config_readme_is_the_schema_rendered():
+    assert README.read_text(encoding="utf-8") == render_file(SCHEMA), (
+        "config/README.md is out of date with the schema; regenerate it with `impactosc config-docs` "
+        "(from the repository root)")
+
+
+def test_config_docs_lists_nested_and_map_keys(tmp_path, capsys):
+    text = render_file(SCHEMA)
+    for row in ("| `model.kI` | number |", "| `scenes.<name>.omega` | number | required | > 0 |",
+                "| `scenes.<name>.window.dt` |", "| `bifurcation.sweeps.<name>.step` |",
+                "| `measured.surrogate.mismatch.<name>` | number |", "| `chaotic.second_train.events` |",
+                "| `chaotic.analysis.kde_bandwidth` | string or number |"):
+        assert row in text, row
+    out = tmp_path / "README.md"
+    out.write_text("stale\n")
+    assert main(["config-docs", "--schema", str(SCHEMA), "--output", str(out), "--check"]) == 1
+    assert main(["config-docs", "--schema", str(SCHEMA), "--output", str(out)]) == 0
+    assert out.read_text(encoding="utf-8") == text
+    assert main(["config-docs", "--schema", str(SCHEMA), "--output", str(out), "--check"]) == 0
+    capsys.readouterr()

@@ -1,4 +1,4 @@
-"""Command line: ``impactosc simulate|extract|surrogate ...`` (see ``impactosc <command> --help``)."""
+"""Command line: ``impactosc simulate|extract|surrogate|config-docs ...`` (see ``impactosc <command> --help``)."""
 
 from __future__ import annotations
 
@@ -93,7 +93,31 @@ def build_parser() -> argparse.ArgumentParser:
     sur.add_argument("--seed", type=int, default=0, help="noise seed (default 0)")
     sur.add_argument("--units", choices=("m", "mm"), default="m", help="CSV displacement units (default m)")
     sur.add_argument("--output", required=True, help="record file to write (.csv or .h5)")
+    doc = sub.add_parser(
+        "config-docs", help="write config/README.md (every config key) from the config schema",
+        description="Render the JSON schema of the workflow config as a Markdown reference: per section a "
+        "table of dotted key, type, default, allowed values and description. Run from the repository root.",
+        epilog="Example:\n  impactosc config-docs --check   # exit 1 if config/README.md is out of date",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    doc.add_argument("--schema", default="workflow/schemas/config.schema.yaml",
+                     help="config schema (default workflow/schemas/config.schema.yaml)")
+    doc.add_argument("--output", default="config/README.md", help="Markdown file to write (default config/README.md)")
+    doc.add_argument("--check", action="store_true", help="write nothing; exit 1 if OUTPUT differs from the schema's rendering")
     return parser
+
+
+def _config_docs(args) -> int:
+    from .config_docs import write
+
+    if write(args.schema, args.output, check=args.check):
+        print(f"{args.output}: up to date with {args.schema}")
+        return 0
+    if args.check:
+        print(f"impactosc config-docs: {args.output} is out of date with {args.schema}; "
+              "run `impactosc config-docs` to regenerate it", file=sys.stderr)
+        return 1
+    print(f"{args.output}: written from {args.schema}")
+    return 0
 
 
 def _extract(args) -> int:
@@ -181,6 +205,8 @@ def main(argv=None) -> int:
             return _extract(args)
         if args.command == "surrogate":
             return _surrogate(args)
+        if args.command == "config-docs":
+            return _config_docs(args)
     except (ValueError, FileNotFoundError, OSError) as exc:
         print(f"impactosc {args.command}: error: {exc}", file=sys.stderr)
         return 2

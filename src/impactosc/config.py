@@ -1,13 +1,17 @@
 """Load and validate the workflow configuration against its JSON schema.
 
 Errors name the offending key as a dotted path (``model.m: -1 is less than or equal to
-the minimum of 0``) so a user sees at once what to fix; defaults from the schema are
-filled in so scripts can rely on every key being present.
+the minimum of 0``) so a user sees at once what to fix; a misspelt key is named as unknown
+with the closest valid key (``model.kl: unknown key (did you mean 'kI'?)``) rather than as
+the required key it hides. Defaults from the schema are filled in so scripts can rely on
+every key being present.
 """
 
 from __future__ import annotations
 
 import copy
+import difflib
+import re
 from pathlib import Path
 
 import jsonschema
@@ -20,6 +24,69 @@ class ConfigError(ValueError):
 
 def _path(error) -> str:
     return ".".join(str(p) for p in error.absolute_path) or "(top level)"
+
+
+def _suggest(key: str, names: list, absent: list):
+    """Closest property name; absent ones first, as a typo usually hides a key not given."""
+    for pool in (absent, names):
+        folded = {n.lower(): n for n in pool}
+        # cutoff 0.5, not difflib's 0.6: a one-letter slip in a two-letter key ('kl' for 'kI') scores 0.5
+        match = difflib.get_close_matches(key.lower(), list(folded), n=1, cutoff=0.5)
+        if match:
+            return folded[match[0]]
+    return None
+
+
+def _unknown_keys(error):
+    """(dotted key, message, suggestion) per key an ``additionalProperties: false`` forbids."""
+    props = error.schema.get("properties", {})
+    patterns = error.schema.get("patternProperties", {})
+    names = list(props)
+    absent = [n for n in names if n not in error.instance]
+    prefix = ".".join(str(p) for p in error.absolute_path)
+    out = []
+    for key in error.instance:
+        if key in props or any(re.search(p, str(key)) for p in patterns):
+            continue
+        guess = _suggest(str(key), names, absent)
+        hint = f" (did you mean {guess!r}?)" if guess else f"; valid keys: {', '.join(names) or '(none)'}"
+        out.append((f"{prefix}.{key}" if prefix else str(key), "unknown key" + hint, guess))
+    return out
+
+
+def _flatten(error):
+    """Replace a oneOf/anyOf error by its branch's errors when only one branch fits the value's
+    type and that branch has unknown keys, so a typo inside an optional object is named too."""
+    if error.validator not in ("oneOf", "anyOf") or not error.context:
+        return [error]
+    branches = {}
+    for sub in error.context:
+        branches.setdefault(sub.relative_schema_path[0], []).append(sub)
+    fitting = [errs for errs in branches.values()
+               if not any(e.validator == "type" and not e.relative_path for e in errs)]
+    if len(fitting) == 1 and any(e.validator == "additionalProperties" and e.validator_value is False
+                                 for e in fitting[0]):
+        return [f for e in fitting[0] for f in _flatten(e)]
+    return [error]
+
+
+def _messages(errors) -> list:
+    """One ``path: message`` line per error, unknown keys named with a suggestion."""
+    unknown = {id(e): _unknown_keys(e) for e in errors
+               if e.validator == "additionalProperties" and e.validator_value is False}
+    suggested = {(tuple(e.absolute_path), guess) for e in errors for _, _, guess in unknown.get(id(e), ()) if guess}
+    lines = []
+    for error in errors:
+        if id(error) in unknown:
+            lines += [f"  {key}: {msg}" for key, msg, _ in unknown[id(error)]]
+            continue
+        if error.validator == "required":
+            # the missing key was named as the suggestion for a misspelt one: say it once
+            missing = [k for k in error.validator_value if error.message == f"{k!r} is a required property"]
+            if missing and (tuple(error.absolute_path), missing[0]) in suggested:
+                continue
+        lines.append(f"  {_path(error)}: {error.message}")
+    return lines
 
 
 def _fill_defaults(schema: dict, instance):
@@ -41,10 +108,10 @@ def validate_config(config: dict, schema_path) -> dict:
     """Return a validated copy of `config` with schema defaults filled in."""
     schema = yaml.safe_load(Path(schema_path).read_text())
     validator = jsonschema.Draft202012Validator(schema)
-    errors = sorted(validator.iter_errors(config), key=lambda e: list(e.absolute_path))
+    errors = [f for e in validator.iter_errors(config) for f in _flatten(e)]
+    errors.sort(key=lambda e: list(e.absolute_path))
     if errors:
-        lines = [f"  {_path(e)}: {e.message}" for e in errors]
-        raise ConfigError("invalid configuration:\n" + "\n".join(lines))
+        raise ConfigError("invalid configuration:\n" + "\n".join(_messages(errors)))
     config = copy.deepcopy(config)
     _fill_defaults(schema, config)
     for name, scene in config["scenes"].items():
