@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from impactosc import cli
-from impactosc.files import read_run, write_run
+from impactosc.files import FORMAT_VERSION, dataset_unit, read_run, write_run
 
 EXE = [sys.executable, "-m", "impactosc.cli"]
 
@@ -31,8 +31,16 @@ def test_simulate_writes_the_contract(tmp_path):
             assert name in f, name
         for key in ("param_m", "param_kI", "param_xI", "omega", "transient", "duration", "x0", "v0",
                     "solver", "rtol", "atol", "n_steps", "n_rejected", "n_rhs", "wall_time", "version",
-                    "git_commit"):
+                    "git_commit", "python_version", "numpy_version", "scipy_version", "numba_version",
+                    "h5py_version"):
             assert key in f.attrs, key
+        assert f.attrs["format_version"] == FORMAT_VERSION
+        datasets = []
+        f.visititems(lambda name, obj: datasets.append(name) if isinstance(obj, h5py.Dataset) else None)
+        assert len(datasets) == 12
+        for name in datasets:  # every dataset says its unit
+            assert f[name].attrs["units"] == dataset_unit(name), name
+        assert f["impacts/v"].attrs["units"] == "m/s" and f["trajectory/t"].attrs["units"] == "s"
         assert f.attrs["omega"] == 40.86
         assert np.all(f["impacts/t"][()] >= 1.0)
         assert np.all(f["penetrations/h"][()] > 0)

@@ -38,7 +38,7 @@ def main(params, seeds_path, output):
         result = run_chunk(grid, settings, chunk, params.stride, seeds, progress=progress, on_failure=failed)
         info = {"part": f"chunk {k}", "chunk_start": chunk[0], "chunk_stop": chunk[1]}
     finished = time.time()
-    save_sweep(output, result, started=started, finished=finished, **info)
+    save_sweep(output, result, sources=seeds_path, started=started, finished=finished, **info)
     logging.info("%s: %d w in %.1f s (%.2f w/s), %d abandoned", info["part"], len(result), finished - started,
                  len(result) / (finished - started), int((result.status != 0).sum()))
 

@@ -31,7 +31,7 @@ def main(chunk_paths, coarse_paths, name, grid, output):
         "job_cpu_seconds": np.array([float(r.cpu_time.sum()) for r, _ in parts]),
     }
     direction = "increasing" if grid["stop"] > grid["start"] else "decreasing"
-    save_sweep(output, merged, name=name, direction=direction, grid_start=grid["start"], grid_stop=grid["stop"],
+    save_sweep(output, merged, sources=coarse_paths + chunk_paths, name=name, direction=direction, grid_start=grid["start"], grid_stop=grid["stop"],
                grid_step=grid["step"], **timing)
     logging.info("%s: %d w (%s), %d abandoned, %d jobs", name, len(merged), direction,
                  int((merged.status != 0).sum()), len(parts))

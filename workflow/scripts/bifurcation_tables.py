@@ -33,9 +33,9 @@ def main(inp, params, out):
                      len(readings[name].segments), len(readings[name].transitions), len(readings[name].grazings),
                      len(readings[name].failed_omegas))
     per_w = [{"sweep": n, **row} for n, rd in readings.items() for row in rd.table.rows()]
-    write_csv(out.per_w, per_w, list(per_w[0]), floats=FLOATS)
+    write_csv(out.per_w, per_w, list(per_w[0]), floats=FLOATS, sources=inp.sweeps)
     segs = [{"sweep": n, **s.to_dict()} for n, rd in readings.items() for s in rd.segments]
-    write_csv(out.segments, segs, list(segs[0]), floats=FLOATS)
+    write_csv(out.segments, segs, list(segs[0]), floats=FLOATS, sources=inp.sweeps)
     summaries = {n: rd.summary() for n, rd in readings.items()}
     trans = [{"sweep": n, **t} for n, s in summaries.items() for t in s["transitions"]]
     a, b = params.overlay
@@ -46,19 +46,20 @@ def main(inp, params, out):
                       "omega": round(0.5 * (lo + hi), 6), "width": round(hi - lo, 6), "is_grazing": False})
     columns = ["sweep", "kind", "omega", "width", "omega_before", "omega_after", "before", "after", "detail",
                "is_grazing", "grazing_omega_zero"]
-    write_csv(out.transitions, [{k: t[k] for k in columns} for t in trans], columns, floats=FLOATS)
+    write_csv(out.transitions, [{k: t[k] for k in columns} for t in trans], columns, floats=FLOATS,
+              sources=inp.sweeps)
     reference = None
     if inp.get("grazing"):
         reference = read_json(inp.grazing)
     rows = paper_rows(readings[params.fig03b], params.command, reference_grazing=reference)
-    write_rows(out.rows, rows)
+    write_rows(out.rows, rows, sources=inp)
     ref = None
     if reference:
         ref = {"omega_g": reference["omega_g"], "omega_miss": reference["bracket"]["omega_miss"],
                "omega_contact": reference["bracket"]["omega_contact"]}
     stats = {"sweeps": summaries, "directions_differ": {"sweeps": [a, b], "windows": windows},
              "reference_grazing": ref}
-    write_json(out.stats, stats)
+    write_json(out.stats, stats, sources=inp)
     logging.info("%d paper rows, %d hysteresis windows", len(rows), len(windows))
 
 

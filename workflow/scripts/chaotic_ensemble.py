@@ -20,6 +20,6 @@ from impactosc.files import write_csv, write_json
 t0 = time.perf_counter()
 members = ensemble_members(snakemake.input.runs, AnalysisOptions.from_config(snakemake.params.analysis))  # noqa: F821
 summary = ensemble_summary(members)
-write_json(snakemake.output.json, summary)  # noqa: F821
-write_csv(snakemake.output.csv, ensemble_table(members))  # noqa: F821
+write_json(snakemake.output.json, summary, sources=snakemake.input.runs)  # noqa: F821
+write_csv(snakemake.output.csv, ensemble_table(members), sources=snakemake.input.runs)  # noqa: F821
 logging.info(f"{len(members)} runs; {time.perf_counter() - t0:.2f} s")

@@ -24,8 +24,8 @@ if traj is None:
     raise ValueError(f"{snakemake.input.run} has no trajectory window (needed for Fig 6b)")  # noqa: F821
 spectrum = trajectory_spectrum(traj["t"], traj["x"], attrs["omega"])
 rows = paper_rows(model, ensemble, spectrum, snakemake.params.command)  # noqa: F821
-write_rows(snakemake.output.rows, rows)  # noqa: F821
-write_csv(snakemake.output.mixture, mixture_table(model))  # noqa: F821
+write_rows(snakemake.output.rows, rows, sources=snakemake.input)  # noqa: F821
+write_csv(snakemake.output.mixture, mixture_table(model), sources=snakemake.input.model)  # noqa: F821
 logging.info(
     "".join(f"{r['agrees']:>4}  {r['quantity']}: paper {r['paper']} | ours {r['replication']}\n" for r in rows)
 )

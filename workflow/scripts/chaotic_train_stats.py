@@ -18,7 +18,7 @@ from impactosc.files import write_json
 t0 = time.perf_counter()
 train = load_train(snakemake.input.events, label=snakemake.params.label)  # noqa: F821
 stats = analyse_train(train, AnalysisOptions.from_config(snakemake.params.analysis))  # noqa: F821
-write_json(snakemake.output.json, stats)  # noqa: F821
+write_json(snakemake.output.json, stats, sources=snakemake.input.events)  # noqa: F821
 logging.info(
     f"{train.label}: {train.times.size} impacts on [{train.t_start}, {train.t_stop}] s "
     f"({train.span_source}); {time.perf_counter() - t0:.2f} s"

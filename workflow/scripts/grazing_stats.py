@@ -16,5 +16,6 @@ from impactosc.files import write_json
 
 write_json(snakemake.output.stats, grazing_summary_file(  # noqa: F821
     snakemake.input.branch, snakemake.input.bisection, snakemake.input.from_rest,  # noqa: F821
-    snakemake.params.paper_omegas, snakemake.params.n_fit), final_newline=True)  # noqa: F821
+    snakemake.params.paper_omegas, snakemake.params.n_fit), final_newline=True,  # noqa: F821
+    sources=snakemake.input)  # noqa: F821
 logging.info(f"wrote {snakemake.output.stats}")  # noqa: F821

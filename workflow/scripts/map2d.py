@@ -20,7 +20,7 @@ UNITS = {"xI": (1e3, "mm"), "m0e": (1e3, "g m")}
 def main(parts, model, out):
     parts = [parts] if isinstance(parts, str) else list(parts)
     m = merge_maps([load_map(p) for p in parts])
-    save_map(out.map, m)
+    save_map(out.map, m, sources=parts)
     scale, unit = UNITS[m.parameter]
     fig = map2d_figure(m.omega, m.values, m.period, m.rate, m.parameter, scale, unit, marker=model[m.parameter])
     save_figure(fig, out.png, out.pdf)

@@ -1,7 +1,8 @@
 """Poincare points of a bifurcation experiment (one record per w) for the Fig 2 left panel.
 
 Reads snakemake.input.records (record set: HDF5 or CSV manifest, impactosc.measured.records);
-writes snakemake.output.points, HDF5 with flat datasets omega (rad/s) and x (m).
+writes snakemake.output.points, HDF5 with flat datasets omega (rad/s) and x (m), stamped
+with units and provenance (impactosc.files.stamp_h5).
 """
 
 from _logging import configure_logging
@@ -13,16 +14,15 @@ import logging
 import h5py
 
 from impactosc.measured.extract import record_set_poincare
-from impactosc.files import check_writable
+from impactosc.files import atomic_write, check_writable, stamp_h5
 from impactosc.measured.records import read_record_set
 
 recs = read_record_set(snakemake.input.records)  # noqa: F821
 pts = record_set_poincare(recs)
 out = check_writable(snakemake.output.points)  # noqa: F821
-tmp = out.with_name(f".{out.name}.tmp")
-with h5py.File(tmp, "w") as f:
+with atomic_write(out) as tmp, h5py.File(tmp, "w") as f:
     for k, v in pts.items():
         f.create_dataset(k, data=v)
     f.attrs["label"] = recs[0].label
-tmp.replace(out)
+    stamp_h5(f, sources=snakemake.input.records)  # noqa: F821
 logging.info(f"{len(recs)} records, {pts['x'].size} Poincare points")

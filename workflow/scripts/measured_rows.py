@@ -17,5 +17,5 @@ from impactosc.paper.table import write_rows
 rows = measured_rows(read_json(snakemake.input.second[0]), read_json(snakemake.input.model[0]),  # noqa: F821
                      read_json(snakemake.input.noise)["rows"],  # noqa: F821
                      is_surrogate=snakemake.params.is_surrogate, command=snakemake.params.command)  # noqa: F821
-write_rows(snakemake.output.rows, rows)  # noqa: F821
+write_rows(snakemake.output.rows, rows, sources=snakemake.input)  # noqa: F821
 logging.info("".join(f"{r['agrees']:>4}  {r['quantity']}: {r['replication']}\n" for r in rows))

@@ -26,7 +26,7 @@ def main(branch: str, scene: dict, model: dict, solver: dict, out: str):
                    params=ModelParams(**model), rtol=solver["rtol"], atol=solver["atol"],
                    window=Window(scene["transient"], end, scene["dt"]))
     res.attrs["start_from"] = f"branch end state at w = {scene['omega']} ({branch})"
-    write_run(out, res.events, res.attrs, res.trajectory)
+    write_run(out, res.events, res.attrs, res.trajectory, sources=branch)
     logging.info("%s: %d impacts from (x0, v0) = (%.6e, %.6e)", out, res.impact_times.size, x0, v0)
 
 

@@ -21,5 +21,5 @@ with open(snakemake.input.before) as f:  # noqa: F821
     stats.update(json.load(f))
 with open(snakemake.input.grazing) as f:  # noqa: F821
     grazing = json.load(f)
-write_rows(snakemake.output.rows, table_rows(stats, grazing))  # noqa: F821
+write_rows(snakemake.output.rows, table_rows(stats, grazing), sources=snakemake.input)  # noqa: F821
 logging.info(f"wrote {snakemake.output.rows}")  # noqa: F821

@@ -20,7 +20,8 @@ spectrum_of = snakemake.params.get("spectrum_of")  # noqa: F821
 stats, spectra = {}, {}
 for name, path in snakemake.input.items():  # noqa: F821
     stats[name], spectra[name] = run_summary(path, opts)
-write_json(snakemake.output.stats, stats, final_newline=True)  # noqa: F821
+write_json(snakemake.output.stats, stats, final_newline=True, sources=snakemake.input)  # noqa: F821
 if spectrum_of:
-    write_json(snakemake.output.spectrum, spectra[spectrum_of].to_dict(), final_newline=True)  # noqa: F821
+    write_json(snakemake.output.spectrum, spectra[spectrum_of].to_dict(), final_newline=True,  # noqa: F821
+               sources=dict(snakemake.input.items())[spectrum_of])  # noqa: F821
 logging.info(f"wrote {', '.join(map(str, snakemake.output))}")  # noqa: F821

@@ -20,7 +20,7 @@ for r in rows:
 rows.sort(key=lambda r: r["scene"])
 s = summary(rows)
 logging.info("summary: %s", s)
-write_csv(snakemake.output.csv, rows, floats="")  # noqa: F821
+write_csv(snakemake.output.csv, rows, floats="", sources=snakemake.input.parts)  # noqa: F821
 rs = snakemake.params.rs  # noqa: F821
 lines = [
     "# Randomized scenes: the core against SciPy (LSODA, two tolerances)", "",

@@ -27,11 +27,12 @@ def _stats_rows(rows):
 def main(scene_csvs, stats_csv, jit_json, levels, out):
     rows = [r for path in scene_csvs for r in read_table(path)]
     jit = json.loads(open(jit_json).read())
-    write_table(out.table, rows)
+    write_table(out.table, rows, sources=scene_csvs)
     head = headline(rows, {"impact_time_error": levels})
-    write_table(out.headline, [{**h, "jit_cold": jit["cold"], "jit_cached": jit["cached"]} for h in head])
+    write_table(out.headline, [{**h, "jit_cold": jit["cold"], "jit_cached": jit["cached"]} for h in head],
+                sources=[scene_csvs, jit_json])
     stats = _stats_rows(read_table(stats_csv))
-    write_table(out.statistics_summary, statistics_summary(stats))
+    write_table(out.statistics_summary, statistics_summary(stats), sources=stats_csv)
     save_figure(plot_work_precision(rows, stats, jit=jit), out.png, out.pdf)
     logging.info("%d measurements, %d headline rows; wrote %s", len(rows), len(head), out.png)
 

@@ -17,7 +17,7 @@ from impactosc.paper.table import write_rows
 
 def main(hard, summary, headline, out, command):
     rows = paper_rows(read_table(hard), read_table(summary), read_table(headline), command)
-    write_rows(out, rows)
+    write_rows(out, rows, sources=[hard, summary, headline])
     logging.info("%d rows to %s", len(rows), out)
 
 

@@ -19,7 +19,10 @@ CSV format (``examples/record_example.csv``)::
 Keys: ``units`` (``m`` or ``mm``, required unless given by the caller), ``omega``
 (rad/s), ``x_impact`` (obstacle position in the declared units), ``label``, ``source``;
 other keys are kept as metadata.  HDF5 format: datasets ``record/t`` and ``record/x`` and
-the same keys as root attributes (``x`` stored in metres, ``units = "m"``).
+the same keys as root attributes (``x`` stored in metres, ``units = "m"``); files written
+here also carry the provenance attributes of :func:`impactosc.files.stamp_h5`, which are
+not record metadata and are left out of ``Record.meta``.  A CSV written here gets the
+provenance sidecar of :func:`impactosc.files.write_provenance_sidecar`.
 
 A bifurcation experiment is a *record set*: one record per w, either an HDF5 file with
 groups ``records/<name>/{t,x}`` each carrying an ``omega`` attribute, or a CSV manifest
@@ -40,7 +43,7 @@ from pathlib import Path
 
 import h5py
 import numpy as np
-from ..files import atomic_write
+from ..files import PROVENANCE_ATTRS, atomic_write, stamp_h5, write_provenance_sidecar
 
 __all__ = ["Record", "read_record", "write_record", "read_record_set", "write_record_set",
            "validate_samples", "UNITS"]
@@ -209,7 +212,7 @@ def _read_csv(path, time_column, x_column, units, omega):
 
 def _attrs_meta(attrs):
     return {k: (v.decode() if isinstance(v, bytes) else (v.item() if hasattr(v, "item") else v))
-            for k, v in attrs.items()}
+            for k, v in attrs.items() if k not in PROVENANCE_ATTRS}
 
 
 def _read_h5(path, units, omega):
@@ -238,8 +241,9 @@ def read_record(path, *, time_column="t", x_column="x", units=None, omega=None) 
     raise ValueError(f"{path}: unknown record format {path.suffix!r}; use .csv or .h5")
 
 
-def write_record(path, t, x, *, omega=None, meta=None, units="m") -> Path:
-    """Write a record (x in metres) as CSV (in ``units``) or HDF5 (in m), atomically."""
+def write_record(path, t, x, *, omega=None, meta=None, units="m", sources=None) -> Path:
+    """Write a record (x in metres) as CSV (in ``units``) or HDF5 (in m), atomically, with
+    provenance (`sources`: input files)."""
     path = Path(path)
     meta = dict(meta or {})
     t = np.asarray(t, dtype=float)
@@ -270,15 +274,18 @@ def write_record(path, t, x, *, omega=None, meta=None, units="m") -> Path:
                     f.attrs["omega"] = float(omega)
                 for k, v in meta.items():
                     f.attrs[k] = v
+                stamp_h5(f, sources=sources)
     else:
         raise ValueError(f"{path}: unknown record format {path.suffix!r}; use .csv or .h5")
     with atomic_write(path) as tmp:
         write(tmp)
+    if path.suffix.lower() == ".csv":
+        write_provenance_sidecar(path, sources)
     return path
 
 
-def write_record_set(path, records) -> Path:
-    """Write records (each with an omega) into one HDF5 record set, atomically."""
+def write_record_set(path, records, *, sources=None) -> Path:
+    """Write records (each with an omega) into one HDF5 record set, atomically, with provenance."""
     path = Path(path)
     with atomic_write(path) as tmp, h5py.File(tmp, "w") as f:
         g = f.create_group("records")
@@ -292,6 +299,7 @@ def write_record_set(path, records) -> Path:
             r.attrs["units"] = "m"
             for k, v in rec.meta.items():
                 r.attrs[k] = v
+        stamp_h5(f, sources=sources)
     return path
 
 

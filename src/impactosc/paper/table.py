@@ -14,14 +14,15 @@ from ..files import read_csv, write_csv, write_text
 COLUMNS = ("section", "quantity", "paper", "replication", "tolerance", "agrees", "command")
 
 
-def write_rows(path, rows: list[dict]) -> None:
-    """Write rows (dicts with exactly COLUMNS as keys) to a CSV file, every cell as str()."""
+def write_rows(path, rows: list[dict], *, sources=None) -> None:
+    """Write rows (dicts with exactly COLUMNS as keys) to a CSV file, every cell as str();
+    `sources` (input files) go to its provenance sidecar."""
     for row in rows:
         missing = set(COLUMNS) - set(row)
         extra = set(row) - set(COLUMNS)
         if missing or extra:
             raise ValueError(f"table row {row.get('quantity', row)!r}: missing {sorted(missing)}, unknown {sorted(extra)}")
-    write_csv(path, [{k: str(row[k]) for k in COLUMNS} for row in rows], COLUMNS)
+    write_csv(path, [{k: str(row[k]) for k in COLUMNS} for row in rows], COLUMNS, sources=sources)
 
 
 def read_rows(path) -> list[dict]:
@@ -39,6 +40,6 @@ def to_markdown(rows: list[dict]) -> str:
 
 def merge_tables(inputs, csv_out, md_out) -> list[dict]:
     rows = [row for path in inputs for row in read_rows(path)]
-    write_rows(csv_out, rows)
+    write_rows(csv_out, rows, sources=inputs)
     write_text(md_out, "# Paper vs replication\n\n" + to_markdown(rows))
     return rows

@@ -30,8 +30,7 @@ from typing import Callable, Sequence
 import h5py
 import numpy as np
 
-from .. import __version__
-from ..files import atomic_write, check_writable, git_commit
+from ..files import atomic_write, check_writable, stamp_h5
 from ..integration.model import ModelParams
 from ..integration.simulate import DEFAULT_ATOL, DEFAULT_RTOL, StallError, simulate
 
@@ -423,16 +422,16 @@ def sweep_chunked(omegas, settings: SweepSettings, n_chunks: int, stride: int) -
 _ARRAYS = ("poincare_x", "poincare_v", "impact_t", "impact_v", "impact_offsets") + _PER_W
 
 
-def save_sweep(path, result: SweepResult, **attrs) -> Path:
-    """Write a sweep to HDF5 atomically (temporary name, then rename); extra attrs are stored too."""
+def save_sweep(path, result: SweepResult, *, sources=None, **attrs) -> Path:
+    """Write a sweep to HDF5 atomically (temporary name, then rename); extra attrs are stored
+    too, and the provenance of :func:`impactosc.files.stamp_h5` (`sources`: input files)."""
     path = check_writable(path)
     with atomic_write(path) as tmp, h5py.File(tmp, "w") as f:
         for name in _ARRAYS:
             f.create_dataset(name, data=getattr(result, name), compression="gzip", shuffle=True)
         for key, value in {**result.settings.to_attrs(), **attrs}.items():
             f.attrs[key] = value
-        f.attrs["version"] = __version__
-        f.attrs["git_commit"] = git_commit()
+        stamp_h5(f, sources=sources)
     return path
 
 

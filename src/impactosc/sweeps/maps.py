@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 import h5py
 import numpy as np
 
-from ..files import atomic_write, check_writable
+from ..files import atomic_write, check_writable, stamp_h5
 
 if TYPE_CHECKING:  # annotations only
     from ..analysis.bifurcation import BranchTable
@@ -48,10 +48,13 @@ class MapResult:
 
 
 _MAP_ARRAYS = ("values", "omega", "period", "impacts", "rate", "n_isi_levels")
+#: Unit of the dataset ``values`` by map parameter (obstacle position, forcing amplitude m0 e).
+VALUE_UNITS = {"xI": "m", "m0e": "kg m"}
 
 
-def save_map(path, m: MapResult, **attrs) -> None:
-    """Write a map (or a chunk of its rows) to HDF5 atomically."""
+def save_map(path, m: MapResult, *, sources=None, **attrs) -> None:
+    """Write a map (or a chunk of its rows) to HDF5 atomically, with units and provenance
+    (`sources`: input files); a parameter missing from VALUE_UNITS is refused."""
     path = check_writable(path)
     with atomic_write(path) as tmp, h5py.File(tmp, "w") as f:
         for k in _MAP_ARRAYS:
@@ -60,6 +63,8 @@ def save_map(path, m: MapResult, **attrs) -> None:
         f.attrs["wall_time"] = m.wall_time
         for k, v in attrs.items():
             f.attrs[k] = v
+        unit = VALUE_UNITS.get(m.parameter)
+        stamp_h5(f, sources=sources, units={"values": unit} if unit else None)
 
 
 def load_map(path) -> MapResult:
