@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from scipy import stats
 
 from impactosc.analysis.chaotic import analyse_train
 from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain, load_train
@@ -80,3 +81,19 @@ def test_record_and_simulation_give_same_statistics(case, tmp_path):
 def test_estimate_noise_white():
     rng = np.random.default_rng(1)
     assert estimate_noise(rng.normal(0, 3e-6, 20000)) == pytest.approx(3e-6, rel=0.05)
+
+
+@pytest.mark.parametrize("x, old", [
+    # (samples, estimate of the hand-written 1.4826 * median|d2 - median d2| / sqrt 6, commit 29f74da)
+    (np.random.default_rng(0).normal(0, 3e-6, 20000), 3.007196321138247e-06),
+    (1e-3 * np.sin(np.arange(50000) * 0.04) + np.random.default_rng(2).normal(0, 5e-6, 50000),
+     5.0218215522883836e-06),
+    (np.random.default_rng(3).standard_t(3, 1002) * 1e-6, 1.2605495485554247e-06),  # even len(d2)
+    (np.random.default_rng(3).standard_t(3, 1001) * 1e-6, 1.2621553516026346e-06),  # odd len(d2)
+])
+def test_estimate_noise_matches_old_mad(x, old):
+    # median_abs_deviation(scale="normal") uses the exact 1/Phi^-1(3/4) = 1.482602218...
+    # where the old code had 1.4826: the same MAD, 1.50e-6 larger
+    factor = 1 / stats.norm.ppf(0.75) / 1.4826
+    assert estimate_noise(x) == pytest.approx(old * factor, rel=1e-14)
+    assert estimate_noise(x) == pytest.approx(old, rel=2e-6)

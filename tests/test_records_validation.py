@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from impactosc.measured import records
 from impactosc.measured.records import read_record, read_record_set, write_record, write_record_set
 
 HEADER = "# units: mm\n# omega: 40.86\nt,x\n"
@@ -86,3 +87,63 @@ def test_record_set_manifest_and_h5(tmp_path):
     b = read_record_set(tmp_path / "set.h5")
     assert [r.omega for r in a] == [r.omega for r in b] == [30.0, 31.0]
     np.testing.assert_array_equal(a[1].x, b[1].x)
+
+
+def _read_both(path, monkeypatch):
+    """read_record through the loadtxt fast path (asserting numpy took it), then line by line."""
+    real, taken = records._loadtxt_columns, []
+    monkeypatch.setattr(records, "_loadtxt_columns", lambda *a: taken.append(real(*a)) or taken[-1])
+    fast = read_record(path)
+    assert taken and taken[-1] is not None  # numpy parsed the whole block
+    monkeypatch.setattr(records, "_loadtxt_columns", lambda *a: None)  # force the fallback
+    return fast, read_record(path)
+
+
+def test_loadtxt_fast_path_equals_line_parser(tmp_path, monkeypatch):
+    # 17 significant digits, an extra column and an empty line: both parsers round each
+    # field correctly, so the arrays must be bit-identical
+    rng = np.random.default_rng(4)
+    t = 100.0 + 1e-3 * np.arange(5000) + rng.uniform(-1e-5, 1e-5, 5000)
+    x = -2.0 + np.sin(40.86 * t) + rng.normal(0, 1e-3, 5000)
+    rows = [f"{float(a)!r},{float(b)!r},{i}" for i, (a, b) in enumerate(zip(t, x))]
+    rows.insert(100, "")
+    p = _csv(tmp_path, "\n".join(rows) + "\n", header="# units: mm\nt,x,i\n")
+    fast, slow = _read_both(p, monkeypatch)
+    np.testing.assert_array_equal(fast.t, slow.t)
+    np.testing.assert_array_equal(fast.x, slow.x)
+    np.testing.assert_array_equal(fast.t, t)
+    np.testing.assert_array_equal(fast.x, x * 1e-3)
+
+
+def test_example_record_same_through_both_parsers(monkeypatch):
+    a, b = _read_both("examples/record_example.csv", monkeypatch)
+    np.testing.assert_array_equal(a.t, b.t)
+    np.testing.assert_array_equal(a.x, b.x)
+    assert (a.omega, a.meta) == (b.omega, b.meta)
+    # and the values read before the fast path existed (commit 29f74da)
+    assert a.t.size == 401 and a.t[0] == 100.0 and a.x[0] == -0.0138029978
+
+
+@pytest.mark.parametrize("mutate, message", [
+    # an empty line (skipped by both parsers) before a bad sample: the line number counts it
+    (lambda L: (L.__setitem__(10, "0.010000,nan"), L.insert(5, "")), "line 15: displacement is nan"),
+    (lambda L: (L.__setitem__(10, "0.001000,-3.0"), L.insert(5, "")), "line 15: time stamp .* is unsorted"),
+    # whitespace-only line, ragged row, quoted field: loadtxt declines, the line parser decides
+    (lambda L: (L.__setitem__(10, "0.010000,nan"), L.insert(5, "   ")), "line 15: displacement is nan"),
+    (lambda L: L.__setitem__(10, "0.010000,-3.0,7"), "line 14: 3 fields, the header has 2"),
+    (lambda L: L.__setitem__(10, "0.010000"), "line 14: 1 fields, the header has 2"),
+    (lambda L: L.__setitem__(10, '"0.010000",abc'), "line 14: non-numeric"),
+])
+def test_fast_path_errors_name_the_line(tmp_path, mutate, message):
+    lines = _rows().splitlines()
+    mutate(lines)
+    with pytest.raises(ValueError, match=message):
+        read_record(_csv(tmp_path, "\n".join(lines) + "\n"))
+
+
+def test_quoted_fields_fall_back_to_line_parser(tmp_path):
+    lines = _rows().splitlines()
+    a = read_record(_csv(tmp_path, "\n".join(lines) + "\n", name="a.csv"))
+    lines[3] = '"{}","{}"'.format(*lines[3].split(","))
+    b = read_record(_csv(tmp_path, "\n".join(lines) + "\n", name="b.csv"))
+    np.testing.assert_array_equal(a.x, b.x)

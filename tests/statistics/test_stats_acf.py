@@ -69,3 +69,28 @@ def test_period4_sequence_has_peaks_at_quarter_and_half(period4_times):
     # multiple of 4, so both lie on bins (jitter 1e-7 s moves them by << 1e-3).
     np.testing.assert_allclose(spec.peak_frequency, [0.5, 0.25], atol=1e-3)
     assert spec.peak_magnitude[0] > spec.peak_magnitude[1]
+
+
+def _acf_old_fft(s, kmax):
+    """The hand-written power-of-two FFT this replaced (commit 29f74da)."""
+    n = s.size
+    d = s - s.mean()
+    nfft = 1 << int(np.ceil(np.log2(2 * n)))
+    spec = np.fft.rfft(d, nfft)
+    raw = np.fft.irfft(spec * np.conj(spec), nfft)[:kmax]
+    lag = np.arange(kmax)
+    value = n / (n - lag) * raw / np.dot(d, d)
+    value[0] = 1.0
+    return value
+
+
+@pytest.mark.parametrize("n, kmax", [(2, 2), (101, 101), (400, 100), (7076, None), (20000, 8), (20000, None)])
+def test_acf_matches_old_fft(n, kmax):
+    # short series: signal.correlate's "auto" sums directly; long ones (7076, 20000): FFT
+    rng = np.random.default_rng(n)
+    s = 10.0 + np.convolve(rng.normal(size=n + 3), [1.0, 0.6, 0.3, 0.1], mode="valid")
+    acf = autocorrelation(s, kmax=kmax)
+    old = _acf_old_fft(s, acf.k.size)
+    # both are sums of products normalised by sum d^2 (ACF(1) = 1): rounding ~ eps, then
+    # scaled by n/(n-L) (up to n at the last lag); measured <= 2.3e-16 n/(n-L), allow 1e-12
+    np.testing.assert_array_less(np.abs(acf.value - old), 1e-12 * n / (n - acf.lag))

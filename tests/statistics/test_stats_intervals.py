@@ -78,3 +78,21 @@ def test_equal_rate_test_on_poisson_windows(poisson_train):
     # under H0 p is uniform; this fixed-seed train is a typical draw, not a tail event
     res = equal_rate_test(window_counts(poisson_train, 0.0, 1000.0, 10))
     assert res.pvalue > 0.01
+
+
+@pytest.mark.parametrize("counts, statistic, pvalue", [
+    # (counts, statistic, p) of the hand-written sum + chi2.sf this replaced (commit 29f74da)
+    ([572, 571, 579, 579, 574], 0.10086956521739131, 0.9987701314377717),
+    ([500, 650, 560, 590, 575], 20.347826086956523, 0.0004263153725191379),
+    ([0, 3, 1, 0, 2], 5.666666666666668, 0.22546314129598113),
+    ([10, 30], 10.0, 0.001565402258002549),
+    ([100000, 100400, 99700, 100050], 2.4678245657878297, 0.48113397810428715),
+])
+def test_equal_rate_test_matches_old_hand_written_sum(counts, statistic, pvalue):
+    res = equal_rate_test(counts)
+    assert res.dof == len(counts) - 1  # chisquare's default ddof=0: k - 1 dof
+    # chisquare sums (n_i - nbar)^2 / nbar term by term, the old code divided the sum once:
+    # 1 ulp apart (measured <= 2.2e-16); the upper tail multiplies a relative change of the
+    # statistic by about chi2/2 (~10 here), measured <= 1.1e-15 on p
+    assert res.statistic == pytest.approx(statistic, rel=1e-14, abs=0)
+    assert res.pvalue == pytest.approx(pvalue, rel=1e-13, abs=0)

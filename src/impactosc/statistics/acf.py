@@ -77,13 +77,12 @@ def autocorrelation(S, kmax: int | None = None) -> Autocorrelation:
     denom = float(np.dot(d, d))
     if denom <= 1e-28 * float(np.dot(s, s)):  # relative spread below ~1e-14: constant
         raise ValueError("S is constant; its autocorrelation is undefined")
-    # sum_{i} d_i d_{i+L} for L = 0..n-1 via zero-padded FFT (O(n log n)).
-    nfft = 1 << int(np.ceil(np.log2(2 * n)))
-    spec = np.fft.rfft(d, nfft)
-    raw = np.fft.irfft(spec * np.conj(spec), nfft)[:kmax]
+    # sum_i d_i d_{i+L} for L = 0..kmax-1 (output index n-1 is lag 0); "auto" sums directly
+    # for short series and uses the FFT (O(n log n)) for long ones.
+    raw = signal.correlate(d, d, mode="full", method="auto")[n - 1:n - 1 + kmax]
     lag = np.arange(kmax)
     value = n / (n - lag) * raw / denom
-    value[0] = 1.0  # exact by definition; removes FFT rounding
+    value[0] = 1.0  # exact by definition; removes rounding
     return Autocorrelation(lag + 1, value, n)
 
 

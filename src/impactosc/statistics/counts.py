@@ -103,9 +103,10 @@ def equal_rate_test(counts, alpha: float = 0.05) -> EqualRateTest:
     equal"; this quantifies it.  The statistic ``sum (n_i - nbar)^2 / nbar`` is both
     Pearson's goodness-of-fit statistic for equal expected counts and the Poisson
     dispersion (index-of-dispersion) statistic; under Poisson counts with a common rate it
-    is approximately chi-square with ``k - 1`` dof.  Impact trains more regular than
-    Poisson (Fano < 1) make the test conservative, so a p-value close to 1 means "the
-    counts are even more uniform than Poisson scatter" rather than a problem.
+    is approximately chi-square with ``k - 1`` dof (``scipy.stats.chisquare``).  Impact
+    trains more regular than Poisson (Fano < 1) make the test conservative, so a p-value
+    close to 1 means "the counts are even more uniform than Poisson scatter" rather than a
+    problem.
 
     Parameters
     ----------
@@ -125,10 +126,10 @@ def equal_rate_test(counts, alpha: float = 0.05) -> EqualRateTest:
         raise ValueError("counts are all zero; the rate cannot be tested")
     if not 0 < alpha < 1:
         raise ValueError(f"alpha must be in (0, 1), got {alpha}")
-    mean = c.mean()
-    statistic = float(np.sum((c - mean) ** 2) / mean)
+    # expected counts default to the mean; ddof=0 gives k - 1 dof (nbar uses only the total)
+    res = stats.chisquare(c)
+    statistic, pvalue = float(res.statistic), float(res.pvalue)
     dof = c.size - 1
-    pvalue = float(stats.chi2.sf(statistic, dof))
     detail = f"chi2={statistic:.3g}, dof={dof}, p={pvalue:.3g}"
     if pvalue < alpha:
         conclusion = (
