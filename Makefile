@@ -32,8 +32,21 @@ lock: $(BIN)/python
 	$(BIN)/uv pip compile pyproject.toml --extra test --extra peers --extra slurm --universal \
 		--python-version 3.11 --generate-hashes --index-url https://pypi.org/simple --quiet -o $(LOCK)
 
+# The default checks (.ci/run): format and lint (ruff for the code, snakefmt for the rules,
+# snakemake --lint), a dry run of the whole workflow, then the tests (which include the tiny
+# end-to-end run of every rule, tests/test_workflow_tiny.py).
 test: install
+	$(BIN)/ruff format --check --quiet .
+	$(BIN)/ruff check --quiet .
+	$(BIN)/snakefmt --check --quiet Snakefile workflow/rules
+	$(BIN)/python .ci/snakemake_lint.py $(BIN)/snakemake
+	$(BIN)/snakemake -n --quiet rules all > /dev/null
 	$(BIN)/python -m pytest
+
+format: install
+	$(BIN)/ruff format .
+	$(BIN)/ruff check --fix --quiet .
+	$(BIN)/snakefmt Snakefile workflow/rules
 
 test-slow: install
 	$(BIN)/python -m pytest -m slow
@@ -42,7 +55,8 @@ report: install
 	$(BIN)/snakemake -j$(JOBS) --report results/report.html
 
 lint: install
-	$(BIN)/snakemake --lint
+	$(BIN)/ruff check .
+	$(BIN)/python .ci/snakemake_lint.py $(BIN)/snakemake
 
 # The README's cluster route without a cluster (.ci/run, after make test): the SLURM profile
 # must parse and plan map2d. A dry run alone would not catch issue 17 (snakemake sets

@@ -299,3 +299,54 @@ def test_sweep_with_a_peer_and_a_missing_one(cyrk, monkeypatch):
     assert by["CyRK Nope"]["status"] == "unavailable" and by["CyRK Nope"]["note"] == "no Nope"
     peer = by["CyRK DOP853"]
     assert peer["status"] == "ok" and peer["impact_time_error"] < 1e-6 and math.isnan(peer["rhs_evals"])
+
+
+def test_time_budget_gives_a_lower_bound_where_scipy_stopped():
+    """Where the budget stopped every SciPy sweep short of an error level, the headline has no
+    ratio but a lower bound: a stopped solver needs at least its last point's time."""
+    rows = [r for r in _rows() if not (r["solver"] in ("DOP853", "LSODA") and r["rtol"] == 1e-12)]
+    for solver in ("DOP853", "LSODA"):
+        rows.append({"scene": "chaotic", "solver": solver, "rtol": 1e-12, "status": "skipped",
+                     "note": "time budget: rtol 1e-08 already took > 0.1 s per point",
+                     "reference_impact_time_error": 1e-12})
+    h = {r["error_level"]: r for r in wp.headline(rows, {"impact_time_error": [1e-6, 1e-9]})}
+    assert h[1e-6]["speedup"] == pytest.approx(0.2 / 0.002) and math.isnan(h[1e-6]["speedup_at_least"])
+    assert h[1e-9]["best_scipy"] == "none" and math.isnan(h[1e-9]["speedup"])
+    assert h[1e-9]["speedup_at_least"] == pytest.approx(0.2 / 0.004)  # LSODA's last point, 0.2 s
+    # without a stopped sweep there is no bound: the full sweeps never reached 1e-12
+    full = wp.headline(_rows(), {"impact_time_error": [1e-12]})[0]
+    assert math.isnan(full["speedup_at_least"])
+
+
+def test_budget_skips_tighter_tolerances_and_says_so(monkeypatch):
+    """A SciPy point over the budget stops that solver's sweep: later rtols are skipped rows
+    that name the budget (the figure prints them); the core is never stopped."""
+    case = wp.Case("chaotic", 40.86, 100.0, 0.3)
+    ref = {"method": "DOP853", "rtol": 1e-12, "atol": 1e-14, "check_method": "LSODA", "check_rtol": 1e-11,
+           "check_atol": 1e-14}
+    rows = wp.sweep_case(case, ModelParams(), [1e-6, 1e-8, 1e-10], 1e-2, [wp.CORE, "LSODA"], ref,
+                         core_repeats=1, scipy_repeats=1, time_cap=1e-9, log=quiet)
+    status = {(r["solver"], r["rtol"]): r for r in rows}
+    assert all(status[(wp.CORE, rt)]["status"] == "ok" for rt in (1e-6, 1e-8, 1e-10))
+    assert status[("LSODA", 1e-6)]["status"] == "ok"
+    for rt in (1e-8, 1e-10):
+        assert status[("LSODA", rt)]["status"] == "skipped"
+        assert status[("LSODA", rt)]["note"].startswith("time budget: rtol 1e-06 already took")
+    from impactosc.plotting.work_precision import budget_notes
+
+    assert budget_notes(rows, "chaotic") == [f"SciPy LSODA: {status[('LSODA', 1e-8)]['note']}"]
+
+
+def test_known_long_runs_reuse_the_benchmark_table():
+    bench = [
+        {"solver": wp.CORE, "kind": "scene", "rtol": 1e-10, "n_impacts": 2888.0, "t_reached": 500.0, "status": "ok"},
+        {"solver": "CyRK DOP853", "kind": "scene", "rtol": 1e-12, "n_impacts": 1177.0, "t_reached": 263.8,
+         "status": "stopped at t = 263.8 s: Error in step size calculation"},
+        {"solver": "CyRK DOP853 free flight", "kind": "floor", "rtol": 1e-10, "status": "ok"},
+        {"solver": "SciPy", "kind": "scene", "rtol": 1e-8, "n_impacts": 2896.0, "t_reached": 500.0, "status": "ok"}]
+    known = wp.known_long_runs(bench)
+    assert known[(wp.CORE, 1e-10)] == {"n_impacts_500s": 2888.0, "t_reached_500s": 500.0, "stop": ""}
+    assert known[("CyRK DOP853", 1e-12)]["stop"] == "Error in step size calculation"
+    assert ("CyRK DOP853 free flight", 1e-10) not in known
+    cols = wp.attractor_columns(known[("CyRK DOP853", 1e-12)], 2888)
+    assert cols["on_attractor"] is False and "stopped" in cols["attractor_note"]

@@ -8,6 +8,7 @@ BC = config["benchmark_core"]
 rule benchmark_core:
     input:
         cache=NUMBA_CACHE,
+        jit=WP_JIT,
     output:
         csv=BENCHMARK_CORE_CSV,
         headline=BENCHMARK_CORE_HEADLINE,

@@ -148,3 +148,12 @@ PAPER_TABLE_MD = "results/tables/paper_vs_replication.md"
 RANDOM_SCENES_PART = "results/tables/benchmark/random_scenes/part{part}.csv"
 RANDOM_SCENES_CSV = "results/tables/benchmark/random_scenes.csv"
 RANDOM_SCENES_MD = "results/tables/benchmark/random_scenes.md"
+
+
+def wp_benchmark_input(wildcards):
+    """The core-speed benchmark's table, whose 500 s runs from rest (core and peers) the
+    attractor check of a peers scene reuses instead of running them again."""
+    pc = config["work_precision"]["peers"]
+    if wildcards.wp_scene in pc["scenes"] and pc["attractor_check"]:
+        return {"benchmark": BENCHMARK_CORE_CSV}
+    return {}

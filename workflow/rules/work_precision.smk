@@ -18,6 +18,7 @@ if set(WP["peers"]["scenes"]) - set(WP["scenes"]):
 
 rule wp_measure:
     input:
+        unpack(wp_benchmark_input),
         cache=NUMBA_CACHE,
     output:
         csv=WP_MEASURE,
@@ -52,10 +53,13 @@ rule wp_statistics:
         "../scripts/wp_statistics.py"
 
 
+# A compile in a fresh process, one core: it may run beside one other job of -j2 (each
+# has its own core), which keeps the 50 s compile off the rebuild's critical path.
 rule wp_jit:
     output:
         json=WP_JIT,
-    threads: all_local_cores
+    params:
+        cold=WP["jit_cold"],
     log:
         logfile("work_precision", "wp_jit"),
     script:

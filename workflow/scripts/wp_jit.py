@@ -8,17 +8,16 @@ from _logging import configure_logging
 
 configure_logging(snakemake)  # noqa: F821
 
-import json
 import logging
-from pathlib import Path
 
 from impactosc.benchmarks.core_speed import jit_times
+from impactosc.files import write_json
 
 
-def main(out):
-    jit = jit_times()
+def main(cold, out):
+    jit = jit_times(cold)
     logging.info(f"JIT compile: {jit}")
-    Path(out).write_text(json.dumps(jit) + "\n")
+    write_json(out, jit, final_newline=True)
 
 
-main(snakemake.output.json)  # noqa: F821
+main(snakemake.params.cold, snakemake.output.json)  # noqa: F821

@@ -14,23 +14,29 @@ configure_logging(snakemake)  # noqa: F821
 
 import logging
 
-from impactosc.files import write_table
-from impactosc.benchmarks.workprecision import CORE, Case, peer_solvers, sweep_case
+import math
+
+from impactosc.files import read_table, write_table
+from impactosc.benchmarks.workprecision import CORE, Case, known_long_runs, peer_solvers, sweep_case
 from impactosc.integration.model import ModelParams
 
 
-def main(model, wp, name, entry, out):
+def main(model, wp, name, entry, benchmark, out):
     case = Case(name, entry["omega"], entry["settle"], entry["horizon"], entry["starts"], entry["spacing"])
     pc = wp["peers"]
     with_peers = name in pc["scenes"]
     solvers = [CORE, *wp["scipy_methods"], *(peer_solvers(pc["methods"]) if with_peers else [])]
+    known = known_long_runs(read_table(benchmark)) if benchmark else {}
+    if known:
+        logging.info("%d runs of 500 s taken from %s", len(known), benchmark)
     rows = sweep_case(case, ModelParams(**model), wp["rtols"], wp["atol_ratio"], solvers,
                       wp["reference"], core_repeats=wp["core_repeats"], scipy_repeats=wp["scipy_repeats"],
-                      repeat_below=wp["scipy_repeat_below"], time_cap=wp["scipy_time_cap"],
+                      repeat_below=wp["scipy_repeat_below"],
+                      time_cap=math.inf if wp["exhaustive"] else wp["scipy_time_cap"],
                       peer_repeats=pc["repeats"], attractor_check=with_peers and pc["attractor_check"],
-                      floor=with_peers and pc["heyoka"], log=logging.info)
-    write_table(out, rows)
+                      floor=with_peers and pc["heyoka"], known_500s=known, log=logging.info)
+    write_table(out, rows, sources=[benchmark] if benchmark else None)
 
 
 main(snakemake.params.model, snakemake.params.wp, snakemake.wildcards.wp_scene,  # noqa: F821
-     snakemake.params.entry, snakemake.output.csv)  # noqa: F821
+     snakemake.params.entry, snakemake.input.get("benchmark"), snakemake.output.csv)  # noqa: F821

@@ -49,13 +49,15 @@ SCIPY = "SciPy solve_ivp DOP853 + events"
 MAX_ERROR = 2.5e-9  # s: impact-time error over 1.5 s at which the headline compares solvers
 
 
-def jit_times() -> dict:
-    """Seconds to compile the core into an empty cache, and to load it from that cache."""
+def jit_times(cold: bool = True) -> dict:
+    """Seconds to compile the core into an empty cache, and to load it from that cache, each in
+    a fresh process. cold=False: the load from the cache only (the cold compile, about 50 s,
+    is then None: not measured)."""
     code = "import time; t=time.perf_counter(); from impactosc.integration.simulate import warm_up; warm_up(); print(time.perf_counter()-t)"
     with tempfile.TemporaryDirectory() as cache:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-        out = {}
-        for label in ("cold", "cached"):
+        env = dict(os.environ) if not cold else dict(os.environ, NUMBA_CACHE_DIR=cache)
+        out = {"cold": None}
+        for label in ("cold", "cached") if cold else ("cached",):
             r = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
             out[label] = float(r.stdout.strip().splitlines()[-1])
     return out

@@ -174,6 +174,21 @@ def long_run(solver, omega, params, rtol, atol) -> dict:
             "stop": "" if run.success else run.message}
 
 
+def known_long_runs(benchmark_rows: list[dict]) -> dict:
+    """The 500 s runs from rest of the core-speed benchmark (impactosc.benchmarks.core_speed,
+    the same scene, solvers and atol = rtol/100) as {(solver, rtol): long_run()-style dict},
+    so that the work-precision sweep does not run them again."""
+    out = {}
+    for r in benchmark_rows:
+        status = str(r.get("status", ""))
+        if r.get("kind") != "scene" or not (status == "ok" or status.startswith("stopped")):
+            continue
+        out[(str(r["solver"]), float(r["rtol"]))] = {
+            "n_impacts_500s": r["n_impacts"], "t_reached_500s": float(r["t_reached"]),
+            "stop": "" if status == "ok" else status.split(": ", 1)[-1]}
+    return out
+
+
 def attractor_columns(run: dict, reference: int) -> dict:
     """Columns of a row from :func:`long_run`: the count, where it stopped, on_attractor and a
     note for a run that is not on the attractor."""
@@ -323,18 +338,22 @@ def references(case: Case, starts, params, ref: dict) -> tuple[list[dict], list[
 def sweep_case(case: Case, params: ModelParams, rtols, atol_ratio: float, solvers, ref: dict,
                core_repeats: int = 7, scipy_repeats: int = 3, repeat_below: float = 2.0,
                time_cap: float = 60.0, peer_repeats: int = 7, attractor_check: bool = False,
-               floor: bool = False, log=print) -> list[dict]:
+               floor: bool = False, known_500s: dict | None = None, log=print) -> list[dict]:
     """One row per (solver, rtol): wall time (sum over the starts of the minimum of the
     repeats), RHS evaluations and the errors against the reference.
 
-    A SciPy solver is not run at tighter tolerances once one of its runs took longer than
-    `time_cap` s (its row says so); a run that fails (step-size collapse) is reported as
+    A SciPy solver is not run at tighter tolerances once one of its points (summed over the
+    starts) took longer than `time_cap` s, the time budget per point (its skipped rows say
+    so; math.inf: no budget); a run that fails (step-size collapse) is reported as
     failed with SciPy's message; a peer's run that stops early is a row with status
     "stopped" (wall time measured, errors inf). Peers ("CyRK <method>" in `solvers`) that
     cannot run here get one row with status "unavailable". With `attractor_check` the core's
     and the peers' rows carry their 500 s impact count and on_attractor (:func:`long_run`);
-    with `floor` heyoka's free-flight floor is added (:func:`heyoka_floor`).
+    with `floor` heyoka's free-flight floor is added (:func:`heyoka_floor`). `known_500s`
+    maps (solver, rtol) to a 500 s run already made elsewhere (:func:`known_long_runs` of the
+    core-speed benchmark's table), which is then not run again.
     """
+    known_500s = known_500s or {}
     warm_up()  # JIT compile (or cache load) stays out of every timing
     starts = attractor_starts(case, params)
     refs, checks, unc = references(case, starts, params, ref)
@@ -359,7 +378,8 @@ def sweep_case(case: Case, params: ModelParams, rtols, atol_ratio: float, solver
             atol = rtol * atol_ratio
             row = {**base, "solver": solver, "rtol": rtol, "atol": atol}
             if capped is not None:
-                rows.append({**row, "status": "skipped", "note": f"rtol {capped:g} already took > {time_cap:g} s"})
+                rows.append({**row, "status": "skipped",
+                             "note": f"time budget: rtol {capped:g} already took > {time_cap:g} s per point"})
                 continue
             # the primary reference's own method is measured against the check reference,
             # so that no solver is judged by a tighter run of itself
@@ -367,7 +387,8 @@ def sweep_case(case: Case, params: ModelParams, rtols, atol_ratio: float, solver
             reps = core_repeats if solver == CORE else (peer_repeats if is_peer(solver) else scipy_repeats)
             below = repeat_below if solver in SCIPY_METHODS else math.inf
             if reference_500s is not None and (solver == CORE or is_peer(solver)):
-                row.update(attractor_columns(long_run(solver, case.omega, params, rtol, atol), reference_500s))
+                run = known_500s.get((solver, rtol)) or long_run(solver, case.omega, params, rtol, atol)
+                row.update(attractor_columns(run, reference_500s))
             try:
                 walls, meds, nrep, rhs, errs, stops = 0.0, 0.0, 0, 0, [], []
                 for k, ((x0, v0), r) in enumerate(zip(starts, against)):
@@ -417,6 +438,20 @@ def cost_at_error(rows: list[dict], scene: str, solver: str, metric: str, level:
     return min(walls) if walls else math.nan
 
 
+def budget_bound(rows: list[dict], scene: str, solvers) -> float:
+    """Least time any of `solvers` would need for an error none of them reached, where the time
+    budget stopped sweeps: a solver stopped by it would have needed a tighter tolerance than
+    its last point, which costs more, so at least that point's time; a solver that ran its
+    whole sweep without reaching the error cannot reach it. nan if no sweep was stopped."""
+    lows = []
+    for solver in solvers:
+        mine = [r for r in rows if r["scene"] == scene and r["solver"] == solver]
+        done = [float(r["wall_time"]) for r in mine if r.get("status") == "ok"]
+        if done and any(r.get("status") == "skipped" for r in mine):
+            lows.append(max(done))
+    return min(lows) if lows else math.nan
+
+
 def _fastest(rows, scene, solvers, metric, level):
     """(costs per solver, the fastest solver or None) at an error level."""
     costs = {s: cost_at_error(rows, scene, s, metric, level) for s in solvers}
@@ -447,6 +482,8 @@ def headline(rows: list[dict], levels: dict) -> list[dict]:
                     "core_wall_time": core, "best_scipy": best or "none",
                     "best_scipy_wall_time": costs[best] if best else math.nan,
                     "speedup": costs[best] / core if best and core > 0 else math.nan,
+                    "speedup_at_least": (budget_bound(rows, scene, solvers) / core
+                                         if not best and core > 0 else math.nan),
                     **{f"{s}_wall_time": c for s, c in costs.items()},
                 }
                 if compiled:

@@ -9,7 +9,7 @@ Compiled peers (CyRK methods) are lines like SciPy's; a point whose 500 s run fr
 left the attractor (or stopped) is an open marker with a label, a run that stopped within
 the horizon an open marker at the panel's right edge (its errors are infinite); heyoka's
 free-flight floor is a dotted horizontal line; a peer that is not installed is noted in
-the panel ("CyRK not installed").
+the panel ("CyRK not installed"), and so is a sweep the time budget per point stopped.
 Bottom row: the chaotic train's statistics at each tolerance of the core, against the mean
 +- 2 std band of an ensemble of realisations (the statistics, not the trajectory, must
 converge for a chaotic train).
@@ -86,6 +86,15 @@ def unavailable_notes(rows, scene) -> list[str]:
     return list(notes.values())
 
 
+def budget_notes(rows, scene) -> list[str]:
+    """One line per solver whose sweep the time budget per point stopped (its skipped rows)."""
+    out = {}
+    for r in rows:
+        if r["scene"] == scene and r.get("status") == "skipped" and r["solver"] not in out:
+            out[r["solver"]] = f"{solver_label(r['solver'])}: {r.get('note', 'skipped')}"
+    return list(out.values())
+
+
 def _wp_panel(ax, rows, scene, metric, show_legend):
     ok = [r for r in rows if r["scene"] == scene and r["status"] == "ok"]
     unc = _float(next(r for r in rows if r["scene"] == scene)[f"reference_{metric}"])
@@ -128,6 +137,10 @@ def _wp_panel(ax, rows, scene, metric, show_legend):
     for r in (r for r in rows if r["scene"] == scene and r["status"] == "floor"):
         ax.axhline(_float(r["wall_time"]), label=f"floor: {r['solver']}, tol {_float(r['rtol']):.0e}",
                    **FLOOR_STYLE)
+    budget = budget_notes(rows, scene)
+    if budget and metric == METRICS[0]:  # fewer points, not different numbers: say where a sweep stops
+        ax.text(0.03, 0.97, "\n".join(budget), transform=ax.transAxes, fontsize=4.5, va="top", ha="left",
+                color="0.35")
     notes = unavailable_notes(rows, scene)
     if notes:
         ax.text(0.03, 0.03, "\n".join(notes), transform=ax.transAxes, fontsize=5.5, color="C3", va="bottom")
@@ -201,7 +214,8 @@ def plot_work_precision(rows, stats_rows, *, jit: dict | None = None, n_ensemble
     n_ens = n_ensemble if n_ensemble is not None else sum(1 for r in stats_rows if r["kind"] == "ensemble")
     note = "Minimum wall time of repeated runs; grey: below the reference's own uncertainty."
     if jit:
-        note += f"\nJIT compile of the core excluded: {jit['cold']:.0f} s cold, {jit['cached']:.1f} s from cache."
+        cold = f"{jit['cold']:.0f} s cold" if jit.get("cold") is not None else "cold not measured"
+        note += f"\nJIT compile of the core excluded: {cold}, {jit['cached']:.1f} s from cache."
     if any(str(r["solver"]).startswith("CyRK") and r.get("status") != "unavailable" for r in rows):
         note += ("\nCyRK (dashed): the model in one right-hand side, no splitting at contacts; numba cfunc "
                  "right-hand side and events on CyRK's dense output.")

@@ -142,6 +142,9 @@ def long_run_case(duration=1e4, omega=40.86, block=1000.0, chunk_steps=200_000, 
       standard error, must stay within 3 (no drift);
     * wall time per simulated second, last progress interval against the first: <= 2.
     """
+    if not duration >= 4 * block > 0:
+        raise ValueError(f"hard_cases.long_run: duration ({duration:g} s) must hold at least 4 blocks of "
+                         f"{block:g} s (the first is the transient; a trend and its standard error need 3 more)")
     warm_up()
     marks = []
     t0 = time.perf_counter()
