@@ -38,9 +38,9 @@ lock: $(BIN)/python
 test: install
 	$(BIN)/ruff format --check --quiet .
 	$(BIN)/ruff check --quiet .
-	$(BIN)/snakefmt --check --quiet Snakefile workflow/rules
+	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/python .ci/snakemake_lint.py $(BIN)/snakemake
-	$(BIN)/snakemake -n --quiet rules all > /dev/null
+	$(BIN)/snakemake -n all --quiet rules > /dev/null
 	$(BIN)/python -m pytest
 
 format: install

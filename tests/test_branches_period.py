@@ -70,12 +70,15 @@ def test_max_period_and_repeats():
     assert detect_period(x, TOL, max_period=40) == 40
 
 
-@pytest.mark.parametrize("bad, match", [
-    (dict(points=[1.0, np.nan, 1.0]), "finite"),
-    (dict(points=[1.0]), "n >= 2"),
-    (dict(points=[1.0, 1.0, 1.0], tol=0.0), "tol"),
-    (dict(points=[1.0, 1.0, 1.0], max_period=3), "max_period"),
-])
+@pytest.mark.parametrize(
+    "bad, match",
+    [
+        (dict(points=[1.0, np.nan, 1.0]), "finite"),
+        (dict(points=[1.0]), "n >= 2"),
+        (dict(points=[1.0, 1.0, 1.0], tol=0.0), "tol"),
+        (dict(points=[1.0, 1.0, 1.0], max_period=3), "max_period"),
+    ],
+)
 def test_detect_period_rejects_bad_input(bad, match):
     kw = {"tol": TOL, **bad}
     with pytest.raises(ValueError, match=match):

@@ -53,13 +53,13 @@ def mixture_stats(mixture_sample):
     s, _ = mixture_sample
     rng = np.random.default_rng(3)
     # penetrations: three gaussian modes at 60, 120 and 190 um, the deepest the most frequent
-    h = np.concatenate([rng.normal(60e-6, 6e-6, 600), rng.normal(120e-6, 8e-6, 800),
-                        rng.normal(190e-6, 5e-6, 1601)])
+    h = np.concatenate([rng.normal(60e-6, 6e-6, 600), rng.normal(120e-6, 8e-6, 800), rng.normal(190e-6, 5e-6, 1601)])
     train = _train(s, penetrations=h, omega=40.86, label="mixture")
     return ch.analyse_train(train, AnalysisOptions(**FAST))
 
 
 # --------------------------------------------------------------------------- Poisson
+
 
 def test_poisson_variability(poisson_stats):
     v = poisson_stats["variability"]
@@ -92,11 +92,11 @@ def test_poisson_no_periodicity_one_component(poisson_stats):
 
 # -------------------------------------------------------------------------- periodic
 
+
 def test_periodic_train():
     rng = np.random.default_rng(5)
     train = _train(0.1 + rng.normal(0.0, 1e-4, 3000), omega=40.86, label="periodic")
-    s = ch.analyse_train(train, AnalysisOptions(**FAST),
-                         parts=("stationarity", "variability", "poisson"))
+    s = ch.analyse_train(train, AnalysisOptions(**FAST), parts=("stationarity", "variability", "poisson"))
     assert s["variability"]["cv2"] < 1e-5  # (1e-4 / 0.1)^2 = 1e-6
     # a periodic count in a window of w = (m + p) periods is m or m + 1 (fraction p of the
     # windows): F = p (1 - p) / (w / T) <= 0.25 T / w; 1e-4 s jitter adds nothing visible
@@ -111,6 +111,7 @@ def test_periodic_train():
 
 
 # --------------------------------------------------------------------------- mixture
+
 
 def test_mixture_recovered(mixture_stats, mixture_sample):
     _, first = mixture_sample
@@ -154,6 +155,7 @@ def test_penetration_modes(mixture_stats):
 
 # ------------------------------------------------------------------------------ ACF
 
+
 def test_period3_pattern_gives_one_third_peak():
     rng = np.random.default_rng(8)
     n = 1000
@@ -175,6 +177,7 @@ def test_iid_train_has_no_significant_acf_peak(mixture_stats):
 
 
 # ------------------------------------------------------------------- input handling
+
 
 def test_train_validation():
     t = np.arange(20.0)
@@ -227,12 +230,12 @@ def test_config_analysis_section_matches_options():
 
 # ------------------------------------------------------------- files, JSON, summaries
 
+
 def test_load_train_span_sources(tmp_path):
     t = 100.0 + np.cumsum(np.full(30, 0.1))
     h = np.linspace(1e-5, 2e-4, 30)
     attrs = {"omega": 40.86, "transient": 100.0, "duration": 4.0}
-    write_run(tmp_path / "sim.h5", {"impacts": {"t": t, "v": np.ones(30)},
-                                    "penetrations": {"t": t, "h": h}}, attrs)
+    write_run(tmp_path / "sim.h5", {"impacts": {"t": t, "v": np.ones(30)}, "penetrations": {"t": t, "h": h}}, attrs)
     tr = load_train(tmp_path / "sim.h5")
     assert (tr.t_start, tr.t_stop, tr.label) == (100.0, 104.0, "sim")
     assert tr.omega == 40.86 and tr.penetrations.size == 30
@@ -300,8 +303,7 @@ def test_csv_writer(tmp_path):
 
 
 def test_ensemble_runs_names_and_tolerances():
-    runs = ensemble_runs({"x0": 0.0}, {"rtol": 1e-10, "atol": 1e-12},
-                            {"rtol": [1e-8], "x0": [1e-4, -1e-3]})
+    runs = ensemble_runs({"x0": 0.0}, {"rtol": 1e-10, "atol": 1e-12}, {"rtol": [1e-8], "x0": [1e-4, -1e-3]})
     assert runs == {
         "rtol1e-08": {"rtol": 1e-8, "atol": pytest.approx(1e-10), "x0": 0.0},
         "x0+1.0e-04": {"rtol": 1e-10, "atol": 1e-12, "x0": 1e-4},

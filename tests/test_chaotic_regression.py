@@ -25,31 +25,40 @@ from impactosc.analysis.ensemble import ensemble_summary
 from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain, load_train
 from impactosc.analysis.spectra import trajectory_spectrum
 from impactosc.files import read_json, write_json, write_run
-from impactosc.plotting import save_figure
-from impactosc.plotting.chaotic import make_figure
 from impactosc.integration.simulate import Window, simulate
 from impactosc.paper.rows import chaotic_rows
 from impactosc.paper.table import write_rows
+from impactosc.plotting import save_figure
+from impactosc.plotting.chaotic import make_figure
 
 REF = json.loads((Path(__file__).parent / "data" / "chaotic_short_reference.json").read_text())
 SCENE = REF["scene"]
 OPTIONS = AnalysisOptions.from_config(REF["options"])
-CONTINUOUS = ("n_impacts", "cv2_paper", "cv2", "isi_first_maximum", "isi_last_maximum",
-              "acf_peak_frequency")
+CONTINUOUS = ("n_impacts", "cv2_paper", "cv2", "isi_first_maximum", "isi_last_maximum", "acf_peak_frequency")
 
 
 def _short_run(x0=0.0, window=None):
-    res = simulate(SCENE["omega"], SCENE["transient"], SCENE["duration"], x0=x0,
-                   rtol=SCENE["rtol"], window=window,
-                   record=("impacts", "penetrations", "poincare"))
+    res = simulate(
+        SCENE["omega"],
+        SCENE["transient"],
+        SCENE["duration"],
+        x0=x0,
+        rtol=SCENE["rtol"],
+        window=window,
+        record=("impacts", "penetrations", "poincare"),
+    )
     return res
 
 
 def _stats(res, label):
-    train = ImpactTrain(res.events["impacts"]["t"], SCENE["transient"],
-                           SCENE["transient"] + SCENE["duration"],
-                           penetrations=res.events["penetrations"]["h"], omega=SCENE["omega"],
-                           label=label)
+    train = ImpactTrain(
+        res.events["impacts"]["t"],
+        SCENE["transient"],
+        SCENE["transient"] + SCENE["duration"],
+        penetrations=res.events["penetrations"]["h"],
+        omega=SCENE["omega"],
+        label=label,
+    )
     return ch.analyse_train(train, OPTIONS)
 
 
@@ -90,8 +99,7 @@ def test_paper_rows_are_well_formed(short_stats, short_run, tmp_path):
     ens = ensemble_summary({"a": ch.key_numbers(short_stats), "b": ch.key_numbers(other)})
     traj = short_run.trajectory
     spectrum = trajectory_spectrum(traj["t"], traj["x"], SCENE["omega"])
-    rows = chaotic_rows(read_json(write_json(tmp_path / "m.json", short_stats)), ens,
-                         spectrum, "cmd")
+    rows = chaotic_rows(read_json(write_json(tmp_path / "m.json", short_stats)), ens, spectrum, "cmd")
     write_rows(tmp_path / "rows.csv", rows)  # checks the columns
     assert all(r["section"].startswith("2.2") and r["agrees"] in ("yes", "no", "n.a.") for r in rows)
     by = {r["quantity"]: r for r in rows}
@@ -112,9 +120,14 @@ def test_figures_build(short_stats, short_run, tmp_path):
     second_stats = ch.analyse_train(load_train(bare, label="surrogate"), OPTIONS)
     assert second_stats["penetrations"] is None and "forcing_period" not in second_stats["isi_density"]
     second = write_json(tmp_path / "second.json", second_stats)
-    for nn, kw in ((6, {"run": run, "portrait_span": 5.0}), (7, {"run": run}),
-                   (8, {"stats": [model, second]}), (9, {"stats": [model]}),
-                   (10, {"stats": [model, second]}), (11, {"stats": [model]})):
+    for nn, kw in (
+        (6, {"run": run, "portrait_span": 5.0}),
+        (7, {"run": run}),
+        (8, {"stats": [model, second]}),
+        (9, {"stats": [model]}),
+        (10, {"stats": [model, second]}),
+        (11, {"stats": [model]}),
+    ):
         fig = make_figure(nn, **kw)
         labels = [ax.get_title(loc="left") for ax in fig.axes]
         if nn in (8, 10):
@@ -140,14 +153,28 @@ def test_figure_input_errors(short_stats, short_run, tmp_path):
 @pytest.mark.slow
 def test_full_scene_against_paper(tmp_path):
     """The 400 s scene and three more realisations reproduce the paper's section 2.2."""
-    runs = [simulate(40.86, 100.0, 400.0, x0=x0, record=("impacts", "penetrations"),
-                     window=Window(100.0, 500.0, 2e-3) if x0 == 0 else None)
-            for x0 in (0.0, 5e-4, -5e-4, 1e-3)]
+    runs = [
+        simulate(
+            40.86,
+            100.0,
+            400.0,
+            x0=x0,
+            record=("impacts", "penetrations"),
+            window=Window(100.0, 500.0, 2e-3) if x0 == 0 else None,
+        )
+        for x0 in (0.0, 5e-4, -5e-4, 1e-3)
+    ]
     opts = AnalysisOptions()
     stats = []
     for i, r in enumerate(runs):
-        tr = ImpactTrain(r.events["impacts"]["t"], 100.0, 500.0,
-                            penetrations=r.events["penetrations"]["h"], omega=40.86, label=f"r{i}")
+        tr = ImpactTrain(
+            r.events["impacts"]["t"],
+            100.0,
+            500.0,
+            penetrations=r.events["penetrations"]["h"],
+            omega=40.86,
+            label=f"r{i}",
+        )
         stats.append(ch.analyse_train(tr, opts))
     ens = ensemble_summary({s["train"]["label"]: ch.key_numbers(s) for s in stats})
     spectrum = trajectory_spectrum(runs[0].trajectory["t"], runs[0].trajectory["x"], 40.86)

@@ -20,19 +20,63 @@ def run_cli(*args):
 
 def test_simulate_writes_the_contract(tmp_path):
     out = tmp_path / "run.h5"
-    r = run_cli("simulate", "--omega", "40.86", "--transient", "1", "--duration", "2",
-                "--window", "2", "2.5", "0.001", "--output", str(out))
+    r = run_cli(
+        "simulate",
+        "--omega",
+        "40.86",
+        "--transient",
+        "1",
+        "--duration",
+        "2",
+        "--window",
+        "2",
+        "2.5",
+        "0.001",
+        "--output",
+        str(out),
+    )
     assert r.returncode == 0, r.stderr
     assert "impacts" in r.stdout and "wall time" in r.stdout
     with h5py.File(out) as f:
-        for name in ("impacts/t", "impacts/v", "penetrations/t", "penetrations/h", "near_misses/t",
-                     "near_misses/gap", "poincare/t", "poincare/x", "poincare/v", "trajectory/t",
-                     "trajectory/x", "trajectory/v"):
+        for name in (
+            "impacts/t",
+            "impacts/v",
+            "penetrations/t",
+            "penetrations/h",
+            "near_misses/t",
+            "near_misses/gap",
+            "poincare/t",
+            "poincare/x",
+            "poincare/v",
+            "trajectory/t",
+            "trajectory/x",
+            "trajectory/v",
+        ):
             assert name in f, name
-        for key in ("param_m", "param_kI", "param_xI", "omega", "transient", "duration", "x0", "v0",
-                    "solver", "rtol", "atol", "n_steps", "n_rejected", "n_rhs", "wall_time", "version",
-                    "git_commit", "python_version", "numpy_version", "scipy_version", "numba_version",
-                    "h5py_version"):
+        for key in (
+            "param_m",
+            "param_kI",
+            "param_xI",
+            "omega",
+            "transient",
+            "duration",
+            "x0",
+            "v0",
+            "solver",
+            "rtol",
+            "atol",
+            "n_steps",
+            "n_rejected",
+            "n_rhs",
+            "wall_time",
+            "version",
+            "git_commit",
+            "python_version",
+            "numpy_version",
+            "scipy_version",
+            "numba_version",
+            "h5py_version",
+        ):
             assert key in f.attrs, key
         assert f.attrs["format_version"] == FORMAT_VERSION
         datasets = []
@@ -48,15 +92,18 @@ def test_simulate_writes_the_contract(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["run.h5"]  # no temporary left behind
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--omega", "40", "--transient", "1", "--duration", "-1"], "duration must be > 0"),
-    (["--omega", "nan", "--transient", "1", "--duration", "1"], "not finite"),
-    (["--omega", "-3", "--transient", "1", "--duration", "1"], "omega must be > 0"),
-    (["--omega", "40", "--transient", "-1", "--duration", "1"], "transient must be >= 0"),
-    (["--omega", "40", "--transient", "1", "--duration", "1", "--rtol", "0"], "rtol must be in (0, 1)"),
-    (["--omega", "40", "--transient", "1", "--duration", "1", "--window", "0", "9", "0.1"], "window"),
-    (["--omega", "40", "--transient", "1", "--duration", "1", "--events", "impacts,foo"], "unknown event"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--omega", "40", "--transient", "1", "--duration", "-1"], "duration must be > 0"),
+        (["--omega", "nan", "--transient", "1", "--duration", "1"], "not finite"),
+        (["--omega", "-3", "--transient", "1", "--duration", "1"], "omega must be > 0"),
+        (["--omega", "40", "--transient", "-1", "--duration", "1"], "transient must be >= 0"),
+        (["--omega", "40", "--transient", "1", "--duration", "1", "--rtol", "0"], "rtol must be in (0, 1)"),
+        (["--omega", "40", "--transient", "1", "--duration", "1", "--window", "0", "9", "0.1"], "window"),
+        (["--omega", "40", "--transient", "1", "--duration", "1", "--events", "impacts,foo"], "unknown event"),
+    ],
+)
 def test_bad_input_is_one_clear_line_and_writes_nothing(tmp_path, args, message):
     out = tmp_path / "x.h5"
     r = run_cli("simulate", *args, "--output", str(out))
@@ -67,8 +114,17 @@ def test_bad_input_is_one_clear_line_and_writes_nothing(tmp_path, args, message)
 
 
 def test_unwritable_output_fails_before_computing(tmp_path):
-    r = run_cli("simulate", "--omega", "40", "--transient", "1", "--duration", "1",
-                "--output", str(tmp_path / "missing" / "x.h5"))
+    r = run_cli(
+        "simulate",
+        "--omega",
+        "40",
+        "--transient",
+        "1",
+        "--duration",
+        "1",
+        "--output",
+        str(tmp_path / "missing" / "x.h5"),
+    )
     assert r.returncode == 2 and "does not exist" in r.stderr
 
 
@@ -91,8 +147,12 @@ def test_interrupted_write_leaves_no_file(tmp_path, monkeypatch):
 
 
 def test_read_run_roundtrip_and_missing_file(tmp_path):
-    out = write_run(tmp_path / "r.h5", {"impacts": {"t": np.arange(3.0), "v": np.ones(3)}}, {"omega": 2.0},
-                    {"t": np.arange(2.0), "x": np.zeros(2), "v": np.zeros(2)})
+    out = write_run(
+        tmp_path / "r.h5",
+        {"impacts": {"t": np.arange(3.0), "v": np.ones(3)}},
+        {"omega": 2.0},
+        {"t": np.arange(2.0), "x": np.zeros(2), "v": np.zeros(2)},
+    )
     events, attrs, traj = read_run(out)
     np.testing.assert_array_equal(events["impacts"]["t"], np.arange(3.0))
     assert attrs["omega"] == 2.0 and "git_commit" in attrs

@@ -35,16 +35,19 @@ def test_schema_documents_every_model_key():
         assert "description" in sub and "default" in sub, key
 
 
-@pytest.mark.parametrize("mutate, key", [
-    (lambda c: c["model"].__setitem__("m", -1.0), "model.m"),
-    (lambda c: c["model"].__setitem__("mass", 1.0), "model.mass"),
-    (lambda c: c["model"].__setitem__("k", "stiff"), "model.k"),
-    (lambda c: c["solver"].__setitem__("rtol", -1e-9), "solver.rtol"),
-    (lambda c: c["scenes"]["chaos"].__setitem__("duration", -400), "scenes.chaos.duration"),
-    (lambda c: c["scenes"]["chaos"].__setitem__("omgea", 4), "scenes.chaos.omgea"),
-    (lambda c: c["scenes"]["chaos"].__setitem__("events", ["impacts", "sparks"]), "scenes.chaos.events.1"),
-    (lambda c: c["scenes"]["chaos"]["window"].__setitem__("stop", 1e4), "scenes.chaos.window"),
-])
+@pytest.mark.parametrize(
+    "mutate, key",
+    [
+        (lambda c: c["model"].__setitem__("m", -1.0), "model.m"),
+        (lambda c: c["model"].__setitem__("mass", 1.0), "model.mass"),
+        (lambda c: c["model"].__setitem__("k", "stiff"), "model.k"),
+        (lambda c: c["solver"].__setitem__("rtol", -1e-9), "solver.rtol"),
+        (lambda c: c["scenes"]["chaos"].__setitem__("duration", -400), "scenes.chaos.duration"),
+        (lambda c: c["scenes"]["chaos"].__setitem__("omgea", 4), "scenes.chaos.omgea"),
+        (lambda c: c["scenes"]["chaos"].__setitem__("events", ["impacts", "sparks"]), "scenes.chaos.events.1"),
+        (lambda c: c["scenes"]["chaos"]["window"].__setitem__("stop", 1e4), "scenes.chaos.window"),
+    ],
+)
 def test_bad_config_names_the_key(config, mutate, key):
     bad = copy.deepcopy(config)
     mutate(bad)
@@ -92,15 +95,21 @@ def test_missing_required_key_is_reported(config):
 def test_config_readme_is_the_schema_rendered():
     assert README.read_text(encoding="utf-8") == render_file(SCHEMA), (
         "config/README.md is out of date with the schema; regenerate it with `impactosc config-docs` "
-        "(from the repository root)")
+        "(from the repository root)"
+    )
 
 
 def test_config_docs_lists_nested_and_map_keys(tmp_path, capsys):
     text = render_file(SCHEMA)
-    for row in ("| `model.kI` | number |", "| `scenes.<name>.omega` | number | required | > 0 |",
-                "| `scenes.<name>.window.dt` |", "| `bifurcation.sweeps.<name>.step` |",
-                "| `measured.surrogate.mismatch.<name>` | number |", "| `chaotic.second_train.events` |",
-                "| `chaotic.analysis.kde_bandwidth` | string or number |"):
+    for row in (
+        "| `model.kI` | number |",
+        "| `scenes.<name>.omega` | number | required | > 0 |",
+        "| `scenes.<name>.window.dt` |",
+        "| `bifurcation.sweeps.<name>.step` |",
+        "| `measured.surrogate.mismatch.<name>` | number |",
+        "| `chaotic.second_train.events` |",
+        "| `chaotic.analysis.kde_bandwidth` | string or number |",
+    ):
         assert row in text, row
     out = tmp_path / "README.md"
     out.write_text("stale\n")

@@ -33,8 +33,18 @@ def closed_form(p, omega, t, x0, v0):
 def test_poincare_points_and_window_match_closed_form(linear_params, omega):
     p = linear_params
     x0, v0 = 1e-3, -0.02
-    res = simulate(omega, 0.0, 20.0, x0=x0, v0=v0, params=p, rtol=1e-12, atol=1e-15,
-                   window=Window(0.0, 20.0, 0.01), record=("poincare", "impacts"))
+    res = simulate(
+        omega,
+        0.0,
+        20.0,
+        x0=x0,
+        v0=v0,
+        params=p,
+        rtol=1e-12,
+        atol=1e-15,
+        window=Window(0.0, 20.0, 0.01),
+        record=("poincare", "impacts"),
+    )
     assert len(res.events["impacts"]["t"]) == 0  # the obstacle is out of reach
     pc = res.events["poincare"]
     n = int(20.0 / (2 * math.pi / omega))
@@ -47,7 +57,7 @@ def test_poincare_points_and_window_match_closed_form(linear_params, omega):
     np.testing.assert_allclose(pc["x"], x, rtol=0, atol=1e-9 * scale_x)
     np.testing.assert_allclose(pc["v"], v, rtol=0, atol=1e-9 * np.abs(v).max())
     tr = res.trajectory
-    xw, vw = closed_form(p, omega, tr["t"], x0, v0)
+    xw, _vw = closed_form(p, omega, tr["t"], x0, v0)
     # dense output (7th order) on top of the step error: same bound
     np.testing.assert_allclose(tr["x"], xw, rtol=0, atol=1e-9 * scale_x)
 

@@ -12,8 +12,14 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.benchmarks.random_scenes import (agreement_horizon, compare_scene, draw_scene, impacts_agree, run_scenes,
-                                                summary)
+from impactosc.benchmarks.random_scenes import (
+    agreement_horizon,
+    compare_scene,
+    draw_scene,
+    impacts_agree,
+    run_scenes,
+    summary,
+)
 from impactosc.cli import main
 from impactosc.integration.model import ModelParams, UntestedParameterWarning
 from impactosc.integration.reference import solve_reference
@@ -21,15 +27,35 @@ from impactosc.integration.simulate import StallError, simulate
 from impactosc.sweeps.continuation import STALLED, SweepSettings, continuation
 
 # The parameter set of the issue (found by a random draw), and its initial state.
-ISSUE16 = dict(m=9.47198865593737, m0e=0.02989581054918677, k=2183.3658042200877, c=8.01647194477097,
-               T=0.0, eps=1.247542664427076e-06, kI=94356327.33635227, b=1.0982245961648749,
-               n1=1.5, n2=1.5, n3=0.12296037781037601, xI=-0.0032254345695398715)
+ISSUE16 = dict(
+    m=9.47198865593737,
+    m0e=0.02989581054918677,
+    k=2183.3658042200877,
+    c=8.01647194477097,
+    T=0.0,
+    eps=1.247542664427076e-06,
+    kI=94356327.33635227,
+    b=1.0982245961648749,
+    n1=1.5,
+    n2=1.5,
+    n3=0.12296037781037601,
+    xI=-0.0032254345695398715,
+)
 ISSUE16_W, ISSUE16_X0, ISSUE16_V0 = 49.9632209280299, -0.003609070093814087, 0.05478655884924266
 
 
 def _issue16(duration, **kw):
-    return simulate(ISSUE16_W, 0.0, duration, x0=ISSUE16_X0, v0=ISSUE16_V0, params=ModelParams(**ISSUE16),
-                    rtol=1e-11, atol=1e-13, **kw)
+    return simulate(
+        ISSUE16_W,
+        0.0,
+        duration,
+        x0=ISSUE16_X0,
+        v0=ISSUE16_V0,
+        params=ModelParams(**ISSUE16),
+        rtol=1e-11,
+        atol=1e-13,
+        **kw,
+    )
 
 
 def test_issue16_scene_ends_in_bounded_work():
@@ -49,8 +75,19 @@ def test_issue16_scene_agrees_with_an_independent_reference():
     # pinned by the creep at 0.027 s), so the core, which does not, is compared up to there.
     horizon = 0.5
     res = _issue16(horizon, record=("impacts", "penetrations"))
-    refs = [solve_reference(ISSUE16_W, horizon, x0=ISSUE16_X0, v0=ISSUE16_V0, params=ModelParams(**ISSUE16),
-                            method="LSODA", rtol=rtol, atol=atol) for rtol, atol in ((1e-11, 1e-14), (1e-12, 1e-15))]
+    refs = [
+        solve_reference(
+            ISSUE16_W,
+            horizon,
+            x0=ISSUE16_X0,
+            v0=ISSUE16_V0,
+            params=ModelParams(**ISSUE16),
+            method="LSODA",
+            rtol=rtol,
+            atol=atol,
+        )
+        for rtol, atol in ((1e-11, 1e-14), (1e-12, 1e-15))
+    ]
     h = agreement_horizon(refs[0]["impacts_t"], refs[1]["impacts_t"], horizon) - 1e-3
     tc = res.events["impacts"]["t"]
     tr = refs[1]["impacts_t"]
@@ -85,8 +122,22 @@ def test_step_budget_is_validated():
 
 def test_cli_reports_a_stall_in_one_line_and_writes_nothing(tmp_path, capsys):
     out = tmp_path / "run.h5"
-    code = main(["simulate", "--omega", "40.86", "--transient", "0", "--duration", "5", "--step-budget", "100",
-                 "--output", str(out), "--quiet"])
+    code = main(
+        [
+            "simulate",
+            "--omega",
+            "40.86",
+            "--transient",
+            "0",
+            "--duration",
+            "5",
+            "--step-budget",
+            "100",
+            "--output",
+            str(out),
+            "--quiet",
+        ]
+    )
     err = capsys.readouterr().err.strip()
     assert code == 3
     assert not out.exists()
@@ -135,8 +186,9 @@ def test_random_scenes_match_scipy():
     rows = run_scenes(2026, 8, horizon=1.0, log=lambda *a: None)
     s = summary(rows)
     assert s["stalls"] == 0, [r["message"] for r in rows if r["status"] == "stall"]
-    assert s["failures"] == 0, [(r["scene"], r["status"], r["message"]) for r in rows if r["status"] not in
-                                ("ok", "no reference")]
+    assert s["failures"] == 0, [
+        (r["scene"], r["status"], r["message"]) for r in rows if r["status"] not in ("ok", "no reference")
+    ]
     assert s["impacts_compared"] >= 10  # the sample exercises contacts, not only free flight
     assert s["worst_dt_s"] < 1e-8
 

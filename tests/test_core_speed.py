@@ -13,8 +13,18 @@ from impactosc.files import read_table, write_table
 
 
 def _row(solver, rtol, wall, error, on=True, kind="scene", **extra):
-    return dict(solver=solver, kind=kind, rtol=rtol, wall_time=wall, wall_time_min=wall * 0.9, repeats=3,
-                impact_time_error_1p5s=error, n_impacts=2898, on_attractor=on, **extra)
+    return dict(
+        solver=solver,
+        kind=kind,
+        rtol=rtol,
+        wall_time=wall,
+        wall_time_min=wall * 0.9,
+        repeats=3,
+        impact_time_error_1p5s=error,
+        n_impacts=2898,
+        on_attractor=on,
+        **extra,
+    )
 
 
 def _rows():
@@ -71,10 +81,27 @@ def test_headline_reads_its_rows_back_from_csv(tmp_path):
 
 
 def test_markdown_table_marks_what_does_not_apply():
-    rows = [dict(solver="heyoka free flight", rtol=1e-10, wall_time=0.02, steps_per_period=15.5,
-                 impact_time_error_1p5s=None, n_impacts=math.nan, on_attractor=None, status="ok"),
-            dict(solver="CyRK DOP853", rtol=1e-12, wall_time=0.8, impact_time_error_1p5s=2.9e-11, n_impacts=1177.0,
-                 on_attractor=False, status="stopped at t = 263.8 s: step | size")]
+    rows = [
+        dict(
+            solver="heyoka free flight",
+            rtol=1e-10,
+            wall_time=0.02,
+            steps_per_period=15.5,
+            impact_time_error_1p5s=None,
+            n_impacts=math.nan,
+            on_attractor=None,
+            status="ok",
+        ),
+        dict(
+            solver="CyRK DOP853",
+            rtol=1e-12,
+            wall_time=0.8,
+            impact_time_error_1p5s=2.9e-11,
+            n_impacts=1177.0,
+            on_attractor=False,
+            status="stopped at t = 263.8 s: step | size",
+        ),
+    ]
     lines = cs.markdown_table(rows, cs.TABLE_COLUMNS)
     assert lines[0].startswith("| solver | rtol |") and len(lines) == 4
     cells = [c.strip() for c in lines[2].split("|")[1:-1]]
@@ -97,9 +124,16 @@ class _Fake:
 
     def run(self):
         self.log.append(self.name)
-        return peers.PeerRun(self.walls.pop(0), 1000, self.impacts, peers.T_END if self.success else 263.8,
-                             np.zeros(2), self.success, "" if self.success else "step size underflow",
-                             extra={"rhs": 12000})
+        return peers.PeerRun(
+            self.walls.pop(0),
+            1000,
+            self.impacts,
+            peers.T_END if self.success else 263.8,
+            np.zeros(2),
+            self.success,
+            "" if self.success else "step size underflow",
+            extra={"rhs": 12000},
+        )
 
     def short(self):
         return peers.PeerRun(0.0, 10, np.array([0.1, 0.5 + 2e-9]), peers.ERR_HORIZON, np.zeros(2), True, "")
@@ -111,11 +145,14 @@ def test_measure_contestants_times_round_robin_and_reports_medians():
     a = _Fake("a", [0.5, 0.1, 0.3], log, attractor)
     b = _Fake("b", [1.0, 2.0, 3.0], log, attractor[:1177], success=False)
     floor = _Fake("floor", [0.02, 0.03, 0.01], log, np.empty(0))
-    contestants = [peers.Contestant("core", "scene", 1e-10, 1e-12, a.run, a.short),
-                   peers.Contestant("CyRK DOP853", "scene", 1e-12, 1e-14, b.run, b.short),
-                   peers.Contestant("floor", "floor", 1e-10, 1e-12, floor.run)]
-    rows = peers.measure_contestants(contestants, 3, reference_impacts=2898, ref_times=np.array([0.1, 0.5]),
-                                     log=lambda _: None)
+    contestants = [
+        peers.Contestant("core", "scene", 1e-10, 1e-12, a.run, a.short),
+        peers.Contestant("CyRK DOP853", "scene", 1e-12, 1e-14, b.run, b.short),
+        peers.Contestant("floor", "floor", 1e-10, 1e-12, floor.run),
+    ]
+    rows = peers.measure_contestants(
+        contestants, 3, reference_impacts=2898, ref_times=np.array([0.1, 0.5]), log=lambda _: None
+    )
     assert log == ["a", "b", "floor", "floor", "b", "a", "a", "b", "floor"]
     core, cyrk, fl = rows
     assert core["wall_time"] == 0.3 and core["wall_time_min"] == 0.1 and core["repeats"] == 3

@@ -29,8 +29,11 @@ def _errors(omega, t_end, ref, rtol):
     pen = res.events["penetrations"]
     assert len(imp["t"]) == len(ref["impacts_t"]), (rtol, len(imp["t"]), len(ref["impacts_t"]))
     assert len(pen["t"]) == len(ref["penetrations_t"])
-    return (np.abs(imp["t"] - ref["impacts_t"]).max(), np.abs(imp["v"] - ref["impacts_v"]).max(),
-            np.abs(pen["h"] - ref["penetrations_h"]).max())
+    return (
+        np.abs(imp["t"] - ref["impacts_t"]).max(),
+        np.abs(imp["v"] - ref["impacts_v"]).max(),
+        np.abs(pen["h"] - ref["penetrations_h"]).max(),
+    )
 
 
 def test_impacts_agree_at_tight_tolerance(case):

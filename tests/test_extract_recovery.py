@@ -6,8 +6,8 @@ from scipy import stats
 
 from impactosc.analysis.chaotic import analyse_train
 from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain, load_train
-from impactosc.measured.extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
 from impactosc.files import write_run
+from impactosc.measured.extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
 from impactosc.measured.surrogate import SurrogateOptions, surrogate_record
 
 # 60 s of the chaotic attractor (w = 40.86) after a 100 s transient: ~430 impacts, of every
@@ -23,7 +23,7 @@ def case(request):
 
 
 def test_every_impact_within_stated_uncertainty_and_no_extra(case):
-    noise, rec, truth, events, attrs = case
+    noise, _rec, truth, events, attrs = case
     T, E, s = truth["impacts"]["t"], events["impacts"]["t"], events["impacts"]["sigma_t"]
     assert E.size == T.size, f"noise {noise}: {E.size} extracted vs {T.size} true impacts"
     # one-to-one in order: each extracted time is nearest to its own true impact
@@ -35,7 +35,7 @@ def test_every_impact_within_stated_uncertainty_and_no_extra(case):
 
 
 def test_noise_and_penetrations(case):
-    noise, rec, truth, events, attrs = case
+    noise, _rec, truth, events, attrs = case
     # the MAD estimate sees the sensor noise (plus ~0.4 um of motion curvature at 2 kHz)
     assert attrs["noise_sigma"] == pytest.approx(noise, abs=max(0.2 * noise, 1e-6))
     h, ht = events["penetrations"]["h"], truth["penetrations"]["h"]
@@ -56,7 +56,7 @@ def test_hysteresis_prevents_chatter():
 
 
 def test_x_impact_estimate(case):
-    noise, rec, truth, *_ = case
+    _noise, rec, truth, *_ = case
     est, det = estimate_x_impact(rec)
     # measured -9 to -13 um for 20-400 s records at 0-5 um noise (README); 15 um bound
     assert abs(est - (-2.086e-3)) < 15e-6, est
@@ -64,7 +64,7 @@ def test_x_impact_estimate(case):
 
 
 def test_record_and_simulation_give_same_statistics(case, tmp_path):
-    noise, rec, truth, events, attrs = case
+    _noise, rec, truth, events, attrs = case
     write_run(tmp_path / "ev.h5", events, attrs)
     tr_rec = load_train(tmp_path / "ev.h5", "record")
     tr_sim = ImpactTrain(truth["impacts"]["t"], rec.t[0], rec.t[-1], truth["penetrations"]["h"], OMEGA)
@@ -83,14 +83,19 @@ def test_estimate_noise_white():
     assert estimate_noise(rng.normal(0, 3e-6, 20000)) == pytest.approx(3e-6, rel=0.05)
 
 
-@pytest.mark.parametrize("x, old", [
-    # (samples, estimate of the hand-written 1.4826 * median|d2 - median d2| / sqrt 6, commit 29f74da)
-    (np.random.default_rng(0).normal(0, 3e-6, 20000), 3.007196321138247e-06),
-    (1e-3 * np.sin(np.arange(50000) * 0.04) + np.random.default_rng(2).normal(0, 5e-6, 50000),
-     5.0218215522883836e-06),
-    (np.random.default_rng(3).standard_t(3, 1002) * 1e-6, 1.2605495485554247e-06),  # even len(d2)
-    (np.random.default_rng(3).standard_t(3, 1001) * 1e-6, 1.2621553516026346e-06),  # odd len(d2)
-])
+@pytest.mark.parametrize(
+    "x, old",
+    [
+        # (samples, estimate of the hand-written 1.4826 * median|d2 - median d2| / sqrt 6, commit 29f74da)
+        (np.random.default_rng(0).normal(0, 3e-6, 20000), 3.007196321138247e-06),
+        (
+            1e-3 * np.sin(np.arange(50000) * 0.04) + np.random.default_rng(2).normal(0, 5e-6, 50000),
+            5.0218215522883836e-06,
+        ),
+        (np.random.default_rng(3).standard_t(3, 1002) * 1e-6, 1.2605495485554247e-06),  # even len(d2)
+        (np.random.default_rng(3).standard_t(3, 1001) * 1e-6, 1.2621553516026346e-06),  # odd len(d2)
+    ],
+)
 def test_estimate_noise_matches_old_mad(x, old):
     # median_abs_deviation(scale="normal") uses the exact 1/Phi^-1(3/4) = 1.482602218...
     # where the old code had 1.4826: the same MAD, 1.50e-6 larger

@@ -22,8 +22,9 @@ def quiet(*args):
 
 def assert_passed(rows):
     failed = [r for r in rows if r["passed"] is False]
-    assert not failed, "\n".join(f"{r['check']}: {r['measured']:.4g} > {r['bound']} {r['unit']} ({r['detail']})"
-                                 for r in failed)
+    assert not failed, "\n".join(
+        f"{r['check']}: {r['measured']:.4g} > {r['bound']} {r['unit']} ({r['detail']})" for r in failed
+    )
     assert any(r["passed"] is True for r in rows)
 
 
@@ -68,8 +69,9 @@ def test_long_run_1e4_s():
 
 
 def test_regularisation_eps_and_stiffer_contact():
-    rows = hc.regularisation_case(eps_values=(1e-9,), ensemble_x0=(1e-4, -1e-4, 5e-4, -5e-4, 1e-3),
-                                  approach_speeds=(0.1, 1.5), log=quiet)
+    rows = hc.regularisation_case(
+        eps_values=(1e-9,), ensemble_x0=(1e-4, -1e-4, 5e-4, -5e-4, 1e-3), approach_speeds=(0.1, 1.5), log=quiet
+    )
     assert_passed(rows)
     info = [r for r in rows if r["passed"] == "n.a."]
     assert len(info) == 1 and "kI" in info[0]["check"]
@@ -85,6 +87,7 @@ def test_all_cases_full_size():
 
 # ----------------------------------------------------------- the Coulomb reference itself
 
+
 def test_coulomb_reference_without_friction_is_the_linear_oscillator():
     """T = 0: one slip piece per half swing; the closed form must match SciPy to 1e-10 m."""
     from scipy.integrate import solve_ivp
@@ -92,8 +95,15 @@ def test_coulomb_reference_without_friction_is_the_linear_oscillator():
     p = dataclasses.replace(ModelParams(), T=0.0, xI=1.0)
     w = 23.03
     ref = hc.CoulombOscillator(p, w).solve(1.0, x0=1e-3, v0=0.0)
-    sol = solve_ivp(lambda t, y: [y[1], (p.m0e * w * w * math.sin(w * t) - p.k * y[0] - p.c * y[1]) / p.m],
-                    (0, 1.0), [1e-3, 0.0], rtol=1e-12, atol=1e-15, dense_output=True, method="DOP853")
+    sol = solve_ivp(
+        lambda t, y: [y[1], (p.m0e * w * w * math.sin(w * t) - p.k * y[0] - p.c * y[1]) / p.m],
+        (0, 1.0),
+        [1e-3, 0.0],
+        rtol=1e-12,
+        atol=1e-15,
+        dense_output=True,
+        method="DOP853",
+    )
     ts = np.linspace(0, 1.0, 501)
     x, v = ref.state(ts)
     np.testing.assert_allclose(x, sol.sol(ts)[0], atol=1e-10, rtol=0)

@@ -43,9 +43,19 @@ def test_on_attractor_is_within_ten_percent_of_the_core():
 
 
 def test_table_marks_what_does_not_apply():
-    rows = [dict(solver="CyRK DOP853", rtol=1e-10, wall_time=0.8, steps_per_period=150.0,
-                 impact_time_error_1p5s=6e-8, n_impacts=2882, on_attractor=True, status="ok"),
-            dict(solver="heyoka free flight", rtol=1e-10, wall_time=0.02, steps_per_period=15.5, status="ok")]
+    rows = [
+        dict(
+            solver="CyRK DOP853",
+            rtol=1e-10,
+            wall_time=0.8,
+            steps_per_period=150.0,
+            impact_time_error_1p5s=6e-8,
+            n_impacts=2882,
+            on_attractor=True,
+            status="ok",
+        ),
+        dict(solver="heyoka free flight", rtol=1e-10, wall_time=0.02, steps_per_period=15.5, status="ok"),
+    ]
     lines = peers.format_table(rows).splitlines()
     assert lines[0].split()[:2] == ["solver", "rtol"]
     assert lines[1].split()[-2:] == ["2882", "yes"]

@@ -57,11 +57,20 @@ def test_grazing_figure(tmp_path):
     ipp = np.where(w > wg, 1.0, 4 / 3)
     v = np.where(w > wg, 0.076, 0.014)
     branch = {"omega": w, "min_gap": gap, "impacts_per_period": ipp, "min_impact_v": v}
-    trials = [{"omega": wg + d, "contact": d < 0, "min_gap": 1.1e-3 * d if d > 0 else None,
-               "min_impact_v": 1e-2 * math.sqrt(-d) if d < 0 else 0.076} for d in (5e-4, -2e-4, 1e-4, -5e-5)]
-    stats = {"bracket": {"midpoint": wg, "omega_miss": wg + 1e-4, "omega_contact": wg - 5e-5, "trials": trials},
-             "gap_fit": {"omega_zero": wg, "slope": 1.1e-3, "omega": [23.049, 23.048, 23.047, 23.046, 23.045]},
-             "branch_step": {"impacts_per_period_before": 1.0}}
+    trials = [
+        {
+            "omega": wg + d,
+            "contact": d < 0,
+            "min_gap": 1.1e-3 * d if d > 0 else None,
+            "min_impact_v": 1e-2 * math.sqrt(-d) if d < 0 else 0.076,
+        }
+        for d in (5e-4, -2e-4, 1e-4, -5e-5)
+    ]
+    stats = {
+        "bracket": {"midpoint": wg, "omega_miss": wg + 1e-4, "omega_contact": wg - 5e-5, "trials": trials},
+        "gap_fit": {"omega_zero": wg, "slope": 1.1e-3, "omega": [23.049, 23.048, 23.047, 23.046, 23.045]},
+        "branch_step": {"impacts_per_period_before": 1.0},
+    }
     fig = grazing_evidence(branch, {k: a[::5] for k, a in branch.items()}, stats)
     assert len(fig.axes) == 3  # (a) gap, (b) impact count, (c) log-log approach to grazing
     c = fig.axes[2]

@@ -48,11 +48,14 @@ def test_find_grazing_step_errors():
 
 def threshold_trial(w_true):
     """Synthetic model: contact below w_true; the 'state' records the w it came from."""
+
     def trial(w, state):
         contact = w < w_true
         gap = math.nan if contact else SLOPE * (w - w_true)
-        return Trial(omega=w, contact=contact, min_gap=gap, impacts_per_period=2.0 if contact else 1.0,
-                     x_end=w, v_end=0.0)
+        return Trial(
+            omega=w, contact=contact, min_gap=gap, impacts_per_period=2.0 if contact else 1.0, x_end=w, v_end=0.0
+        )
+
     return trial
 
 
@@ -123,7 +126,12 @@ def test_grazing_statistics_on_synthetic_branch():
     w, gap, ipp = synthetic_branch()
     b = bisect_transition(threshold_trial(W_G), 23.045, 23.044, (23.045, 0.0), 1e-5)
     summary = {"omega": w, "min_gap": gap, "impacts_per_period": ipp, "min_impact_v": np.full(w.size, 0.05)}
-    rest = {"omega": w[::5], "min_gap": gap[::5], "impacts_per_period": ipp[::5], "min_impact_v": np.full(w[::5].size, 0.05)}
+    rest = {
+        "omega": w[::5],
+        "min_gap": gap[::5],
+        "impacts_per_period": ipp[::5],
+        "min_impact_v": np.full(w[::5].size, 0.05),
+    }
     st = grazing_statistics(summary, b.to_dict(), rest, (23.05, 23.03), 5)
     assert st["between_paper_omegas"] and st["fit_inside_bracket"]
     assert st["branch_at_paper_omegas"]["23.05"]["impacts_per_period"] == 1.0

@@ -89,24 +89,56 @@ def test_write_json_maps_nan_to_null(tmp_path):
 
 
 def test_table_rows_agreement_logic():
-    im = {"n_impacts": 489, "levels": [0.09, 0.195, 0.26, 0.273], "counts": [122] * 4, "n_levels": 4,
-          "counts_equal": True, "total": 0.81848, "periods_in_total": 3.0, "orbit_period": 0.81848}
-    sp = {"omega1": OMEGA / 3, "omega1_over_omega": 1 / 3, "omega1_over_omega_fraction": [1, 3], "resolution": 0.06,
-          "labels": {k: {"found": 1.0} for k in "abcdf"}, "harmonics_only": False}
-    after = {"omega": OMEGA, "duration": 100.0, "transient": 200.0, "impact_map": im, "spectrum": sp,
-             "poincare_period": 3}
-    before = {"omega": 23.05, "spectrum": {"harmonics_only": True}, "poincare_period": 1, "impacts_per_period": 1.0,
-              "min_gap": 6.4e-6}
+    im = {
+        "n_impacts": 489,
+        "levels": [0.09, 0.195, 0.26, 0.273],
+        "counts": [122] * 4,
+        "n_levels": 4,
+        "counts_equal": True,
+        "total": 0.81848,
+        "periods_in_total": 3.0,
+        "orbit_period": 0.81848,
+    }
+    sp = {
+        "omega1": OMEGA / 3,
+        "omega1_over_omega": 1 / 3,
+        "omega1_over_omega_fraction": [1, 3],
+        "resolution": 0.06,
+        "labels": {k: {"found": 1.0} for k in "abcdf"},
+        "harmonics_only": False,
+    }
+    after = {
+        "omega": OMEGA,
+        "duration": 100.0,
+        "transient": 200.0,
+        "impact_map": im,
+        "spectrum": sp,
+        "poincare_period": 3,
+    }
+    before = {
+        "omega": 23.05,
+        "spectrum": {"harmonics_only": True},
+        "poincare_period": 1,
+        "impacts_per_period": 1.0,
+        "min_gap": 6.4e-6,
+    }
     rest = {"omega": 23.05, "impact_map": im, "poincare_period": 3}
-    grazing = {"bracket": {"omega_contact": 23.04411, "omega_miss": 23.04413, "width": 2e-5}, "omega_g": 23.04412,
-               "paper_omegas": [23.05, 23.03], "gap_fit": {"omega_zero": 23.044122}, "between_paper_omegas": True}
-    rows = table_rows({"after_grazing": after, "before_grazing_branch": before, "before_grazing_from_rest": rest},
-                      grazing)
+    grazing = {
+        "bracket": {"omega_contact": 23.04411, "omega_miss": 23.04413, "width": 2e-5},
+        "omega_g": 23.04412,
+        "paper_omegas": [23.05, 23.03],
+        "gap_fit": {"omega_zero": 23.044122},
+        "between_paper_omegas": True,
+    }
+    rows = table_rows(
+        {"after_grazing": after, "before_grazing_branch": before, "before_grazing_from_rest": rest}, grazing
+    )
     agrees = {r["quantity"]: r["agrees"] for r in rows}
     assert sum(a == "yes" for a in agrees.values()) == 7
     assert any(a == "lines yes; quasi-periodic reading no" for a in agrees.values())
     assert any(a == "yes on the branch" for a in agrees.values())
     im["total"] = 0.8190  # off by more than the paper's last digit
-    rows = table_rows({"after_grazing": after, "before_grazing_branch": before, "before_grazing_from_rest": rest},
-                      grazing)
+    rows = table_rows(
+        {"after_grazing": after, "before_grazing_branch": before, "before_grazing_from_rest": rest}, grazing
+    )
     assert [r["agrees"] for r in rows if r["quantity"].startswith("sum of the four")] == ["no"]

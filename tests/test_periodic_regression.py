@@ -15,7 +15,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from impactosc.analysis.grazing import branch_grid, extrapolate_gap_zero, find_grazing_step, locate_grazing, sweep_summary
+from impactosc.analysis.grazing import (
+    branch_grid,
+    extrapolate_gap_zero,
+    find_grazing_step,
+    locate_grazing,
+    sweep_summary,
+)
 from impactosc.analysis.orbits import poincare_period
 from impactosc.analysis.periodic import branch_state, impact_map_numbers
 from impactosc.analysis.spectra import analyse_spectrum
@@ -32,10 +38,16 @@ def period4_short() -> dict:
     res = simulate(omega, 200.0, 100.0, window=Window(200.0, 300.0, 1e-3), record=("impacts", "poincare"))
     num = impact_map_numbers(res.events["impacts"]["t"], omega)
     sp = analyse_spectrum(res.trajectory["x"], 1e-3, omega)
-    return {"n_impacts": num.n_impacts, "levels": list(num.levels), "counts": list(num.counts), "total": num.total,
-            "poincare_period": poincare_period(res.events["poincare"]["x"], res.events["poincare"]["v"]),
-            "omega1": sp.omega1, "labels_found": {k: v["found"] for k, v in sp.labels.items()},
-            "resolution": sp.resolution}
+    return {
+        "n_impacts": num.n_impacts,
+        "levels": list(num.levels),
+        "counts": list(num.counts),
+        "total": num.total,
+        "poincare_period": poincare_period(res.events["poincare"]["x"], res.events["poincare"]["v"]),
+        "omega1": sp.omega1,
+        "labels_found": {k: v["found"] for k, v in sp.labels.items()},
+        "resolution": sp.resolution,
+    }
 
 
 def short_branch(tol: float = 1e-4) -> dict:
@@ -51,10 +63,17 @@ def short_branch(tol: float = 1e-4) -> dict:
     res = simulate(23.05, 20.0, 60.0, x0=x0, v0=v0, window=Window(20.0, 80.0, 1e-3))
     sp = analyse_spectrum(res.trajectory["x"], 1e-3, 23.05)
     j = int(np.argmin(np.abs(br.omega - 23.05)))
-    return {"omega_miss": bracket.omega_miss, "omega_contact": bracket.omega_contact, "midpoint": bracket.midpoint,
-            "n_trials": len(bracket.trials), "gap_fit_zero": fit.omega_zero, "gap_slope": fit.slope,
-            "gap_2305": float(s["min_gap"][j]), "harmonics_only_2305": sp.harmonics_only,
-            "step": [float(s["omega"][i]), float(s["omega"][i + 1])]}
+    return {
+        "omega_miss": bracket.omega_miss,
+        "omega_contact": bracket.omega_contact,
+        "midpoint": bracket.midpoint,
+        "n_trials": len(bracket.trials),
+        "gap_fit_zero": fit.omega_zero,
+        "gap_slope": fit.slope,
+        "gap_2305": float(s["min_gap"][j]),
+        "harmonics_only_2305": sp.harmonics_only,
+        "step": [float(s["omega"][i]), float(s["omega"][i + 1])],
+    }
 
 
 def full_branch() -> dict:

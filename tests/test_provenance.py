@@ -40,8 +40,15 @@ from impactosc.sweeps.continuation import (
 )
 from impactosc.sweeps.maps import MapResult, load_map, save_map
 
-VERSION_KEYS = ("version", "git_commit", "python_version", "numpy_version", "scipy_version", "numba_version",
-                "h5py_version")
+VERSION_KEYS = (
+    "version",
+    "git_commit",
+    "python_version",
+    "numpy_version",
+    "scipy_version",
+    "numba_version",
+    "h5py_version",
+)
 
 
 def assert_stamped(path, sources=None, units=None):
@@ -60,22 +67,30 @@ def assert_stamped(path, sources=None, units=None):
 
 
 def _run(path, **kw):
-    events = {"impacts": {"t": [1.0, 2.0], "v": [0.1, 0.2], "sigma_t": [1e-4, 1e-4]},
-              "penetrations": {"t": [1.1], "h": [1e-6]}, "near_misses": {"t": [1.5], "gap": [1e-5]},
-              "poincare": {"t": [0.0], "x": [-1e-3], "v": [0.0]}}
+    events = {
+        "impacts": {"t": [1.0, 2.0], "v": [0.1, 0.2], "sigma_t": [1e-4, 1e-4]},
+        "penetrations": {"t": [1.1], "h": [1e-6]},
+        "near_misses": {"t": [1.5], "gap": [1e-5]},
+        "poincare": {"t": [0.0], "x": [-1e-3], "v": [0.0]},
+    }
     traj = {"t": np.arange(3.0), "x": np.zeros(3), "v": np.zeros(3)}
     return write_run(path, events, {"omega": 40.86}, traj, **kw)
 
 
 # ------------------------------------------------------------------------------ modes
 
+
 @pytest.mark.parametrize("umask, mode", [(0o022, 0o644), (0o077, 0o600), (0o002, 0o664)])
 def test_written_files_respect_the_umask(tmp_path, umask, mode):
     old = os.umask(umask)
     try:
-        paths = [write_text(tmp_path / "a.md", "x\n"), write_json(tmp_path / "a.json", {"a": 1}),
-                 write_csv(tmp_path / "a.csv", [{"a": 1}]), provenance_path(tmp_path / "a.csv"),
-                 _run(tmp_path / "a.h5")]
+        paths = [
+            write_text(tmp_path / "a.md", "x\n"),
+            write_json(tmp_path / "a.json", {"a": 1}),
+            write_csv(tmp_path / "a.csv", [{"a": 1}]),
+            provenance_path(tmp_path / "a.csv"),
+            _run(tmp_path / "a.h5"),
+        ]
     finally:
         os.umask(old)
     for p in paths:
@@ -83,6 +98,7 @@ def test_written_files_respect_the_umask(tmp_path, umask, mode):
 
 
 # ------------------------------------------------------------------------------ HDF5
+
 
 def test_run_file_has_units_versions_and_sources(tmp_path):
     path = _run(tmp_path / "r.h5", sources=["in/record.csv"])
@@ -96,7 +112,7 @@ def test_run_file_has_units_versions_and_sources(tmp_path):
 
 
 def test_dataset_without_a_unit_is_refused(tmp_path):
-    with pytest.raises(ValueError, match="no unit.*DATASET_UNITS"):
+    with pytest.raises(ValueError, match=r"no unit.*DATASET_UNITS"):
         write_run(tmp_path / "r.h5", {"impacts": {"t": [1.0], "mystery": [2.0]}}, {})
     assert list(tmp_path.iterdir()) == []
 
@@ -117,18 +133,37 @@ def test_read_run_reads_files_without_the_new_attributes(tmp_path):
 def test_sweep_map_and_record_files_are_stamped(tmp_path):
     n, k = 2, 3
     sweep = SweepResult(
-        omega=np.array([40.0, 41.0]), poincare_x=np.zeros((n, k)), poincare_v=np.zeros((n, k)),
-        impact_t=np.array([0.1, 0.2, 0.3]), impact_v=np.ones(3), impact_offsets=np.array([0, 1, 3]),
-        min_gap=np.full(n, 1e-5), x_start=np.zeros(n), v_start=np.zeros(n), x_end=np.zeros(n), v_end=np.zeros(n),
-        n_steps=np.array([10, 12]), wall_time=np.ones(n), cpu_time=np.ones(n), status=np.zeros(n, dtype=np.int64),
-        settings=SweepSettings(n_transient=1, n_record=k, n_initial=0))
+        omega=np.array([40.0, 41.0]),
+        poincare_x=np.zeros((n, k)),
+        poincare_v=np.zeros((n, k)),
+        impact_t=np.array([0.1, 0.2, 0.3]),
+        impact_v=np.ones(3),
+        impact_offsets=np.array([0, 1, 3]),
+        min_gap=np.full(n, 1e-5),
+        x_start=np.zeros(n),
+        v_start=np.zeros(n),
+        x_end=np.zeros(n),
+        v_end=np.zeros(n),
+        n_steps=np.array([10, 12]),
+        wall_time=np.ones(n),
+        cpu_time=np.ones(n),
+        status=np.zeros(n, dtype=np.int64),
+        settings=SweepSettings(n_transient=1, n_record=k, n_initial=0),
+    )
     save_sweep(tmp_path / "s.h5", sweep, sources=[tmp_path / "seeds.h5"], name="t")
     assert_stamped(tmp_path / "s.h5", sources=[str(tmp_path / "seeds.h5")])
     back, attrs = load_sweep(tmp_path / "s.h5")
     assert attrs["name"] == "t" and back.settings == sweep.settings
 
-    m = MapResult("xI", np.array([-2e-3, -1e-3]), np.array([40.0, 41.0]), np.ones((2, 2)), np.ones((2, 2)),
-                  np.ones((2, 2)), np.ones((2, 2)))
+    m = MapResult(
+        "xI",
+        np.array([-2e-3, -1e-3]),
+        np.array([40.0, 41.0]),
+        np.ones((2, 2)),
+        np.ones((2, 2)),
+        np.ones((2, 2)),
+        np.ones((2, 2)),
+    )
     save_map(tmp_path / "m.h5", m)
     assert_stamped(tmp_path / "m.h5", units={"values": "m"})
     with h5py.File(tmp_path / "m.h5", "r") as f:
@@ -163,6 +198,7 @@ def test_every_dataset_name_of_the_writers_has_a_unit():
 
 
 # ------------------------------------------------------------------------------ JSON, CSV
+
 
 def test_json_has_a_provenance_entry_that_readers_skip(tmp_path):
     p = write_json(tmp_path / "s.json", {"a": np.float64(1.5)}, sources=[tmp_path / "run.h5", "b.h5"])

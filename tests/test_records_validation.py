@@ -38,13 +38,16 @@ def test_roundtrip(tmp_path, suffix):
     assert rec.omega == 30.0 and rec.label == "rig"
 
 
-@pytest.mark.parametrize("mutate, message", [
-    (lambda L: L.__setitem__(10, "0.010000,nan"), "line 14: displacement is nan"),
-    (lambda L: L.__setitem__(10, L[9]), "line 14: time stamp .* is repeated"),
-    (lambda L: L.__setitem__(10, "0.001000,-3.0"), "line 14: time stamp .* is unsorted"),
-    (lambda L: L.__setitem__(10, "0.010000,abc"), "line 14: non-numeric"),
-    (lambda L: L.__delitem__(slice(10, 15)), "line 14: gap of 0.006 s"),
-])
+@pytest.mark.parametrize(
+    "mutate, message",
+    [
+        (lambda L: L.__setitem__(10, "0.010000,nan"), "line 14: displacement is nan"),
+        (lambda L: L.__setitem__(10, L[9]), "line 14: time stamp .* is repeated"),
+        (lambda L: L.__setitem__(10, "0.001000,-3.0"), "line 14: time stamp .* is unsorted"),
+        (lambda L: L.__setitem__(10, "0.010000,abc"), "line 14: non-numeric"),
+        (lambda L: L.__delitem__(slice(10, 15)), "line 14: gap of 0.006 s"),
+    ],
+)
 def test_malformed_lines_are_named(tmp_path, mutate, message):
     lines = _rows().splitlines()
     mutate(lines)
@@ -124,16 +127,19 @@ def test_example_record_same_through_both_parsers(monkeypatch):
     assert a.t.size == 401 and a.t[0] == 100.0 and a.x[0] == -0.0138029978
 
 
-@pytest.mark.parametrize("mutate, message", [
-    # an empty line (skipped by both parsers) before a bad sample: the line number counts it
-    (lambda L: (L.__setitem__(10, "0.010000,nan"), L.insert(5, "")), "line 15: displacement is nan"),
-    (lambda L: (L.__setitem__(10, "0.001000,-3.0"), L.insert(5, "")), "line 15: time stamp .* is unsorted"),
-    # whitespace-only line, ragged row, quoted field: loadtxt declines, the line parser decides
-    (lambda L: (L.__setitem__(10, "0.010000,nan"), L.insert(5, "   ")), "line 15: displacement is nan"),
-    (lambda L: L.__setitem__(10, "0.010000,-3.0,7"), "line 14: 3 fields, the header has 2"),
-    (lambda L: L.__setitem__(10, "0.010000"), "line 14: 1 fields, the header has 2"),
-    (lambda L: L.__setitem__(10, '"0.010000",abc'), "line 14: non-numeric"),
-])
+@pytest.mark.parametrize(
+    "mutate, message",
+    [
+        # an empty line (skipped by both parsers) before a bad sample: the line number counts it
+        (lambda L: (L.__setitem__(10, "0.010000,nan"), L.insert(5, "")), "line 15: displacement is nan"),
+        (lambda L: (L.__setitem__(10, "0.001000,-3.0"), L.insert(5, "")), "line 15: time stamp .* is unsorted"),
+        # whitespace-only line, ragged row, quoted field: loadtxt declines, the line parser decides
+        (lambda L: (L.__setitem__(10, "0.010000,nan"), L.insert(5, "   ")), "line 15: displacement is nan"),
+        (lambda L: L.__setitem__(10, "0.010000,-3.0,7"), "line 14: 3 fields, the header has 2"),
+        (lambda L: L.__setitem__(10, "0.010000"), "line 14: 1 fields, the header has 2"),
+        (lambda L: L.__setitem__(10, '"0.010000",abc'), "line 14: non-numeric"),
+    ],
+)
 def test_fast_path_errors_name_the_line(tmp_path, mutate, message):
     lines = _rows().splitlines()
     mutate(lines)

@@ -5,14 +5,21 @@ import numpy as np
 import pytest
 
 from impactosc.cli import main
-from impactosc.measured.extract import record_set_poincare
 from impactosc.files import read_run
+from impactosc.measured.extract import record_set_poincare
 from impactosc.measured.records import read_record, read_record_set, write_record_set
-from impactosc.measured.surrogate import LABEL, SurrogateOptions, mismatched_params, panel_hooked, surrogate_record, surrogate_sweep
+from impactosc.measured.surrogate import (
+    LABEL,
+    SurrogateOptions,
+    mismatched_params,
+    panel_hooked,
+    surrogate_record,
+    surrogate_sweep,
+)
 
 
 def test_surrogate_is_labelled_and_noisy():
-    rec, truth = surrogate_record(40.86, 10.0, 2.0, SurrogateOptions(rate=1000, noise=1e-5, seed=3))
+    rec, _truth = surrogate_record(40.86, 10.0, 2.0, SurrogateOptions(rate=1000, noise=1e-5, seed=3))
     assert rec.label == LABEL and rec.meta["source"] == "surrogate"
     assert rec.dt == pytest.approx(1e-3) and rec.t[0] == 10.0
     clean, _ = surrogate_record(40.86, 10.0, 2.0, SurrogateOptions(rate=1000, noise=0.0))
@@ -42,8 +49,28 @@ def test_sweep_record_set_roundtrip(tmp_path):
 
 def test_cli_surrogate_then_extract(tmp_path, capsys):
     rec = tmp_path / "r.csv"
-    assert main(["surrogate", "--omega", "40.86", "--transient", "50", "--duration", "5", "--rate", "2000",
-                 "--noise", "2e-6", "--units", "mm", "--output", str(rec)]) == 0
+    assert (
+        main(
+            [
+                "surrogate",
+                "--omega",
+                "40.86",
+                "--transient",
+                "50",
+                "--duration",
+                "5",
+                "--rate",
+                "2000",
+                "--noise",
+                "2e-6",
+                "--units",
+                "mm",
+                "--output",
+                str(rec),
+            ]
+        )
+        == 0
+    )
     out = tmp_path / "ev.h5"
     assert main(["extract", str(rec), "--x-impact=-2.086e-3", "--output", str(out)]) == 0
     events, attrs, _ = read_run(out)
@@ -57,7 +84,9 @@ def test_cli_surrogate_then_extract(tmp_path, capsys):
 
 def test_cli_extract_rejects_bad_record(tmp_path, capsys):
     bad = tmp_path / "bad.csv"
-    bad.write_text("# units: mm\nt,x\n" + "".join(f"{0.001 * k},{-3.0}\n" for k in range(50)).replace("0.01,", "0.009,", 1))
+    bad.write_text(
+        "# units: mm\nt,x\n" + "".join(f"{0.001 * k},{-3.0}\n" for k in range(50)).replace("0.01,", "0.009,", 1)
+    )
     assert main(["extract", str(bad), "--output", str(tmp_path / "e.h5")]) == 2
     assert "line 13: time stamp" in capsys.readouterr().err
 
@@ -93,9 +122,12 @@ def test_noise_study_and_rows():
     assert by[(0.0, "hysteresis")]["missed"] == by[(0.0, "hysteresis")]["extra"] == 0
     assert by[(2e-5, "naive threshold")]["extra"] > 0  # noise chatter without hysteresis
     assert by[(0.0, "exact events")]["cv2_paper"] == pytest.approx(by[(0.0, "hysteresis")]["cv2_paper"], rel=1e-3)
-    rec, truth = surrogate_record(40.86, 100.0, 30.0, SurrogateOptions(noise=0.0))
-    stats = analyse_train(ImpactTrain(truth["impacts"]["t"], 100.0, 130.0, omega=40.86, label=LABEL), o,
-                          ("variability", "isi_density", "acf"))
+    _rec, truth = surrogate_record(40.86, 100.0, 30.0, SurrogateOptions(noise=0.0))
+    stats = analyse_train(
+        ImpactTrain(truth["impacts"]["t"], 100.0, 130.0, omega=40.86, label=LABEL),
+        o,
+        ("variability", "isi_density", "acf"),
+    )
     out = measured_rows(stats, stats, rows, is_surrogate=True, command="x")
     assert len(out) == 4 and all(r["agrees"] == "n.a." for r in out)
     assert all("surrogate" in r["replication"] for r in out[:3])

@@ -4,11 +4,13 @@ The range 38.0 -> 36.6 rad/s (decreasing, 29 w) crosses the period-doubling 2 ->
 37.2 rad/s, where convergence is slowest, so a badly seeded chunk would show there.
 """
 
+import itertools
+
 import numpy as np
 import pytest
 
-from impactosc.sweeps import continuation as sweep_mod
 from impactosc.analysis.bifurcation import classify_sweep
+from impactosc.sweeps import continuation as sweep_mod
 from impactosc.sweeps.continuation import (
     CORE_ERROR,
     OK,
@@ -65,7 +67,7 @@ def test_chunks_start_on_the_coarse_grid_and_cover_the_sweep():
         plan = plan_chunks(n, k, stride)
         assert len(plan) == k and plan[0][0] == 0 and plan[-1][1] == n
         assert all(a % stride == 0 and a < b for a, b in plan)
-        assert all(p[1] == q[0] for p, q in zip(plan, plan[1:]))
+        assert all(p[1] == q[0] for p, q in itertools.pairwise(plan))
     with pytest.raises(ValueError, match="coarse points"):
         plan_chunks(10, 5, 4)
 
@@ -139,15 +141,18 @@ def test_a_core_error_is_abandoned(monkeypatch):
     s = SweepSettings(n_transient=10, n_record=4, n_initial=10)
     res = continuation([30.0, 30.5, 31.0], s)
     assert res.status.tolist() == [OK, CORE_ERROR, OK]
-    w, x = res.poincare_points()
+    w, _x = res.poincare_points()
     assert w.size == 8 and not np.any(w == 30.5)
 
 
-@pytest.mark.parametrize("kw, match", [
-    (dict(n_record=0), "n_record"),
-    (dict(n_transient=1.5), "integer"),
-    (dict(max_steps_per_period=10), "max_steps_per_period"),
-])
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        (dict(n_record=0), "n_record"),
+        (dict(n_transient=1.5), "integer"),
+        (dict(max_steps_per_period=10), "max_steps_per_period"),
+    ],
+)
 def test_settings_reject_bad_values(kw, match):
     with pytest.raises(ValueError, match=match):
         SweepSettings(**kw)

@@ -52,8 +52,9 @@ def ref():
 
 
 def test_same_transitions_in_the_same_order(reading, ref):
-    assert [(t["kind"], t["detail"]) for t in reading["transitions"]] == \
-        [(t["kind"], t["detail"]) for t in ref["transitions"]]
+    assert [(t["kind"], t["detail"]) for t in reading["transitions"]] == [
+        (t["kind"], t["detail"]) for t in ref["transitions"]
+    ]
     # One grid step: the w next to a bifurcation converges slowly and can settle on either
     # side under round-off changes (compiler, BLAS, core tweaks), moving a bracket by a step.
     for got, want in zip(reading["transitions"], ref["transitions"]):

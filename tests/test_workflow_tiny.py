@@ -20,15 +20,24 @@ CONFIGS = ["--configfile", str(REPO / "config" / "config.yaml"), str(REPO / "con
 TARGETS = ["all", "map2d"]
 
 PAPER_FIGURES = [f"fig{nn:02d}" for nn in range(1, 12)] + ["fig03a", "fig03b"]
-SUPPLEMENTARY = ["periodic/grazing", "bifurcation/bifurcation_overlay", "bifurcation/map2d",
-                 "measured/measured_noise_study", "work_precision/work_precision"]
+SUPPLEMENTARY = [
+    "periodic/grazing",
+    "bifurcation/bifurcation_overlay",
+    "bifurcation/map2d",
+    "measured/measured_noise_study",
+    "work_precision/work_precision",
+]
 
 
 @pytest.fixture(scope="module")
 def tiny_build(tmp_path_factory):
     work = tmp_path_factory.mktemp("tiny")
-    run = subprocess.run([*SNAKEMAKE, "-d", str(work), *CONFIGS, "-j2", "--quiet", "rules", *TARGETS],
-                         capture_output=True, text=True, timeout=1200)
+    run = subprocess.run(
+        [*SNAKEMAKE, *TARGETS, "-d", str(work), *CONFIGS, "-j2", "--quiet", "rules"],
+        capture_output=True,
+        text=True,
+        timeout=1200,
+    )
     assert run.returncode == 0, f"tiny workflow failed:\n{run.stdout[-4000:]}\n{run.stderr[-4000:]}"
     return work
 
@@ -57,7 +66,8 @@ def test_run_files_carry_provenance(tiny_build):
 
 
 def test_finished_build_is_up_to_date(tiny_build):
-    dry = subprocess.run([*SNAKEMAKE, "-d", str(tiny_build), *CONFIGS, "-n", *TARGETS],
-                         capture_output=True, text=True, timeout=300)
+    dry = subprocess.run(
+        [*SNAKEMAKE, "-d", str(tiny_build), *CONFIGS, "-n", *TARGETS], capture_output=True, text=True, timeout=300
+    )
     assert dry.returncode == 0, dry.stderr[-3000:]
     assert "Nothing to be done" in dry.stdout + dry.stderr, (dry.stdout + dry.stderr)[-3000:]

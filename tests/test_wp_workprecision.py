@@ -18,9 +18,15 @@ def quiet(*args):
 
 def _events(impacts=(), pens=(), sections=(1.0, 2.0), x=(0.0, 0.0)):
     imp = np.asarray(impacts, float)
-    return {"impacts_t": imp, "impacts_v": np.ones_like(imp), "penetrations_t": imp + 1e-3,
-            "penetrations_h": np.asarray(pens, float), "poincare_t": np.asarray(sections, float),
-            "poincare_x": np.asarray(x, float), "poincare_v": np.zeros(len(sections))}
+    return {
+        "impacts_t": imp,
+        "impacts_v": np.ones_like(imp),
+        "penetrations_t": imp + 1e-3,
+        "penetrations_h": np.asarray(pens, float),
+        "poincare_t": np.asarray(sections, float),
+        "poincare_x": np.asarray(x, float),
+        "poincare_v": np.zeros(len(sections)),
+    }
 
 
 def test_errors_of_matching_runs_are_the_largest_differences():
@@ -90,14 +96,33 @@ def test_scipy_contestant_is_the_reference_algorithm_plus_sections():
 
 def _rows():
     rows = []
-    for solver, walls, errs in ((wp.CORE, [0.001, 0.002, 0.004], [1e-5, 1e-8, 1e-11]),
-                                ("DOP853", [0.1, 0.3, 0.6], [1e-4, 1e-7, 1e-10]),
-                                ("LSODA", [0.05, 0.2, 0.9], [1e-3, 1e-8, 1e-9])):
+    for solver, walls, errs in (
+        (wp.CORE, [0.001, 0.002, 0.004], [1e-5, 1e-8, 1e-11]),
+        ("DOP853", [0.1, 0.3, 0.6], [1e-4, 1e-7, 1e-10]),
+        ("LSODA", [0.05, 0.2, 0.9], [1e-3, 1e-8, 1e-9]),
+    ):
         for rtol, w, e in zip((1e-4, 1e-8, 1e-12), walls, errs):
-            rows.append({"scene": "chaotic", "solver": solver, "rtol": rtol, "status": "ok", "wall_time": w,
-                         "impact_time_error": e, "reference_impact_time_error": 1e-12})
-    rows.append({"scene": "chaotic", "solver": "RK45", "rtol": 1e-4, "status": "failed", "note": "x",
-                 "reference_impact_time_error": 1e-12})
+            rows.append(
+                {
+                    "scene": "chaotic",
+                    "solver": solver,
+                    "rtol": rtol,
+                    "status": "ok",
+                    "wall_time": w,
+                    "impact_time_error": e,
+                    "reference_impact_time_error": 1e-12,
+                }
+            )
+    rows.append(
+        {
+            "scene": "chaotic",
+            "solver": "RK45",
+            "rtol": 1e-4,
+            "status": "failed",
+            "note": "x",
+            "reference_impact_time_error": 1e-12,
+        }
+    )
     return rows
 
 
@@ -120,14 +145,22 @@ def test_headline_ratio_against_the_fastest_scipy_solver():
 def _stat_rows():
     rng = np.random.default_rng(1)
     rows = []
-    for k in range(8):
-        rows.append({"kind": "ensemble", "rtol": 1e-12, "n_impacts": 2890 + rng.normal(0, 10),
-                     "window_counts": list(578 + rng.normal(0, 5, 5)), "cv2_paper": 0.0303 + rng.normal(0, 3e-4),
-                     "cv2": 0.22 + rng.normal(0, 3e-3), "isi_first_maximum": 0.056 + rng.normal(0, 5e-4),
-                     "isi_last_maximum": 0.2 + rng.normal(0, 5e-4)})
+    for _k in range(8):
+        rows.append(
+            {
+                "kind": "ensemble",
+                "rtol": 1e-12,
+                "n_impacts": 2890 + rng.normal(0, 10),
+                "window_counts": list(578 + rng.normal(0, 5, 5)),
+                "cv2_paper": 0.0303 + rng.normal(0, 3e-4),
+                "cv2": 0.22 + rng.normal(0, 3e-3),
+                "isi_first_maximum": 0.056 + rng.normal(0, 5e-4),
+                "isi_last_maximum": 0.2 + rng.normal(0, 5e-4),
+            }
+        )
     good = dict(rows[0], kind="sweep", rtol=1e-6, wall_time=0.3)
     bad = dict(rows[0], kind="sweep", rtol=1e-2, wall_time=0.1, n_impacts=3100.0)
-    return rows + [good, bad]
+    return [*rows, good, bad]
 
 
 def test_statistics_summary_flags_unconverged_tolerances():
@@ -155,10 +188,17 @@ def test_sweep_smoke_core_fastest_and_accurate():
     tolerance, and at rtol 1e-10 it is at least 10x faster than SciPy LSODA (measured
     ~100x on this machine; the margin absorbs load from parallel jobs)."""
     case = wp.Case("chaotic", 40.86, 100.0, 1.0)
-    ref = {"method": "DOP853", "rtol": 1e-13, "atol": 1e-15, "check_method": "LSODA", "check_rtol": 1e-12,
-           "check_atol": 1e-15}
-    rows = wp.sweep_case(case, ModelParams(), [1e-6, 1e-10], 1e-2, [wp.CORE, "LSODA"], ref, core_repeats=3,
-                         scipy_repeats=1, log=quiet)
+    ref = {
+        "method": "DOP853",
+        "rtol": 1e-13,
+        "atol": 1e-15,
+        "check_method": "LSODA",
+        "check_rtol": 1e-12,
+        "check_atol": 1e-15,
+    }
+    rows = wp.sweep_case(
+        case, ModelParams(), [1e-6, 1e-10], 1e-2, [wp.CORE, "LSODA"], ref, core_repeats=3, scipy_repeats=1, log=quiet
+    )
     assert all(r["status"] == "ok" for r in rows)
     core = {r["rtol"]: r for r in rows if r["solver"] == wp.CORE}
     lsoda = {r["rtol"]: r for r in rows if r["solver"] == "LSODA"}
@@ -172,8 +212,14 @@ def test_a_contestant_that_raises_is_a_failed_row(monkeypatch):
     signs"; LSODA at rtol 1e-13 on the periodic scene did): that point is a failed row with the
     message, and the sweep goes on."""
     case = wp.Case("chaotic", 40.86, 100.0, 0.3)
-    ref = {"method": "DOP853", "rtol": 1e-12, "atol": 1e-14, "check_method": "LSODA", "check_rtol": 1e-11,
-           "check_atol": 1e-14}
+    ref = {
+        "method": "DOP853",
+        "rtol": 1e-12,
+        "atol": 1e-14,
+        "check_method": "LSODA",
+        "check_rtol": 1e-11,
+        "check_atol": 1e-14,
+    }
     real = wp.run_solver
 
     def run_solver(solver, *args):
@@ -182,8 +228,9 @@ def test_a_contestant_that_raises_is_a_failed_row(monkeypatch):
         return real(solver, *args)
 
     monkeypatch.setattr(wp, "run_solver", run_solver)
-    rows = wp.sweep_case(case, ModelParams(), [1e-8], 1e-2, [wp.CORE, "LSODA"], ref, core_repeats=1,
-                         scipy_repeats=1, log=quiet)
+    rows = wp.sweep_case(
+        case, ModelParams(), [1e-8], 1e-2, [wp.CORE, "LSODA"], ref, core_repeats=1, scipy_repeats=1, log=quiet
+    )
     status = {r["solver"]: (r["status"], r.get("note", "")) for r in rows}
     assert status[wp.CORE][0] == "ok"
     assert status["LSODA"] == ("failed", "ValueError: f(a) and f(b) must have different signs")
@@ -193,9 +240,17 @@ def test_figure_from_synthetic_rows(tmp_path):
     from impactosc.plotting import save_figure
     from impactosc.plotting.work_precision import plot_work_precision
 
-    rows = [dict(r, horizon=1.5, reference_penetration_error=1e-15, reference_poincare_x_error=1e-13,
-                 penetration_error=r.get("impact_time_error", math.nan) * 1e-3,
-                 poincare_x_error=r.get("impact_time_error", math.nan) * 1e-2) for r in _rows()]
+    rows = [
+        dict(
+            r,
+            horizon=1.5,
+            reference_penetration_error=1e-15,
+            reference_poincare_x_error=1e-13,
+            penetration_error=r.get("impact_time_error", math.nan) * 1e-3,
+            poincare_x_error=r.get("impact_time_error", math.nan) * 1e-2,
+        )
+        for r in _rows()
+    ]
     stats = _stat_rows()
     fig = plot_work_precision(rows, stats, jit={"cold": 27.0, "cached": 0.8})
     save_figure(fig, tmp_path / "wp.png", tmp_path / "wp.pdf")
@@ -204,15 +259,44 @@ def test_figure_from_synthetic_rows(tmp_path):
 
 # ------------------------------------------------------------------ the compiled peers
 
+
 def _peer_rows():
     rows = _rows()
     for rtol, w, e, on in ((1e-4, 0.0008, 1e-5, "yes"), (1e-8, 0.0015, 1e-8, "yes"), (1e-12, 0.0019, 1e-11, "no")):
-        rows.append({"scene": "chaotic", "solver": "CyRK DOP853", "rtol": rtol, "status": "ok", "wall_time": w,
-                     "impact_time_error": e, "reference_impact_time_error": 1e-12, "on_attractor": on})
-    rows.append({"scene": "chaotic", "solver": "CyRK Vern8", "rtol": 1e-13, "status": "stopped", "wall_time": 0.003,
-                 "impact_time_error": math.inf, "reference_impact_time_error": 1e-12, "note": "start 1: stopped"})
-    rows.append({"scene": "chaotic", "solver": "heyoka Taylor (order 13) free flight", "rtol": 1e-10, "status": "floor",
-                 "wall_time": 1e-4, "reference_impact_time_error": 1e-12})
+        rows.append(
+            {
+                "scene": "chaotic",
+                "solver": "CyRK DOP853",
+                "rtol": rtol,
+                "status": "ok",
+                "wall_time": w,
+                "impact_time_error": e,
+                "reference_impact_time_error": 1e-12,
+                "on_attractor": on,
+            }
+        )
+    rows.append(
+        {
+            "scene": "chaotic",
+            "solver": "CyRK Vern8",
+            "rtol": 1e-13,
+            "status": "stopped",
+            "wall_time": 0.003,
+            "impact_time_error": math.inf,
+            "reference_impact_time_error": 1e-12,
+            "note": "start 1: stopped",
+        }
+    )
+    rows.append(
+        {
+            "scene": "chaotic",
+            "solver": "heyoka Taylor (order 13) free flight",
+            "rtol": 1e-10,
+            "status": "floor",
+            "wall_time": 1e-4,
+            "reference_impact_time_error": 1e-12,
+        }
+    )
     return rows
 
 
@@ -254,9 +338,17 @@ def test_figure_draws_peers_floors_and_failures(tmp_path):
     from impactosc.plotting import save_figure
     from impactosc.plotting.work_precision import plot_work_precision
 
-    rows = [dict(r, horizon=1.5, reference_penetration_error=1e-15, reference_poincare_x_error=1e-13,
-                 penetration_error=r.get("impact_time_error", math.nan) * 1e-3,
-                 poincare_x_error=r.get("impact_time_error", math.nan) * 1e-2) for r in _peer_rows()]
+    rows = [
+        dict(
+            r,
+            horizon=1.5,
+            reference_penetration_error=1e-15,
+            reference_poincare_x_error=1e-13,
+            penetration_error=r.get("impact_time_error", math.nan) * 1e-3,
+            poincare_x_error=r.get("impact_time_error", math.nan) * 1e-2,
+        )
+        for r in _peer_rows()
+    ]
     rows.append(dict(rows[0], solver="CyRK Vern7", status="unavailable", note="CyRK is not installed"))
     fig = plot_work_precision(rows, _stat_rows(), jit={"cold": 27.0, "cached": 0.8})
     labels = fig.subfigs[0].legends[0].get_texts()
@@ -291,10 +383,25 @@ def test_sweep_with_a_peer_and_a_missing_one(cyrk, monkeypatch):
 
     monkeypatch.setattr(cyrk, "cyrk_method", method)
     case = wp.Case("chaotic", 40.86, 100.0, 0.5)
-    ref = {"method": "DOP853", "rtol": 1e-13, "atol": 1e-15, "check_method": "LSODA", "check_rtol": 1e-12,
-           "check_atol": 1e-15}
-    rows = wp.sweep_case(case, ModelParams(), [1e-9], 1e-2, [wp.CORE, "CyRK DOP853", "CyRK Nope"], ref,
-                         core_repeats=1, peer_repeats=1, log=quiet)
+    ref = {
+        "method": "DOP853",
+        "rtol": 1e-13,
+        "atol": 1e-15,
+        "check_method": "LSODA",
+        "check_rtol": 1e-12,
+        "check_atol": 1e-15,
+    }
+    rows = wp.sweep_case(
+        case,
+        ModelParams(),
+        [1e-9],
+        1e-2,
+        [wp.CORE, "CyRK DOP853", "CyRK Nope"],
+        ref,
+        core_repeats=1,
+        peer_repeats=1,
+        log=quiet,
+    )
     by = {r["solver"]: r for r in rows}
     assert by["CyRK Nope"]["status"] == "unavailable" and by["CyRK Nope"]["note"] == "no Nope"
     peer = by["CyRK DOP853"]
@@ -306,9 +413,16 @@ def test_time_budget_gives_a_lower_bound_where_scipy_stopped():
     ratio but a lower bound: a stopped solver needs at least its last point's time."""
     rows = [r for r in _rows() if not (r["solver"] in ("DOP853", "LSODA") and r["rtol"] == 1e-12)]
     for solver in ("DOP853", "LSODA"):
-        rows.append({"scene": "chaotic", "solver": solver, "rtol": 1e-12, "status": "skipped",
-                     "note": "time budget: rtol 1e-08 already took > 0.1 s per point",
-                     "reference_impact_time_error": 1e-12})
+        rows.append(
+            {
+                "scene": "chaotic",
+                "solver": solver,
+                "rtol": 1e-12,
+                "status": "skipped",
+                "note": "time budget: rtol 1e-08 already took > 0.1 s per point",
+                "reference_impact_time_error": 1e-12,
+            }
+        )
     h = {r["error_level"]: r for r in wp.headline(rows, {"impact_time_error": [1e-6, 1e-9]})}
     assert h[1e-6]["speedup"] == pytest.approx(0.2 / 0.002) and math.isnan(h[1e-6]["speedup_at_least"])
     assert h[1e-9]["best_scipy"] == "none" and math.isnan(h[1e-9]["speedup"])
@@ -322,10 +436,26 @@ def test_budget_skips_tighter_tolerances_and_says_so(monkeypatch):
     """A SciPy point over the budget stops that solver's sweep: later rtols are skipped rows
     that name the budget (the figure prints them); the core is never stopped."""
     case = wp.Case("chaotic", 40.86, 100.0, 0.3)
-    ref = {"method": "DOP853", "rtol": 1e-12, "atol": 1e-14, "check_method": "LSODA", "check_rtol": 1e-11,
-           "check_atol": 1e-14}
-    rows = wp.sweep_case(case, ModelParams(), [1e-6, 1e-8, 1e-10], 1e-2, [wp.CORE, "LSODA"], ref,
-                         core_repeats=1, scipy_repeats=1, time_cap=1e-9, log=quiet)
+    ref = {
+        "method": "DOP853",
+        "rtol": 1e-12,
+        "atol": 1e-14,
+        "check_method": "LSODA",
+        "check_rtol": 1e-11,
+        "check_atol": 1e-14,
+    }
+    rows = wp.sweep_case(
+        case,
+        ModelParams(),
+        [1e-6, 1e-8, 1e-10],
+        1e-2,
+        [wp.CORE, "LSODA"],
+        ref,
+        core_repeats=1,
+        scipy_repeats=1,
+        time_cap=1e-9,
+        log=quiet,
+    )
     status = {(r["solver"], r["rtol"]): r for r in rows}
     assert all(status[(wp.CORE, rt)]["status"] == "ok" for rt in (1e-6, 1e-8, 1e-10))
     assert status[("LSODA", 1e-6)]["status"] == "ok"
@@ -340,10 +470,17 @@ def test_budget_skips_tighter_tolerances_and_says_so(monkeypatch):
 def test_known_long_runs_reuse_the_benchmark_table():
     bench = [
         {"solver": wp.CORE, "kind": "scene", "rtol": 1e-10, "n_impacts": 2888.0, "t_reached": 500.0, "status": "ok"},
-        {"solver": "CyRK DOP853", "kind": "scene", "rtol": 1e-12, "n_impacts": 1177.0, "t_reached": 263.8,
-         "status": "stopped at t = 263.8 s: Error in step size calculation"},
+        {
+            "solver": "CyRK DOP853",
+            "kind": "scene",
+            "rtol": 1e-12,
+            "n_impacts": 1177.0,
+            "t_reached": 263.8,
+            "status": "stopped at t = 263.8 s: Error in step size calculation",
+        },
         {"solver": "CyRK DOP853 free flight", "kind": "floor", "rtol": 1e-10, "status": "ok"},
-        {"solver": "SciPy", "kind": "scene", "rtol": 1e-8, "n_impacts": 2896.0, "t_reached": 500.0, "status": "ok"}]
+        {"solver": "SciPy", "kind": "scene", "rtol": 1e-8, "n_impacts": 2896.0, "t_reached": 500.0, "status": "ok"},
+    ]
     known = wp.known_long_runs(bench)
     assert known[(wp.CORE, 1e-10)] == {"n_impacts_500s": 2888.0, "t_reached_500s": 500.0, "stop": ""}
     assert known[("CyRK DOP853", 1e-12)]["stop"] == "Error in step size calculation"

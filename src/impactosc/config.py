@@ -62,18 +62,21 @@ def _flatten(error):
     branches = {}
     for sub in error.context:
         branches.setdefault(sub.relative_schema_path[0], []).append(sub)
-    fitting = [errs for errs in branches.values()
-               if not any(e.validator == "type" and not e.relative_path for e in errs)]
-    if len(fitting) == 1 and any(e.validator == "additionalProperties" and e.validator_value is False
-                                 for e in fitting[0]):
+    fitting = [
+        errs for errs in branches.values() if not any(e.validator == "type" and not e.relative_path for e in errs)
+    ]
+    if len(fitting) == 1 and any(
+        e.validator == "additionalProperties" and e.validator_value is False for e in fitting[0]
+    ):
         return [f for e in fitting[0] for f in _flatten(e)]
     return [error]
 
 
 def _messages(errors) -> list:
     """One ``path: message`` line per error, unknown keys named with a suggestion."""
-    unknown = {id(e): _unknown_keys(e) for e in errors
-               if e.validator == "additionalProperties" and e.validator_value is False}
+    unknown = {
+        id(e): _unknown_keys(e) for e in errors if e.validator == "additionalProperties" and e.validator_value is False
+    }
     suggested = {(tuple(e.absolute_path), guess) for e in errors for _, _, guess in unknown.get(id(e), ()) if guess}
     lines = []
     for error in errors:
@@ -118,8 +121,10 @@ def validate_config(config: dict, schema_path) -> dict:
         win = scene.get("window")
         end = scene["transient"] + scene["duration"]
         if win and not (win["start"] <= win["stop"] <= end):
-            raise ConfigError(f"invalid configuration:\n  scenes.{name}.window: [start, stop] must satisfy "
-                              f"start <= stop <= transient + duration = {end}")
+            raise ConfigError(
+                f"invalid configuration:\n  scenes.{name}.window: [start, stop] must satisfy "
+                f"start <= stop <= transient + duration = {end}"
+            )
     return config
 
 

@@ -170,11 +170,13 @@ def render(schema: dict, source: str = SCHEMA) -> str:
         "",
         _cell(schema.get("description", "")),
         "",
-        ("Every key of `config/config.yaml` with its type, default, allowed values and meaning. A key left "
-         "out takes its default; a key marked required must be given (a value shown with it is the reference "
-         "value, e.g. model BC of the paper). A key the schema does not know stops the workflow with a message "
-         "naming it and the closest valid key, e.g. `model.kl: unknown key (did you mean 'kI'?)`. "
-         f"`{NAME}` stands for a name you choose (a scene, a sweep, ...)."),
+        (
+            "Every key of `config/config.yaml` with its type, default, allowed values and meaning. A key left "
+            "out takes its default; a key marked required must be given (a value shown with it is the reference "
+            "value, e.g. model BC of the paper). A key the schema does not know stops the workflow with a message "
+            "naming it and the closest valid key, e.g. `model.kl: unknown key (did you mean 'kI'?)`. "
+            f"`{NAME}` stands for a name you choose (a scene, a sweep, ...)."
+        ),
         "",
         "Sections: " + ", ".join(f"[{n}](#{n.lower()})" for n in sections) + ".",
     ]
@@ -182,15 +184,19 @@ def render(schema: dict, source: str = SCHEMA) -> str:
         out += ["", "Required sections: " + ", ".join(f"`{n}`" for n in required) + "."]
     if loose:
         out += ["", "## Top level", ""]
-        out += _table((n, _type(props[n]), _default(props[n], n in required), _allowed(props[n]),
-                       props[n].get("description", "")) for n in loose)
+        out += _table(
+            (n, _type(props[n]), _default(props[n], n in required), _allowed(props[n]), props[n].get("description", ""))
+            for n in loose
+        )
     for name in sections:
         sub = props[name]
         out += ["", f"## {name}", ""]
         text = _cell(sub.get("description", ""))
         if _is_map(sub):
-            extra = (f"A map of entries you name ({_allowed(sub) or 'any number'}); "
-                     f"each `{name}.{NAME}` takes the keys below.")
+            extra = (
+                f"A map of entries you name ({_allowed(sub) or 'any number'}); "
+                f"each `{name}.{NAME}` takes the keys below."
+            )
             text = f"{text} {extra}".strip()
         if name in required:
             text = f"{text} Required.".strip()

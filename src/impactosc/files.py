@@ -55,8 +55,9 @@ def git_commit() -> str:
         return "unknown"
     if out.returncode != 0:
         return "unknown"
-    dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=here,
-                           capture_output=True, text=True, timeout=5).stdout.strip()
+    dirty = subprocess.run(
+        ["git", "status", "--porcelain", "--untracked-files=no"], cwd=here, capture_output=True, text=True, timeout=5
+    ).stdout.strip()
     return out.stdout.strip() + ("-dirty" if dirty else "")
 
 
@@ -67,22 +68,49 @@ FORMAT_VERSION = "1"
 #: dimensionless or a count. A writer refuses a dataset missing here (add it, with its unit).
 DATASET_UNITS = {
     # run and event files; measured records (record/t, record/x)
-    "t": "s", "x": "m", "v": "m/s", "h": "m", "gap": "m", "sigma_t": "s",
+    "t": "s",
+    "x": "m",
+    "v": "m/s",
+    "h": "m",
+    "gap": "m",
+    "sigma_t": "s",
     # sweep files (impactosc.sweeps.continuation)
-    "omega": "rad/s", "poincare_x": "m", "poincare_v": "m/s", "impact_t": "s", "impact_v": "m/s",
-    "impact_offsets": "1", "min_gap": "m", "x_start": "m", "v_start": "m/s", "x_end": "m",
-    "v_end": "m/s", "n_steps": "1", "wall_time": "s", "cpu_time": "s", "status": "1",
+    "omega": "rad/s",
+    "poincare_x": "m",
+    "poincare_v": "m/s",
+    "impact_t": "s",
+    "impact_v": "m/s",
+    "impact_offsets": "1",
+    "min_gap": "m",
+    "x_start": "m",
+    "v_start": "m/s",
+    "x_end": "m",
+    "v_end": "m/s",
+    "n_steps": "1",
+    "wall_time": "s",
+    "cpu_time": "s",
+    "status": "1",
     # map files (impactosc.sweeps.maps; "values" takes the unit of the map's parameter)
-    "period": "1", "impacts": "1", "rate": "1", "n_isi_levels": "1",  # period in forcing periods
+    "period": "1",
+    "impacts": "1",
+    "rate": "1",
+    "n_isi_levels": "1",  # period in forcing periods
     # Poincare points of a measured record set
-    "record_omega": "rad/s", "n_points": "1",
+    "record_omega": "rad/s",
+    "n_points": "1",
 }
 
 _LIBRARIES = ("numpy", "scipy", "numba", "h5py")
 
 #: Attributes the writers add to an HDF5 root (readers of user metadata skip them).
-PROVENANCE_ATTRS = ("format_version", "version", "git_commit", "python_version",
-                    *(f"{lib}_version" for lib in _LIBRARIES), "sources")
+PROVENANCE_ATTRS = (
+    "format_version",
+    "version",
+    "git_commit",
+    "python_version",
+    *(f"{lib}_version" for lib in _LIBRARIES),
+    "sources",
+)
 
 
 @functools.cache
@@ -125,6 +153,7 @@ def dataset_unit(name: str, units: dict | None = None) -> str:
 def stamp_h5(f, *, sources=None, units: dict | None = None) -> None:
     """Give every dataset of the open HDF5 file `f` its unit and the root the format version
     and :func:`provenance`; every HDF5 writer calls it once the datasets exist."""
+
     def label(name, obj):
         if isinstance(obj, h5py.Dataset):
             obj.attrs["units"] = dataset_unit(name, units)
@@ -202,6 +231,7 @@ def write_text(path, text: str) -> Path:
 
 # ------------------------------------------------------------------------------ JSON
 
+
 def _jsonable(obj):
     """Plain JSON types: arrays and tuples become lists, numpy scalars Python ones, dataclasses
     dicts, and NaN/inf null (JSON has none; numpy reads null back as NaN with dtype=float)."""
@@ -250,6 +280,7 @@ def read_json(path, *, keep_provenance: bool = False) -> dict:
 
 # ------------------------------------------------------------------------------- CSV
 
+
 def _cell(v, floats: str, yes_no: bool, join_lists: bool):
     if v is None:
         return ""
@@ -294,8 +325,16 @@ def read_provenance(path) -> dict:
     return info
 
 
-def write_csv(path, rows: list[dict], columns=None, *, floats: str = ".6g", yes_no: bool = False,
-              join_lists: bool = False, sources=None) -> Path:
+def write_csv(
+    path,
+    rows: list[dict],
+    columns=None,
+    *,
+    floats: str = ".6g",
+    yes_no: bool = False,
+    join_lists: bool = False,
+    sources=None,
+) -> Path:
     """Write dict rows atomically as CSV ("\n" line ends), then the provenance sidecar
     (:func:`write_provenance_sidecar`; `sources`: the input files).
 
@@ -364,6 +403,7 @@ def read_table(path) -> list[dict]:
 
 
 # -------------------------------------------------------------------------- run files
+
 
 def write_run(path, events: dict, attrs: dict, trajectory: dict | None = None, *, sources=None) -> Path:
     """Write events (group -> column -> array), optional trajectory and attributes atomically,

@@ -10,12 +10,11 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from test_sweep_regression import cascade_reading  # noqa: E402
+from test_sweep_regression import cascade_reading
 
-from impactosc.files import git_commit  # noqa: E402
+from impactosc.files import git_commit
 
 out = Path(__file__).with_name("bifurcation_reference.json")
-ref = {"cascade": cascade_reading(),
-       "written_by": f"tests/data/make_bifurcation_reference.py at commit {git_commit()}"}
+ref = {"cascade": cascade_reading(), "written_by": f"tests/data/make_bifurcation_reference.py at commit {git_commit()}"}
 out.write_text(json.dumps(ref, indent=1) + "\n")
 print(json.dumps(ref, indent=1))

@@ -12,9 +12,9 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from test_periodic_regression import full_branch, period4_short, short_branch  # noqa: E402
+from test_periodic_regression import full_branch, period4_short, short_branch
 
-from impactosc.files import git_commit  # noqa: E402
+from impactosc.files import git_commit
 
 out = Path(__file__).with_name("periodic_reference.json")
 ref = json.loads(out.read_text()) if out.exists() else {}

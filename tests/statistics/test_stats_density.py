@@ -23,7 +23,7 @@ def test_kde_is_a_density(gamma_mixture_sample):
     assert np.trapezoid(k.density, k.grid) == pytest.approx(1.0, abs=3e-3)
     # Scott's rule: bandwidth = n^(-1/5) * sample std (ddof=1)
     x = gamma_mixture_sample
-    assert k.bandwidth == pytest.approx(x.size ** -0.2 * np.std(x, ddof=1), rel=1e-12)
+    assert k.bandwidth == pytest.approx(x.size**-0.2 * np.std(x, ddof=1), rel=1e-12)
 
 
 def test_kde_maxima_of_bimodal_sample_near_true_modes(gamma_mixture_sample):

@@ -80,14 +80,17 @@ def test_equal_rate_test_on_poisson_windows(poisson_train):
     assert res.pvalue > 0.01
 
 
-@pytest.mark.parametrize("counts, statistic, pvalue", [
-    # (counts, statistic, p) of the hand-written sum + chi2.sf this replaced (commit 29f74da)
-    ([572, 571, 579, 579, 574], 0.10086956521739131, 0.9987701314377717),
-    ([500, 650, 560, 590, 575], 20.347826086956523, 0.0004263153725191379),
-    ([0, 3, 1, 0, 2], 5.666666666666668, 0.22546314129598113),
-    ([10, 30], 10.0, 0.001565402258002549),
-    ([100000, 100400, 99700, 100050], 2.4678245657878297, 0.48113397810428715),
-])
+@pytest.mark.parametrize(
+    "counts, statistic, pvalue",
+    [
+        # (counts, statistic, p) of the hand-written sum + chi2.sf this replaced (commit 29f74da)
+        ([572, 571, 579, 579, 574], 0.10086956521739131, 0.9987701314377717),
+        ([500, 650, 560, 590, 575], 20.347826086956523, 0.0004263153725191379),
+        ([0, 3, 1, 0, 2], 5.666666666666668, 0.22546314129598113),
+        ([10, 30], 10.0, 0.001565402258002549),
+        ([100000, 100400, 99700, 100050], 2.4678245657878297, 0.48113397810428715),
+    ],
+)
 def test_equal_rate_test_matches_old_hand_written_sum(counts, statistic, pvalue):
     res = equal_rate_test(counts)
     assert res.dof == len(counts) - 1  # chisquare's default ddof=0: k - 1 dof

@@ -52,9 +52,7 @@ def test_gaussian_and_lognormal_mixtures_are_recovered(family):
         x = np.where(first, rng.normal(0.05, 0.01, n), rng.normal(0.2, 0.03, n))
         mu, sigma = [0.05, 0.2], [0.01, 0.03]
     else:
-        x = np.where(
-            first, rng.lognormal(np.log(0.05), 0.2, n), rng.lognormal(np.log(0.2), 0.15, n)
-        )
+        x = np.where(first, rng.lognormal(np.log(0.05), 0.2, n), rng.lognormal(np.log(0.2), 0.15, n))
         mu, sigma = np.log([0.05, 0.2]), [0.2, 0.15]
     fit = fit_mixture(x, family, 2)
     # well separated: weight SE ~ sqrt(0.21/3000) = 0.008, allow ~4 SE

@@ -79,8 +79,9 @@ def test_goodness_of_fit_matches_old_bootstrap(case):
     assert abs(res.pvalue_bootstrap - p_old) <= tol
     assert res.pvalue == res.pvalue_bootstrap
     # the statistic the null distribution is compared with is goodness_of_fit's own
-    gof = stats.goodness_of_fit(stats.expon, s, known_params={"loc": 0.0}, statistic="ks",
-                                n_mc_samples=nb, rng=np.random.default_rng(seed))
+    gof = stats.goodness_of_fit(
+        stats.expon, s, known_params={"loc": 0.0}, statistic="ks", n_mc_samples=nb, rng=np.random.default_rng(seed)
+    )
     assert gof.statistic == res.statistic
     assert gof.pvalue == pytest.approx(res.pvalue_bootstrap, abs=1e-15)
 

@@ -44,13 +44,18 @@ def test_two_sinusoids_resolved():
 def _quasi_periodic(w1):
     """Harmonics of W plus w1 and the Fig. 4c combinations, amplitudes decreasing."""
     lines = {
-        (1, 0): 1.0, (2, 0): 0.3, (3, 0): 0.1, (0, 1): 0.5,
-        (1, -1): 0.2, (1, 1): 0.15, (2, -1): 0.1, (2, 1): 0.08, (3, -1): 0.05,
+        (1, 0): 1.0,
+        (2, 0): 0.3,
+        (3, 0): 0.1,
+        (0, 1): 0.5,
+        (1, -1): 0.2,
+        (1, 1): 0.15,
+        (2, -1): 0.1,
+        (2, 1): 0.08,
+        (3, -1): 0.05,
     }
     phases = np.random.default_rng(0).uniform(0, 2 * np.pi, len(lines))
-    return sum(
-        a * np.sin((k * W + m * w1) * T + p) for ((k, m), a), p in zip(lines.items(), phases)
-    )
+    return sum(a * np.sin((k * W + m * w1) * T + p) for ((k, m), a), p in zip(lines.items(), phases))
 
 
 @pytest.mark.parametrize("w1", [W / 4, W * (np.sqrt(5) - 1) / 4], ids=["w/4", "irrational"])

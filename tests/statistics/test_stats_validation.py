@@ -44,9 +44,7 @@ CASES = [
 ]
 
 
-@pytest.mark.parametrize(
-    "func, args, message", CASES, ids=[f"{c[0].__name__}-{i}" for i, c in enumerate(CASES)]
-)
+@pytest.mark.parametrize("func, args, message", CASES, ids=[f"{c[0].__name__}-{i}" for i, c in enumerate(CASES)])
 def test_bad_input_raises_value_error(func, args, message):
     with pytest.raises(ValueError, match=message):
         func(*args)

@@ -13,11 +13,11 @@ rule benchmark_core:
         csv=BENCHMARK_CORE_CSV,
         headline=BENCHMARK_CORE_HEADLINE,
         md=BENCHMARK_CORE_MD,
-    params:
-        bc=BC,
-    threads: all_local_cores
     log:
         logfile("benchmark", "benchmark_core"),
+    threads: all_local_cores
+    params:
+        bc=BC,
     script:
         "../scripts/benchmark_core.py"
 
@@ -33,10 +33,10 @@ rule random_scenes_part:
         cache=NUMBA_CACHE,
     output:
         csv=RANDOM_SCENES_PART,
-    params:
-        rs=config["random_scenes"],
     log:
         logfile("benchmark", "random_scenes_part_{part}"),
+    params:
+        rs=config["random_scenes"],
     script:
         "../scripts/random_scenes_part.py"
 
@@ -47,9 +47,9 @@ rule random_scenes:
     output:
         csv=RANDOM_SCENES_CSV,
         md=RANDOM_SCENES_MD,
-    params:
-        rs=config["random_scenes"],
     log:
         logfile("benchmark", "random_scenes"),
+    params:
+        rs=config["random_scenes"],
     script:
         "../scripts/random_scenes.py"

@@ -23,17 +23,17 @@ rule bifurcation_coarse:
         cache=NUMBA_CACHE,
     output:
         seeds=BIF_COARSE,
-    params:
-        **BIF_COMMON,
-        grid=lambda wc: BIF["sweeps"][wc.sweep],
-        stride=BIF["stride"],
-        part="coarse",
     log:
         logfile("bifurcation", "bifurcation_coarse_{sweep}"),
     benchmark:
         benchmark_file("bifurcation", "bifurcation_coarse_{sweep}")
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
+    params:
+        **BIF_COMMON,
+        grid=lambda wc: BIF["sweeps"][wc.sweep],
+        stride=BIF["stride"],
+        part="coarse",
     # the coarse pass is sweep part "coarse": the script of rule bifurcation_chunk
     script:
         "../scripts/bifurcation_chunk.py"
@@ -46,12 +46,6 @@ rule bifurcation_chunk:
         seeds=lambda wc: expand(rules.bifurcation_coarse.output.seeds, sweep=wc.sweep) if int(wc.chunk) else [],
     output:
         chunk=BIF_CHUNK,
-    params:
-        **BIF_COMMON,
-        grid=lambda wc: BIF["sweeps"][wc.sweep],
-        stride=BIF["stride"],
-        chunks=BIF["chunks"],
-        part=lambda wc: int(wc.chunk),
     log:
         logfile("bifurcation", "bifurcation_chunk_{sweep}_{chunk}"),
     benchmark:
@@ -59,6 +53,12 @@ rule bifurcation_chunk:
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
         chunk=BIF_WILDCARDS["chunk"],
+    params:
+        **BIF_COMMON,
+        grid=lambda wc: BIF["sweeps"][wc.sweep],
+        stride=BIF["stride"],
+        chunks=BIF["chunks"],
+        part=lambda wc: int(wc.chunk),
     script:
         "../scripts/bifurcation_chunk.py"
 
@@ -69,12 +69,12 @@ rule bifurcation_merge:
         coarse=lambda wc: expand(rules.bifurcation_coarse.output.seeds, sweep=wc.sweep) if BIF["chunks"] > 1 else [],
     output:
         sweep=BIF_SWEEP,
-    params:
-        grid=lambda wc: BIF["sweeps"][wc.sweep],
     log:
         logfile("bifurcation", "bifurcation_merge_{sweep}"),
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
+    params:
+        grid=lambda wc: BIF["sweeps"][wc.sweep],
     script:
         "../scripts/bifurcation_merge.py"
 
@@ -89,14 +89,14 @@ rule bifurcation_tables:
         transitions=BIF_TABLES["transitions"],
         stats=BIF_STATS,
         rows=rows_file("bifurcation"),
+    log:
+        logfile("bifurcation", "bifurcation_tables"),
     params:
         names=BIF_SWEEPS,
         reading=BIF["reading"],
         fig03b=BIF["fig03b"]["sweep"],
         overlay=BIF["overlay"]["sweeps"],
         command="snakemake -j2 bifurcation_tables",
-    log:
-        logfile("bifurcation", "bifurcation_tables"),
     script:
         "../scripts/bifurcation_tables.py"
 
@@ -109,13 +109,13 @@ rule fig02:
     output:
         png=report(figure(2)[0], caption="../report/fig02.rst", category=BIF_REPORT),
         pdf=figure(2)[1],
+    log:
+        logfile("bifurcation", "fig02"),
     params:
         figure="fig02",
         names=[BIF["fig02"]["sweep"]],
         model=config["model"],
         experimental=BIF["fig02"]["experimental"],
-    log:
-        logfile("bifurcation", "fig02"),
     # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
     script:
         "../scripts/bifurcation_figure.py"
@@ -128,14 +128,14 @@ rule fig03b:
     output:
         png=report(panel("fig03b")[0], caption="../report/fig03b.rst", category=BIF_REPORT),
         pdf=panel("fig03b")[1],
+    log:
+        logfile("bifurcation", "fig03b"),
     params:
         figure="fig03b",
         names=[BIF["fig03b"]["sweep"]],
         model=config["model"],
         zoom_near=23.0,
         zoom_half_width=0.6,
-    log:
-        logfile("bifurcation", "fig03b"),
     # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
     script:
         "../scripts/bifurcation_figure.py"
@@ -152,12 +152,12 @@ rule bifurcation_overlay:
             category=BIF_REPORT,
         ),
         pdf=supplementary("bifurcation", "bifurcation_overlay")[1],
+    log:
+        logfile("bifurcation", "bifurcation_overlay"),
     params:
         figure="overlay",
         names=BIF["overlay"]["sweeps"],
         model=config["model"],
-    log:
-        logfile("bifurcation", "bifurcation_overlay"),
     # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
     script:
         "../scripts/bifurcation_figure.py"
@@ -168,10 +168,10 @@ rule bifurcation_benchmark:
         sweeps=expand(BIF_SWEEP, sweep=BIF_SWEEPS),
     output:
         json=BIF_BENCHMARK,
-    params:
-        names=BIF_SWEEPS,
     log:
         logfile("bifurcation", "bifurcation_benchmark"),
+    params:
+        names=BIF_SWEEPS,
     script:
         "../scripts/bifurcation_benchmark.py"
 
@@ -181,17 +181,17 @@ rule map2d_part:
         cache=NUMBA_CACHE,
     output:
         part=MAP2D_PART,
-    params:
-        **BIF_COMMON,
-        map=BIF["map2d"],
-        reading=BIF["reading"],
-        part=lambda wc: int(wc.chunk),
     log:
         logfile("bifurcation", "map2d_part_{chunk}"),
     benchmark:
         benchmark_file("bifurcation", "map2d_part_{chunk}")
     wildcard_constraints:
         chunk=BIF_WILDCARDS["chunk"],
+    params:
+        **BIF_COMMON,
+        map=BIF["map2d"],
+        reading=BIF["reading"],
+        part=lambda wc: int(wc.chunk),
     script:
         "../scripts/map2d_part.py"
 
@@ -203,10 +203,10 @@ rule map2d:
         map=MAP2D,
         png=report(supplementary("bifurcation", "map2d")[0], caption="../report/map2d.rst", category=BIF_REPORT),
         pdf=supplementary("bifurcation", "map2d")[1],
-    params:
-        model=config["model"],
     log:
         logfile("bifurcation", "map2d"),
+    params:
+        model=config["model"],
     script:
         "../scripts/map2d.py"
 

@@ -25,6 +25,12 @@ rule chaotic_member:
         cache=NUMBA_CACHE,
     output:
         run=CHAOTIC_MEMBER_RUN,
+    log:
+        logfile("chaotic", "chaotic_member_{member}"),
+    benchmark:
+        benchmark_file("chaotic", "chaotic_member_{member}")
+    wildcard_constraints:
+        member="|".join(re.escape(m) for m in CHAOTIC_MEMBERS),
     params:
         model=config["model"],
         solver=lambda wc: {k: CHAOTIC_MEMBERS[wc.member][k] for k in ("rtol", "atol")},
@@ -34,12 +40,6 @@ rule chaotic_member:
             "events": ["impacts", "penetrations"],
             "window": None,
         },
-    log:
-        logfile("chaotic", "chaotic_member_{member}"),
-    benchmark:
-        benchmark_file("chaotic", "chaotic_member_{member}")
-    wildcard_constraints:
-        member="|".join(re.escape(m) for m in CHAOTIC_MEMBERS),
     # an ensemble member is a scene run with its own x0 and tolerances: the script of rule simulate_scene
     script:
         "../scripts/simulate_scene.py"
@@ -50,28 +50,27 @@ rule chaotic_train_stats:
         events=lambda wc: CHAOTIC_TRAINS[wc.train][0],
     output:
         json=CHAOTIC_TRAIN_STATS,
-    params:
-        label=lambda wc: CHAOTIC_TRAINS[wc.train][1],
-        analysis=CHAOTIC["analysis"],
     log:
         logfile("chaotic", "chaotic_train_stats_{train}"),
     wildcard_constraints:
         train="|".join(CHAOTIC_TRAINS),
+    params:
+        label=lambda wc: CHAOTIC_TRAINS[wc.train][1],
+        analysis=CHAOTIC["analysis"],
     script:
         "../scripts/chaotic_train_stats.py"
 
 
 rule chaotic_ensemble:
     input:
-        runs=[CHAOTIC_SCENE_RUN]
-        + expand(rules.chaotic_member.output.run, member=sorted(CHAOTIC_MEMBERS)),
+        runs=[CHAOTIC_SCENE_RUN] + expand(rules.chaotic_member.output.run, member=sorted(CHAOTIC_MEMBERS)),
     output:
         json=CHAOTIC_ENSEMBLE_STATS,
         csv=CHAOTIC_ENSEMBLE_TABLE,
-    params:
-        analysis=CHAOTIC["analysis"],
     log:
         logfile("chaotic", "chaotic_ensemble"),
+    params:
+        analysis=CHAOTIC["analysis"],
     script:
         "../scripts/chaotic_ensemble.py"
 
@@ -84,10 +83,10 @@ rule chaotic_stats:
     output:
         rows=rows_file("chaotic"),
         mixture=ISI_MIXTURE_TABLE,
-    params:
-        command="snakemake -j1 chaotic_stats",
     log:
         logfile("chaotic", "chaotic_stats"),
+    params:
+        command="snakemake -j1 chaotic_stats",
     script:
         "../scripts/chaotic_stats.py"
 
@@ -113,11 +112,11 @@ for _nn, _inputs in (
                 category=CHAOTIC_CAPTIONS,
             ),
             pdf=figure(_nn)[1],
+        log:
+            logfile("chaotic", f"fig{_nn:02d}"),
         params:
             figure=_nn,
             portrait_span=CHAOTIC["portrait_span"] if _nn == 6 else None,
-        log:
-            logfile("chaotic", f"fig{_nn:02d}"),
         # one script draws fig06..fig11 (params.figure selects): the chaotic figure family
         script:
             "../scripts/chaotic_figure.py"

@@ -11,14 +11,14 @@ rule fig03:
     output:
         png=report(figure(3)[0], caption="../report/fig03.rst", category="Impact map (paper Fig 3)"),
         pdf=figure(3)[1],
+    log:
+        logfile("combined", "fig03"),
     params:
         sweep=config["bifurcation"]["fig03b"]["sweep"],
         start=config["periodic"]["fig03a"]["start"],
         span=config["periodic"]["fig03a"]["span"],
         zoom_near=23.0,
         zoom_half_width=0.6,
-    log:
-        logfile("combined", "fig03"),
     script:
         "../scripts/fig03.py"
 

@@ -13,10 +13,20 @@ MEAS_CHAOS_RECORD = MEAS["chaos"]["record"] or MEAS_SURROGATE.format(kind="chaos
 MEAS_FIG02_RECORDS = MEAS["fig02"]["records"] or MEAS_SURROGATE.format(kind="sweep")
 
 
-MEAS_HOOK_CHAOS = panel_hooked("chaotic.second_train", config["chaotic"]["second_train"], "events",
-                                MEAS_CHAOS_EVENTS, MEAS["chaos"]["record"] is None)
-MEAS_HOOK_FIG02 = panel_hooked("bifurcation.fig02.experimental", config["bifurcation"]["fig02"]["experimental"],
-                                "file", MEAS_FIG02_POINTS, MEAS["fig02"]["records"] is None)
+MEAS_HOOK_CHAOS = panel_hooked(
+    "chaotic.second_train",
+    config["chaotic"]["second_train"],
+    "events",
+    MEAS_CHAOS_EVENTS,
+    MEAS["chaos"]["record"] is None,
+)
+MEAS_HOOK_FIG02 = panel_hooked(
+    "bifurcation.fig02.experimental",
+    config["bifurcation"]["fig02"]["experimental"],
+    "file",
+    MEAS_FIG02_POINTS,
+    MEAS["fig02"]["records"] is None,
+)
 
 
 rule measured_surrogate:
@@ -24,16 +34,16 @@ rule measured_surrogate:
         cache=NUMBA_CACHE,
     output:
         record=MEAS_SURROGATE,
-    params:
-        surrogate=MEAS["surrogate"],
-        model=config["model"],
-        solver=config["solver"],
     log:
         logfile("measured", "measured_surrogate_{kind}"),
     benchmark:
         benchmark_file("measured", "measured_surrogate_{kind}")
     wildcard_constraints:
         kind="chaos|sweep",
+    params:
+        surrogate=MEAS["surrogate"],
+        model=config["model"],
+        solver=config["solver"],
     script:
         "../scripts/measured_surrogate.py"
 
@@ -43,11 +53,11 @@ rule measured_chaos_events:
         record=MEAS_CHAOS_RECORD,
     output:
         events=MEAS_CHAOS_EVENTS,
+    log:
+        logfile("measured", "measured_chaos_events"),
     params:
         x_impact=MEAS["chaos"]["x_impact"],
         noise=MEAS["chaos"]["noise"],
-    log:
-        logfile("measured", "measured_chaos_events"),
     script:
         "../scripts/measured_chaos_events.py"
 
@@ -69,16 +79,16 @@ rule measured_noise_study:
     output:
         csv=MEAS_NOISE_TABLE,
         json=MEAS_NOISE_STATS,
+    log:
+        logfile("measured", "measured_noise_study"),
+    benchmark:
+        benchmark_file("measured", "measured_noise_study")
     params:
         study=MEAS["noise_study"],
         surrogate=MEAS["surrogate"],
         analysis=config["chaotic"]["analysis"],
         model=config["model"],
         solver=config["solver"],
-    log:
-        logfile("measured", "measured_noise_study"),
-    benchmark:
-        benchmark_file("measured", "measured_noise_study")
     script:
         "../scripts/measured_noise_study.py"
 
@@ -93,10 +103,10 @@ rule measured_noise_figure:
             category=MEAS_REPORT,
         ),
         pdf=supplementary("measured", "measured_noise_study")[1],
-    params:
-        density_rate=MEAS["noise_study"]["density_rate"],
     log:
         logfile("measured", "measured_noise_figure"),
+    params:
+        density_rate=MEAS["noise_study"]["density_rate"],
     script:
         "../scripts/measured_noise_figure.py"
 
@@ -112,11 +122,11 @@ if MEAS_HOOK_CHAOS:
             noise=rules.measured_noise_study.output.json,
         output:
             rows=rows_file("measured"),
+        log:
+            logfile("measured", "measured_rows"),
         params:
             is_surrogate=MEAS["chaos"]["record"] is None,
             command="snakemake -j1 measured_rows",
-        log:
-            logfile("measured", "measured_rows"),
         script:
             "../scripts/measured_rows.py"
 

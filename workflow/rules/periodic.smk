@@ -19,15 +19,15 @@ rule periodic_branch:
     output:
         branch=GRAZING_BRANCH,
         bisection=GRAZING_BISECTION,
+    log:
+        logfile("periodic", "periodic_branch"),
+    benchmark:
+        benchmark_file("periodic", "periodic_branch")
     params:
         branch=PERIODIC["branch"],
         grazing=PERIODIC["grazing"],
         model=config["model"],
         solver=config["solver"],
-    log:
-        logfile("periodic", "periodic_branch"),
-    benchmark:
-        benchmark_file("periodic", "periodic_branch")
     script:
         "../scripts/periodic_branch.py"
 
@@ -37,15 +37,15 @@ rule periodic_from_rest:
         cache=NUMBA_CACHE,
     output:
         sweep=GRAZING_FROM_REST,
+    log:
+        logfile("periodic", "periodic_from_rest"),
+    benchmark:
+        benchmark_file("periodic", "periodic_from_rest")
     params:
         scan=PERIODIC["from_rest"],
         n_record=PERIODIC["branch"]["n_record"],
         model=config["model"],
         solver=config["solver"],
-    log:
-        logfile("periodic", "periodic_from_rest"),
-    benchmark:
-        benchmark_file("periodic", "periodic_from_rest")
     script:
         "../scripts/periodic_from_rest.py"
 
@@ -55,14 +55,14 @@ rule periodic_before_grazing:
         branch=rules.periodic_branch.output.branch,
     output:
         run=BRANCH_BEFORE_GRAZING_RUN,
-    params:
-        scene=PERIODIC["before_grazing"],
-        model=config["model"],
-        solver=config["solver"],
     log:
         logfile("periodic", "periodic_before_grazing"),
     benchmark:
         benchmark_file("periodic", "periodic_before_grazing")
+    params:
+        scene=PERIODIC["before_grazing"],
+        model=config["model"],
+        solver=config["solver"],
     script:
         "../scripts/periodic_before_grazing.py"
 
@@ -74,11 +74,11 @@ rule periodic_stats:
     output:
         stats=PERIODIC_STATS,
         spectrum=PERIOD4_SPECTRUM,
+    log:
+        logfile("periodic", "periodic_stats"),
     params:
         spectrum=PERIODIC["spectrum"],
         spectrum_of="after_grazing",
-    log:
-        logfile("periodic", "periodic_stats"),
     script:
         "../scripts/periodic_stats.py"
 
@@ -88,10 +88,10 @@ rule before_grazing_stats:
         before_grazing_branch=rules.periodic_before_grazing.output.run,
     output:
         stats=BEFORE_GRAZING_STATS,
-    params:
-        spectrum=PERIODIC["spectrum"],
     log:
         logfile("periodic", "before_grazing_stats"),
+    params:
+        spectrum=PERIODIC["spectrum"],
     # same statistics as rule periodic_stats, on the branch run: the script of that rule
     script:
         "../scripts/periodic_stats.py"
@@ -104,11 +104,11 @@ rule grazing_stats:
         from_rest=rules.periodic_from_rest.output.sweep,
     output:
         stats=GRAZING_STATS,
+    log:
+        logfile("periodic", "grazing_stats"),
     params:
         paper_omegas=PERIODIC["grazing"]["paper_omegas"],
         n_fit=PERIODIC["grazing"]["n_fit"],
-    log:
-        logfile("periodic", "grazing_stats"),
     script:
         "../scripts/grazing_stats.py"
 
@@ -142,11 +142,11 @@ rule fig03a:
     output:
         png=report(panel("fig03a")[0], caption="../report/fig03a.rst", category=PERIODIC_REPORT),
         pdf=panel("fig03a")[1],
+    log:
+        logfile("periodic", "fig03a"),
     params:
         start=PERIODIC["fig03a"]["start"],
         span=PERIODIC["fig03a"]["span"],
-    log:
-        logfile("periodic", "fig03a"),
     script:
         "../scripts/fig03a.py"
 
@@ -161,10 +161,10 @@ rule fig04:
     output:
         png=report(figure(4)[0], caption="../report/fig04.rst", category=PERIODIC_REPORT),
         pdf=figure(4)[1],
-    params:
-        inset=PERIODIC["fig04"]["inset"],
     log:
         logfile("periodic", "fig04"),
+    params:
+        inset=PERIODIC["fig04"]["inset"],
     script:
         "../scripts/fig04.py"
 
@@ -188,10 +188,10 @@ rule grazing:
     output:
         png=report(supplementary("periodic", "grazing")[0], caption="../report/grazing.rst", category=PERIODIC_REPORT),
         pdf=supplementary("periodic", "grazing")[1],
-    params:
-        window=[PERIODIC["from_rest"]["start"], PERIODIC["from_rest"]["stop"]],
     log:
         logfile("periodic", "grazing"),
+    params:
+        window=[PERIODIC["from_rest"]["start"], PERIODIC["from_rest"]["stop"]],
     script:
         "../scripts/grazing.py"
 

@@ -18,15 +18,15 @@ rule simulate_scene:
         cache=NUMBA_CACHE,
     output:
         run=SCENE_RUN,
-    params:
-        model=config["model"],
-        solver=config["solver"],
-        scene=lambda wc: scene(wc.scene),
     log:
         logfile("scenes", "simulate_scene_{scene}"),
     benchmark:
         benchmark_file("scenes", "simulate_scene_{scene}")
     wildcard_constraints:
         scene="|".join(config["scenes"]),
+    params:
+        model=config["model"],
+        solver=config["solver"],
+        scene=lambda wc: scene(wc.scene),
     script:
         "../scripts/simulate_scene.py"

@@ -22,15 +22,15 @@ rule wp_measure:
         cache=NUMBA_CACHE,
     output:
         csv=WP_MEASURE,
-    params:
-        model=config["model"],
-        wp=WP,
-        entry=lambda wc: WP["scenes"][wc.wp_scene],
-    threads: all_local_cores
     log:
         logfile("work_precision", "wp_measure_{wp_scene}"),
     wildcard_constraints:
         wp_scene="|".join(WP["scenes"]),
+    threads: all_local_cores
+    params:
+        model=config["model"],
+        wp=WP,
+        entry=lambda wc: WP["scenes"][wc.wp_scene],
     script:
         "../scripts/wp_measure.py"
 
@@ -40,15 +40,15 @@ rule wp_statistics:
         cache=NUMBA_CACHE,
     output:
         csv=WP_STATISTICS,
+    log:
+        logfile("work_precision", "wp_statistics"),
+    threads: all_local_cores
     params:
         model=config["model"],
         scene=scene(WP["statistics"]["scene"]),
         stats=WP["statistics"],
         atol_ratio=WP["atol_ratio"],
         analysis=config["chaotic"]["analysis"],
-    threads: all_local_cores
-    log:
-        logfile("work_precision", "wp_statistics"),
     script:
         "../scripts/wp_statistics.py"
 
@@ -58,10 +58,10 @@ rule wp_statistics:
 rule wp_jit:
     output:
         json=WP_JIT,
-    params:
-        cold=WP["jit_cold"],
     log:
         logfile("work_precision", "wp_jit"),
+    params:
+        cold=WP["jit_cold"],
     script:
         "../scripts/wp_jit.py"
 
@@ -81,10 +81,10 @@ rule work_precision:
             category=WP_CAPTIONS,
         ),
         pdf=supplementary("work_precision", "work_precision")[1],
-    params:
-        levels=WP["headline_errors"],
     log:
         logfile("work_precision", "work_precision"),
+    params:
+        levels=WP["headline_errors"],
     script:
         "../scripts/work_precision.py"
 
@@ -94,11 +94,11 @@ rule hard_cases:
         cache=NUMBA_CACHE,
     output:
         csv=HARD_CASES_TABLE,
-    params:
-        hc=HC,
-    threads: all_local_cores
     log:
         logfile("work_precision", "hard_cases"),
+    threads: all_local_cores
+    params:
+        hc=HC,
     script:
         "../scripts/hard_cases.py"
 
@@ -110,10 +110,10 @@ rule wp_rows:
         headline=rules.work_precision.output.headline,
     output:
         rows=rows_file("work_precision"),
-    params:
-        command="snakemake -j2 work_precision hard_cases",
     log:
         logfile("work_precision", "wp_rows"),
+    params:
+        command="snakemake -j2 work_precision hard_cases",
     script:
         "../scripts/wp_rows.py"
 

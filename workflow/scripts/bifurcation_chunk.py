@@ -7,7 +7,7 @@ chunk after the first, snakemake.input.seeds (the coarse pass); writes snakemake
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 import time
@@ -39,10 +39,15 @@ def main(params, seeds_path, output):
         info = {"part": f"chunk {k}", "chunk_start": chunk[0], "chunk_stop": chunk[1]}
     finished = time.time()
     save_sweep(output, result, sources=seeds_path, started=started, finished=finished, **info)
-    logging.info("%s: %d w in %.1f s (%.2f w/s), %d abandoned", info["part"], len(result), finished - started,
-                 len(result) / (finished - started), int((result.status != 0).sum()))
+    logging.info(
+        "%s: %d w in %.1f s (%.2f w/s), %d abandoned",
+        info["part"],
+        len(result),
+        finished - started,
+        len(result) / (finished - started),
+        int((result.status != 0).sum()),
+    )
 
 
-seeds = snakemake.input.get("seeds") or None  # noqa: F821
-main(snakemake.params, seeds if isinstance(seeds, (str, type(None))) else seeds[0],
-     snakemake.output[0])  # noqa: F821
+seeds = snakemake.input.get("seeds") or None
+main(snakemake.params, seeds if isinstance(seeds, (str, type(None))) else seeds[0], snakemake.output[0])

@@ -8,7 +8,7 @@ diagram (snakemake.params.experimental); writes snakemake.output.png/.pdf and a 
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import json
 import logging
@@ -19,6 +19,7 @@ import h5py
 from impactosc.plotting import save_figure
 from impactosc.plotting.bifurcation import fig02_poincare, fig03b_arguments, fig03b_isi, marks_of, overlay_figure
 from impactosc.sweeps.continuation import load_sweep
+
 
 def main(inp, params, out):
     stats = json.loads(Path(inp.stats).read_text())
@@ -33,8 +34,9 @@ def main(inp, params, out):
                 exp = (f["omega"][()], f["x"][()], params.experimental["label"])
         w, x = res.poincare_points()
         summary = stats["sweeps"][name]
-        fig = fig02_poincare(w, x, x_obstacle, experimental=exp, marks=marks_of(summary),
-                             abandoned=summary["failed_omegas"])
+        fig = fig02_poincare(
+            w, x, x_obstacle, experimental=exp, marks=marks_of(summary), abandoned=summary["failed_omegas"]
+        )
     elif params.figure == "fig03b":
         name = params.names[0]
         res, attrs = sweeps[name]
@@ -56,4 +58,4 @@ def main(inp, params, out):
     logging.info("wrote %s", out.png)
 
 
-main(snakemake.input, snakemake.params, snakemake.output)  # noqa: F821
+main(snakemake.input, snakemake.params, snakemake.output)

@@ -8,7 +8,7 @@ finish and number of w values (for the benchmark) and a log.
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
@@ -21,7 +21,7 @@ def main(chunk_paths, coarse_paths, name, grid, output):
     coarse_paths = [coarse_paths] if isinstance(coarse_paths, str) else list(coarse_paths)
     chunk_paths = [chunk_paths] if isinstance(chunk_paths, str) else list(chunk_paths)
     parts = [load_sweep(p) for p in coarse_paths + chunk_paths]
-    merged = merge_chunks([r for r, _ in parts[len(coarse_paths):]])
+    merged = merge_chunks([r for r, _ in parts[len(coarse_paths) :]])
     timing = {
         "job_part": np.array([str(a["part"]) for _, a in parts], dtype="S"),
         "job_started": np.array([a["started"] for _, a in parts]),
@@ -31,11 +31,31 @@ def main(chunk_paths, coarse_paths, name, grid, output):
         "job_cpu_seconds": np.array([float(r.cpu_time.sum()) for r, _ in parts]),
     }
     direction = "increasing" if grid["stop"] > grid["start"] else "decreasing"
-    save_sweep(output, merged, sources=coarse_paths + chunk_paths, name=name, direction=direction, grid_start=grid["start"], grid_stop=grid["stop"],
-               grid_step=grid["step"], **timing)
-    logging.info("%s: %d w (%s), %d abandoned, %d jobs", name, len(merged), direction,
-                 int((merged.status != 0).sum()), len(parts))
+    save_sweep(
+        output,
+        merged,
+        sources=coarse_paths + chunk_paths,
+        name=name,
+        direction=direction,
+        grid_start=grid["start"],
+        grid_stop=grid["stop"],
+        grid_step=grid["step"],
+        **timing,
+    )
+    logging.info(
+        "%s: %d w (%s), %d abandoned, %d jobs",
+        name,
+        len(merged),
+        direction,
+        int((merged.status != 0).sum()),
+        len(parts),
+    )
 
 
-main(snakemake.input.chunks, snakemake.input.get("coarse", []), snakemake.wildcards.sweep,  # noqa: F821
-     snakemake.params.grid, snakemake.output.sweep)  # noqa: F821
+main(
+    snakemake.input.chunks,
+    snakemake.input.get("coarse", []),
+    snakemake.wildcards.sweep,
+    snakemake.params.grid,
+    snakemake.output.sweep,
+)

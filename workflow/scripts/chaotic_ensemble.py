@@ -7,7 +7,7 @@ snakemake.output.csv (one row of key numbers per run).
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 import time
@@ -18,8 +18,8 @@ from impactosc.analysis.impact_train import AnalysisOptions
 from impactosc.files import write_csv, write_json
 
 t0 = time.perf_counter()
-members = ensemble_members(snakemake.input.runs, AnalysisOptions.from_config(snakemake.params.analysis))  # noqa: F821
+members = ensemble_members(snakemake.input.runs, AnalysisOptions.from_config(snakemake.params.analysis))
 summary = ensemble_summary(members)
-write_json(snakemake.output.json, summary, sources=snakemake.input.runs)  # noqa: F821
-write_csv(snakemake.output.csv, ensemble_table(members), sources=snakemake.input.runs)  # noqa: F821
+write_json(snakemake.output.json, summary, sources=snakemake.input.runs)
+write_csv(snakemake.output.csv, ensemble_table(members), sources=snakemake.input.runs)
 logging.info(f"{len(members)} runs; {time.perf_counter() - t0:.2f} s")

@@ -7,7 +7,7 @@ snakemake.output.rows (results/tables/chaotic/paper_rows.csv) and .mixture (isi_
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
@@ -17,15 +17,15 @@ from impactosc.files import read_json, read_run, write_csv
 from impactosc.paper.rows import chaotic_rows as paper_rows
 from impactosc.paper.table import write_rows
 
-model = read_json(snakemake.input.model[0])  # noqa: F821
-ensemble = read_json(snakemake.input.ensemble)  # noqa: F821
-_, attrs, traj = read_run(snakemake.input.run)  # noqa: F821
+model = read_json(snakemake.input.model[0])
+ensemble = read_json(snakemake.input.ensemble)
+_, attrs, traj = read_run(snakemake.input.run)
 if traj is None:
-    raise ValueError(f"{snakemake.input.run} has no trajectory window (needed for Fig 6b)")  # noqa: F821
+    raise ValueError(f"{snakemake.input.run} has no trajectory window (needed for Fig 6b)")
 spectrum = trajectory_spectrum(traj["t"], traj["x"], attrs["omega"])
-rows = paper_rows(model, ensemble, spectrum, snakemake.params.command)  # noqa: F821
-write_rows(snakemake.output.rows, rows, sources=snakemake.input)  # noqa: F821
-write_csv(snakemake.output.mixture, mixture_table(model), sources=snakemake.input.model)  # noqa: F821
+rows = paper_rows(model, ensemble, spectrum, snakemake.params.command)
+write_rows(snakemake.output.rows, rows, sources=snakemake.input)
+write_csv(snakemake.output.mixture, mixture_table(model), sources=snakemake.input.model)
 logging.info(
     "".join(f"{r['agrees']:>4}  {r['quantity']}: paper {r['paper']} | ours {r['replication']}\n" for r in rows)
 )

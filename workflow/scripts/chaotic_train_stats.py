@@ -6,7 +6,7 @@ snakemake.params.analysis; writes snakemake.output.json (impactosc.analysis.chao
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 import time
@@ -16,9 +16,9 @@ from impactosc.analysis.impact_train import AnalysisOptions, load_train
 from impactosc.files import write_json
 
 t0 = time.perf_counter()
-train = load_train(snakemake.input.events, label=snakemake.params.label)  # noqa: F821
-stats = analyse_train(train, AnalysisOptions.from_config(snakemake.params.analysis))  # noqa: F821
-write_json(snakemake.output.json, stats, sources=snakemake.input.events)  # noqa: F821
+train = load_train(snakemake.input.events, label=snakemake.params.label)
+stats = analyse_train(train, AnalysisOptions.from_config(snakemake.params.analysis))
+write_json(snakemake.output.json, stats, sources=snakemake.input.events)
 logging.info(
     f"{train.label}: {train.times.size} impacts on [{train.t_start}, {train.t_stop}] s "
     f"({train.span_source}); {time.perf_counter() - t0:.2f} s"

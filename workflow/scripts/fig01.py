@@ -3,12 +3,12 @@ snakemake.output.png and .pdf."""
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
 from impactosc.plotting import save_figure
 from impactosc.plotting.schematic import fig01_rig
 
-save_figure(fig01_rig(), snakemake.output.png, snakemake.output.pdf)  # noqa: F821
-logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")  # noqa: F821
+save_figure(fig01_rig(), snakemake.output.png, snakemake.output.pdf)
+logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")

@@ -6,7 +6,7 @@ decreasing sweep) and snakemake.input.stats (its reading); writes snakemake.outp
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import json
 import logging
@@ -33,10 +33,12 @@ def main(inp, params, out):
     fig = plt.figure(figsize=(DOUBLE, DOUBLE * 0.62))
     grid = fig.add_gridspec(2, 2, width_ratios=[2.2, 1], height_ratios=[1, 1.15])
     ax_a = fig.add_subplot(grid[0, :])
-    fig03a_impact_construction(traj["t"], traj["x"], events["impacts"]["t"], attrs["param_xI"],
-                               params.start, params.span, ax=ax_a)
-    ax_a.set_title(r"(a) impact moments $T_j$ and intervals $S_j$ at $\omega$ = " + f"{attrs['omega']:g} rad/s",
-                   loc="left")
+    fig03a_impact_construction(
+        traj["t"], traj["x"], events["impacts"]["t"], attrs["param_xI"], params.start, params.span, ax=ax_a
+    )
+    ax_a.set_title(
+        r"(a) impact moments $T_j$ and intervals $S_j$ at $\omega$ = " + f"{attrs['omega']:g} rad/s", loc="left"
+    )
     w, s, kw = fig03b_arguments(res, sweep_attrs, summary, params.zoom_near, params.zoom_half_width)
     axes_b = [fig.add_subplot(grid[1, 0])] + ([fig.add_subplot(grid[1, 1])] if kw["zoom"] else [])
     fig03b_isi(w, s, axes=axes_b, **kw)
@@ -46,4 +48,4 @@ def main(inp, params, out):
     logging.info(f"wrote {out.png} and {out.pdf}")
 
 
-main(snakemake.input, snakemake.params, snakemake.output)  # noqa: F821
+main(snakemake.input, snakemake.params, snakemake.output)

@@ -6,7 +6,7 @@ Reads snakemake.input.run (a run file with a trajectory window) and snakemake.pa
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
@@ -14,10 +14,11 @@ from impactosc.files import read_run
 from impactosc.plotting import save_figure
 from impactosc.plotting.periodic import fig03a_impact_construction
 
-events, attrs, traj = read_run(snakemake.input.run)  # noqa: F821
+events, attrs, traj = read_run(snakemake.input.run)
 if traj is None:
-    raise ValueError(f"{snakemake.input.run} has no trajectory window; Fig 3a needs x(t)")  # noqa: F821
-fig = fig03a_impact_construction(traj["t"], traj["x"], events["impacts"]["t"], attrs["param_xI"],
-                                 snakemake.params.start, snakemake.params.span)  # noqa: F821
-save_figure(fig, snakemake.output.png, snakemake.output.pdf)  # noqa: F821
-logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")  # noqa: F821
+    raise ValueError(f"{snakemake.input.run} has no trajectory window; Fig 3a needs x(t)")
+fig = fig03a_impact_construction(
+    traj["t"], traj["x"], events["impacts"]["t"], attrs["param_xI"], snakemake.params.start, snakemake.params.span
+)
+save_figure(fig, snakemake.output.png, snakemake.output.pdf)
+logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")

@@ -7,7 +7,7 @@ snakemake.output.png and .pdf.
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import json
 import logging
@@ -16,22 +16,33 @@ from impactosc.files import read_run
 from impactosc.plotting import save_figure
 from impactosc.plotting.periodic import fig04_grazing_portraits
 
-with open(snakemake.input.spectrum) as f:  # noqa: F821
+with open(snakemake.input.spectrum) as f:
     spectrum = json.load(f)
-with open(snakemake.input.stats) as f:  # noqa: F821
+with open(snakemake.input.stats) as f:
     stats = json.load(f)
-with open(snakemake.input.before_stats) as f:  # noqa: F821
+with open(snakemake.input.before_stats) as f:
     stats.update(json.load(f))
 panels = {}
-for key, path, tag, sk in (("before", snakemake.input.before, "(branch, before grazing)", "before_grazing_branch"),  # noqa: F821
-                           ("after", snakemake.input.after, "(after grazing)", "after_grazing")):  # noqa: F821
+for key, path, tag, sk in (
+    ("before", snakemake.input.before, "(branch, before grazing)", "before_grazing_branch"),
+    ("after", snakemake.input.after, "(after grazing)", "after_grazing"),
+):
     _, attrs, traj = read_run(path)
     s = stats[sk]
-    box = snakemake.params.inset  # noqa: F821
-    note = (f"inset: near miss {s['min_gap'] * 1e6:.2f} $\\mu$m below $x_I$" if key == "before" else
-            f"inset: slowest impact, {s['min_impact_v'] * 1e3:.1f} mm/s at $x_I$")
-    panels[key] = {"omega": attrs["omega"], "x": traj["x"], "v": traj["v"], "tag": tag, "note": note,
-                   "inset": ((attrs["param_xI"] + box["dx"][0], attrs["param_xI"] + box["dx"][1]), tuple(box["v"]))}
+    box = snakemake.params.inset
+    note = (
+        f"inset: near miss {s['min_gap'] * 1e6:.2f} $\\mu$m below $x_I$"
+        if key == "before"
+        else f"inset: slowest impact, {s['min_impact_v'] * 1e3:.1f} mm/s at $x_I$"
+    )
+    panels[key] = {
+        "omega": attrs["omega"],
+        "x": traj["x"],
+        "v": traj["v"],
+        "tag": tag,
+        "note": note,
+        "inset": ((attrs["param_xI"] + box["dx"][0], attrs["param_xI"] + box["dx"][1]), tuple(box["v"])),
+    }
 fig = fig04_grazing_portraits(panels["before"], panels["after"], spectrum, attrs["param_xI"])
-save_figure(fig, snakemake.output.png, snakemake.output.pdf)  # noqa: F821
-logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")  # noqa: F821
+save_figure(fig, snakemake.output.png, snakemake.output.pdf)
+logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")

@@ -6,7 +6,7 @@ snakemake.output.png and .pdf.
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import json
 import logging
@@ -17,9 +17,9 @@ from impactosc.files import read_run
 from impactosc.plotting import save_figure
 from impactosc.plotting.periodic import fig05_impact_map
 
-events, attrs, _ = read_run(snakemake.input.run)  # noqa: F821
-with open(snakemake.input.stats) as f:  # noqa: F821
+events, attrs, _ = read_run(snakemake.input.run)
+with open(snakemake.input.stats) as f:
     numbers = json.load(f)["after_grazing"]["impact_map"]
 fig = fig05_impact_map(np.diff(events["impacts"]["t"]), numbers, attrs["omega"])
-save_figure(fig, snakemake.output.png, snakemake.output.pdf)  # noqa: F821
-logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")  # noqa: F821
+save_figure(fig, snakemake.output.png, snakemake.output.pdf)
+logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")

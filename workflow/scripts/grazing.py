@@ -5,7 +5,7 @@ Reads snakemake.input.stats (results/stats/periodic/grazing.json); writes snakem
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import json
 import logging
@@ -13,9 +13,10 @@ import logging
 from impactosc.plotting import save_figure
 from impactosc.plotting.periodic import grazing_evidence
 
-with open(snakemake.input.stats) as f:  # noqa: F821
+with open(snakemake.input.stats) as f:
     stats = json.load(f)
-fig = grazing_evidence(stats["per_w"]["branch"], stats["per_w"]["from_rest"], stats, stats["paper_omegas"],
-                       snakemake.params.window)  # noqa: F821
-save_figure(fig, snakemake.output.png, snakemake.output.pdf)  # noqa: F821
-logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")  # noqa: F821
+fig = grazing_evidence(
+    stats["per_w"]["branch"], stats["per_w"]["from_rest"], stats, stats["paper_omegas"], snakemake.params.window
+)
+save_figure(fig, snakemake.output.png, snakemake.output.pdf)
+logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")

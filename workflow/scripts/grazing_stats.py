@@ -7,15 +7,23 @@ supplementary figure plots).
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
 from impactosc.analysis.grazing import grazing_summary_file
 from impactosc.files import write_json
 
-write_json(snakemake.output.stats, grazing_summary_file(  # noqa: F821
-    snakemake.input.branch, snakemake.input.bisection, snakemake.input.from_rest,  # noqa: F821
-    snakemake.params.paper_omegas, snakemake.params.n_fit), final_newline=True,  # noqa: F821
-    sources=snakemake.input)  # noqa: F821
-logging.info(f"wrote {snakemake.output.stats}")  # noqa: F821
+write_json(
+    snakemake.output.stats,
+    grazing_summary_file(
+        snakemake.input.branch,
+        snakemake.input.bisection,
+        snakemake.input.from_rest,
+        snakemake.params.paper_omegas,
+        snakemake.params.n_fit,
+    ),
+    final_newline=True,
+    sources=snakemake.input,
+)
+logging.info(f"wrote {snakemake.output.stats}")

@@ -7,7 +7,7 @@ impactosc.benchmarks.hardcases.run_all) and a log of every measurement.
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
@@ -22,4 +22,4 @@ def main(hc, out):
     logging.info("%d checks, %d failed%s", len(rows), len(failed), "".join(f"\n  FAILED: {c}" for c in failed))
 
 
-main(snakemake.params.hc, snakemake.output.csv)  # noqa: F821
+main(snakemake.params.hc, snakemake.output.csv)

@@ -6,13 +6,13 @@ Reads snakemake.input.parts (map HDF5 row groups, in order); writes snakemake.ou
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
-from impactosc.sweeps.maps import load_map, merge_maps, save_map
 from impactosc.plotting import save_figure
 from impactosc.plotting.bifurcation import map2d_figure
+from impactosc.sweeps.maps import load_map, merge_maps, save_map
 
 UNITS = {"xI": (1e3, "mm"), "m0e": (1e3, "g m")}
 
@@ -27,4 +27,4 @@ def main(parts, model, out):
     logging.info("map %s: %d x %d cells, %.1f core seconds", m.parameter, m.values.size, m.omega.size, m.wall_time)
 
 
-main(snakemake.input.parts, snakemake.params.model, snakemake.output)  # noqa: F821
+main(snakemake.input.parts, snakemake.params.model, snakemake.output)

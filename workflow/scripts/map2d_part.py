@@ -6,7 +6,7 @@ n); writes snakemake.output.part (map HDF5 of those rows, impactosc.sweeps.maps 
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 import time
@@ -14,28 +14,40 @@ import time
 import numpy as np
 
 from impactosc.analysis.bifurcation import classify_sweep
-from impactosc.sweeps.maps import MapResult, save_map
 from impactosc.analysis.grazing import regular_grid
 from impactosc.sweeps.continuation import SweepSettings, parameter_rows
+from impactosc.sweeps.maps import MapResult, save_map
 
 
 def main(params, output):
     m = params.map
     grid = regular_grid(m["omega"]["start"], m["omega"]["stop"], m["omega"]["step"])
-    values = np.array_split(np.linspace(m["values"]["start"], m["values"]["stop"], m["values"]["n"]),
-                            m["chunks"])[params.part]
-    settings = SweepSettings.from_config(params.per_w, params.model, params.solver,
-                                         n_transient=m["n_transient"], n_record=m["n_record"])
+    values = np.array_split(np.linspace(m["values"]["start"], m["values"]["stop"], m["values"]["n"]), m["chunks"])[
+        params.part
+    ]
+    settings = SweepSettings.from_config(
+        params.per_w, params.model, params.solver, n_transient=m["n_transient"], n_record=m["n_record"]
+    )
     r = params.reading
     started = time.time()
     tables = []
     for value, res in parameter_rows(grid, settings, m["parameter"], values):
         tables.append(classify_sweep(res, x_tol=r["x_tol"], v_tol=r["v_tol"], isi_tol=r["isi_tol"]))
-        logging.info("%s = %g: %d w in %.1f s, %d abandoned", m["parameter"], value, len(res),
-                     res.wall_time.sum(), int((res.status != 0).sum()))
+        logging.info(
+            "%s = %g: %d w in %.1f s, %d abandoned",
+            m["parameter"],
+            value,
+            len(res),
+            res.wall_time.sum(),
+            int((res.status != 0).sum()),
+        )
     finished = time.time()
-    save_map(output, MapResult.from_tables(m["parameter"], values, tables, wall_time=finished - started),
-             started=started, finished=finished)
+    save_map(
+        output,
+        MapResult.from_tables(m["parameter"], values, tables, wall_time=finished - started),
+        started=started,
+        finished=finished,
+    )
 
 
-main(snakemake.params, snakemake.output.part)  # noqa: F821
+main(snakemake.params, snakemake.output.part)

@@ -7,18 +7,18 @@ run-file contract (impactosc.files) so the chaotic statistics treat it like a si
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
-from impactosc.measured.extract import ExtractOptions, extract_events
 from impactosc.files import write_run
+from impactosc.measured.extract import ExtractOptions, extract_events
 from impactosc.measured.records import read_record
 
-p = snakemake.params  # noqa: F821
-rec = read_record(snakemake.input.record)  # noqa: F821
+p = snakemake.params
+rec = read_record(snakemake.input.record)
 events, attrs = extract_events(rec, p.x_impact, ExtractOptions(noise=p.noise))
-write_run(snakemake.output.events, events, attrs, sources=snakemake.input.record)  # noqa: F821
+write_run(snakemake.output.events, events, attrs, sources=snakemake.input.record)
 logging.info(
     f"{rec.path} ({rec.label}): {attrs['n_impacts']} impacts; x_impact {attrs['x_impact']:.6g} m "
     f"({attrs['x_impact_source']}); noise {attrs['noise_sigma']:.3g} m; timing sigma median "

@@ -7,7 +7,7 @@ x extraction method) and .json (the same rows with ISI kernel densities, for the
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 import time
@@ -17,15 +17,42 @@ from impactosc.files import write_csv, write_json
 from impactosc.integration.model import ModelParams
 from impactosc.measured.surrogate import noise_study
 
-p = snakemake.params  # noqa: F821
+p = snakemake.params
 c = p.surrogate["chaos"]
 t0 = time.perf_counter()
-rows = noise_study(c["omega"], c["transient"], c["duration"], p.study["rates"], p.study["noise"],
-                   analysis=AnalysisOptions.from_config(p.analysis), mismatch=p.surrogate["mismatch"],
-                   seed=p.surrogate["seed"], params=ModelParams(**p.model), **p.solver)
-write_json(snakemake.output.json, {"rows": rows})  # noqa: F821
-columns = ["rate_hz", "noise_m", "method", "n_true", "n_found", "missed", "extra", "timing_rms_s",
-           "timing_max_z", "frac_beyond_5sigma", "sigma_t_median_s", "noise_estimate_m", "cv2_paper", "cv2",
-           "isi_n_modes", "isi_maxima", "isi_valley_ratio", "acf_n_significant", "note"]
-write_csv(snakemake.output.csv, [{k: r.get(k, "") for k in columns} for r in rows])  # noqa: F821
+rows = noise_study(
+    c["omega"],
+    c["transient"],
+    c["duration"],
+    p.study["rates"],
+    p.study["noise"],
+    analysis=AnalysisOptions.from_config(p.analysis),
+    mismatch=p.surrogate["mismatch"],
+    seed=p.surrogate["seed"],
+    params=ModelParams(**p.model),
+    **p.solver,
+)
+write_json(snakemake.output.json, {"rows": rows})
+columns = [
+    "rate_hz",
+    "noise_m",
+    "method",
+    "n_true",
+    "n_found",
+    "missed",
+    "extra",
+    "timing_rms_s",
+    "timing_max_z",
+    "frac_beyond_5sigma",
+    "sigma_t_median_s",
+    "noise_estimate_m",
+    "cv2_paper",
+    "cv2",
+    "isi_n_modes",
+    "isi_maxima",
+    "isi_valley_ratio",
+    "acf_n_significant",
+    "note",
+]
+write_csv(snakemake.output.csv, [{k: r.get(k, "") for k in columns} for r in rows])
 logging.info(f"{len(rows)} rows in {time.perf_counter() - t0:.1f} s")

@@ -6,7 +6,7 @@ and .noise (noise-study JSON); writes snakemake.output.rows.
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
@@ -14,8 +14,12 @@ from impactosc.files import read_json
 from impactosc.paper.rows import measured_rows
 from impactosc.paper.table import write_rows
 
-rows = measured_rows(read_json(snakemake.input.second[0]), read_json(snakemake.input.model[0]),  # noqa: F821
-                     read_json(snakemake.input.noise)["rows"],  # noqa: F821
-                     is_surrogate=snakemake.params.is_surrogate, command=snakemake.params.command)  # noqa: F821
-write_rows(snakemake.output.rows, rows, sources=snakemake.input)  # noqa: F821
+rows = measured_rows(
+    read_json(snakemake.input.second[0]),
+    read_json(snakemake.input.model[0]),
+    read_json(snakemake.input.noise)["rows"],
+    is_surrogate=snakemake.params.is_surrogate,
+    command=snakemake.params.command,
+)
+write_rows(snakemake.output.rows, rows, sources=snakemake.input)
 logging.info("".join(f"{r['agrees']:>4}  {r['quantity']}: {r['replication']}\n" for r in rows))

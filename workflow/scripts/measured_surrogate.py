@@ -7,7 +7,7 @@ snakemake.output.record in the measured-record format (impactosc.measured.record
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 import time
@@ -18,21 +18,22 @@ from impactosc.integration.model import ModelParams
 from impactosc.measured.records import write_record, write_record_set
 from impactosc.measured.surrogate import SurrogateOptions, surrogate_record, surrogate_sweep
 
-p = snakemake.params  # noqa: F821
+p = snakemake.params
 s = p.surrogate
 opts = SurrogateOptions(rate=s["rate"], noise=s["noise"], mismatch=s["mismatch"], seed=s["seed"])
 params = ModelParams(**p.model)
 t0 = time.perf_counter()
-if snakemake.wildcards.kind == "chaos":  # noqa: F821
+if snakemake.wildcards.kind == "chaos":
     c = s["chaos"]
     rec, _ = surrogate_record(c["omega"], c["transient"], c["duration"], opts, params=params, **p.solver)
-    write_record(snakemake.output.record, rec.t, rec.x, omega=rec.omega, meta=rec.meta)  # noqa: F821
+    write_record(snakemake.output.record, rec.t, rec.x, omega=rec.omega, meta=rec.meta)
     msg = f"chaos: {rec.t.size} samples at {opts.rate:g} Hz"
 else:
     g = s["sweep"]
     omegas = np.arange(g["start"], g["stop"] + g["step"] / 2, g["step"])
-    recs = surrogate_sweep(omegas, g["n_transient"], g["n_record"], opts, params=params,
-                           n_initial=g["n_initial"], **p.solver)
-    write_record_set(snakemake.output.record, recs)  # noqa: F821
+    recs = surrogate_sweep(
+        omegas, g["n_transient"], g["n_record"], opts, params=params, n_initial=g["n_initial"], **p.solver
+    )
+    write_record_set(snakemake.output.record, recs)
     msg = f"sweep: {len(recs)} records, w = {omegas[0]:g}..{omegas[-1]:g} rad/s"
 logging.info(f"{msg}; noise {opts.noise:g} m, mismatch {opts.mismatch}; {time.perf_counter() - t0:.1f} s")

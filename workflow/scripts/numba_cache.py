@@ -24,4 +24,4 @@ def main(marker: str) -> None:
 if __name__ == "__main__" and "snakemake" not in globals():
     main(sys.argv[1])
 else:
-    main(snakemake.output.marker)  # noqa: F821
+    main(snakemake.output.marker)

@@ -2,11 +2,11 @@
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
 from impactosc.paper.table import merge_tables
 
-rows = merge_tables(snakemake.input.rows, snakemake.output.csv, snakemake.output.md)  # noqa: F821
+rows = merge_tables(snakemake.input.rows, snakemake.output.csv, snakemake.output.md)
 logging.info(f"{len(rows)} rows")

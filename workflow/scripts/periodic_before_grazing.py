@@ -7,13 +7,13 @@ branch) and writes snakemake.output.run (HDF5 run file with a trajectory window)
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
+from impactosc.analysis.periodic import branch_state
 from impactosc.files import write_run
 from impactosc.integration.model import ModelParams
-from impactosc.analysis.periodic import branch_state
 from impactosc.integration.simulate import Window, simulate
 from impactosc.sweeps.continuation import load_sweep
 
@@ -22,13 +22,26 @@ def main(branch: str, scene: dict, model: dict, solver: dict, out: str):
     sweep, _ = load_sweep(branch)
     x0, v0 = branch_state(sweep, scene["omega"])
     end = scene["transient"] + scene["duration"]
-    res = simulate(scene["omega"], scene["transient"], scene["duration"], x0=x0, v0=v0,
-                   params=ModelParams(**model), rtol=solver["rtol"], atol=solver["atol"],
-                   window=Window(scene["transient"], end, scene["dt"]))
+    res = simulate(
+        scene["omega"],
+        scene["transient"],
+        scene["duration"],
+        x0=x0,
+        v0=v0,
+        params=ModelParams(**model),
+        rtol=solver["rtol"],
+        atol=solver["atol"],
+        window=Window(scene["transient"], end, scene["dt"]),
+    )
     res.attrs["start_from"] = f"branch end state at w = {scene['omega']} ({branch})"
     write_run(out, res.events, res.attrs, res.trajectory, sources=branch)
     logging.info("%s: %d impacts from (x0, v0) = (%.6e, %.6e)", out, res.impact_times.size, x0, v0)
 
 
-main(snakemake.input.branch, snakemake.params.scene, snakemake.params.model, snakemake.params.solver,  # noqa: F821
-     snakemake.output.run)  # noqa: F821
+main(
+    snakemake.input.branch,
+    snakemake.params.scene,
+    snakemake.params.model,
+    snakemake.params.solver,
+    snakemake.output.run,
+)

@@ -7,22 +7,26 @@ snakemake.output.bisection (JSON: the bracket and every bisection trial), and a 
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
 from impactosc.analysis.grazing import branch_grid, locate_grazing
-from impactosc.integration.model import ModelParams
 from impactosc.files import write_json
+from impactosc.integration.model import ModelParams
 from impactosc.sweeps.continuation import SweepSettings, continuation, save_sweep
 
 
 def main(branch: dict, grazing: dict, model: dict, solver: dict, out_branch: str, out_bisection: str):
-    settings = SweepSettings(n_transient=branch["n_transient"], n_record=branch["n_record"],
-                             n_initial=branch["n_initial"], params=ModelParams(**model), rtol=solver["rtol"],
-                             atol=solver["atol"])
-    grid = branch_grid(branch["start"], branch["fine_from"], branch["stop"], branch["coarse_step"],
-                       branch["fine_step"])
+    settings = SweepSettings(
+        n_transient=branch["n_transient"],
+        n_record=branch["n_record"],
+        n_initial=branch["n_initial"],
+        params=ModelParams(**model),
+        rtol=solver["rtol"],
+        atol=solver["atol"],
+    )
+    grid = branch_grid(branch["start"], branch["fine_from"], branch["stop"], branch["coarse_step"], branch["fine_step"])
     logging.info("branch: %d w values from %g down to %g", grid.size, grid[0], grid[-1])
 
     def progress(i, n, w):
@@ -32,10 +36,17 @@ def main(branch: dict, grazing: dict, model: dict, solver: dict, out_branch: str
     result = continuation(grid, settings, progress=progress)
     save_sweep(out_branch, result, direction="decreasing")
     bracket = locate_grazing(result, settings, grazing["tol"])
-    logging.info("grazing bracket [%.7f, %.7f] after %d trials", bracket.omega_contact, bracket.omega_miss,
-                 len(bracket.trials))
+    logging.info(
+        "grazing bracket [%.7f, %.7f] after %d trials", bracket.omega_contact, bracket.omega_miss, len(bracket.trials)
+    )
     write_json(out_bisection, bracket.to_dict(), final_newline=True)
 
 
-main(snakemake.params.branch, snakemake.params.grazing, snakemake.params.model, snakemake.params.solver,  # noqa: F821
-     snakemake.output.branch, snakemake.output.bisection)  # noqa: F821
+main(
+    snakemake.params.branch,
+    snakemake.params.grazing,
+    snakemake.params.model,
+    snakemake.params.solver,
+    snakemake.output.branch,
+    snakemake.output.bisection,
+)

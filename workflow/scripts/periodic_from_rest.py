@@ -6,7 +6,7 @@ solver); writes snakemake.output.sweep (sweep HDF5, impactosc.sweeps.continuatio
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
@@ -16,13 +16,25 @@ from impactosc.sweeps.continuation import SweepSettings, save_sweep
 
 
 def main(scan: dict, n_record: int, model: dict, solver: dict, out: str):
-    settings = SweepSettings(n_transient=0, n_record=n_record, n_initial=0, params=ModelParams(**model),
-                             rtol=solver["rtol"], atol=solver["atol"])
+    settings = SweepSettings(
+        n_transient=0,
+        n_record=n_record,
+        n_initial=0,
+        params=ModelParams(**model),
+        rtol=solver["rtol"],
+        atol=solver["atol"],
+    )
     grid = regular_grid(scan["start"], scan["stop"], scan["step"])
-    result = scan_from_rest(grid, settings, scan["transient"],
-                            progress=lambda i, n, w: logging.info("w %d/%d = %.4f", i + 1, n, w))
+    result = scan_from_rest(
+        grid, settings, scan["transient"], progress=lambda i, n, w: logging.info("w %d/%d = %.4f", i + 1, n, w)
+    )
     save_sweep(out, result, direction="from rest", transient_s=scan["transient"])
 
 
-main(snakemake.params.scan, snakemake.params.n_record, snakemake.params.model,  # noqa: F821
-     snakemake.params.solver, snakemake.output.sweep)  # noqa: F821
+main(
+    snakemake.params.scan,
+    snakemake.params.n_record,
+    snakemake.params.model,
+    snakemake.params.solver,
+    snakemake.output.sweep,
+)

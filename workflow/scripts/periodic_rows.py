@@ -7,7 +7,7 @@ Reads snakemake.input.stats (results/stats/periodic/periodic.json), .before
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import json
 import logging
@@ -15,11 +15,11 @@ import logging
 from impactosc.paper.rows import periodic_rows as table_rows
 from impactosc.paper.table import write_rows
 
-with open(snakemake.input.stats) as f:  # noqa: F821
+with open(snakemake.input.stats) as f:
     stats = json.load(f)
-with open(snakemake.input.before) as f:  # noqa: F821
+with open(snakemake.input.before) as f:
     stats.update(json.load(f))
-with open(snakemake.input.grazing) as f:  # noqa: F821
+with open(snakemake.input.grazing) as f:
     grazing = json.load(f)
-write_rows(snakemake.output.rows, table_rows(stats, grazing), sources=snakemake.input)  # noqa: F821
-logging.info(f"wrote {snakemake.output.rows}")  # noqa: F821
+write_rows(snakemake.output.rows, table_rows(stats, grazing), sources=snakemake.input)
+logging.info(f"wrote {snakemake.output.rows}")

@@ -8,20 +8,24 @@ snakemake.output.spectrum (its spectrum of x with lines and labels, JSON; Fig 4c
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
 from impactosc.analysis.periodic import run_summary
 from impactosc.files import write_json
 
-opts = snakemake.params.spectrum  # noqa: F821
-spectrum_of = snakemake.params.get("spectrum_of")  # noqa: F821
+opts = snakemake.params.spectrum
+spectrum_of = snakemake.params.get("spectrum_of")
 stats, spectra = {}, {}
-for name, path in snakemake.input.items():  # noqa: F821
+for name, path in snakemake.input.items():
     stats[name], spectra[name] = run_summary(path, opts)
-write_json(snakemake.output.stats, stats, final_newline=True, sources=snakemake.input)  # noqa: F821
+write_json(snakemake.output.stats, stats, final_newline=True, sources=snakemake.input)
 if spectrum_of:
-    write_json(snakemake.output.spectrum, spectra[spectrum_of].to_dict(), final_newline=True,  # noqa: F821
-               sources=dict(snakemake.input.items())[spectrum_of])  # noqa: F821
-logging.info(f"wrote {', '.join(map(str, snakemake.output))}")  # noqa: F821
+    write_json(
+        snakemake.output.spectrum,
+        spectra[spectrum_of].to_dict(),
+        final_newline=True,
+        sources=dict(snakemake.input.items())[spectrum_of],
+    )
+logging.info(f"wrote {', '.join(map(str, snakemake.output))}")

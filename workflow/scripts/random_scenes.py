@@ -7,32 +7,35 @@ compared, worst difference, stalls, failures, scenes without a reference).
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
 from impactosc.benchmarks.random_scenes import BOUND, BOUND_X, summary
 from impactosc.files import read_csv, write_csv, write_text
 
-rows = [r for path in snakemake.input.parts for r in read_csv(path, numbers=True)]  # noqa: F821
+rows = [r for path in snakemake.input.parts for r in read_csv(path, numbers=True)]
 for r in rows:
     r["scene"], r["compared"] = int(r["scene"]), int(r["compared"])
 rows.sort(key=lambda r: r["scene"])
 s = summary(rows)
 logging.info("summary: %s", s)
-write_csv(snakemake.output.csv, rows, floats="", sources=snakemake.input.parts)  # noqa: F821
-rs = snakemake.params.rs  # noqa: F821
+write_csv(snakemake.output.csv, rows, floats="", sources=snakemake.input.parts)
+rs = snakemake.params.rs
 lines = [
-    "# Randomized scenes: the core against SciPy (LSODA, two tolerances)", "",
+    "# Randomized scenes: the core against SciPy (LSODA, two tolerances)",
+    "",
     f"Seed {rs['seed']}, {s['scenes']} scenes of {rs['horizon']:g} s, core rtol {rs['rtol']:g}; "
     f"bound {BOUND:g} s on impact times (or {BOUND_X:g} m of position, |dt| v, for slow impacts) over the "
-    "horizon where the two references agree.", "",
+    "horizon where the two references agree.",
+    "",
     "| scenes | mean horizon (s) | impacts compared | worst difference (s) | stalls | failures | no reference |",
     "|---|---|---|---|---|---|---|",
     f"| {s['scenes']} | {s['mean_horizon_s']:.3g} | {s['impacts_compared']} | {s['worst_dt_s']:.2g} | {s['stalls']} "
-    f"| {s['failures']} | {s['no_reference']} |", "",
+    f"| {s['failures']} | {s['no_reference']} |",
+    "",
 ]
 bad = [r for r in rows if r["status"] != "ok"]
 if bad:
     lines += ["Scenes not ok:", ""] + [f"- scene {r['scene']}: {r['status']}: {r['message']}" for r in bad]
-write_text(snakemake.output.md, "\n".join(lines) + "\n")  # noqa: F821
+write_text(snakemake.output.md, "\n".join(lines) + "\n")

@@ -7,19 +7,26 @@ scenes part, part + parts, part + 2 parts, ... of the seed's stream; writes outp
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
 from impactosc.benchmarks.random_scenes import compare_scene, draw_scene
 from impactosc.files import write_csv
 
-rs = snakemake.params.rs  # noqa: F821
-part = int(snakemake.wildcards.part)  # noqa: F821
+rs = snakemake.params.rs
+part = int(snakemake.wildcards.part)
 rows = []
 for i in range(part, rs["scenes"], rs["parts"]):
     row = compare_scene(draw_scene(rs["seed"], i), rs["horizon"], rtol=rs["rtol"], atol=rs["atol"])
-    logging.info("scene %d: %s, %d impacts over %.3g s, worst %.2g s (%s)", i, row["status"], row["compared"],
-                 row["horizon"], row["worst_dt"], row["reference"])
+    logging.info(
+        "scene %d: %s, %d impacts over %.3g s, worst %.2g s (%s)",
+        i,
+        row["status"],
+        row["compared"],
+        row["horizon"],
+        row["worst_dt"],
+        row["reference"],
+    )
     rows.append(row)
-write_csv(snakemake.output.csv, rows, floats="")  # noqa: F821
+write_csv(snakemake.output.csv, rows, floats="")

@@ -6,7 +6,7 @@ config from snakemake.params; writes snakemake.output.run (atomically) and a log
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
@@ -21,13 +21,31 @@ def run_scene(model: dict, solver: dict, scene: dict, output: str) -> None:
     def progress(t, t_end, n_imp):
         logging.info("t = %.1f / %.1f s, %d impacts", t, t_end, n_imp)
 
-    res = simulate(scene["omega"], scene["transient"], scene["duration"], x0=scene["x0"], v0=scene["v0"],
-                   params=ModelParams(**model), rtol=solver["rtol"], atol=solver["atol"], window=window,
-                   record=scene["events"], progress=progress)
+    res = simulate(
+        scene["omega"],
+        scene["transient"],
+        scene["duration"],
+        x0=scene["x0"],
+        v0=scene["v0"],
+        params=ModelParams(**model),
+        rtol=solver["rtol"],
+        atol=solver["atol"],
+        window=window,
+        record=scene["events"],
+        progress=progress,
+    )
     write_run(output, res.events, res.attrs, res.trajectory)
-    logging.info("%s: %d impacts, wall time %.3f s", output,
-                 len(res.events.get("impacts", {}).get("t", [])), res.attrs["wall_time"])
+    logging.info(
+        "%s: %d impacts, wall time %.3f s",
+        output,
+        len(res.events.get("impacts", {}).get("t", [])),
+        res.attrs["wall_time"],
+    )
 
 
-run_scene(snakemake.params.model, snakemake.params.solver, snakemake.params.scene,  # noqa: F821
-          snakemake.output.run)  # noqa: F821
+run_scene(
+    snakemake.params.model,
+    snakemake.params.solver,
+    snakemake.params.scene,
+    snakemake.output.run,
+)

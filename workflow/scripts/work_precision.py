@@ -8,13 +8,12 @@ statistics against the ensemble) and the figure .png/.pdf.
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
-import json
 import logging
 
-from impactosc.files import read_table, write_table
 from impactosc.benchmarks.workprecision import headline, statistics_summary
+from impactosc.files import read_json, read_table, write_table
 from impactosc.plotting import save_figure
 from impactosc.plotting.work_precision import plot_work_precision
 
@@ -26,16 +25,24 @@ def _stats_rows(rows):
 
 def main(scene_csvs, stats_csv, jit_json, levels, out):
     rows = [r for path in scene_csvs for r in read_table(path)]
-    jit = json.loads(open(jit_json).read())
+    jit = read_json(jit_json)
     write_table(out.table, rows, sources=scene_csvs)
     head = headline(rows, {"impact_time_error": levels})
-    write_table(out.headline, [{**h, "jit_cold": jit["cold"], "jit_cached": jit["cached"]} for h in head],
-                sources=[scene_csvs, jit_json])
+    write_table(
+        out.headline,
+        [{**h, "jit_cold": jit["cold"], "jit_cached": jit["cached"]} for h in head],
+        sources=[scene_csvs, jit_json],
+    )
     stats = _stats_rows(read_table(stats_csv))
     write_table(out.statistics_summary, statistics_summary(stats), sources=stats_csv)
     save_figure(plot_work_precision(rows, stats, jit=jit), out.png, out.pdf)
     logging.info("%d measurements, %d headline rows; wrote %s", len(rows), len(head), out.png)
 
 
-main(snakemake.input.scenes, snakemake.input.stats, snakemake.input.jit,  # noqa: F821
-     snakemake.params.levels, snakemake.output)  # noqa: F821
+main(
+    snakemake.input.scenes,
+    snakemake.input.stats,
+    snakemake.input.jit,
+    snakemake.params.levels,
+    snakemake.output,
+)

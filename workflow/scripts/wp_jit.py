@@ -6,7 +6,7 @@ work-precision figure and table report apart from the (compile-free) timings.
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
@@ -20,4 +20,4 @@ def main(cold, out):
     write_json(out, jit, final_newline=True)
 
 
-main(snakemake.params.cold, snakemake.output.json)  # noqa: F821
+main(snakemake.params.cold, snakemake.output.json)

@@ -10,14 +10,13 @@ impactosc.benchmarks.workprecision.sweep_case) and a log.
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
-
 import math
 
-from impactosc.files import read_table, write_table
 from impactosc.benchmarks.workprecision import CORE, Case, known_long_runs, peer_solvers, sweep_case
+from impactosc.files import read_table, write_table
 from impactosc.integration.model import ModelParams
 
 
@@ -29,14 +28,31 @@ def main(model, wp, name, entry, benchmark, out):
     known = known_long_runs(read_table(benchmark)) if benchmark else {}
     if known:
         logging.info("%d runs of 500 s taken from %s", len(known), benchmark)
-    rows = sweep_case(case, ModelParams(**model), wp["rtols"], wp["atol_ratio"], solvers,
-                      wp["reference"], core_repeats=wp["core_repeats"], scipy_repeats=wp["scipy_repeats"],
-                      repeat_below=wp["scipy_repeat_below"],
-                      time_cap=math.inf if wp["exhaustive"] else wp["scipy_time_cap"],
-                      peer_repeats=pc["repeats"], attractor_check=with_peers and pc["attractor_check"],
-                      floor=with_peers and pc["heyoka"], known_500s=known, log=logging.info)
+    rows = sweep_case(
+        case,
+        ModelParams(**model),
+        wp["rtols"],
+        wp["atol_ratio"],
+        solvers,
+        wp["reference"],
+        core_repeats=wp["core_repeats"],
+        scipy_repeats=wp["scipy_repeats"],
+        repeat_below=wp["scipy_repeat_below"],
+        time_cap=math.inf if wp["exhaustive"] else wp["scipy_time_cap"],
+        peer_repeats=pc["repeats"],
+        attractor_check=with_peers and pc["attractor_check"],
+        floor=with_peers and pc["heyoka"],
+        known_500s=known,
+        log=logging.info,
+    )
     write_table(out, rows, sources=[benchmark] if benchmark else None)
 
 
-main(snakemake.params.model, snakemake.params.wp, snakemake.wildcards.wp_scene,  # noqa: F821
-     snakemake.params.entry, snakemake.input.get("benchmark"), snakemake.output.csv)  # noqa: F821
+main(
+    snakemake.params.model,
+    snakemake.params.wp,
+    snakemake.wildcards.wp_scene,
+    snakemake.params.entry,
+    snakemake.input.get("benchmark"),
+    snakemake.output.csv,
+)

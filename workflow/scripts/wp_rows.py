@@ -6,7 +6,7 @@ writes snakemake.output.rows (impactosc.paper.table.write_rows format).
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
@@ -21,5 +21,10 @@ def main(hard, summary, headline, out, command):
     logging.info("%d rows to %s", len(rows), out)
 
 
-main(snakemake.input.hard, snakemake.input.summary, snakemake.input.headline,  # noqa: F821
-     snakemake.output.rows, snakemake.params.command)  # noqa: F821
+main(
+    snakemake.input.hard,
+    snakemake.input.summary,
+    snakemake.input.headline,
+    snakemake.output.rows,
+    snakemake.params.command,
+)

@@ -7,22 +7,37 @@ and "ensemble", see impactosc.benchmarks.workprecision.statistics_convergence) a
 
 from _logging import configure_logging
 
-configure_logging(snakemake)  # noqa: F821
+configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import write_table
-from impactosc.benchmarks.workprecision import statistics_convergence
 from impactosc.analysis.impact_train import AnalysisOptions
+from impactosc.benchmarks.workprecision import statistics_convergence
+from impactosc.files import write_table
 from impactosc.integration.model import ModelParams
 
 
 def main(model, scene, stats, atol_ratio, analysis, out):
-    rows = statistics_convergence(scene["omega"], scene["transient"], scene["duration"], stats["rtols"], atol_ratio,
-                                  stats["ensemble_x0"], stats["ensemble_rtol"], ModelParams(**model),
-                                  AnalysisOptions.from_config(analysis), log=logging.info)
+    rows = statistics_convergence(
+        scene["omega"],
+        scene["transient"],
+        scene["duration"],
+        stats["rtols"],
+        atol_ratio,
+        stats["ensemble_x0"],
+        stats["ensemble_rtol"],
+        ModelParams(**model),
+        AnalysisOptions.from_config(analysis),
+        log=logging.info,
+    )
     write_table(out, rows)
 
 
-main(snakemake.params.model, snakemake.params.scene, snakemake.params.stats,  # noqa: F821
-     snakemake.params.atol_ratio, snakemake.params.analysis, snakemake.output.csv)  # noqa: F821
+main(
+    snakemake.params.model,
+    snakemake.params.scene,
+    snakemake.params.stats,
+    snakemake.params.atol_ratio,
+    snakemake.params.analysis,
+    snakemake.output.csv,
+)

@@ -20,6 +20,7 @@ bifurcation (:func:`find_grazings`; the gap line is
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import asdict, dataclass, field
 from fractions import Fraction
@@ -32,10 +33,19 @@ from .grazing import extrapolate_gap_zero
 from .orbits import FAILED, NONPERIODIC, detect_period, impacts_per_orbit
 
 __all__ = [
-    "BranchTable", "classify_sweep",
-    "Segment", "segments", "Transition", "transitions", "Grazing", "find_grazings", "differing_windows",
-    "SweepReading", "read_sweep",
+    "BranchTable",
+    "classify_sweep",
+    "Segment",
+    "segments",
+    "Transition",
+    "transitions",
+    "Grazing",
+    "find_grazings",
+    "differing_windows",
+    "SweepReading",
+    "read_sweep",
 ]
+
 
 @dataclass
 class BranchTable:
@@ -77,13 +87,22 @@ class BranchTable:
 
     def rows(self) -> list[dict]:
         """One dict per w, for a CSV."""
-        return [{"omega": f"{self.omega[i]:.6f}", "period": int(self.period[i]), "impacts": int(self.impacts[i]),
-                 "impacts_per_forcing_period": f"{self.rate[i]:.6f}", "n_isi_levels": int(self.n_isi_levels[i]),
-                 "min_gap_m": f"{self.min_gap[i]:.6e}"} for i in range(len(self))]
+        return [
+            {
+                "omega": f"{self.omega[i]:.6f}",
+                "period": int(self.period[i]),
+                "impacts": int(self.impacts[i]),
+                "impacts_per_forcing_period": f"{self.rate[i]:.6f}",
+                "n_isi_levels": int(self.n_isi_levels[i]),
+                "min_gap_m": f"{self.min_gap[i]:.6e}",
+            }
+            for i in range(len(self))
+        ]
 
 
-def classify_sweep(result, x_tol: float = 1e-6, v_tol: float = 1e-4, isi_tol: float = 1e-4,
-                   max_period: int | None = None) -> BranchTable:
+def classify_sweep(
+    result, x_tol: float = 1e-6, v_tol: float = 1e-4, isi_tol: float = 1e-4, max_period: int | None = None
+) -> BranchTable:
     """Period, impacts per period and ISI levels of every w of a sweep.
 
     x_tol (m) and v_tol (m/s) are the Poincare repetition tolerances (defaults 1 um and
@@ -107,8 +126,14 @@ def classify_sweep(result, x_tol: float = 1e-6, v_tol: float = 1e-4, isi_tol: fl
             impacts[i] = impacts_per_orbit(t, 2 * math.pi / result.omega[i], n_rec, int(period[i]))
         if t.size > 2:
             levels[i] = distinct_levels(np.diff(t), rel_tol=0.0, abs_tol=isi_tol).n_levels
-    return BranchTable(omega=result.omega.copy(), period=period, impacts=impacts, rate=rate,
-                       n_isi_levels=levels, min_gap=result.min_gap.copy())
+    return BranchTable(
+        omega=result.omega.copy(),
+        period=period,
+        impacts=impacts,
+        rate=rate,
+        n_isi_levels=levels,
+        min_gap=result.min_gap.copy(),
+    )
 
 
 @dataclass(frozen=True)
@@ -148,9 +173,15 @@ class Segment:
         return self.kind
 
     def to_dict(self) -> dict:
-        return {"omega_first": round(self.omega_first, 6), "omega_last": round(self.omega_last, 6),
-                "n_points": self.n_points, "kind": self.kind, "period": self.period, "impacts": self.impacts,
-                "impacts_per_forcing_period": str(self.rate) if self.rate is not None else ""}
+        return {
+            "omega_first": round(self.omega_first, 6),
+            "omega_last": round(self.omega_last, 6),
+            "n_points": self.n_points,
+            "kind": self.kind,
+            "period": self.period,
+            "impacts": self.impacts,
+            "impacts_per_forcing_period": str(self.rate) if self.rate is not None else "",
+        }
 
 
 def segments(table: BranchTable) -> list[Segment]:
@@ -220,7 +251,7 @@ def transitions(table: BranchTable, min_points: int = 2) -> list[Transition]:
         raise ValueError(f"min_points must be an integer >= 1, got {min_points!r}")
     settled = [s for s in segments(table) if s.n_points >= min_points and s.kind != "failed"]
     out = []
-    for a, b in zip(settled, settled[1:]):
+    for a, b in itertools.pairwise(settled):
         if a.key == b.key:  # the same state on both sides of an unsettled stretch
             continue
         kind, detail = _classify(a, b)
@@ -338,19 +369,43 @@ class SweepReading:
         for t in self.transitions:
             g = graz.get((t.omega_before, t.omega_after))
             trans.append((g.transition if g else t).to_dict() | {"is_grazing": g is not None})
-        return {"name": self.name, "direction": self.direction, "n_omega": len(self.table),
-                "omega_step": self.table.step, "failed_omegas": self.failed_omegas,
-                "per_w": {"omega": self.table.omega.tolist(), "period": self.table.period.tolist(),
-                          "impacts": self.table.impacts.tolist()},
-                "segments": [s.to_dict() for s in self.segments], "transitions": trans,
-                "grazings": [{"omega_before": g.transition.omega_before, "omega_after": g.transition.omega_after,
-                              "omega_zero": g.omega_zero, "slope": g.slope, "rms": g.rms, "gap_last": g.gap_last,
-                              "detail": g.transition.detail} for g in self.grazings]}
+        return {
+            "name": self.name,
+            "direction": self.direction,
+            "n_omega": len(self.table),
+            "omega_step": self.table.step,
+            "failed_omegas": self.failed_omegas,
+            "per_w": {
+                "omega": self.table.omega.tolist(),
+                "period": self.table.period.tolist(),
+                "impacts": self.table.impacts.tolist(),
+            },
+            "segments": [s.to_dict() for s in self.segments],
+            "transitions": trans,
+            "grazings": [
+                {
+                    "omega_before": g.transition.omega_before,
+                    "omega_after": g.transition.omega_after,
+                    "omega_zero": g.omega_zero,
+                    "slope": g.slope,
+                    "rms": g.rms,
+                    "gap_last": g.gap_last,
+                    "detail": g.transition.detail,
+                }
+                for g in self.grazings
+            ],
+        }
 
 
 def read_sweep(result, name: str, x_tol=1e-6, v_tol=1e-4, isi_tol=1e-4, min_points=2, n_fit=5) -> SweepReading:
     """Classify a sweep and find its segments, transitions and grazings."""
     table = classify_sweep(result, x_tol=x_tol, v_tol=v_tol, isi_tol=isi_tol)
-    return SweepReading(name=name, direction=table.direction, table=table, segments=segments(table),
-                        transitions=transitions(table, min_points), grazings=find_grazings(table, min_points, n_fit),
-                        failed_omegas=[float(w) for w in table.omega[table.period == FAILED]])
+    return SweepReading(
+        name=name,
+        direction=table.direction,
+        table=table,
+        segments=segments(table),
+        transitions=transitions(table, min_points),
+        grazings=find_grazings(table, min_points, n_fit),
+        failed_omegas=[float(w) for w in table.omega[table.period == FAILED]],
+    )

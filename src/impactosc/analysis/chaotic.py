@@ -56,6 +56,7 @@ PARTS = ("stationarity", "variability", "poisson", "isi_density", "mixture", "ac
 
 # ----------------------------------------------------------------------------- parts
 
+
 def _stationarity(train: ImpactTrain, o: AnalysisOptions) -> dict:
     counts = st.window_counts(train.times, train.t_start, train.t_stop, o.n_windows)
     test = st.equal_rate_test(counts, alpha=o.alpha)
@@ -74,9 +75,7 @@ def _fano(train: ImpactTrain, o: AnalysisOptions) -> dict:
     """Fano factor against window length with the Poisson (F = 1) acceptance band."""
     fit = [w for w in o.fano_windows if train.duration / w >= o.min_fano_windows]
     if not fit:
-        raise ValueError(
-            f"no Fano window fits {o.min_fano_windows} times into the {train.duration} s span"
-        )
+        raise ValueError(f"no Fano window fits {o.min_fano_windows} times into the {train.duration} s span")
     curve = st.fano_curve(train.times, fit, train.t_start, train.t_stop)
     dof = curve.n_windows - 1
     lo = sps.chi2.ppf(o.alpha / 2, dof) / dof
@@ -171,9 +170,9 @@ def _isi_density(train: ImpactTrain, o: AnalysisOptions) -> dict:
         g, d = out["kde_grid"], out["kde_density"]
         inside = (g > a) & (g < b)
         split = float(g[inside][np.argmin(d[inside])])
-        short = S < split
+        short = split > S
         sym = "".join("s" if x else "L" for x in short)
-        triples = Counter(sym[i:i + 3] for i in range(len(sym) - 2))
+        triples = Counter(sym[i : i + 3] for i in range(len(sym) - 2))
         out["scales"] = {
             "split": split,
             "short_fraction": float(short.mean()),
@@ -187,8 +186,7 @@ def _isi_density(train: ImpactTrain, o: AnalysisOptions) -> dict:
 def _mixture_curves(fit: st.MixtureFit, grid: np.ndarray) -> dict:
     comps = []
     for j in range(fit.n_components):
-        one = dataclasses.replace(fit, weights=np.array([1.0]),
-                                  params={k: v[[j]] for k, v in fit.params.items()})
+        one = dataclasses.replace(fit, weights=np.array([1.0]), params={k: v[[j]] for k, v in fit.params.items()})
         comps.append(fit.weights[j] * one.pdf(grid))
     return {"pdf": fit.pdf(grid), "components": np.array(comps)}
 
@@ -210,9 +208,13 @@ def _fit_record(fit: st.MixtureFit) -> dict:
 
 
 def _mixture(train: ImpactTrain, o: AnalysisOptions, grid: np.ndarray) -> dict:
-    sel = st.select_mixture(train.intervals, families=o.mixture_families,
-                            n_components=o.mixture_components, n_restarts=o.mixture_restarts,
-                            seed=o.seed)
+    sel = st.select_mixture(
+        train.intervals,
+        families=o.mixture_families,
+        n_components=o.mixture_components,
+        n_restarts=o.mixture_restarts,
+        seed=o.seed,
+    )
     fits = list(sel.fits)
     aic0 = min(f.aic for f in fits)
     records = []
@@ -253,8 +255,9 @@ def _acf(train: ImpactTrain, o: AnalysisOptions, scales: dict | None) -> dict:
         rng = np.random.default_rng(o.seed)
         top = []
         for _ in range(o.acf_surrogates):
-            sp = st.acf_spectrum(st.autocorrelation(rng.permutation(S), kmax=kmax), n_peaks=1,
-                                 min_prominence=o.acf_min_prominence)
+            sp = st.acf_spectrum(
+                st.autocorrelation(rng.permutation(S), kmax=kmax), n_peaks=1, min_prominence=o.acf_min_prominence
+            )
             top.append(sp.peak_magnitude[0] if sp.peak_magnitude.size else sp.magnitude[1:].max())
         threshold = float(np.quantile(top, 1 - o.alpha))
     sig = (spec.peak_magnitude > threshold) if threshold is not None else np.zeros(spec.peak_frequency.size, bool)
@@ -298,8 +301,7 @@ def _penetrations(train: ImpactTrain, o: AnalysisOptions) -> dict | None:
     return out
 
 
-def analyse_train(train: ImpactTrain, options: AnalysisOptions | None = None,
-                  parts=PARTS) -> dict:
+def analyse_train(train: ImpactTrain, options: AnalysisOptions | None = None, parts=PARTS) -> dict:
     """All section-2.2 statistics of one impact train, as a JSON-ready dict.
 
     Why: one function serves the model, the ensemble members and measured records, so
@@ -360,6 +362,7 @@ def analyse_train(train: ImpactTrain, options: AnalysisOptions | None = None,
 
 # ------------------------------------------------------------------ summaries, tables
 
+
 def key_numbers(stats: dict) -> dict:
     """The scalar results of :func:`analyse_train` that the table and the ensemble use."""
     out = {"n_impacts": stats["train"]["n_impacts"], "rate": stats["train"]["rate"]}
@@ -417,20 +420,22 @@ def mixture_table(stats: dict) -> list[dict]:
     """One row per mixture fit (best BIC first), for results/tables/chaotic/isi_mixture.csv."""
     rows = []
     for f in stats["mixture"]["fits"]:
-        fmt = lambda a, spec: " ".join(format(float(v), spec) for v in a)  # noqa: E731
-        rows.append({
-            "family": f["family"],
-            "components": f["n_components"],
-            "weights": fmt(f["weights"], ".3f"),
-            "means_s": fmt(f["means"], ".4f"),
-            "stds_s": fmt(f["stds"], ".4f"),
-            "modes_s": fmt(f["modes"], ".4f"),
-            "params": "; ".join(f"{k}=" + fmt(v, ".4g") for k, v in f["params"].items()),
-            "loglik": f"{f['loglik']:.2f}",
-            "aic": f"{f['aic']:.2f}",
-            "bic": f"{f['bic']:.2f}",
-            "delta_aic": f"{f['delta_aic']:.2f}",
-            "delta_bic": f"{f['delta_bic']:.2f}",
-            "converged": f["converged"],
-        })
+        fmt = lambda a, spec: " ".join(format(float(v), spec) for v in a)
+        rows.append(
+            {
+                "family": f["family"],
+                "components": f["n_components"],
+                "weights": fmt(f["weights"], ".3f"),
+                "means_s": fmt(f["means"], ".4f"),
+                "stds_s": fmt(f["stds"], ".4f"),
+                "modes_s": fmt(f["modes"], ".4f"),
+                "params": "; ".join(f"{k}=" + fmt(v, ".4g") for k, v in f["params"].items()),
+                "loglik": f"{f['loglik']:.2f}",
+                "aic": f"{f['aic']:.2f}",
+                "bic": f"{f['bic']:.2f}",
+                "delta_aic": f"{f['delta_aic']:.2f}",
+                "delta_bic": f"{f['delta_bic']:.2f}",
+                "converged": f["converged"],
+            }
+        )
     return rows

@@ -86,8 +86,13 @@ def ensemble_summary(members: dict) -> dict:
             categorical[k] = dict(Counter(vals))
         else:
             a = np.asarray(vals, dtype=float)
-            numeric[k] = {"mean": float(a.mean()), "sd": float(a.std(ddof=1)) if a.size > 1 else 0.0,
-                          "min": float(a.min()), "max": float(a.max()), "n": int(a.size)}
+            numeric[k] = {
+                "mean": float(a.mean()),
+                "sd": float(a.std(ddof=1)) if a.size > 1 else 0.0,
+                "min": float(a.min()),
+                "max": float(a.max()),
+                "n": int(a.size),
+            }
     out = {"members": members, "numeric": numeric, "categorical": categorical}
     wc = [m["window_counts"] for m in members.values() if "window_counts" in m]
     if wc:

@@ -21,8 +21,8 @@ orbit's near miss is zero (a secant in w), for runs that must set the depth or g
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
-from typing import Callable
 
 import numpy as np
 
@@ -33,10 +33,22 @@ from ..sweeps.continuation import continuation, load_sweep, merge_chunks
 from .orbits import poincare_period
 
 __all__ = [
-    "Trial", "GrazingBracket", "GapFit", "find_grazing_step", "bisect_transition",
-    "extrapolate_gap_zero", "sweep_summary", "model_trial", "locate_grazing", "branch_grid",
-    "grazing_statistics", "scan_from_rest", "regular_grid", "grazing_summary_file",
-    "settle_orbit", "grazing_by_clearance_secant",
+    "Trial",
+    "GrazingBracket",
+    "GapFit",
+    "find_grazing_step",
+    "bisect_transition",
+    "extrapolate_gap_zero",
+    "sweep_summary",
+    "model_trial",
+    "locate_grazing",
+    "branch_grid",
+    "grazing_statistics",
+    "scan_from_rest",
+    "regular_grid",
+    "grazing_summary_file",
+    "settle_orbit",
+    "grazing_by_clearance_secant",
 ]
 
 
@@ -81,8 +93,13 @@ class GrazingBracket:
         return 0.5 * (self.omega_miss + self.omega_contact)
 
     def to_dict(self) -> dict:
-        return {"omega_miss": self.omega_miss, "omega_contact": self.omega_contact, "width": self.width,
-                "midpoint": self.midpoint, "trials": [asdict(t) for t in self.trials]}
+        return {
+            "omega_miss": self.omega_miss,
+            "omega_contact": self.omega_contact,
+            "width": self.width,
+            "midpoint": self.midpoint,
+            "trials": [asdict(t) for t in self.trials],
+        }
 
 
 def _as_1d(values, name: str, allow_nan: bool = False) -> np.ndarray:
@@ -117,13 +134,21 @@ def find_grazing_step(omegas, min_gap, impacts_per_period) -> int:
     changed = ~np.isclose(n[1:], n[:-1], rtol=0, atol=1e-9)
     candidates = np.flatnonzero(changed & np.isfinite(g[:-1]) & (g[:-1] > 0))
     if candidates.size == 0:
-        raise ValueError("no step of the branch turns a near miss into a contact "
-                         "(impacts per period never change right after a near miss)")
+        raise ValueError(
+            "no step of the branch turns a near miss into a contact "
+            "(impacts per period never change right after a near miss)"
+        )
     return int(candidates[np.argmin(g[candidates])])
 
 
-def bisect_transition(trial: Callable[[float, object], Trial], omega_miss: float, omega_contact: float,
-                      state, tol: float, max_trials: int = 60) -> GrazingBracket:
+def bisect_transition(
+    trial: Callable[[float, object], Trial],
+    omega_miss: float,
+    omega_contact: float,
+    state,
+    tol: float,
+    max_trials: int = 60,
+) -> GrazingBracket:
     """Shrink [omega_miss, omega_contact] to width <= tol by bisection on w.
 
     Why: locating the grazing w to a stated resolution rather than to the sweep step.
@@ -207,10 +232,18 @@ def sweep_summary(result) -> dict:
     """
     n_rec = result.poincare_x.shape[1]
     counts = np.diff(result.impact_offsets)
-    min_v = np.array([result.impact_v[a:b].min() if b > a else np.nan
-                      for a, b in zip(result.impact_offsets[:-1], result.impact_offsets[1:])])
-    return {"omega": result.omega.copy(), "impacts_per_period": counts / n_rec, "min_impact_v": min_v,
-            "min_gap": result.min_gap.copy()}
+    min_v = np.array(
+        [
+            result.impact_v[a:b].min() if b > a else np.nan
+            for a, b in zip(result.impact_offsets[:-1], result.impact_offsets[1:])
+        ]
+    )
+    return {
+        "omega": result.omega.copy(),
+        "impacts_per_period": counts / n_rec,
+        "min_impact_v": min_v,
+        "min_gap": result.min_gap.copy(),
+    }
 
 
 def model_trial(settings, reference_impacts_per_period: float) -> Callable[[float, object], Trial]:
@@ -219,13 +252,20 @@ def model_trial(settings, reference_impacts_per_period: float) -> Callable[[floa
     The attractor is classified as a contact when its impacts per forcing period differ
     from `reference_impacts_per_period` (that of the branch just before grazing).
     """
+
     def trial(omega: float, state) -> Trial:
         res = continuation([omega], settings, x0=state[0], v0=state[1], first_transient=settings.n_transient)
         s = sweep_summary(res)
         ipp = float(s["impacts_per_period"][0])
-        return Trial(omega=float(omega), contact=not math.isclose(ipp, reference_impacts_per_period, abs_tol=1e-9),
-                     min_gap=float(s["min_gap"][0]), min_impact_v=float(s["min_impact_v"][0]),
-                     impacts_per_period=ipp, x_end=float(res.x_end[0]), v_end=float(res.v_end[0]))
+        return Trial(
+            omega=float(omega),
+            contact=not math.isclose(ipp, reference_impacts_per_period, abs_tol=1e-9),
+            min_gap=float(s["min_gap"][0]),
+            min_impact_v=float(s["min_impact_v"][0]),
+            impacts_per_period=ipp,
+            x_end=float(res.x_end[0]),
+            v_end=float(res.v_end[0]),
+        )
 
     return trial
 
@@ -239,8 +279,9 @@ def locate_grazing(branch, settings, tol: float) -> GrazingBracket:
     s = sweep_summary(branch)
     i = find_grazing_step(s["omega"], s["min_gap"], s["impacts_per_period"])
     trial = model_trial(settings, float(s["impacts_per_period"][i]))
-    return bisect_transition(trial, float(s["omega"][i]), float(s["omega"][i + 1]),
-                             (float(branch.x_end[i]), float(branch.v_end[i])), tol)
+    return bisect_transition(
+        trial, float(s["omega"][i]), float(s["omega"][i + 1]), (float(branch.x_end[i]), float(branch.v_end[i])), tol
+    )
 
 
 def branch_grid(start: float, fine_from: float, stop: float, coarse_step: float, fine_step: float) -> np.ndarray:
@@ -275,8 +316,15 @@ def _attractor_at(summary: dict, omega: float, periods=None) -> dict | None:
     return out
 
 
-def grazing_statistics(branch: dict, bracket: dict, from_rest: dict, paper_omegas=GRAZING["omegas"], n_fit: int = 5,
-                       branch_periods=None, rest_periods=None) -> dict:
+def grazing_statistics(
+    branch: dict,
+    bracket: dict,
+    from_rest: dict,
+    paper_omegas=GRAZING["omegas"],
+    n_fit: int = 5,
+    branch_periods=None,
+    rest_periods=None,
+) -> dict:
     """Everything the grazing claim rests on, as a JSON-ready dict.
 
     branch / from_rest: per-w summaries (:func:`sweep_summary`), branch in branch order;
@@ -292,13 +340,19 @@ def grazing_statistics(branch: dict, bracket: dict, from_rest: dict, paper_omega
     out = {
         "omega_g": wg,
         "bracket": bracket,
-        "branch_step": {"omega_miss": pre, "omega_contact": float(branch["omega"][i + 1]),
-                        "impacts_per_period_before": ref,
-                        "impacts_per_period_after": float(branch["impacts_per_period"][i + 1])},
+        "branch_step": {
+            "omega_miss": pre,
+            "omega_contact": float(branch["omega"][i + 1]),
+            "impacts_per_period_before": ref,
+            "impacts_per_period_after": float(branch["impacts_per_period"][i + 1]),
+        },
         "gap_fit": fit.to_dict(),
         "fit_minus_bracket": fit.omega_zero - wg,
-        "fit_inside_bracket": bool(min(bracket["omega_miss"], bracket["omega_contact"]) <= fit.omega_zero
-                                   <= max(bracket["omega_miss"], bracket["omega_contact"])),
+        "fit_inside_bracket": bool(
+            min(bracket["omega_miss"], bracket["omega_contact"])
+            <= fit.omega_zero
+            <= max(bracket["omega_miss"], bracket["omega_contact"])
+        ),
         "paper_omegas": list(map(float, paper_omegas)),
         "between_paper_omegas": bool(min(paper_omegas) < wg < max(paper_omegas)),
         "branch_at_paper_omegas": {f"{w:g}": _attractor_at(branch, w, branch_periods) for w in paper_omegas},
@@ -308,7 +362,8 @@ def grazing_statistics(branch: dict, bracket: dict, from_rest: dict, paper_omega
     # with a near miss) and which on something else
     rw = np.asarray(from_rest["omega"])
     on_pre = np.isclose(np.asarray(from_rest["impacts_per_period"]), ref, atol=1e-9) & np.isfinite(
-        np.asarray(from_rest["min_gap"]))
+        np.asarray(from_rest["min_gap"])
+    )
     out["from_rest_on_pre_grazing_orbit"] = {"omega": rw[on_pre].tolist(), "other": rw[~on_pre].tolist()}
     return out
 
@@ -341,8 +396,9 @@ def regular_grid(start: float, stop: float, step: float) -> np.ndarray:
     return np.round(start + math.copysign(step, stop - start) * np.arange(n + 1), 9)
 
 
-def grazing_summary_file(branch_path, bisection_path, from_rest_path, paper_omegas=GRAZING["omegas"],
-                         n_fit: int = 5) -> dict:
+def grazing_summary_file(
+    branch_path, bisection_path, from_rest_path, paper_omegas=GRAZING["omegas"], n_fit: int = 5
+) -> dict:
     """:func:`grazing_statistics` from the workflow's files, plus the per-w arrays to plot.
 
     Each per-w summary gets the Poincare period of the recorded attractor (forcing
@@ -359,13 +415,21 @@ def grazing_summary_file(branch_path, bisection_path, from_rest_path, paper_omeg
     for t in bracket["trials"]:  # JSON null -> NaN
         for k in ("min_gap", "min_impact_v"):
             t[k] = math.nan if t[k] is None else t[k]
-    out = grazing_statistics(summaries["branch"], bracket, summaries["from_rest"], paper_omegas, n_fit,
-                             summaries["branch"]["period"], summaries["from_rest"]["period"])
+    out = grazing_statistics(
+        summaries["branch"],
+        bracket,
+        summaries["from_rest"],
+        paper_omegas,
+        n_fit,
+        summaries["branch"]["period"],
+        summaries["from_rest"]["period"],
+    )
     out["per_w"] = {name: {k: np.asarray(v).tolist() for k, v in s.items()} for name, s in summaries.items()}
     return out
 
 
 # ---------------------------------------------------------------- grazing of an orbit, by secant
+
 
 def _signed_clearance(events):
     """(value, time) of the x maximum closest to the obstacle: +depth of a contact,
@@ -390,15 +454,26 @@ def settle_orbit(omega, state, params, periods, record_periods=3, rtol=1e-10, at
     period = 2 * math.pi / omega
     t0, t1 = periods * period, (periods + record_periods) * period
     win = Window(t0, t1, window_dt) if window_dt else None
-    res = simulate(omega, t0, t1 - t0, x0=state[0], v0=state[1], params=params, rtol=rtol, atol=atol,
-                   window=win, record=("impacts", "penetrations", "near_misses", "poincare"))
+    res = simulate(
+        omega,
+        t0,
+        t1 - t0,
+        x0=state[0],
+        v0=state[1],
+        params=params,
+        rtol=rtol,
+        atol=atol,
+        window=win,
+        record=("impacts", "penetrations", "near_misses", "poincare"),
+    )
     g, tg = _signed_clearance(res.events)
     pc = res.events["poincare"]
     return g, tg, (float(pc["x"][-1]), float(pc["v"][-1])), res
 
 
-def grazing_by_clearance_secant(params, w_far=23.06, w_near=23.05, settle_from_rest=800, periods=150, tol=1e-12,
-                                max_iter=12):
+def grazing_by_clearance_secant(
+    params, w_far=23.06, w_near=23.05, settle_from_rest=800, periods=150, tol=1e-12, max_iter=12
+):
     """Grazing w of the period-1 branch to `tol` metres of clearance: secant on the signed
     clearance g(w) of its near miss (:func:`settle_orbit`), each orbit continued from the
     previous one. Returns (w*, slope dg/dw, state at phase 0 of the orbit at w*).

@@ -79,8 +79,13 @@ class AnalysisOptions:
     seed: int = 0
 
     def __post_init__(self):
-        for name, low in (("n_windows", 2), ("histogram_bins", 1), ("acf_kmax", 4),
-                          ("acf_n_peaks", 1), ("min_fano_windows", 2)):
+        for name, low in (
+            ("n_windows", 2),
+            ("histogram_bins", 1),
+            ("acf_kmax", 4),
+            ("acf_n_peaks", 1),
+            ("min_fano_windows", 2),
+        ):
             if int(getattr(self, name)) < low:
                 raise ValueError(f"{name} must be >= {low}, got {getattr(self, name)}")
         if not 0 < self.alpha < 1:
@@ -101,7 +106,7 @@ class AnalysisOptions:
             object.__setattr__(self, name, tuple(getattr(self, name)))
 
     @classmethod
-    def from_config(cls, cfg: dict | None) -> "AnalysisOptions":
+    def from_config(cls, cfg: dict | None) -> AnalysisOptions:
         """Options from a config dict; unknown keys raise ValueError naming them."""
         cfg = dict(cfg or {})
         known = {f.name for f in dataclasses.fields(cls)}
@@ -145,9 +150,7 @@ class ImpactTrain:
         if not (math.isfinite(a) and math.isfinite(b)) or b <= a:
             raise ValueError(f"observation span must satisfy t_start < t_stop, got [{a}, {b}]")
         if t[0] < a or t[-1] > b:
-            raise ValueError(
-                f"impact times [{t[0]}, {t[-1]}] s lie outside the observation span [{a}, {b}] s"
-            )
+            raise ValueError(f"impact times [{t[0]}, {t[-1]}] s lie outside the observation span [{a}, {b}] s")
         object.__setattr__(self, "times", t)
         object.__setattr__(self, "t_start", a)
         object.__setattr__(self, "t_stop", b)
@@ -196,5 +199,4 @@ def load_train(path, label: str | None = None) -> ImpactTrain:
         raise ValueError(f"{path}: the file holds no impacts")
     h = events.get("penetrations", {}).get("h")
     omega = attrs.get("omega")
-    return ImpactTrain(t, a, b, penetrations=h, omega=omega,
-                       label=label or Path(path).stem, span_source=source)
+    return ImpactTrain(t, a, b, penetrations=h, omega=omega, label=label or Path(path).stem, span_source=source)

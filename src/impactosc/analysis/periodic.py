@@ -24,7 +24,10 @@ from .orbits import poincare_period
 from .spectra import SpectrumAnalysis, analyse_spectrum
 
 __all__ = [
-    "ImpactMapNumbers", "impact_map_numbers", "branch_state", "run_summary",
+    "ImpactMapNumbers",
+    "impact_map_numbers",
+    "branch_state",
+    "run_summary",
 ]
 
 
@@ -51,10 +54,17 @@ class ImpactMapNumbers:
         return max(self.counts) - min(self.counts) <= 1
 
     def to_dict(self) -> dict:
-        return {"n_impacts": self.n_impacts, "levels": list(self.levels), "counts": list(self.counts),
-                "n_levels": len(self.levels), "counts_equal": self.counts_equal, "total": self.total,
-                "forcing_period": self.forcing_period, "periods_in_total": self.periods_in_total,
-                "orbit_period": self.orbit_period}
+        return {
+            "n_impacts": self.n_impacts,
+            "levels": list(self.levels),
+            "counts": list(self.counts),
+            "n_levels": len(self.levels),
+            "counts_equal": self.counts_equal,
+            "total": self.total,
+            "forcing_period": self.forcing_period,
+            "periods_in_total": self.periods_in_total,
+            "orbit_period": self.orbit_period,
+        }
 
 
 def impact_map_numbers(impact_times, omega: float, rel_tol: float = 1e-3) -> ImpactMapNumbers:
@@ -73,8 +83,15 @@ def impact_map_numbers(impact_times, omega: float, rel_tol: float = 1e-3) -> Imp
     lev = distinct_levels(s, rel_tol=rel_tol)
     period = 2 * math.pi / omega
     q = lev.total / period
-    return ImpactMapNumbers(int(t.size), tuple(map(float, lev.levels)), tuple(map(int, lev.counts)),
-                            float(lev.total), period, float(q), max(round(q), 1) * period)
+    return ImpactMapNumbers(
+        int(t.size),
+        tuple(map(float, lev.levels)),
+        tuple(map(int, lev.counts)),
+        float(lev.total),
+        period,
+        float(q),
+        max(round(q), 1) * period,
+    )
 
 
 def branch_state(sweep, omega: float, abs_tol: float = 1e-9) -> tuple[float, float]:
@@ -105,7 +122,10 @@ def run_summary(path, spectrum_options: dict | None = None) -> tuple[dict, Spect
     nm = events.get("near_misses", {"gap": np.empty(0)})
     pc = events["poincare"]
     numbers = {
-        "run": str(path), "omega": omega, "transient": float(attrs["transient"]), "duration": span,
+        "run": str(path),
+        "omega": omega,
+        "transient": float(attrs["transient"]),
+        "duration": span,
         "impact_map": impact_map_numbers(imp["t"], omega).to_dict(),
         "impacts_per_period": imp["t"].size / (span * omega / (2 * math.pi)),
         "min_gap": float(nm["gap"].min()) if nm["gap"].size else math.nan,

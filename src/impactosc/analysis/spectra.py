@@ -44,15 +44,30 @@ class SpectrumAnalysis:
     resolution: float
 
     def to_dict(self) -> dict:
-        return {"omega": self.omega, "omega1": self.omega1, "omega1_over_omega": self.ratio,
-                "omega1_over_omega_fraction": list(self.ratio_fraction), "labels": self.labels,
-                "harmonics_only": self.harmonics_only, "resolution": self.resolution,
-                "peaks_omega": self.peaks_omega.tolist(), "peaks_amplitude": self.peaks_amplitude.tolist(),
-                "omega_axis": self.omega_axis.tolist(), "amplitude": self.amplitude.tolist()}
+        return {
+            "omega": self.omega,
+            "omega1": self.omega1,
+            "omega1_over_omega": self.ratio,
+            "omega1_over_omega_fraction": list(self.ratio_fraction),
+            "labels": self.labels,
+            "harmonics_only": self.harmonics_only,
+            "resolution": self.resolution,
+            "peaks_omega": self.peaks_omega.tolist(),
+            "peaks_amplitude": self.peaks_amplitude.tolist(),
+            "omega_axis": self.omega_axis.tolist(),
+            "amplitude": self.amplitude.tolist(),
+        }
 
 
-def analyse_spectrum(x, dt: float, omega: float, max_omega: float = 80.0, prominence_db: float = 10.0,
-                     dynamic_range_db: float = 60.0, max_denominator: int = 12) -> SpectrumAnalysis:
+def analyse_spectrum(
+    x,
+    dt: float,
+    omega: float,
+    max_omega: float = 80.0,
+    prominence_db: float = 10.0,
+    dynamic_range_db: float = 60.0,
+    max_denominator: int = 12,
+) -> SpectrumAnalysis:
     """Lines of the spectrum of x(t) up to max_omega, w1 and the a, b, c, d, f combinations.
 
     Why: Fig. 4c. The peak finder keeps lines within `dynamic_range_db` of the strongest
@@ -78,10 +93,22 @@ def analyse_spectrum(x, dt: float, omega: float, max_omega: float = 80.0, promin
         ratio = omega1 / omega
         f = Fraction(ratio).limit_denominator(max_denominator)
         frac = (f.numerator, f.denominator)
-        labels = {lab.label: {"k": lab.k, "m": lab.m, "expected": lab.expected, "found": lab.found}
-                  for lab in sec.labels}
-    return SpectrumAnalysis(float(omega), sp.omega[keep], sp.amplitude[keep], p_om, p_amp, float(omega1),
-                            float(ratio), frac, labels, harmonics_only, float(sp.d_omega))
+        labels = {
+            lab.label: {"k": lab.k, "m": lab.m, "expected": lab.expected, "found": lab.found} for lab in sec.labels
+        }
+    return SpectrumAnalysis(
+        float(omega),
+        sp.omega[keep],
+        sp.amplitude[keep],
+        p_om,
+        p_amp,
+        float(omega1),
+        float(ratio),
+        frac,
+        labels,
+        harmonics_only,
+        float(sp.d_omega),
+    )
 
 
 def trajectory_spectrum(t, x, omega: float, n_peaks: int = 5, low_band: float = 0.9) -> dict:

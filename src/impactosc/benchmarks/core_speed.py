@@ -69,6 +69,7 @@ def _n_periods(t: float) -> float:
 
 # ------------------------------------------------------------------------------ the core
 
+
 def run_core(rtol: float, atol: float, transient: float = TRANSIENT, duration: float = DURATION):
     """One run of the core from rest as a peers.PeerRun (impacts with t >= transient). The wall
     time is the whole simulate() call, as a peer's is its whole solver call; a run that stalls
@@ -79,15 +80,28 @@ def run_core(rtol: float, atol: float, transient: float = TRANSIENT, duration: f
     try:
         res = simulate(OMEGA, transient, duration, rtol=rtol, atol=atol, record=("impacts",))
     except StallError as e:
-        return PeerRun(time.perf_counter() - t0, 0, np.empty(0), float(e.state.get("t", math.nan)),
-                       np.full(2, math.nan), False, str(e))
+        return PeerRun(
+            time.perf_counter() - t0,
+            0,
+            np.empty(0),
+            float(e.state.get("t", math.nan)),
+            np.full(2, math.nan),
+            False,
+            str(e),
+        )
     wall = time.perf_counter() - t0
     a = res.attrs
     n_rhs = a["n_rhs"]
-    return PeerRun(wall, a["n_steps"] + a["n_implicit_steps"], res.events["impacts"]["t"], transient + duration,
-                   np.asarray(res.final_state[:2], float), True, "",
-                   extra=dict(rejected=a["n_rejected"], rhs=n_rhs,
-                              rhs_per_period=n_rhs / _n_periods(transient + duration)))
+    return PeerRun(
+        wall,
+        a["n_steps"] + a["n_implicit_steps"],
+        res.events["impacts"]["t"],
+        transient + duration,
+        np.asarray(res.final_state[:2], float),
+        True,
+        "",
+        extra=dict(rejected=a["n_rejected"], rhs=n_rhs, rhs_per_period=n_rhs / _n_periods(transient + duration)),
+    )
 
 
 def core_contestants(rtols):
@@ -97,8 +111,16 @@ def core_contestants(rtols):
     out = []
     for rtol in rtols:
         atol = rtol * 1e-2
-        out.append(Contestant(CORE, "scene", rtol, atol, run=lambda r=rtol, a=atol: run_core(r, a),
-                              short=lambda r=rtol, a=atol: run_core(r, a, 0.0, ERR_HORIZON)))
+        out.append(
+            Contestant(
+                CORE,
+                "scene",
+                rtol,
+                atol,
+                run=lambda r=rtol, a=atol: run_core(r, a),
+                short=lambda r=rtol, a=atol: run_core(r, a, 0.0, ERR_HORIZON),
+            )
+        )
     return out
 
 
@@ -106,8 +128,9 @@ def linear_rhs_per_period(rtol: float) -> float:
     """RHS evaluations per forcing period of the core on the smooth linear oscillator (T = 0,
     obstacle out of reach, from x = 1 mm): the method's floor at this tolerance."""
     linear = dataclasses.replace(ModelParams(), T=0.0, xI=1.0)
-    lin = simulate(OMEGA, TRANSIENT, DURATION, params=linear, rtol=rtol, atol=rtol * 1e-2, x0=1e-3,
-                   record=("poincare",))
+    lin = simulate(
+        OMEGA, TRANSIENT, DURATION, params=linear, rtol=rtol, atol=rtol * 1e-2, x0=1e-3, record=("poincare",)
+    )
     return lin.attrs["n_rhs"] / _n_periods(TRANSIENT + DURATION)
 
 
@@ -121,24 +144,63 @@ def scipy_row(rtol: float, ref_times, reference_impacts: int, log=print) -> dict
     wall = time.perf_counter() - t0
     short = solve_reference(OMEGA, ERR_HORIZON, rtol=rtol, atol=atol)
     n_imp = int(np.count_nonzero(sp["impacts_t"] >= TRANSIENT))
-    row = dict(solver=SCIPY, kind="scene", rtol=rtol, atol=atol, wall_time=wall, wall_time_min=wall, repeats=1,
-               t_reached=TRANSIENT + DURATION, steps=math.nan, steps_per_period=math.nan, status="ok",
-               rhs=sp["nfev"], rhs_per_period=sp["nfev"] / _n_periods(TRANSIENT + DURATION),
-               impact_time_error_1p5s=impact_error(short["impacts_t"], ref_times), n_impacts=n_imp,
-               on_attractor=on_attractor(n_imp, reference_impacts))
+    row = dict(
+        solver=SCIPY,
+        kind="scene",
+        rtol=rtol,
+        atol=atol,
+        wall_time=wall,
+        wall_time_min=wall,
+        repeats=1,
+        t_reached=TRANSIENT + DURATION,
+        steps=math.nan,
+        steps_per_period=math.nan,
+        status="ok",
+        rhs=sp["nfev"],
+        rhs_per_period=sp["nfev"] / _n_periods(TRANSIENT + DURATION),
+        impact_time_error_1p5s=impact_error(short["impacts_t"], ref_times),
+        n_impacts=n_imp,
+        on_attractor=on_attractor(n_imp, reference_impacts),
+    )
     log(f"scipy rtol={rtol:g}: {wall:.1f} s, {n_imp} impacts, err {row['impact_time_error_1p5s']:.2e}")
     return row
 
 
 # ------------------------------------------------------------------------ the measurement
 
-COLUMNS = ("solver", "kind", "rtol", "atol", "wall_time", "wall_time_min", "repeats", "steps", "steps_per_period",
-           "rhs", "rhs_per_period", "rhs_per_period_linear", "impact_time_error_1p5s", "n_impacts", "on_attractor",
-           "t_reached", "status", "rejected", "reference_impacts")
+COLUMNS = (
+    "solver",
+    "kind",
+    "rtol",
+    "atol",
+    "wall_time",
+    "wall_time_min",
+    "repeats",
+    "steps",
+    "steps_per_period",
+    "rhs",
+    "rhs_per_period",
+    "rhs_per_period_linear",
+    "impact_time_error_1p5s",
+    "n_impacts",
+    "on_attractor",
+    "t_reached",
+    "status",
+    "rejected",
+    "reference_impacts",
+)
 
 
-def measure(rtols=(1e-8, 1e-9, 1e-10, 1e-11), repeats: int = 3, *, scipy_rtols=(1e-8, 1e-10), peer_methods=None,
-            peer_rtols=None, heyoka: bool = True, log=print) -> tuple[list[dict], list[str]]:
+def measure(
+    rtols=(1e-8, 1e-9, 1e-10, 1e-11),
+    repeats: int = 3,
+    *,
+    scipy_rtols=(1e-8, 1e-10),
+    peer_methods=None,
+    peer_rtols=None,
+    heyoka: bool = True,
+    log=print,
+) -> tuple[list[dict], list[str]]:
     """Rows of the core at `rtols`, the compiled peers (None: peers.METHODS / peers.RTOLS; an
     empty `peer_methods` and heyoka=False: no peers) and SciPy at `scipy_rtols`, every row
     with the columns of COLUMNS (NaN / None where one does not apply); and a message per peer
@@ -163,8 +225,10 @@ def measure(rtols=(1e-8, 1e-9, 1e-10, 1e-11), repeats: int = 3, *, scipy_rtols=(
         reference = len(run_core(peers.CORE_RTOL, peers.CORE_ATOL).impacts_t)
     if reference is None:
         reference = peers.reference_impact_count()
-    log(f"attractor: the core at rtol {peers.CORE_RTOL:g} has {reference} impacts in {TRANSIENT:g}-"
-        f"{TRANSIENT + DURATION:g} s; on_attractor = within {peers.ATTRACTOR_TOLERANCE:.0%}")
+    log(
+        f"attractor: the core at rtol {peers.CORE_RTOL:g} has {reference} impacts in {TRANSIENT:g}-"
+        f"{TRANSIENT + DURATION:g} s; on_attractor = within {peers.ATTRACTOR_TOLERANCE:.0%}"
+    )
     rows = peers.measure_contestants(core + others, repeats, reference_impacts=reference, ref_times=ref_times, log=log)
     for r in rows:
         if r["solver"] == CORE:
@@ -175,6 +239,7 @@ def measure(rtols=(1e-8, 1e-9, 1e-10, 1e-11), repeats: int = 3, *, scipy_rtols=(
 
 
 # ------------------------------------------------------------------------------ summary
+
 
 def headline(rows: list[dict], max_error: float = MAX_ERROR) -> list[dict]:
     """The comparison the README leads with, one row per contestant (role):
@@ -206,16 +271,31 @@ def headline(rows: list[dict], max_error: float = MAX_ERROR) -> list[dict]:
 
     def entry(role, r, note=""):
         if r is None:
-            return dict(role=role, solver="none", max_error=max_error,
-                        note=note or f"no run with error <= {max_error:g} s on the attractor")
-        return dict(role=role, solver=r["solver"], max_error=max_error, rtol=r["rtol"], wall_time=r["wall_time"],
-                    wall_time_min=r.get("wall_time_min"), repeats=r.get("repeats"),
-                    impact_time_error_1p5s=r.get("impact_time_error_1p5s"), n_impacts=r.get("n_impacts"),
-                    on_attractor=r.get("on_attractor"), time_over_core=r["wall_time"] / core_time, note=note)
+            return dict(
+                role=role,
+                solver="none",
+                max_error=max_error,
+                note=note or f"no run with error <= {max_error:g} s on the attractor",
+            )
+        return dict(
+            role=role,
+            solver=r["solver"],
+            max_error=max_error,
+            rtol=r["rtol"],
+            wall_time=r["wall_time"],
+            wall_time_min=r.get("wall_time_min"),
+            repeats=r.get("repeats"),
+            impact_time_error_1p5s=r.get("impact_time_error_1p5s"),
+            n_impacts=r.get("n_impacts"),
+            on_attractor=r.get("on_attractor"),
+            time_over_core=r["wall_time"] / core_time,
+            note=note,
+        )
 
     out = [entry("core", core), entry("fastest compiled peer", peer), entry("SciPy", scipy, scipy_note)]
-    out += [entry("free-flight floor", r, "no contact: a floor, not a competitor")
-            for r in rows if r.get("kind") == "floor"]
+    out += [
+        entry("free-flight floor", r, "no contact: a floor, not a competitor") for r in rows if r.get("kind") == "floor"
+    ]
     return out
 
 
@@ -230,16 +310,29 @@ def _fmt(value, spec: str) -> str:
 
 
 TABLE_COLUMNS = (  # key, title, format spec
-    ("solver", "solver", "s"), ("rtol", "rtol", ".0e"), ("wall_time", "wall time, median [s]", ".3f"),
-    ("wall_time_min", "min [s]", ".3f"), ("repeats", "runs", "d"), ("steps_per_period", "steps/period", ".1f"),
-    ("rhs_per_period", "RHS/period", ".0f"), ("impact_time_error_1p5s", "impact-time error 1.5 s [s]", ".2e"),
-    ("n_impacts", "impacts 100-500 s", "d"), ("on_attractor", "on attractor", "s"), ("status", "status", "s"))
+    ("solver", "solver", "s"),
+    ("rtol", "rtol", ".0e"),
+    ("wall_time", "wall time, median [s]", ".3f"),
+    ("wall_time_min", "min [s]", ".3f"),
+    ("repeats", "runs", "d"),
+    ("steps_per_period", "steps/period", ".1f"),
+    ("rhs_per_period", "RHS/period", ".0f"),
+    ("impact_time_error_1p5s", "impact-time error 1.5 s [s]", ".2e"),
+    ("n_impacts", "impacts 100-500 s", "d"),
+    ("on_attractor", "on attractor", "s"),
+    ("status", "status", "s"),
+)
 
 HEADLINE_COLUMNS = (
-    ("role", "", "s"), ("solver", "solver", "s"), ("rtol", "rtol", ".0e"),
+    ("role", "", "s"),
+    ("solver", "solver", "s"),
+    ("rtol", "rtol", ".0e"),
     ("wall_time", "wall time, median [s]", ".3f"),
-    ("impact_time_error_1p5s", "impact-time error 1.5 s [s]", ".2e"), ("n_impacts", "impacts 100-500 s", "d"),
-    ("time_over_core", "time / core", ".2f"), ("note", "note", "s"))
+    ("impact_time_error_1p5s", "impact-time error 1.5 s [s]", ".2e"),
+    ("n_impacts", "impacts 100-500 s", "d"),
+    ("time_over_core", "time / core", ".2f"),
+    ("note", "note", "s"),
+)
 
 
 def markdown_table(rows: list[dict], columns) -> list[str]:
@@ -262,15 +355,21 @@ def headline_sentence(head: list[dict]) -> str:
     core, peer, scipy = by_role["core"], by_role["fastest compiled peer"], by_role["SciPy"]
     if core["solver"] == "none":
         return f"No run of the core had impact-time error <= {core['max_error']:g} s on the attractor."
-    text = (f"At impact-time error <= {core['max_error']:g} s (first 1.5 s) the core (rtol {core['rtol']:g}) takes "
-            f"{core['wall_time']:.3f} s")
+    text = (
+        f"At impact-time error <= {core['max_error']:g} s (first 1.5 s) the core (rtol {core['rtol']:g}) takes "
+        f"{core['wall_time']:.3f} s"
+    )
     if peer["solver"] != "none":
-        text += (f"; the fastest compiled peer, {peer['solver']} at rtol {peer['rtol']:g}, takes "
-                 f"{peer['wall_time']:.3f} s: **{peer['time_over_core']:.2f}x the core's time**")
+        text += (
+            f"; the fastest compiled peer, {peer['solver']} at rtol {peer['rtol']:g}, takes "
+            f"{peer['wall_time']:.3f} s: **{peer['time_over_core']:.2f}x the core's time**"
+        )
     else:
         text += f"; no compiled peer reached that error on the attractor ({peer['note']})"
     if scipy["solver"] != "none":
-        text += (f"; SciPy DOP853 + events at rtol {scipy['rtol']:g} takes {scipy['wall_time']:.1f} s "
-                 f"({scipy['time_over_core']:.0f}x the core's time; its error {scipy['impact_time_error_1p5s']:.1e} s, "
-                 f"{scipy['note']})")
+        text += (
+            f"; SciPy DOP853 + events at rtol {scipy['rtol']:g} takes {scipy['wall_time']:.1f} s "
+            f"({scipy['time_over_core']:.0f}x the core's time; its error {scipy['impact_time_error_1p5s']:.1e} s, "
+            f"{scipy['note']})"
+        )
     return text + "."

@@ -20,7 +20,6 @@ from pathlib import Path
 
 import numpy as np
 
-
 INSTALL_HINT = "pip install -e '.[peers]'"
 
 
@@ -82,7 +81,7 @@ def solve(uintptr_t diffeq_address, list event_addresses, list event_directions,
     return result, solver.t_now, [solver.y_now_ptr[i] for i in range(y0.shape[0])]
 '''
 
-_BUILD_SCRIPT = '''\
+_BUILD_SCRIPT = """\
 import sys
 import CyRK, numpy
 from Cython.Build import cythonize
@@ -92,7 +91,7 @@ ext = Extension(name, [name + ".pyx"], language="c++", include_dirs=CyRK.get_inc
                 extra_compile_args=["-O0", "-std=c++20"],
                 define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_9_API_VERSION")])
 setup(ext_modules=cythonize([ext], quiet=True), script_args=["build_ext", "--inplace"])
-'''
+"""
 
 
 def _import_cyrk():
@@ -107,8 +106,15 @@ def _shim_key(cyrk_version: str) -> str:
     import Cython
 
     digest = hashlib.sha256()
-    for part in (SHIM_SOURCE, _BUILD_SCRIPT, cyrk_version, Cython.__version__, np.__version__,
-                 sys.implementation.cache_tag, importlib.machinery.EXTENSION_SUFFIXES[0]):
+    for part in (
+        SHIM_SOURCE,
+        _BUILD_SCRIPT,
+        cyrk_version,
+        Cython.__version__,
+        np.__version__,
+        sys.implementation.cache_tag,
+        importlib.machinery.EXTENSION_SUFFIXES[0],
+    ):
         digest.update(part.encode() + b"\0")
     return digest.hexdigest()[:16]
 
@@ -140,8 +146,10 @@ def _build_shim(directory: Path, name: str) -> Path:
             built = _built(Path(tmp), name)
             if r.returncode != 0 or built is None:
                 tail = "\n".join((r.stderr or r.stdout).strip().splitlines()[-15:])
-                raise PeerUnavailable(f"the CyRK shim could not be built (needs Cython, setuptools and a C++20 "
-                                      f"compiler; {INSTALL_HINT}):\n{tail}")
+                raise PeerUnavailable(
+                    f"the CyRK shim could not be built (needs Cython, setuptools and a C++20 "
+                    f"compiler; {INSTALL_HINT}):\n{tail}"
+                )
             os.replace(built, directory / built.name)  # atomic: a reader never sees half a library
         return directory / built.name
 

@@ -85,8 +85,8 @@ import functools
 import math
 import sys
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 from numba import carray, cfunc, types
@@ -107,8 +107,7 @@ FREE_FLIGHT = dataclasses.replace(ModelParams(), xI=1.0)  # obstacle out of reac
 # A cap so that a solver pinned by the stiff contact reports failure instead of running for
 # minutes: the 500 s scene takes under 1e6 steps (Vern8 at rtol 1e-12: 8.9e5).
 MAX_STEPS = 50_000_000
-from .cyrk_shim import INSTALL_HINT, PeerUnavailable, cyrk_method, load_cyrk_shim  # noqa: F401 (re-exported)
-
+from .cyrk_shim import INSTALL_HINT, PeerUnavailable, cyrk_method, load_cyrk_shim
 
 _DBL_PTR = types.CPointer(types.float64)
 _EVENT_SIGNATURE = types.float64(types.float64, _DBL_PTR, _DBL_PTR)
@@ -174,14 +173,24 @@ def _solve_cyrk(method: str, t_end: float, rtol: float, atol: float, p: np.ndarr
     y0 = np.ascontiguousarray(y0, dtype=float)
     t_eval = np.ascontiguousarray(t_eval, dtype=float)
     start = time.perf_counter()
-    result, t_stop, y_stop = shim.solve(rhs.address, addresses, directions, code, 0.0, t_end, y0, p, rtol, atol,
-                                        t_eval, MAX_STEPS)
+    result, t_stop, y_stop = shim.solve(
+        rhs.address, addresses, directions, code, 0.0, t_end, y0, p, rtol, atol, t_eval, MAX_STEPS
+    )
     wall = time.perf_counter() - start
     return wall, result, t_stop, np.array(y_stop)
 
 
-def run_cyrk(method: str, t_end: float, rtol: float, atol: float, *, params: ModelParams | None = None,
-             impacts: bool = True, omega: float = OMEGA, y0=(0.0, 0.0)) -> PeerRun:
+def run_cyrk(
+    method: str,
+    t_end: float,
+    rtol: float,
+    atol: float,
+    *,
+    params: ModelParams | None = None,
+    impacts: bool = True,
+    omega: float = OMEGA,
+    y0=(0.0, 0.0),
+) -> PeerRun:
     """Integrate model BC from y0 = (x, v) (default rest) with CyRK over [0, t_end] in one right-hand side.
 
     With `impacts` the event x - xI (direction +1) is located on CyRK's dense output.
@@ -191,8 +200,7 @@ def run_cyrk(method: str, t_end: float, rtol: float, atol: float, *, params: Mod
     events = [(model_cfuncs()[1], 1)] if impacts else []
     wall, result, t_stop, y_stop = _solve_cyrk(method, t_end, rtol, atol, p, y0, [t_end], events)
     impacts_t = np.asarray(result.t_events[0], float) if impacts else np.empty(0)
-    return PeerRun(wall, int(result.steps_taken), impacts_t, t_stop, y_stop, bool(result.success),
-                   str(result.message))
+    return PeerRun(wall, int(result.steps_taken), impacts_t, t_stop, y_stop, bool(result.success), str(result.message))
 
 
 def _event_columns(result, k: int) -> tuple[np.ndarray, np.ndarray]:
@@ -202,8 +210,9 @@ def _event_columns(result, k: int) -> tuple[np.ndarray, np.ndarray]:
     return t, (y if t.size else np.empty((2, 0)))
 
 
-def cyrk_events(method: str, omega: float, t_end: float, x0: float, v0: float, params: ModelParams,
-                rtol: float, atol: float) -> dict:
+def cyrk_events(
+    method: str, omega: float, t_end: float, x0: float, v0: float, params: ModelParams, rtol: float, atol: float
+) -> dict:
     """Impacts, penetrations and Poincare points on (0, t_end] from (x0, v0), as
     workprecision.run_core returns them, by CyRK in one right-hand side.
 
@@ -224,15 +233,23 @@ def cyrk_events(method: str, omega: float, t_end: float, x0: float, v0: float, p
     t_out, y_out = np.asarray(result.t, float), np.asarray(result.y, float)
     at_section = np.isin(t_out, sections)
     return {
-        "impacts_t": imp_t, "impacts_v": imp_y[1],
-        "penetrations_t": pen_t[inside], "penetrations_h": pen_y[0][inside] - params.xI,
-        "poincare_t": t_out[at_section], "poincare_x": y_out[0][at_section], "poincare_v": y_out[1][at_section],
-        "rhs_evals": math.nan, "steps": int(result.steps_taken), "success": bool(result.success),
-        "t_reached": float(t_stop), "message": str(result.message),
+        "impacts_t": imp_t,
+        "impacts_v": imp_y[1],
+        "penetrations_t": pen_t[inside],
+        "penetrations_h": pen_y[0][inside] - params.xI,
+        "poincare_t": t_out[at_section],
+        "poincare_x": y_out[0][at_section],
+        "poincare_v": y_out[1][at_section],
+        "rhs_evals": math.nan,
+        "steps": int(result.steps_taken),
+        "success": bool(result.success),
+        "t_reached": float(t_stop),
+        "message": str(result.message),
     }
 
 
 # --- heyoka: the free-flight floor ----------------------------------------------------------
+
 
 def heyoka_free_flight(tol: float = FLOOR_TOL, params: ModelParams = FREE_FLIGHT, omega: float = OMEGA):
     """heyoka's Taylor integrator for model BC without contact, at rest at t = 0 (compiled once).
@@ -258,11 +275,11 @@ def run_heyoka(integrator, t_end: float, y0=(0.0, 0.0)) -> PeerRun:
     outcome = integrator.propagate_until(t_end)
     wall = time.perf_counter() - start
     ok = integrator.time == t_end
-    return PeerRun(wall, int(outcome[3]), np.empty(0), integrator.time, integrator.state.copy(), ok,
-                   str(outcome[0]))
+    return PeerRun(wall, int(outcome[3]), np.empty(0), integrator.time, integrator.state.copy(), ok, str(outcome[0]))
 
 
 # --- measurement ----------------------------------------------------------------------------
+
 
 def reference_impact_count(rtol: float = CORE_RTOL, atol: float = CORE_ATOL) -> int:
     """Impacts in 100-500 s of the project's core on the scene: the attractor's count."""
@@ -282,9 +299,21 @@ def _row(solver: str, kind: str, rtol: float, atol: float, runs: list[PeerRun], 
     walls = [r.wall_time for r in runs]
     last = runs[-1]
     status = "ok" if last.success else f"stopped at t = {last.t_reached:.6g} s: {last.message}"
-    return dict(solver=solver, kind=kind, rtol=rtol, atol=atol, wall_time=float(np.median(walls)),
-                wall_time_min=min(walls), repeats=len(runs), t_reached=last.t_reached, steps=last.steps,
-                steps_per_period=last.steps / (last.t_reached / PERIOD), status=status, **last.extra, **extra)
+    return dict(
+        solver=solver,
+        kind=kind,
+        rtol=rtol,
+        atol=atol,
+        wall_time=float(np.median(walls)),
+        wall_time_min=min(walls),
+        repeats=len(runs),
+        t_reached=last.t_reached,
+        steps=last.steps,
+        steps_per_period=last.steps / (last.t_reached / PERIOD),
+        status=status,
+        **last.extra,
+        **extra,
+    )
 
 
 @dataclass
@@ -309,8 +338,9 @@ def serpentine(items: list, round_index: int) -> list:
     return list(items) if round_index % 2 == 0 else list(reversed(items))
 
 
-def measure_contestants(contestants: list[Contestant], repeats: int, *, reference_impacts: int,
-                        ref_times: np.ndarray, log=print) -> list[dict]:
+def measure_contestants(
+    contestants: list[Contestant], repeats: int, *, reference_impacts: int, ref_times: np.ndarray, log=print
+) -> list[dict]:
     """Rows of the contestants: errors first (untimed), then `repeats` timing rounds in which
     every contestant runs once (serpentine order), so that a change in the machine's load
     spreads over all rows instead of favouring some; wall_time is the median of the rounds."""
@@ -331,8 +361,18 @@ def measure_contestants(contestants: list[Contestant], repeats: int, *, referenc
         done = runs[i]
         if c.kind == "scene":
             n = int(np.count_nonzero(done[-1].impacts_t >= TRANSIENT))
-            rows.append(_row(c.solver, c.kind, c.rtol, c.atol, done, impact_time_error_1p5s=errors[i], n_impacts=n,
-                             on_attractor=done[-1].success and on_attractor(n, reference_impacts)))
+            rows.append(
+                _row(
+                    c.solver,
+                    c.kind,
+                    c.rtol,
+                    c.atol,
+                    done,
+                    impact_time_error_1p5s=errors[i],
+                    n_impacts=n,
+                    on_attractor=done[-1].success and on_attractor(n, reference_impacts),
+                )
+            )
         else:
             rows.append(_row(c.solver, c.kind, c.rtol, c.atol, done))
         log(_line(rows[-1]))
@@ -354,12 +394,27 @@ def cyrk_contestants(methods=METHODS, rtols=RTOLS, log=print) -> list[Contestant
             continue
         for rtol in rtols:
             atol = rtol * 1e-2
-            out.append(Contestant(f"CyRK {method}", "scene", rtol, atol,
-                                  run=functools.partial(run_cyrk, method, T_END, rtol, atol),
-                                  short=functools.partial(run_cyrk, method, ERR_HORIZON, rtol, atol)))
-    out.append(Contestant("CyRK DOP853 free flight", "floor", FLOOR_TOL, FLOOR_TOL * 1e-2,
-                          run=functools.partial(run_cyrk, "DOP853", T_END, FLOOR_TOL, FLOOR_TOL * 1e-2,
-                                                params=FREE_FLIGHT, impacts=False)))
+            out.append(
+                Contestant(
+                    f"CyRK {method}",
+                    "scene",
+                    rtol,
+                    atol,
+                    run=functools.partial(run_cyrk, method, T_END, rtol, atol),
+                    short=functools.partial(run_cyrk, method, ERR_HORIZON, rtol, atol),
+                )
+            )
+    out.append(
+        Contestant(
+            "CyRK DOP853 free flight",
+            "floor",
+            FLOOR_TOL,
+            FLOOR_TOL * 1e-2,
+            run=functools.partial(
+                run_cyrk, "DOP853", T_END, FLOOR_TOL, FLOOR_TOL * 1e-2, params=FREE_FLIGHT, impacts=False
+            ),
+        )
+    )
     return out
 
 
@@ -368,12 +423,20 @@ def heyoka_contestants() -> list[Contestant]:
     timing. Raises PeerUnavailable."""
     integrator = heyoka_free_flight()
     run_heyoka(integrator, 1.0)
-    return [Contestant(f"heyoka Taylor (order {integrator.order}) free flight", "floor", FLOOR_TOL, FLOOR_TOL,
-                       run=functools.partial(run_heyoka, integrator, T_END))]
+    return [
+        Contestant(
+            f"heyoka Taylor (order {integrator.order}) free flight",
+            "floor",
+            FLOOR_TOL,
+            FLOOR_TOL,
+            run=functools.partial(run_heyoka, integrator, T_END),
+        )
+    ]
 
 
-def peer_contestants(methods=METHODS, rtols=RTOLS, heyoka: bool = True,
-                     log=print) -> tuple[list[Contestant], list[str]]:
+def peer_contestants(
+    methods=METHODS, rtols=RTOLS, heyoka: bool = True, log=print
+) -> tuple[list[Contestant], list[str]]:
     """The installed peers' contestants, and a message per peer that is skipped (not installed,
     or the CyRK shim cannot be built)."""
     out, skipped = [], []
@@ -391,12 +454,18 @@ def peer_contestants(methods=METHODS, rtols=RTOLS, heyoka: bool = True,
     return out, skipped
 
 
-def measure_cyrk(methods=METHODS, rtols=RTOLS, repeats: int = 3, *, reference_impacts: int,
-                 ref_times: np.ndarray, log=print) -> list[dict]:
+def measure_cyrk(
+    methods=METHODS, rtols=RTOLS, repeats: int = 3, *, reference_impacts: int, ref_times: np.ndarray, log=print
+) -> list[dict]:
     """The scene rows of CyRK (one per method and rtol) and its free-flight floor row, timed
     round-robin (:func:`measure_contestants`)."""
-    return measure_contestants(cyrk_contestants(methods, rtols, log=log), repeats,
-                               reference_impacts=reference_impacts, ref_times=ref_times, log=log)
+    return measure_contestants(
+        cyrk_contestants(methods, rtols, log=log),
+        repeats,
+        reference_impacts=reference_impacts,
+        ref_times=ref_times,
+        log=log,
+    )
 
 
 def measure_heyoka(repeats: int = 3, log=print) -> list[dict]:
@@ -411,8 +480,15 @@ def reference_times() -> np.ndarray:
     return solve_reference(OMEGA, ERR_HORIZON, rtol=REF_RTOL, atol=REF_ATOL)["impacts_t"]
 
 
-def measure(methods=METHODS, rtols=RTOLS, repeats: int = 3, *, reference_impacts: int | None = None,
-            heyoka: bool = True, log=print) -> list[dict]:
+def measure(
+    methods=METHODS,
+    rtols=RTOLS,
+    repeats: int = 3,
+    *,
+    reference_impacts: int | None = None,
+    heyoka: bool = True,
+    log=print,
+) -> list[dict]:
     """All rows: CyRK per method and rtol, then the free-flight floors (CyRK, heyoka), timed
     round-robin together.
 
@@ -421,11 +497,14 @@ def measure(methods=METHODS, rtols=RTOLS, repeats: int = 3, *, reference_impacts
     """
     if reference_impacts is None:
         reference_impacts = reference_impact_count()
-    log(f"attractor: the core at rtol {CORE_RTOL:g} has {reference_impacts} impacts in "
-        f"{TRANSIENT:g}-{T_END:g} s; on_attractor = within {ATTRACTOR_TOLERANCE:.0%}")
+    log(
+        f"attractor: the core at rtol {CORE_RTOL:g} has {reference_impacts} impacts in "
+        f"{TRANSIENT:g}-{T_END:g} s; on_attractor = within {ATTRACTOR_TOLERANCE:.0%}"
+    )
     contestants, _ = peer_contestants(methods, rtols, heyoka, log=log)
-    rows = measure_contestants(contestants, repeats, reference_impacts=reference_impacts, ref_times=reference_times(),
-                               log=log)
+    rows = measure_contestants(
+        contestants, repeats, reference_impacts=reference_impacts, ref_times=reference_times(), log=log
+    )
     for r in rows:
         r["reference_impacts"] = reference_impacts
     return rows
@@ -436,17 +515,27 @@ def best_peer(rows: list[dict], max_error: float = 2.5e-9) -> dict | None:
     on the attractor; None if there is none. Floor rows (no contact) never qualify.
 
     Rows read back from a CSV (impactosc.files.read_table) say on_attractor "yes"/"no"."""
-    ok = [r for r in rows if r.get("kind", "scene") == "scene" and r.get("on_attractor") in (True, "yes")
-          and r["impact_time_error_1p5s"] <= max_error]
+    ok = [
+        r
+        for r in rows
+        if r.get("kind", "scene") == "scene"
+        and r.get("on_attractor") in (True, "yes")
+        and r["impact_time_error_1p5s"] <= max_error
+    ]
     return min(ok, key=lambda r: r["wall_time"], default=None)
 
 
 # --- output ---------------------------------------------------------------------------------
 
 _COLUMNS = (  # key, title, width (negative: left-aligned), format spec
-    ("solver", "solver", -40, "s"), ("rtol", "rtol", 7, ".0e"), ("wall_time", "wall [s]", 9, ".3f"),
-    ("steps_per_period", "steps/T", 8, ".1f"), ("impact_time_error_1p5s", "err 1.5 s", 10, ".2e"),
-    ("n_impacts", "impacts", 8, "d"), ("on_attractor", "attractor", 10, "s"))
+    ("solver", "solver", -40, "s"),
+    ("rtol", "rtol", 7, ".0e"),
+    ("wall_time", "wall [s]", 9, ".3f"),
+    ("steps_per_period", "steps/T", 8, ".1f"),
+    ("impact_time_error_1p5s", "err 1.5 s", 10, ".2e"),
+    ("n_impacts", "impacts", 8, "d"),
+    ("on_attractor", "attractor", 10, "s"),
+)
 
 
 def _cells(row: dict, header: bool = False) -> str:
@@ -480,20 +569,32 @@ def main(argv=None) -> int:
     ap.add_argument("--rtols", type=float, nargs="+", default=list(RTOLS), help="relative tolerances (atol = rtol/100)")
     ap.add_argument("--methods", nargs="+", default=list(METHODS), help="CyRK methods")
     ap.add_argument("--repeats", type=int, default=3, help="timed 500 s runs per row; the median is reported")
-    ap.add_argument("--reference-impacts", type=int, default=None,
-                    help="the attractor's impact count in 100-500 s (default: run the core at rtol 1e-10)")
+    ap.add_argument(
+        "--reference-impacts",
+        type=int,
+        default=None,
+        help="the attractor's impact count in 100-500 s (default: run the core at rtol 1e-10)",
+    )
     ap.add_argument("--max-error", type=float, default=2.5e-9, help="error bound of the best peer")
     ap.add_argument("--no-heyoka", action="store_true", help="skip heyoka's free-flight floor")
     ap.add_argument("--out", help="write the rows to this CSV file")
     args = ap.parse_args(argv)
     if args.repeats < 1:
         ap.error("--repeats must be >= 1")
-    rows = measure(args.methods, args.rtols, args.repeats, reference_impacts=args.reference_impacts,
-                   heyoka=not args.no_heyoka, log=lambda msg: print(msg, file=sys.stderr, flush=True))
+    rows = measure(
+        args.methods,
+        args.rtols,
+        args.repeats,
+        reference_impacts=args.reference_impacts,
+        heyoka=not args.no_heyoka,
+        log=lambda msg: print(msg, file=sys.stderr, flush=True),
+    )
     print(format_table(rows))
     best = best_peer(rows, args.max_error)
-    print(f"best peer (error <= {args.max_error:g}, on the attractor): "
-          + (f"{best['solver']} at rtol {best['rtol']:g}, {best['wall_time']:.3f} s" if best else "none"))
+    print(
+        f"best peer (error <= {args.max_error:g}, on the attractor): "
+        + (f"{best['solver']} at rtol {best['rtol']:g}, {best['wall_time']:.3f} s" if best else "none")
+    )
     if args.out:
         from ..files import write_table
 

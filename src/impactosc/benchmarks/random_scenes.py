@@ -90,8 +90,10 @@ def _reference_pair(scene: Scene, horizon: float, max_nfev: int):
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("error")
-                a, b = (solve_reference(scene.omega, horizon, method=method, rtol=rtol, atol=atol, **kw)
-                        for rtol, atol in tolerances)
+                a, b = (
+                    solve_reference(scene.omega, horizon, method=method, rtol=rtol, atol=atol, **kw)
+                    for rtol, atol in tolerances
+                )
             return method, a, b
         except (ReferenceBudgetExceeded, RuntimeError, ValueError, UserWarning) as exc:
             failure += f"{method}: {exc}; "
@@ -116,17 +118,39 @@ def impacts_agree(dt, v_ref):
     return (dt <= BOUND) | (dt * np.abs(np.asarray(v_ref, dtype=float)) <= BOUND_X)
 
 
-def compare_scene(scene: Scene, horizon: float = 3.0, rtol: float = 1e-11, atol: float = 1e-13,
-                  max_nfev: int = 300_000) -> dict:
+def compare_scene(
+    scene: Scene, horizon: float = 3.0, rtol: float = 1e-11, atol: float = 1e-13, max_nfev: int = 300_000
+) -> dict:
     """One row: the core against the reference over their common horizon of agreement."""
-    row = {"scene": scene.index, "omega": scene.omega, "x0": scene.x0, "v0": scene.v0,
-           **{f"param_{k}": v for k, v in scene.params.to_dict().items()}}
-    row.update(reference="-", horizon=0.0, compared=0, worst_dt=math.nan, worst_dx=math.nan, reference_time=math.nan,
-               message="")
+    row = {
+        "scene": scene.index,
+        "omega": scene.omega,
+        "x0": scene.x0,
+        "v0": scene.v0,
+        **{f"param_{k}": v for k, v in scene.params.to_dict().items()},
+    }
+    row.update(
+        reference="-",
+        horizon=0.0,
+        compared=0,
+        worst_dt=math.nan,
+        worst_dx=math.nan,
+        reference_time=math.nan,
+        message="",
+    )
     t1 = time.perf_counter()
     try:  # the core first: a stall is a finding whatever the reference does
-        res = simulate(scene.omega, 0.0, horizon, x0=scene.x0, v0=scene.v0, params=scene.params, rtol=rtol,
-                       atol=atol, record=("impacts",))
+        res = simulate(
+            scene.omega,
+            0.0,
+            horizon,
+            x0=scene.x0,
+            v0=scene.v0,
+            params=scene.params,
+            rtol=rtol,
+            atol=atol,
+            record=("impacts",),
+        )
     except StallError as exc:
         row.update(status="stall", core_time=time.perf_counter() - t1, message=str(exc))
         return row
@@ -144,15 +168,20 @@ def compare_scene(scene: Scene, horizon: float = 3.0, rtol: float = 1e-11, atol:
     vr = ref_b["impacts_v"][tb < h]
     tc, tr = tc[tc < h], tb[tb < h]
     if tc.size != tr.size:
-        row.update(status="count differs", compared=int(tr.size), worst_dt=math.nan,
-                   message=f"core {tc.size} impacts, reference {tr.size} before t = {h:.6g} s")
+        row.update(
+            status="count differs",
+            compared=int(tr.size),
+            worst_dt=math.nan,
+            message=f"core {tc.size} impacts, reference {tr.size} before t = {h:.6g} s",
+        )
         return row
     dt = np.abs(tc - tr)
     worst = float(dt.max()) if tc.size else 0.0
     worst_dx = float(np.max(dt * np.abs(vr))) if tc.size else 0.0
     ok = bool(np.all(impacts_agree(dt, vr)))
-    row.update(status="ok" if ok else "time differs", compared=int(tr.size), worst_dt=worst, worst_dx=worst_dx,
-               message="")
+    row.update(
+        status="ok" if ok else "time differs", compared=int(tr.size), worst_dt=worst, worst_dx=worst_dx, message=""
+    )
     return row
 
 
@@ -161,8 +190,10 @@ def run_scenes(seed: int, n: int, horizon: float = 3.0, start: int = 0, log=prin
     rows = []
     for i in range(start, start + n):
         row = compare_scene(draw_scene(seed, i), horizon, **kw)
-        log(f"scene {i}: {row['status']}, {row['compared']} impacts over {row['horizon']:.3g} s, "
-            f"worst {row['worst_dt']:.2g} s ({row['reference']}, core {row['core_time']:.3g} s)")
+        log(
+            f"scene {i}: {row['status']}, {row['compared']} impacts over {row['horizon']:.3g} s, "
+            f"worst {row['worst_dt']:.2g} s ({row['reference']}, core {row['core_time']:.3g} s)"
+        )
         rows.append(row)
     return rows
 

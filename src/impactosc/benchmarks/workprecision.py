@@ -89,8 +89,15 @@ def attractor_starts(case: Case, params: ModelParams, rtol: float = 1e-12) -> li
     """(x, v) at the first Poincare time after settle + k * spacing, k = 0 .. n_starts-1."""
     period = 2 * math.pi / case.omega
     marks = [case.settle + k * case.spacing for k in range(case.n_starts)]
-    res = simulate(case.omega, max(marks[0] - period, 0.0), marks[-1] + 2 * period - max(marks[0] - period, 0.0),
-                   params=params, rtol=rtol, atol=rtol * 1e-2, record=("poincare",))
+    res = simulate(
+        case.omega,
+        max(marks[0] - period, 0.0),
+        marks[-1] + 2 * period - max(marks[0] - period, 0.0),
+        params=params,
+        rtol=rtol,
+        atol=rtol * 1e-2,
+        record=("poincare",),
+    )
     p = res.events["poincare"]
     starts = []
     for mark in marks:
@@ -101,15 +108,29 @@ def attractor_starts(case: Case, params: ModelParams, rtol: float = 1e-12) -> li
 
 # ------------------------------------------------------------------------ the contestants
 
+
 def run_core(omega, t_end, x0, v0, params, rtol, atol) -> dict:
     """Impacts, penetrations and Poincare points on (0, t_end] with the numba core."""
-    res = simulate(omega, 0.0, t_end, x0=x0, v0=v0, params=params, rtol=rtol, atol=atol,
-                   record=("impacts", "penetrations", "poincare"))
+    res = simulate(
+        omega,
+        0.0,
+        t_end,
+        x0=x0,
+        v0=v0,
+        params=params,
+        rtol=rtol,
+        atol=atol,
+        record=("impacts", "penetrations", "poincare"),
+    )
     e = res.events
     return {
-        "impacts_t": e["impacts"]["t"], "impacts_v": e["impacts"]["v"],
-        "penetrations_t": e["penetrations"]["t"], "penetrations_h": e["penetrations"]["h"],
-        "poincare_t": e["poincare"]["t"], "poincare_x": e["poincare"]["x"], "poincare_v": e["poincare"]["v"],
+        "impacts_t": e["impacts"]["t"],
+        "impacts_v": e["impacts"]["v"],
+        "penetrations_t": e["penetrations"]["t"],
+        "penetrations_h": e["penetrations"]["h"],
+        "poincare_t": e["poincare"]["t"],
+        "poincare_x": e["poincare"]["x"],
+        "poincare_v": e["poincare"]["v"],
         "rhs_evals": res.attrs["n_rhs"],
     }
 
@@ -121,8 +142,18 @@ def run_scipy(omega, t_end, x0, v0, params, method, rtol, atol, max_pieces=100_0
     """
     if method not in SCIPY_METHODS:
         raise ValueError(f"unknown SciPy method {method!r}; choose from {SCIPY_METHODS}")
-    ref = solve_reference(omega, t_end, x0=x0, v0=v0, params=params, method=method, rtol=rtol, atol=atol,
-                          max_pieces=max_pieces, poincare=True)
+    ref = solve_reference(
+        omega,
+        t_end,
+        x0=x0,
+        v0=v0,
+        params=params,
+        method=method,
+        rtol=rtol,
+        atol=atol,
+        max_pieces=max_pieces,
+        poincare=True,
+    )
     res = {k: np.asarray(ref[k], float) for k in _EVENT_KEYS}
     res["rhs_evals"] = ref["nfev"]
     return res
@@ -144,7 +175,7 @@ def peer_solvers(methods) -> list[str]:
 def run_peer(solver, omega, t_end, x0, v0, params, rtol, atol) -> dict:
     """The same events with a compiled peer (peers.cyrk_events); the dict also says whether the
     run reached t_end (success, t_reached, message)."""
-    return peers.cyrk_events(solver[len(PEER_PREFIX):], omega, t_end, x0, v0, params, rtol, atol)
+    return peers.cyrk_events(solver[len(PEER_PREFIX) :], omega, t_end, x0, v0, params, rtol, atol)
 
 
 def run_solver(solver, omega, t_end, x0, v0, params, rtol, atol) -> dict:
@@ -158,20 +189,25 @@ def run_solver(solver, omega, t_end, x0, v0, params, rtol, atol) -> dict:
 
 # ------------------------------------------------------------ the 500 s attractor check
 
+
 def long_run(solver, omega, params, rtol, atol) -> dict:
     """Impacts in 100-500 s of a run from rest (the benchmark scene's length) by the core or a
     peer, untimed: n_impacts_500s, t_reached_500s and why it stopped (empty if it did not)."""
     t_end = peers.TRANSIENT + peers.DURATION
     if solver == CORE:
         try:
-            res = simulate(omega, peers.TRANSIENT, peers.DURATION, params=params, rtol=rtol, atol=atol,
-                           record=("impacts",))
+            res = simulate(
+                omega, peers.TRANSIENT, peers.DURATION, params=params, rtol=rtol, atol=atol, record=("impacts",)
+            )
         except StallError as e:
             return {"n_impacts_500s": math.nan, "t_reached_500s": float(e.state.get("t", math.nan)), "stop": str(e)}
         return {"n_impacts_500s": len(res.events["impacts"]["t"]), "t_reached_500s": t_end, "stop": ""}
-    run = peers.run_cyrk(solver[len(PEER_PREFIX):], t_end, rtol, atol, params=params, omega=omega)
-    return {"n_impacts_500s": int(np.count_nonzero(run.impacts_t >= peers.TRANSIENT)), "t_reached_500s": run.t_reached,
-            "stop": "" if run.success else run.message}
+    run = peers.run_cyrk(solver[len(PEER_PREFIX) :], t_end, rtol, atol, params=params, omega=omega)
+    return {
+        "n_impacts_500s": int(np.count_nonzero(run.impacts_t >= peers.TRANSIENT)),
+        "t_reached_500s": run.t_reached,
+        "stop": "" if run.success else run.message,
+    }
 
 
 def known_long_runs(benchmark_rows: list[dict]) -> dict:
@@ -184,8 +220,10 @@ def known_long_runs(benchmark_rows: list[dict]) -> dict:
         if r.get("kind") != "scene" or not (status == "ok" or status.startswith("stopped")):
             continue
         out[(str(r["solver"]), float(r["rtol"]))] = {
-            "n_impacts_500s": r["n_impacts"], "t_reached_500s": float(r["t_reached"]),
-            "stop": "" if status == "ok" else status.split(": ", 1)[-1]}
+            "n_impacts_500s": r["n_impacts"],
+            "t_reached_500s": float(r["t_reached"]),
+            "stop": "" if status == "ok" else status.split(": ", 1)[-1],
+        }
     return out
 
 
@@ -193,13 +231,18 @@ def attractor_columns(run: dict, reference: int) -> dict:
     """Columns of a row from :func:`long_run`: the count, where it stopped, on_attractor and a
     note for a run that is not on the attractor."""
     ok = not run["stop"] and peers.on_attractor(run["n_impacts_500s"], reference)
-    out = {"n_impacts_500s": run["n_impacts_500s"], "t_reached_500s": run["t_reached_500s"],
-           "reference_impacts_500s": reference, "on_attractor": ok}
+    out = {
+        "n_impacts_500s": run["n_impacts_500s"],
+        "t_reached_500s": run["t_reached_500s"],
+        "reference_impacts_500s": reference,
+        "on_attractor": ok,
+    }
     if run["stop"]:
         out["attractor_note"] = f"500 s run stopped at t = {run['t_reached_500s']:.6g} s: {run['stop']}"
     elif not ok:
-        out["attractor_note"] = (f"500 s run: {run['n_impacts_500s']} impacts in 100-500 s against {reference}: "
-                                 "left the attractor")
+        out["attractor_note"] = (
+            f"500 s run: {run['n_impacts_500s']} impacts in 100-500 s against {reference}: left the attractor"
+        )
     return out
 
 
@@ -221,12 +264,12 @@ def peer_status(solvers, *, heyoka: bool) -> dict:
             out[s] = reason
             if reason is None:
                 try:
-                    peers.cyrk_method(s[len(PEER_PREFIX):])
+                    peers.cyrk_method(s[len(PEER_PREFIX) :])
                 except peers.PeerUnavailable as e:
                     out[s] = str(e)
     if heyoka:
         try:
-            import heyoka  # noqa: F401
+            import heyoka
 
             out["heyoka"] = None
         except ImportError as e:
@@ -245,12 +288,19 @@ def heyoka_floor(case: Case, starts, params: ModelParams, repeats: int, tol: flo
         if not out.success:
             raise RuntimeError(f"heyoka stopped at t = {out.t_reached:g} s: {out.message}")
         wall += wmin
-    return {"solver": f"heyoka Taylor (order {integrator.order}) free flight", "rtol": tol, "atol": tol,
-            "status": "floor", "wall_time": wall, "repeats": repeats,
-            "note": "no contact (obstacle out of reach): a floor, not a competitor"}
+    return {
+        "solver": f"heyoka Taylor (order {integrator.order}) free flight",
+        "rtol": tol,
+        "atol": tol,
+        "status": "floor",
+        "wall_time": wall,
+        "repeats": repeats,
+        "note": "no contact (obstacle out of reach): a floor, not a competitor",
+    }
 
 
 # --------------------------------------------------------------------------- the errors
+
 
 def _nearest(a, b) -> np.ndarray:
     """For each element of sorted a, the distance to the nearest element of sorted b."""
@@ -325,20 +375,37 @@ def references(case: Case, starts, params, ref: dict) -> tuple[list[dict], list[
     primary, check, check_errs = [], [], []
     for x0, v0 in starts:
         a = run_scipy(case.omega, case.horizon, x0, v0, params, ref["method"], ref["rtol"], ref["atol"])
-        b = run_scipy(case.omega, case.horizon, x0, v0, params, ref["check_method"], ref["check_rtol"], ref["check_atol"])
+        b = run_scipy(
+            case.omega, case.horizon, x0, v0, params, ref["check_method"], ref["check_rtol"], ref["check_atol"]
+        )
         if a["impacts_t"].size != b["impacts_t"].size:
-            raise RuntimeError(f"{case.name}: the two references disagree on the impact count "
-                               f"({a['impacts_t'].size} vs {b['impacts_t'].size}); shorten the horizon")
+            raise RuntimeError(
+                f"{case.name}: the two references disagree on the impact count "
+                f"({a['impacts_t'].size} vs {b['impacts_t'].size}); shorten the horizon"
+            )
         primary.append(a)
         check.append(b)
         check_errs.append(event_errors(b, a))
     return primary, check, _worst(check_errs)
 
 
-def sweep_case(case: Case, params: ModelParams, rtols, atol_ratio: float, solvers, ref: dict,
-               core_repeats: int = 7, scipy_repeats: int = 3, repeat_below: float = 2.0,
-               time_cap: float = 60.0, peer_repeats: int = 7, attractor_check: bool = False,
-               floor: bool = False, known_500s: dict | None = None, log=print) -> list[dict]:
+def sweep_case(
+    case: Case,
+    params: ModelParams,
+    rtols,
+    atol_ratio: float,
+    solvers,
+    ref: dict,
+    core_repeats: int = 7,
+    scipy_repeats: int = 3,
+    repeat_below: float = 2.0,
+    time_cap: float = 60.0,
+    peer_repeats: int = 7,
+    attractor_check: bool = False,
+    floor: bool = False,
+    known_500s: dict | None = None,
+    log=print,
+) -> list[dict]:
     """One row per (solver, rtol): wall time (sum over the starts of the minimum of the
     repeats), RHS evaluations and the errors against the reference.
 
@@ -357,10 +424,17 @@ def sweep_case(case: Case, params: ModelParams, rtols, atol_ratio: float, solver
     warm_up()  # JIT compile (or cache load) stays out of every timing
     starts = attractor_starts(case, params)
     refs, checks, unc = references(case, starts, params, ref)
-    log(f"{case.name}: {len(starts)} start(s), reference impacts {unc['n_impacts_ref']}, uncertainty "
-        + ", ".join(f"{k} {unc[k]:.2e}" for k in METRICS))
-    base = {"scene": case.name, "omega": case.omega, "horizon": case.horizon, "n_starts": len(starts),
-            **{f"reference_{k}": unc[k] for k in METRICS}}
+    log(
+        f"{case.name}: {len(starts)} start(s), reference impacts {unc['n_impacts_ref']}, uncertainty "
+        + ", ".join(f"{k} {unc[k]:.2e}" for k in METRICS)
+    )
+    base = {
+        "scene": case.name,
+        "omega": case.omega,
+        "horizon": case.horizon,
+        "n_starts": len(starts),
+        **{f"reference_{k}": unc[k] for k in METRICS},
+    }
     rows = []
     missing = peer_status(solvers, heyoka=floor)  # (builds the CyRK shim before any timing)
     for solver, reason in missing.items():
@@ -378,8 +452,13 @@ def sweep_case(case: Case, params: ModelParams, rtols, atol_ratio: float, solver
             atol = rtol * atol_ratio
             row = {**base, "solver": solver, "rtol": rtol, "atol": atol}
             if capped is not None:
-                rows.append({**row, "status": "skipped",
-                             "note": f"time budget: rtol {capped:g} already took > {time_cap:g} s per point"})
+                rows.append(
+                    {
+                        **row,
+                        "status": "skipped",
+                        "note": f"time budget: rtol {capped:g} already took > {time_cap:g} s per point",
+                    }
+                )
                 continue
             # the primary reference's own method is measured against the check reference,
             # so that no solver is judged by a tighter run of itself
@@ -393,11 +472,14 @@ def sweep_case(case: Case, params: ModelParams, rtols, atol_ratio: float, solver
                 walls, meds, nrep, rhs, errs, stops = 0.0, 0.0, 0, 0, [], []
                 for k, ((x0, v0), r) in enumerate(zip(starts, against)):
                     out, wmin, wmed, n = best_time(
-                        lambda: run_solver(solver, case.omega, case.horizon, x0, v0, params, rtol, atol), reps, below)
+                        lambda: run_solver(solver, case.omega, case.horizon, x0, v0, params, rtol, atol), reps, below
+                    )
                     walls, meds, nrep, rhs = walls + wmin, meds + wmed, max(nrep, n), rhs + out["rhs_evals"]
                     if not out.get("success", True):
-                        stops.append(f"start {k + 1}: stopped at t = {out['t_reached']:.6g} s of {case.horizon:g} s: "
-                                     f"{out['message']}")
+                        stops.append(
+                            f"start {k + 1}: stopped at t = {out['t_reached']:.6g} s of {case.horizon:g} s: "
+                            f"{out['message']}"
+                        )
                         continue
                     errs.append(event_errors(out, r))
             except (RuntimeError, ValueError) as exc:  # a contestant that fails (SciPy's event location
@@ -406,16 +488,37 @@ def sweep_case(case: Case, params: ModelParams, rtols, atol_ratio: float, solver
                 log(f"{case.name} {solver} rtol {rtol:g}: failed ({exc})")
                 continue
             if stops:
-                rows.append({**row, "status": "stopped", "wall_time": walls, "wall_time_median": meds, "repeats": nrep,
-                             "rhs_evals": rhs, **{k: math.inf for k in (*METRICS, "poincare_v_error")},
-                             "note": "; ".join(stops)})
+                rows.append(
+                    {
+                        **row,
+                        "status": "stopped",
+                        "wall_time": walls,
+                        "wall_time_median": meds,
+                        "repeats": nrep,
+                        "rhs_evals": rhs,
+                        **dict.fromkeys((*METRICS, "poincare_v_error"), math.inf),
+                        "note": "; ".join(stops),
+                    }
+                )
                 log(f"{case.name} {solver} rtol {rtol:g}: {walls:.4g} s, {rows[-1]['note']}")
                 continue
             note = f"errors against the {ref['check_method']} reference" if against is checks else ""
-            rows.append({**row, "status": "ok", "wall_time": walls, "wall_time_median": meds, "repeats": nrep,
-                         "rhs_evals": rhs, **_worst(errs), "note": note})
-            log(f"{case.name} {solver} rtol {rtol:g}: {walls:.4g} s, impact err {rows[-1]['impact_time_error']:.2e}"
-                + (f", {rows[-1]['attractor_note']}" if "attractor_note" in rows[-1] else ""))
+            rows.append(
+                {
+                    **row,
+                    "status": "ok",
+                    "wall_time": walls,
+                    "wall_time_median": meds,
+                    "repeats": nrep,
+                    "rhs_evals": rhs,
+                    **_worst(errs),
+                    "note": note,
+                }
+            )
+            log(
+                f"{case.name} {solver} rtol {rtol:g}: {walls:.4g} s, impact err {rows[-1]['impact_time_error']:.2e}"
+                + (f", {rows[-1]['attractor_note']}" if "attractor_note" in rows[-1] else "")
+            )
             if solver != CORE and walls > time_cap:
                 capped = rtol
     if floor and missing.get("heyoka") is None:
@@ -426,6 +529,7 @@ def sweep_case(case: Case, params: ModelParams, rtols, atol_ratio: float, solver
 
 # ------------------------------------------------------------------------------ summary
 
+
 def cost_at_error(rows: list[dict], scene: str, solver: str, metric: str, level: float) -> float:
     """Least wall time of any run of `solver` on `scene` whose error is <= level (nan if none).
 
@@ -433,8 +537,15 @@ def cost_at_error(rows: list[dict], scene: str, solver: str, metric: str, level:
     has to spend to be at least that accurate. A run whose 500 s check left the attractor
     (on_attractor no) does not count.
     """
-    walls = [r["wall_time"] for r in rows if r["scene"] == scene and r["solver"] == solver
-             and r.get("status") == "ok" and r.get("on_attractor") not in (False, "no") and r[metric] <= level]
+    walls = [
+        r["wall_time"]
+        for r in rows
+        if r["scene"] == scene
+        and r["solver"] == solver
+        and r.get("status") == "ok"
+        and r.get("on_attractor") not in (False, "no")
+        and r[metric] <= level
+    ]
     return min(walls) if walls else math.nan
 
 
@@ -468,8 +579,9 @@ def headline(rows: list[dict], levels: dict) -> list[dict]:
     out = []
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
     solvers = list(dict.fromkeys(r["solver"] for r in rows if r["solver"] in SCIPY_METHODS))
-    compiled = list(dict.fromkeys(r["solver"] for r in rows if is_peer(str(r["solver"]))
-                                  and r.get("status") != "unavailable"))
+    compiled = list(
+        dict.fromkeys(r["solver"] for r in rows if is_peer(str(r["solver"])) and r.get("status") != "unavailable")
+    )
     for scene in scenes:
         unc = next(r for r in rows if r["scene"] == scene)
         for metric, lv in levels.items():
@@ -477,20 +589,28 @@ def headline(rows: list[dict], levels: dict) -> list[dict]:
                 core = cost_at_error(rows, scene, CORE, metric, level)
                 costs, best = _fastest(rows, scene, solvers, metric, level)
                 row = {
-                    "scene": scene, "metric": metric, "error_level": level,
+                    "scene": scene,
+                    "metric": metric,
+                    "error_level": level,
                     "reference_uncertainty": unc[f"reference_{metric}"],
-                    "core_wall_time": core, "best_scipy": best or "none",
+                    "core_wall_time": core,
+                    "best_scipy": best or "none",
                     "best_scipy_wall_time": costs[best] if best else math.nan,
                     "speedup": costs[best] / core if best and core > 0 else math.nan,
-                    "speedup_at_least": (budget_bound(rows, scene, solvers) / core
-                                         if not best and core > 0 else math.nan),
+                    "speedup_at_least": (
+                        budget_bound(rows, scene, solvers) / core if not best and core > 0 else math.nan
+                    ),
                     **{f"{s}_wall_time": c for s, c in costs.items()},
                 }
                 if compiled:
                     peer_costs, peer = _fastest(rows, scene, compiled, metric, level)
-                    row.update({"best_peer": peer or "none",
-                                "best_peer_wall_time": peer_costs[peer] if peer else math.nan,
-                                "peer_over_core": peer_costs[peer] / core if peer and core > 0 else math.nan})
+                    row.update(
+                        {
+                            "best_peer": peer or "none",
+                            "best_peer_wall_time": peer_costs[peer] if peer else math.nan,
+                            "peer_over_core": peer_costs[peer] / core if peer and core > 0 else math.nan,
+                        }
+                    )
                 out.append(row)
     return out
 
@@ -504,12 +624,28 @@ def train_statistics(times, t_start, t_stop, omega, options=None) -> dict:
     """The numbers the chaotic group reports (impactosc.analysis.chaotic): counts, C_V^2, maxima."""
     train = ImpactTrain(times, t_start, t_stop, omega=omega)
     k = key_numbers(analyse_train(train, options, parts=("stationarity", "variability", "isi_density")))
-    return {"n_impacts": k["n_impacts"], "window_counts": k["window_counts"], "cv2_paper": k["cv2_paper"],
-            "cv2": k["cv2"], "isi_first_maximum": k["isi_first_maximum"], "isi_last_maximum": k["isi_last_maximum"]}
+    return {
+        "n_impacts": k["n_impacts"],
+        "window_counts": k["window_counts"],
+        "cv2_paper": k["cv2_paper"],
+        "cv2": k["cv2"],
+        "isi_first_maximum": k["isi_first_maximum"],
+        "isi_last_maximum": k["isi_last_maximum"],
+    }
 
 
-def statistics_convergence(omega, transient, duration, rtols, atol_ratio, ensemble_x0, ensemble_rtol,
-                           params: ModelParams, options=None, log=print) -> list[dict]:
+def statistics_convergence(
+    omega,
+    transient,
+    duration,
+    rtols,
+    atol_ratio,
+    ensemble_x0,
+    ensemble_rtol,
+    params: ModelParams,
+    options=None,
+    log=print,
+) -> list[dict]:
     """The chaotic scene's statistics at each tolerance, and an ensemble that fixes their
     converged value and spread: runs at `ensemble_rtol` from the perturbed starts x(0) in
     `ensemble_x0` (each an independent realisation of the attractor).
@@ -519,14 +655,26 @@ def statistics_convergence(omega, transient, duration, rtols, atol_ratio, ensemb
     runs = [("sweep", r, 0.0) for r in rtols] + [("ensemble", ensemble_rtol, x0) for x0 in ensemble_x0]
     for kind, rtol, x0 in runs:
         t0 = time.perf_counter()
-        res = simulate(omega, transient, duration, x0=x0, params=params, rtol=rtol, atol=rtol * atol_ratio,
-                       record=("impacts",))
+        res = simulate(
+            omega, transient, duration, x0=x0, params=params, rtol=rtol, atol=rtol * atol_ratio, record=("impacts",)
+        )
         wall = time.perf_counter() - t0
         s = train_statistics(res.events["impacts"]["t"], transient, transient + duration, omega, options)
-        rows.append({"kind": kind, "rtol": rtol, "atol": rtol * atol_ratio, "x0": x0, "wall_time": wall,
-                     "rhs_evals": res.attrs["n_rhs"], **s})
-        log(f"statistics {kind} rtol {rtol:g} x0 {x0:g}: {wall:.3f} s, {s['n_impacts']} impacts, "
-            f"C_V^2 {s['cv2_paper']:.4f} s")
+        rows.append(
+            {
+                "kind": kind,
+                "rtol": rtol,
+                "atol": rtol * atol_ratio,
+                "x0": x0,
+                "wall_time": wall,
+                "rhs_evals": res.attrs["n_rhs"],
+                **s,
+            }
+        )
+        log(
+            f"statistics {kind} rtol {rtol:g} x0 {x0:g}: {wall:.3f} s, {s['n_impacts']} impacts, "
+            f"C_V^2 {s['cv2_paper']:.4f} s"
+        )
     return rows
 
 
@@ -561,8 +709,15 @@ def statistics_summary(rows: list[dict], n_sigma: float = 3.0) -> list[dict]:
             continue
         z = zscores(r, ens)
         worst = max(abs(v) for v in z.values())
-        out.append({"rtol": r["rtol"], "wall_time": r["wall_time"], **{k: r[k] for k in STAT_KEYS},
-                    **{f"z_{k}": v for k, v in z.items()}, "converged": bool(worst <= n_sigma),
-                    **{f"ensemble_mean_{k}": mean[k] for k in STAT_KEYS},
-                    **{f"ensemble_std_{k}": std[k] for k in STAT_KEYS}})
+        out.append(
+            {
+                "rtol": r["rtol"],
+                "wall_time": r["wall_time"],
+                **{k: r[k] for k in STAT_KEYS},
+                **{f"z_{k}": v for k, v in z.items()},
+                "converged": bool(worst <= n_sigma),
+                **{f"ensemble_mean_{k}": mean[k] for k in STAT_KEYS},
+                **{f"ensemble_std_{k}": std[k] for k in STAT_KEYS},
+            }
+        )
     return out

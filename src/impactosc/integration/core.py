@@ -61,9 +61,39 @@ from numba import njit
 from . import dop853, implicit, pieces
 from .events import enter_slow, goes_implicit, phase_of, record_poincare
 from .layout import (
-    C_ATTEMPTS, C_RHS, DEFAULT_STEP_BUDGET, N_COUNT, N_SETTINGS, N_STATE, R_ATOL, R_FLAGS, R_PERIOD, R_RTOL,
-    R_T_END, R_T_RECORD, R_WIN_DT, R_WIN_T0, RUNNING, S_BUDGET, S_ISEC, S_MARK_N, S_MARK_T, S_MODE, S_PHASE,
-    S_S, S_SGN, S_SLOW, S_STATUS, S_T, S_TAU, S_TREF, S_V, S_VCUT, S_X, STALLED, TIME,
+    C_ATTEMPTS,
+    C_RHS,
+    DEFAULT_STEP_BUDGET,
+    N_COUNT,
+    N_SETTINGS,
+    N_STATE,
+    R_ATOL,
+    R_FLAGS,
+    R_PERIOD,
+    R_RTOL,
+    R_T_END,
+    R_T_RECORD,
+    R_WIN_DT,
+    R_WIN_T0,
+    RUNNING,
+    S_BUDGET,
+    S_ISEC,
+    S_MARK_N,
+    S_MARK_T,
+    S_MODE,
+    S_PHASE,
+    S_S,
+    S_SGN,
+    S_SLOW,
+    S_STATUS,
+    S_T,
+    S_TAU,
+    S_TREF,
+    S_V,
+    S_VCUT,
+    S_X,
+    STALLED,
+    TIME,
 )
 
 
@@ -84,8 +114,9 @@ def _resume(p, st, cnt, d0):
         st[S_TREF] = 0.0
         st[S_TAU] = st[S_T]
         st[S_S] = st[S_T]
-    d0[0], d0[1], d0[2] = dop853.deriv(p, mode, int(st[S_PHASE]), st[S_SGN], pieces.inverse_n3(p), st[S_S],
-                                       st[S_TREF], st[S_TAU], st[S_X], st[S_V])
+    d0[0], d0[1], d0[2] = dop853.deriv(
+        p, mode, int(st[S_PHASE]), st[S_SGN], pieces.inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], st[S_X], st[S_V]
+    )
     cnt[C_RHS] += 1
 
 

@@ -31,7 +31,6 @@ ERROR_EXPONENT = -1.0 / 8.0  # error estimator order 7
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
 
 
-
 @njit(cache=True)
 def deriv(p, mode, phase, sgn, q, s, tref, t, x, v):
     """(dt/ds, dx/ds, dv/ds) of the piece; in TIME mode (1, v, a).
@@ -80,7 +79,9 @@ def _stage(p, mode, phase, sgn, q, s, tref, t, x, v, h, st, K):
             dt += a * K[j, 0]
             dx += a * K[j, 1]
             dv += a * K[j, 2]
-    K[st, 0], K[st, 1], K[st, 2] = deriv(p, mode, phase, sgn, q, s + C[st] * h, tref, t + h * dt, x + h * dx, v + h * dv)
+    K[st, 0], K[st, 1], K[st, 2] = deriv(
+        p, mode, phase, sgn, q, s + C[st] * h, tref, t + h * dt, x + h * dx, v + h * dv
+    )
 
 
 @njit(cache=True)
@@ -200,7 +201,7 @@ def initial_step(p, mode, phase, sgn, q, s, tref, t, x, v, d0t, d0x, d0v, rtol, 
         h0 = 1e-6
     else:
         h0 = 0.01 * d0 / d1
-    d1t, d1x, d1v = deriv(p, mode, phase, sgn, q, s + h0, tref, t + h0 * d0t, x + h0 * d0x, v + h0 * d0v)
+    _d1t, d1x, d1v = deriv(p, mode, phase, sgn, q, s + h0, tref, t + h0 * d0t, x + h0 * d0x, v + h0 * d0v)
     d2 = math.sqrt((((d1x - d0x) / sx) ** 2 + ((d1v - d0v) / sv) ** 2) / 2.0) / h0
     if not (d2 == d2):
         return h0 * 1e-3

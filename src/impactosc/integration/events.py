@@ -14,10 +14,47 @@ import numpy as np
 from numba import njit
 
 from .layout import (
-    C_SLOW_TRANSIT, C_STICK, C_STIFF, CONTACT, CUT, FREE, IMPACT, NEAR_MISS, P_B, P_EPS, P_KI, P_M, P_N2, P_N3,
-    P_T, P_XI, PENETRATION, POINCARE, R_FLAGS, R_T_RECORD, RECORD_IMPACTS, RECORD_NEAR_MISSES,
-    RECORD_PENETRATIONS, RECORD_POINCARE, S_H, S_ISEC, S_MODE, S_PDIR, S_PHASE, S_PT, S_PX, S_S, S_SGN, S_SLOW,
-    S_V1, S_VCUT, SLOW_FRICTION, SLOW_STIFF, SQRTH, TIME, WVEL,
+    C_SLOW_TRANSIT,
+    C_STICK,
+    C_STIFF,
+    CONTACT,
+    CUT,
+    FREE,
+    IMPACT,
+    NEAR_MISS,
+    P_B,
+    P_EPS,
+    P_KI,
+    P_M,
+    P_N2,
+    P_N3,
+    P_T,
+    P_XI,
+    PENETRATION,
+    POINCARE,
+    R_FLAGS,
+    R_T_RECORD,
+    RECORD_IMPACTS,
+    RECORD_NEAR_MISSES,
+    RECORD_PENETRATIONS,
+    RECORD_POINCARE,
+    S_H,
+    S_ISEC,
+    S_MODE,
+    S_PDIR,
+    S_PHASE,
+    S_PT,
+    S_PX,
+    S_S,
+    S_SGN,
+    S_SLOW,
+    S_V1,
+    S_VCUT,
+    SLOW_FRICTION,
+    SLOW_STIFF,
+    SQRTH,
+    TIME,
+    WVEL,
 )
 from .model import accel, damping_rate, stick_force
 
@@ -203,7 +240,7 @@ def apply_event(p, st, cnt, rs, ev, n, kind, t, x, v, direction, dt_step):
     elif kind == EV_X_DOWN:  # contact exit
         x = p[P_XI]
         st[S_PHASE] = FREE
-    elif kind == EV_CUT_ON or kind == EV_CUT_OFF:
+    elif kind in (EV_CUT_ON, EV_CUT_OFF):
         v = -vcut
         st[S_PHASE] = CUT if kind == EV_CUT_ON else CONTACT
     else:  # v = 0

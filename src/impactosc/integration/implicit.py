@@ -13,8 +13,32 @@ from numba import njit
 from . import radau
 from .events import EV_V, EV_X_DOWN, EV_X_UP, STIFF_EXIT, apply_event, record_extremum, sign
 from .layout import (
-    C_REJECT, C_SLOW_STEPS, CONTACT, FREE, P_EPS, P_M, P_T, P_XI, R_ATOL, R_PERIOD, R_RTOL, S_H, S_MODE, S_PDIR,
-    S_PHASE, S_PT, S_PX, S_SLOW, S_STATUS, S_TAU, S_TSLOW, S_V, S_X, SLOW_FRICTION, SLOW_STIFF, TIME,
+    C_REJECT,
+    C_SLOW_STEPS,
+    CONTACT,
+    FREE,
+    P_EPS,
+    P_M,
+    P_T,
+    P_XI,
+    R_ATOL,
+    R_PERIOD,
+    R_RTOL,
+    S_H,
+    S_MODE,
+    S_PDIR,
+    S_PHASE,
+    S_PT,
+    S_PX,
+    S_SLOW,
+    S_STATUS,
+    S_TAU,
+    S_TSLOW,
+    S_V,
+    S_X,
+    SLOW_FRICTION,
+    SLOW_STIFF,
+    TIME,
     UNDERFLOW_IMPLICIT,
 )
 from .model import damping_rate
@@ -85,8 +109,9 @@ def implicit_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
         th_v = 2.0
         xe_x, ve_x, xe_v, ve_v = x, v, x, v
         if hit_x:
-            th_x, xe_x, ve_x = _slow_locate(p, phase, t, x, v, hs, rtol, atol, work, cnt, 0, p[P_XI],
-                                            -1.0 if phase == FREE else 1.0)
+            th_x, xe_x, ve_x = _slow_locate(
+                p, phase, t, x, v, hs, rtol, atol, work, cnt, 0, p[P_XI], -1.0 if phase == FREE else 1.0
+            )
         if hit_v:
             th_v, xe_v, ve_v = _slow_locate(p, phase, t, x, v, hs, rtol, atol, work, cnt, 1, 0.0, sign(v))
         te = min(t + min(th_x, th_v) * hs, t1)

@@ -16,9 +16,7 @@ from dataclasses import asdict, dataclass, fields
 import numpy as np
 from numba import njit
 
-from .layout import (CONTACT, N_PARAMS, P_B, P_C, P_EPS, P_K, P_KI, P_M, P_M0E, P_N1, P_N2, P_N3, P_OMEGA,
-                     P_T, P_XI)
-
+from .layout import CONTACT, N_PARAMS, P_B, P_C, P_EPS, P_K, P_KI, P_M, P_M0E, P_N1, P_N2, P_N3, P_OMEGA, P_T, P_XI
 
 # Parameter ranges whose events have been checked against an independent SciPy reference:
 # the randomized differential tests draw from these (benchmarks/random_scenes.BOX, with T
@@ -76,9 +74,12 @@ class ModelParams:
             value = getattr(self, name)
             if not lo <= value <= hi:
                 where = f"= {lo:g}" if lo == hi else f"in [{lo:g}, {hi:g}]"
-                warnings.warn(f"model parameter {name} = {value:g} is outside the tested range ({name} {where}); "
-                              "the core runs, but its events there are not covered by the randomized tests",
-                              UntestedParameterWarning, stacklevel=3)
+                warnings.warn(
+                    f"model parameter {name} = {value:g} is outside the tested range ({name} {where}); "
+                    "the core runs, but its events there are not covered by the randomized tests",
+                    UntestedParameterWarning,
+                    stacklevel=3,
+                )
 
     def as_array(self, omega: float) -> np.ndarray:
         """Pack the parameters and the forcing frequency for the numba core."""

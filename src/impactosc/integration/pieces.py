@@ -28,14 +28,67 @@ from numba import njit
 
 from . import dop853
 from .events import (
-    CONTACT_SWITCH, EV_CUT_OFF, EV_CUT_ON, EV_NONE, EV_V, EV_X_DOWN, EV_X_UP, RESTITUTION_SWITCH,
-    apply_event, enter_slow, goes_implicit, record_poincare, sign, stiff,
+    CONTACT_SWITCH,
+    EV_CUT_OFF,
+    EV_CUT_ON,
+    EV_NONE,
+    EV_V,
+    EV_X_DOWN,
+    EV_X_UP,
+    RESTITUTION_SWITCH,
+    apply_event,
+    enter_slow,
+    goes_implicit,
+    record_poincare,
+    sign,
+    stiff,
 )
 from .layout import (
-    C_BY_MODE, C_DENSE, C_DIP, C_FALLBACK, C_REJECT, C_RHS, C_STEPS, C_TRANSFORMED, CONTACT, CUT, FREE,
-    P_EPS, P_M, P_N3, P_T, P_XI, R_ATOL, R_PERIOD, R_RTOL, R_T_END, S_H, S_ISEC, S_MODE, S_NINV, S_PHASE,
-    S_ERRACC, S_HACC, S_REJECTED, S_S, S_SGN, S_SLOW, S_STATUS, S_T, S_TAU, S_TREF, S_V, S_V1, S_VCUT, S_X, SLOW_STIFF,
-    SQRTH, TIME, UNDERFLOW_EXPLICIT, UVEL, WVEL,
+    C_BY_MODE,
+    C_DENSE,
+    C_DIP,
+    C_FALLBACK,
+    C_REJECT,
+    C_RHS,
+    C_STEPS,
+    C_TRANSFORMED,
+    CONTACT,
+    CUT,
+    FREE,
+    P_EPS,
+    P_M,
+    P_N3,
+    P_T,
+    P_XI,
+    R_ATOL,
+    R_PERIOD,
+    R_RTOL,
+    R_T_END,
+    S_ERRACC,
+    S_H,
+    S_HACC,
+    S_ISEC,
+    S_MODE,
+    S_NINV,
+    S_PHASE,
+    S_REJECTED,
+    S_S,
+    S_SGN,
+    S_SLOW,
+    S_STATUS,
+    S_T,
+    S_TAU,
+    S_TREF,
+    S_V,
+    S_V1,
+    S_VCUT,
+    S_X,
+    SLOW_STIFF,
+    SQRTH,
+    TIME,
+    UNDERFLOW_EXPLICIT,
+    UVEL,
+    WVEL,
 )
 from .model import accel, stick_force
 from .sampling import bisect, sample_window, window_due
@@ -105,8 +158,9 @@ def start_piece(p, st, cnt, d0, ta, x, v, h):
     else:  # a transformed piece measures time from its start (tiny increments stay resolved)
         st[S_TREF] = ta
         store(st, 0.0, x, v, st[S_S], h)
-    d0[0], d0[1], d0[2] = dop853.deriv(p, mode, int(st[S_PHASE]), st[S_SGN], inverse_n3(p), st[S_S],
-                                       st[S_TREF], st[S_TAU], x, v)
+    d0[0], d0[1], d0[2] = dop853.deriv(
+        p, mode, int(st[S_PHASE]), st[S_SGN], inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], x, v
+    )
     cnt[C_RHS] += 1
 
 
@@ -440,8 +494,9 @@ def _sections_and_window(st, rs, F, ev, n_ev, win_x, win_v, mode, tref, t, x, v,
     t_sec = st[S_ISEC] * rs[R_PERIOD]
     while t_sec < t_stop:
         th = bisect(F, t, 0, t_sec - tref, 0.0, 1.0, -1.0)
-        ev, n_ev = record_poincare(st, rs, ev, n_ev, t_sec, dop853.dense_eval(F, x, th, 1),
-                                   dop853.dense_eval(F, v, th, 2))
+        ev, n_ev = record_poincare(
+            st, rs, ev, n_ev, t_sec, dop853.dense_eval(F, x, th, 1), dop853.dense_eval(F, v, th, 2)
+        )
         t_sec = st[S_ISEC] * rs[R_PERIOD]
     if window_due(st, rs, win_x, t_stop):
         sample_window(F, mode, tref, t, x, v, hs, t_stop, st, rs, win_x, win_v)

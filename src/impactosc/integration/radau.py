@@ -83,7 +83,7 @@ def radau_step(p, phase, t, x, v, h, rtol, atol, work, cnt):
     for attempt in range(2):
         for i in range(6):
             Z[i] = 0.0
-        for it in range(MAX_NEWTON):
+        for _it in range(MAX_NEWTON):
             for i in range(6):
                 rhs[i] = 0.0
                 for j in range(6):

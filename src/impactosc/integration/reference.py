@@ -36,8 +36,20 @@ def _forces(p: ModelParams, omega: float):
     return external, contact
 
 
-def solve_reference(omega, t_end, *, x0=0.0, v0=0.0, params=None, method="DOP853",
-                    rtol=1e-13, atol=1e-15, max_pieces=1_000_000, poincare=False, max_nfev=None):
+def solve_reference(
+    omega,
+    t_end,
+    *,
+    x0=0.0,
+    v0=0.0,
+    params=None,
+    method="DOP853",
+    rtol=1e-13,
+    atol=1e-15,
+    max_pieces=1_000_000,
+    poincare=False,
+    max_nfev=None,
+):
     """Impact onsets (t, v) and penetrations (t, h) of model BC on [0, t_end] with SciPy.
 
     Returns a dict with arrays impacts_t, impacts_v, penetrations_t, penetrations_h and the
@@ -68,18 +80,22 @@ def solve_reference(omega, t_end, *, x0=0.0, v0=0.0, params=None, method="DOP853
 
     def ev_onset(t, y):
         return y[0] - p.xI
+
     ev_onset.terminal, ev_onset.direction = True, 1
 
     def ev_exit(t, y):
         return y[0] - p.xI
+
     ev_exit.terminal, ev_exit.direction = True, -1
 
     def ev_cut(t, y):
         return y[1] + vcut
+
     ev_cut.terminal, ev_cut.direction = True, 0
 
     def ev_vzero(t, y):
         return y[1]
+
     ev_vzero.terminal, ev_vzero.direction = False, -1
 
     t, y = 0.0, np.array([x0, v0], float)
@@ -133,9 +149,13 @@ def solve_reference(omega, t_end, *, x0=0.0, v0=0.0, params=None, method="DOP853
             y[1] = -vcut
             mode = "cut" if mode == "contact" else "contact"
     out = {
-        "impacts_t": np.array(imp_t), "impacts_v": np.array(imp_v),
-        "penetrations_t": np.array(pen_t), "penetrations_h": np.array(pen_h),
-        "nfev": nfev, "n_pieces": pieces, "wall_time": time.perf_counter() - wall,
+        "impacts_t": np.array(imp_t),
+        "impacts_v": np.array(imp_v),
+        "penetrations_t": np.array(pen_t),
+        "penetrations_h": np.array(pen_h),
+        "nfev": nfev,
+        "n_pieces": pieces,
+        "wall_time": time.perf_counter() - wall,
     }
     if poincare:
         out.update(poincare_t=np.array(pc_t), poincare_x=np.array(pc_x), poincare_v=np.array(pc_v))

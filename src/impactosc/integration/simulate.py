@@ -9,17 +9,49 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
-from typing import Callable, Iterable
 
 import numpy as np
 
 from . import core
 from .layout import (
-    C_DENSE, C_DIP, C_FALLBACK, C_NEWTON, C_REJECT, C_RHS, C_SLOW_STEPS, C_SLOW_TRANSIT, C_STEPS, C_STICK,
-    C_TRANSFORMED, EVENT_NAMES, IMPACT, N_COUNT, S_T, S_TSLOW, record_flags, C_ATTEMPTS, C_BY_MODE, C_STIFF, MODE_KEYS,
-    DEFAULT_STEP_BUDGET, MODE_NAMES, PHASE_NAMES, RUNNING, S_H, S_MODE, S_PHASE, S_SLOW, S_STATUS, S_V, S_X,
-    SLOW_FRICTION, SLOW_STIFF, STALLED, STATUS_NAMES,
+    C_ATTEMPTS,
+    C_BY_MODE,
+    C_DENSE,
+    C_DIP,
+    C_FALLBACK,
+    C_NEWTON,
+    C_REJECT,
+    C_RHS,
+    C_SLOW_STEPS,
+    C_SLOW_TRANSIT,
+    C_STEPS,
+    C_STICK,
+    C_STIFF,
+    C_TRANSFORMED,
+    DEFAULT_STEP_BUDGET,
+    EVENT_NAMES,
+    IMPACT,
+    MODE_KEYS,
+    MODE_NAMES,
+    N_COUNT,
+    PHASE_NAMES,
+    RUNNING,
+    S_H,
+    S_MODE,
+    S_PHASE,
+    S_SLOW,
+    S_STATUS,
+    S_T,
+    S_TSLOW,
+    S_V,
+    S_X,
+    SLOW_FRICTION,
+    SLOW_STIFF,
+    STALLED,
+    STATUS_NAMES,
+    record_flags,
 )
 from .model import ModelParams
 
@@ -51,14 +83,25 @@ def _stall_error(st, cnt, t_end: float, budget: float) -> StallError:
         piece += ", implicit (stiff creep)"
     else:
         piece += f", explicit in {MODE_NAMES[int(st[S_MODE])]}"
-    state = dict(status=STATUS_NAMES[status], t=float(st[S_T]), t_end=t_end, piece=piece, x=float(st[S_X]),
-                 v=float(st[S_V]), step=float(st[S_H]), attempts=int(cnt[C_ATTEMPTS]))
+    state = dict(
+        status=STATUS_NAMES[status],
+        t=float(st[S_T]),
+        t_end=t_end,
+        piece=piece,
+        x=float(st[S_X]),
+        v=float(st[S_V]),
+        step=float(st[S_H]),
+        attempts=int(cnt[C_ATTEMPTS]),
+    )
     why = STATUS_NAMES[status]
     if status == STALLED:
         why = f"stalled: {budget:.3g} step attempts without advancing one forcing period"
-    return StallError(f"core {why} at t = {state['t']:.12g} s of {t_end:.6g} s in {piece}: "
-                      f"x = {state['x']:.9g} m, v = {state['v']:.6g} m/s, step {state['step']:.3g} "
-                      f"after {state['attempts']} step attempts", state)
+    return StallError(
+        f"core {why} at t = {state['t']:.12g} s of {t_end:.6g} s in {piece}: "
+        f"x = {state['x']:.9g} m, v = {state['v']:.6g} m/s, step {state['step']:.3g} "
+        f"after {state['attempts']} step attempts",
+        state,
+    )
 
 
 @dataclass(frozen=True)
@@ -109,8 +152,15 @@ _COLUMNS = {
 
 
 def _validate(omega, transient, duration, x0, v0, rtol, atol, window):
-    checks = {"omega": omega, "transient": transient, "duration": duration, "x0": x0, "v0": v0,
-              "rtol": rtol, "atol": atol}
+    checks = {
+        "omega": omega,
+        "transient": transient,
+        "duration": duration,
+        "x0": x0,
+        "v0": v0,
+        "rtol": rtol,
+        "atol": atol,
+    }
     for name, value in checks.items():
         if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value):
             raise ValueError(f"{name} must be a finite number, got {value!r}")
@@ -216,15 +266,31 @@ def simulate(
 
     attrs = {f"param_{k}": v for k, v in params.to_dict().items()}
     attrs.update(
-        omega=float(omega), transient=float(transient), duration=float(duration), x0=float(x0),
-        v0=float(v0), solver=SOLVER_NAME, rtol=float(rtol), atol=float(atol),
-        n_steps=int(cnt[C_STEPS]), n_rejected=int(cnt[C_REJECT]), n_rhs=int(cnt[C_RHS]),
-        n_implicit_steps=int(cnt[C_SLOW_STEPS]), n_stick=int(cnt[C_STICK]),
-        n_slow_reversal=int(cnt[C_SLOW_TRANSIT]), time_implicit=float(st[S_TSLOW]),
-        n_dense=int(cnt[C_DENSE]), n_dip_checks=int(cnt[C_DIP]),
-        n_newton=int(cnt[C_NEWTON]), n_transformed_steps=int(cnt[C_TRANSFORMED]),
-        n_fallback=int(cnt[C_FALLBACK]), n_stiff=int(cnt[C_STIFF]), n_attempts=int(cnt[C_ATTEMPTS]),
+        omega=float(omega),
+        transient=float(transient),
+        duration=float(duration),
+        x0=float(x0),
+        v0=float(v0),
+        solver=SOLVER_NAME,
+        rtol=float(rtol),
+        atol=float(atol),
+        n_steps=int(cnt[C_STEPS]),
+        n_rejected=int(cnt[C_REJECT]),
+        n_rhs=int(cnt[C_RHS]),
+        n_implicit_steps=int(cnt[C_SLOW_STEPS]),
+        n_stick=int(cnt[C_STICK]),
+        n_slow_reversal=int(cnt[C_SLOW_TRANSIT]),
+        time_implicit=float(st[S_TSLOW]),
+        n_dense=int(cnt[C_DENSE]),
+        n_dip_checks=int(cnt[C_DIP]),
+        n_newton=int(cnt[C_NEWTON]),
+        n_transformed_steps=int(cnt[C_TRANSFORMED]),
+        n_fallback=int(cnt[C_FALLBACK]),
+        n_stiff=int(cnt[C_STIFF]),
+        n_attempts=int(cnt[C_ATTEMPTS]),
         **{f"n_attempts_{name}": int(cnt[C_BY_MODE + mode]) for mode, name in enumerate(MODE_KEYS)},
-        step_budget=float(step_budget), wall_time=wall, recorded=",".join(record),
+        step_budget=float(step_budget),
+        wall_time=wall,
+        recorded=",".join(record),
     )
     return SimulationResult(events=events, trajectory=trajectory, attrs=attrs, final_state=st.copy())

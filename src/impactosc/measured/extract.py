@@ -41,8 +41,14 @@ import numpy as np
 
 from .records import Record
 
-__all__ = ["ExtractOptions", "estimate_noise", "estimate_x_impact", "extract_events", "poincare_points",
-           "record_set_poincare"]
+__all__ = [
+    "ExtractOptions",
+    "estimate_noise",
+    "estimate_x_impact",
+    "extract_events",
+    "poincare_points",
+    "record_set_poincare",
+]
 
 
 @dataclass(frozen=True)
@@ -134,21 +140,28 @@ def estimate_x_impact(record: Record, *, window: float = 2.5e-3) -> tuple[float,
         raise ValueError(f"{record.path}: only {idx.size} turning points; cannot estimate x_impact, pass it")
     curv, height = np.empty(idx.size), np.empty(idx.size)
     for k, j in enumerate(idx):
-        c, _ = _quadfit(t[j - hf:j + hf + 1], x[j - hf:j + hf + 1], t[j])
+        c, _ = _quadfit(t[j - hf : j + hf + 1], x[j - hf : j + hf + 1], t[j])
         s = -c[1] / (2 * c[2]) if c[2] < 0 else 0.0
         curv[k], height[k] = -2 * c[2], c[0] + c[1] * s + c[2] * s * s
-    _, cov = _quadfit(t[:2 * hf + 1], x[:2 * hf + 1], t[hf])
+    _, cov = _quadfit(t[: 2 * hf + 1], x[: 2 * hf + 1], t[hf])
     curv_noise = 2 * sigma * math.sqrt(cov[2, 2])
     contact = curv > max(0.25 * np.median(curv), 5 * curv_noise)
     if contact.sum() < 3:
-        raise ValueError(f"{record.path}: only {int(contact.sum())} turning points look like contacts; "
-                         "cannot estimate x_impact, pass it")
+        raise ValueError(
+            f"{record.path}: only {int(contact.sum())} turning points look like contacts; "
+            "cannot estimate x_impact, pass it"
+        )
     slope, intercept, _, _ = stats.theilslopes(curv[contact] ** (2 / 3), height[contact])
     if not slope > 0:
-        raise ValueError(f"{record.path}: contact curvature does not grow with height; cannot estimate "
-                         "x_impact, pass it")
-    return float(-intercept / slope), {"n_maxima": int(idx.size), "n_contacts": int(contact.sum()),
-                                       "noise": sigma, "curvature_noise": curv_noise}
+        raise ValueError(
+            f"{record.path}: contact curvature does not grow with height; cannot estimate x_impact, pass it"
+        )
+    return float(-intercept / slope), {
+        "n_maxima": int(idx.size),
+        "n_contacts": int(contact.sum()),
+        "noise": sigma,
+        "curvature_noise": curv_noise,
+    }
 
 
 def _quadfit(tt, xx, t0):
@@ -162,7 +175,7 @@ def _quadfit(tt, xx, t0):
 def _crossing(t, x, i, xi, n, sigma):
     """Sub-sample time of the upward crossing between samples i and i+1 (fit ends at i)."""
     lo = max(0, i - n + 1)
-    tt, xx = t[lo:i + 1], x[lo:i + 1]
+    tt, xx = t[lo : i + 1], x[lo : i + 1]
     dt = t[i + 1] - t[i]
     lin = t[i] + dt * (xi - x[i]) / (x[i + 1] - x[i])
     if tt.size >= 3:
@@ -222,8 +235,9 @@ def poincare_points(rec: Record, half=3) -> dict:
     return {"t": tp, "x": np.interp(tp, rec.t, xs), "v": np.interp(tp, rec.t, vs)}
 
 
-def extract_events(record: Record, x_impact: float | None = None,
-                   options: ExtractOptions | None = None) -> tuple[dict, dict]:
+def extract_events(
+    record: Record, x_impact: float | None = None, options: ExtractOptions | None = None
+) -> tuple[dict, dict]:
     """Events of a record in the run-file contract, and the attributes describing them.
 
     Returns ``(events, attrs)`` for :func:`impactosc.files.write_run`.  attrs hold x_impact
@@ -235,15 +249,24 @@ def extract_events(record: Record, x_impact: float | None = None,
     t, x = record.t, record.x
     dt = record.dt
     sigma = o.noise if o.noise is not None else estimate_noise(x)
-    attrs = {"source": "record", "record": str(record.path), "label": record.label,
-             "t_start": float(t[0]), "t_stop": float(t[-1]), "sample_interval": dt,
-             "noise_sigma": sigma, "noise_source": "given" if o.noise is not None else "estimated (MAD of 2nd difference)"}
+    attrs = {
+        "source": "record",
+        "record": str(record.path),
+        "label": record.label,
+        "t_start": float(t[0]),
+        "t_stop": float(t[-1]),
+        "sample_interval": dt,
+        "noise_sigma": sigma,
+        "noise_source": "given" if o.noise is not None else "estimated (MAD of 2nd difference)",
+    }
     if x_impact is None and "x_impact" in record.meta:
         x_impact, how = float(record.meta["x_impact"]), "record metadata"
     elif x_impact is None:
         x_impact, det = estimate_x_impact(record)
-        how = (f"estimated from the curvature of {det['n_contacts']} contact turning points "
-               f"(of {det['n_maxima']}; impactosc.measured.extract.estimate_x_impact)")
+        how = (
+            f"estimated from the curvature of {det['n_contacts']} contact turning points "
+            f"(of {det['n_maxima']}; impactosc.measured.extract.estimate_x_impact)"
+        )
     else:
         how = "given"
     x_impact = float(x_impact)
@@ -292,7 +315,7 @@ def extract_events(record: Record, x_impact: float | None = None,
     for k, i in enumerate(onsets):
         j_end = np.searchsorted(arm_idx, i + 1)
         stop = arm_idx[j_end] if j_end < arm_idx.size else n
-        j = i + 1 + int(np.argmax(x[i + 1:stop]))
+        j = i + 1 + int(np.argmax(x[i + 1 : stop]))
         if x[j] < x_impact + confirm:
             # never rose clearly above the obstacle: a near miss lifted by noise, or a
             # contact shallower than the noise -- not resolvable from this record
@@ -331,5 +354,9 @@ def record_set_poincare(records) -> dict:
         x.append(p["x"])
         rw.append(rec.omega)
         n.append(p["x"].size)
-    return {"omega": np.concatenate(w), "x": np.concatenate(x), "record_omega": np.asarray(rw),
-            "n_points": np.asarray(n)}
+    return {
+        "omega": np.concatenate(w),
+        "x": np.concatenate(x),
+        "record_omega": np.asarray(rw),
+        "n_points": np.asarray(n),
+    }

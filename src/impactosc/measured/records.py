@@ -43,10 +43,10 @@ from pathlib import Path
 
 import h5py
 import numpy as np
+
 from ..files import PROVENANCE_ATTRS, atomic_write, stamp_h5, write_provenance_sidecar
 
-__all__ = ["Record", "read_record", "write_record", "read_record_set", "write_record_set",
-           "validate_samples", "UNITS"]
+__all__ = ["Record", "read_record", "write_record", "read_record_set", "write_record_set", "validate_samples", "UNITS"]
 
 #: Displacement units a record may declare, with their factor to metres.
 UNITS = {"m": 1.0, "mm": 1e-3}
@@ -105,31 +105,40 @@ def validate_samples(t, x, *, omega=None, where=None, source="record", max_gap_f
     for arr, what in ((t, "time"), (x, "displacement")):
         bad = np.flatnonzero(~np.isfinite(arr))
         if bad.size:
-            raise ValueError(f"{source}: {name(bad[0])}: {what} is {arr[bad[0]]} (NaN or inf); "
-                             f"{bad.size} such value(s) in the record")
+            raise ValueError(
+                f"{source}: {name(bad[0])}: {what} is {arr[bad[0]]} (NaN or inf); "
+                f"{bad.size} such value(s) in the record"
+            )
     d = np.diff(t)
     bad = np.flatnonzero(d <= 0)
     if bad.size:
         i = bad[0] + 1
         kind = "repeated" if d[bad[0]] == 0 else "unsorted (earlier than the previous one)"
-        raise ValueError(f"{source}: {name(i)}: time stamp {float(t[i])!r} s is {kind}; "
-                         "time must be strictly increasing")
+        raise ValueError(
+            f"{source}: {name(i)}: time stamp {float(t[i])!r} s is {kind}; time must be strictly increasing"
+        )
     med = float(np.median(d))
     bad = np.flatnonzero(d > max_gap_factor * med)
     if bad.size:
         i = bad[0] + 1
-        raise ValueError(f"{source}: {name(i)}: gap of {d[bad[0]]:.6g} s before t = {float(t[i])!r} s "
-                         f"(median sample interval {med:.6g} s); a gap hides impacts, so split "
-                         "the record there")
+        raise ValueError(
+            f"{source}: {name(i)}: gap of {d[bad[0]]:.6g} s before t = {float(t[i])!r} s "
+            f"(median sample interval {med:.6g} s); a gap hides impacts, so split "
+            "the record there"
+        )
     if omega is not None:
         period = 2 * math.pi / float(omega)
         if t[-1] - t[0] < period:
-            raise ValueError(f"{source}: the record spans {t[-1] - t[0]:.6g} s, shorter than one "
-                             f"forcing period 2 pi/omega = {period:.6g} s")
+            raise ValueError(
+                f"{source}: the record spans {t[-1] - t[0]:.6g} s, shorter than one "
+                f"forcing period 2 pi/omega = {period:.6g} s"
+            )
     span = float(np.ptp(x))
     if span > MAX_PLAUSIBLE_RANGE_M:
-        raise ValueError(f"{source}: displacement range {span:.6g} m is implausible for the rig "
-                         "(a few mm of travel); are the values in mm but declared as m?")
+        raise ValueError(
+            f"{source}: displacement range {span:.6g} m is implausible for the rig "
+            "(a few mm of travel); are the values in mm but declared as m?"
+        )
     return t, x
 
 
@@ -154,8 +163,10 @@ def _finish(t, x, meta, *, units, omega, source, where, path):
         raise ValueError(f"{source}: units given as {units!r} but the record declares {declared!r}")
     units = units or declared
     if units is None:
-        raise ValueError(f"{source}: displacement units not declared; add '# units: m' or "
-                         "'# units: mm' to the metadata block (or pass units)")
+        raise ValueError(
+            f"{source}: displacement units not declared; add '# units: m' or "
+            "'# units: mm' to the metadata block (or pass units)"
+        )
     if units not in UNITS:
         raise ValueError(f"{source}: unknown units {units!r}; use one of {sorted(UNITS)}")
     x = np.asarray(x, dtype=float) * UNITS[units]
@@ -229,13 +240,13 @@ def _read_csv(path, time_column, x_column, units, omega):
         if col not in header:
             raise ValueError(f"{source}: line {header_lineno}: header {header} has no column {col!r}")
     jt, jx = header.index(time_column), header.index(x_column)
-    fast = _loadtxt_columns(lines[i + 1:], header_lineno + 1, len(header), jt, jx)
+    fast = _loadtxt_columns(lines[i + 1 :], header_lineno + 1, len(header), jt, jx)
     if fast is not None:
         t, x, where = fast
         return _finish(t, x, meta, units=units, omega=omega, source=source, where=where, path=path)
     # Line-by-line fallback: slower, but names the line and the problem of a malformed row.
     t, x, where = [], [], []
-    for k, row in enumerate(csv.reader(lines[i + 1:]), start=header_lineno + 1):
+    for k, row in enumerate(csv.reader(lines[i + 1 :]), start=header_lineno + 1):
         if not row or all(not c.strip() for c in row):
             continue
         if len(row) != len(header):
@@ -250,8 +261,11 @@ def _read_csv(path, time_column, x_column, units, omega):
 
 
 def _attrs_meta(attrs):
-    return {k: (v.decode() if isinstance(v, bytes) else (v.item() if hasattr(v, "item") else v))
-            for k, v in attrs.items() if k not in PROVENANCE_ATTRS}
+    return {
+        k: (v.decode() if isinstance(v, bytes) else (v.item() if hasattr(v, "item") else v))
+        for k, v in attrs.items()
+        if k not in PROVENANCE_ATTRS
+    }
 
 
 def _read_h5(path, units, omega):
@@ -290,6 +304,7 @@ def write_record(path, t, x, *, omega=None, meta=None, units="m", sources=None) 
     if units not in UNITS:
         raise ValueError(f"unknown units {units!r}; use one of {sorted(UNITS)}")
     if path.suffix.lower() == ".csv":
+
         def write(tmp):
             scale = 1.0 / UNITS[units]
             with open(tmp, "w") as f:
@@ -303,6 +318,7 @@ def write_record(path, t, x, *, omega=None, meta=None, units="m", sources=None) 
                 f.write("t,x\n")
                 np.savetxt(f, np.column_stack([t, x * scale]), fmt="%.9g", delimiter=",")
     elif path.suffix.lower() in (".h5", ".hdf5"):
+
         def write(tmp):
             with h5py.File(tmp, "w") as f:
                 g = f.create_group("record")
@@ -366,8 +382,18 @@ def read_record_set(path) -> list[Record]:
             for name in sorted(f["records"]):
                 g = f["records"][name]
                 meta = _attrs_meta(g.attrs)
-                out.append(_finish(g["t"][()], g["x"][()], meta, units=None, omega=None,
-                                   source=f"{path}:records/{name}", where=None, path=f"{path}:{name}"))
+                out.append(
+                    _finish(
+                        g["t"][()],
+                        g["x"][()],
+                        meta,
+                        units=None,
+                        omega=None,
+                        source=f"{path}:records/{name}",
+                        where=None,
+                        path=f"{path}:{name}",
+                    )
+                )
                 if out[-1].omega is None:
                     raise ValueError(f"{path}:records/{name}: no omega attribute")
     if not out:

@@ -25,7 +25,15 @@ from ..integration.simulate import Window, simulate
 from .extract import ExtractOptions, extract_events
 from .records import Record
 
-__all__ = ["LABEL", "panel_hooked", "noise_study", "SurrogateOptions", "mismatched_params", "surrogate_record", "surrogate_sweep"]
+__all__ = [
+    "LABEL",
+    "panel_hooked",
+    "noise_study",
+    "SurrogateOptions",
+    "mismatched_params",
+    "surrogate_record",
+    "surrogate_sweep",
+]
 
 LABEL = "surrogate (model + noise)"
 
@@ -61,10 +69,15 @@ def mismatched_params(params: ModelParams | None, mismatch: dict) -> ModelParams
 
 
 def _meta(o: SurrogateOptions, params: ModelParams, extra=None) -> dict:
-    meta = {"label": LABEL, "source": "surrogate", "surrogate_rate_hz": o.rate,
-            "surrogate_noise_m": o.noise, "surrogate_seed": o.seed,
-            "surrogate_mismatch": ", ".join(f"{k}{r:+g}" for k, r in sorted(o.mismatch.items())) or "none",
-            "x_impact": params.xI}
+    meta = {
+        "label": LABEL,
+        "source": "surrogate",
+        "surrogate_rate_hz": o.rate,
+        "surrogate_noise_m": o.noise,
+        "surrogate_seed": o.seed,
+        "surrogate_mismatch": ", ".join(f"{k}{r:+g}" for k, r in sorted(o.mismatch.items())) or "none",
+        "x_impact": params.xI,
+    }
     meta.update(extra or {})
     return meta
 
@@ -73,8 +86,18 @@ def _noisy(traj, o: SurrogateOptions, rng):
     return traj["x"] + (rng.normal(0.0, o.noise, traj["x"].size) if o.noise > 0 else 0.0)
 
 
-def surrogate_record(omega, transient, duration, options: SurrogateOptions | None = None, *,
-                     params: ModelParams | None = None, x0=0.0, v0=0.0, rtol=1e-10, atol=1e-12):
+def surrogate_record(
+    omega,
+    transient,
+    duration,
+    options: SurrogateOptions | None = None,
+    *,
+    params: ModelParams | None = None,
+    x0=0.0,
+    v0=0.0,
+    rtol=1e-10,
+    atol=1e-12,
+):
     """A record of the model at ``omega`` sampled on [transient, transient + duration].
 
     Returns (record, truth) where truth is the simulation's exact event dict (for tests
@@ -84,16 +107,36 @@ def surrogate_record(omega, transient, duration, options: SurrogateOptions | Non
     o = options or SurrogateOptions()
     p = mismatched_params(params, o.mismatch)
     win = Window(float(transient), float(transient) + float(duration), 1.0 / o.rate)
-    res = simulate(omega, transient, duration, x0=x0, v0=v0, params=p, rtol=rtol, atol=atol,
-                   window=win, record=("impacts", "penetrations", "poincare"))
+    res = simulate(
+        omega,
+        transient,
+        duration,
+        x0=x0,
+        v0=v0,
+        params=p,
+        rtol=rtol,
+        atol=atol,
+        window=win,
+        record=("impacts", "penetrations", "poincare"),
+    )
     rng = np.random.default_rng(o.seed)
     rec = Record(res.trajectory["t"], _noisy(res.trajectory, o, rng), float(omega), _meta(o, p), "<surrogate>")
     return rec, res.events
 
 
-def surrogate_sweep(omegas, n_transient, n_record, options: SurrogateOptions | None = None, *,
-                    params: ModelParams | None = None, n_initial=None, x0=0.0, v0=0.0,
-                    rtol=1e-10, atol=1e-12) -> list[Record]:
+def surrogate_sweep(
+    omegas,
+    n_transient,
+    n_record,
+    options: SurrogateOptions | None = None,
+    *,
+    params: ModelParams | None = None,
+    n_initial=None,
+    x0=0.0,
+    v0=0.0,
+    rtol=1e-10,
+    atol=1e-12,
+) -> list[Record]:
     """Per-w records of a slow sweep (the rig's bifurcation experiment), in the given w order.
 
     Each w runs a whole number of forcing periods (n_transient discarded, n_record
@@ -109,11 +152,11 @@ def surrogate_sweep(omegas, n_transient, n_record, options: SurrogateOptions | N
         ntr = n_initial if (k == 0 and n_initial is not None) else n_transient
         tr, du = ntr * period, n_record * period
         win = Window(tr, tr + du, 1.0 / o.rate)
-        res = simulate(w, tr, du, x0=x0, v0=v0, params=p, rtol=rtol, atol=atol, window=win,
-                       record=("impacts",))
+        res = simulate(w, tr, du, x0=x0, v0=v0, params=p, rtol=rtol, atol=atol, window=win, record=("impacts",))
         x0, v0 = float(res.final_state[1]), float(res.final_state[2])
-        out.append(Record(res.trajectory["t"], _noisy(res.trajectory, o, rng), float(w),
-                          _meta(o, p), f"<surrogate w={w:g}>"))
+        out.append(
+            Record(res.trajectory["t"], _noisy(res.trajectory, o, rng), float(w), _meta(o, p), f"<surrogate w={w:g}>")
+        )
     return out
 
 
@@ -140,14 +183,32 @@ def _train_numbers(times, t0, t1, omega, analysis):
         # depth of the bimodality: density minimum between the outer maxima / lower maximum
         inside = (g > mx[0]) & (g < mx[-1])
         valley = float(dens[inside].min() / min(np.interp(mx[0], g, dens), np.interp(mx[-1], g, dens)))
-    return {"cv2_paper": a["variability"]["cv2_paper"], "cv2": a["variability"]["cv2"],
-            "isi_n_modes": int(d["n_modes"]), "isi_maxima": " ".join(f"{m:.4f}" for m in mx),
-            "isi_valley_ratio": valley, "acf_n_significant": int(a["acf"]["n_significant"]),
-            "kde_grid": g, "kde_density": dens}
+    return {
+        "cv2_paper": a["variability"]["cv2_paper"],
+        "cv2": a["variability"]["cv2"],
+        "isi_n_modes": int(d["n_modes"]),
+        "isi_maxima": " ".join(f"{m:.4f}" for m in mx),
+        "isi_valley_ratio": valley,
+        "acf_n_significant": int(a["acf"]["n_significant"]),
+        "kde_grid": g,
+        "kde_density": dens,
+    }
 
 
-def noise_study(omega, transient, duration, rates, noises, *, analysis=None, mismatch=None, seed=0,
-                params=None, rtol=1e-10, atol=1e-12):
+def noise_study(
+    omega,
+    transient,
+    duration,
+    rates,
+    noises,
+    *,
+    analysis=None,
+    mismatch=None,
+    seed=0,
+    params=None,
+    rtol=1e-10,
+    atol=1e-12,
+):
     """How sampling rate and sensor noise change the extracted train and its statistics.
 
     For each rate one simulation is sampled; for each noise level white noise is added,
@@ -165,23 +226,45 @@ def noise_study(omega, transient, duration, rates, noises, *, analysis=None, mis
         T = truth["impacts"]["t"]
         t0, t1 = float(rec0.t[0]), float(rec0.t[-1])
         exact = _train_numbers(T, t0, t1, omega, analysis)
-        out.append({"rate_hz": rate, "noise_m": 0.0, "method": "exact events", "n_true": T.size,
-                    "n_found": T.size, "missed": 0, "extra": 0, **exact})
+        out.append(
+            {
+                "rate_hz": rate,
+                "noise_m": 0.0,
+                "method": "exact events",
+                "n_true": T.size,
+                "n_found": T.size,
+                "missed": 0,
+                "extra": 0,
+                **exact,
+            }
+        )
         rng = np.random.default_rng(seed)
         for noise in noises:
-            rec = Record(rec0.t, rec0.x + (rng.normal(0, noise, rec0.x.size) if noise > 0 else 0.0),
-                         omega, rec0.meta, rec0.path)
-            for method, opts in (("hysteresis", ExtractOptions()), ("naive threshold", ExtractOptions(hysteresis=0.0, confirm_sigmas=0.0))):
+            rec = Record(
+                rec0.t, rec0.x + (rng.normal(0, noise, rec0.x.size) if noise > 0 else 0.0), omega, rec0.meta, rec0.path
+            )
+            for method, opts in (
+                ("hysteresis", ExtractOptions()),
+                ("naive threshold", ExtractOptions(hysteresis=0.0, confirm_sigmas=0.0)),
+            ):
                 ev, at = extract_events(rec, rec0.meta["x_impact"], opts)
                 E, s = ev["impacts"]["t"], ev["impacts"]["sigma_t"]
                 fi, ti = _match(T, E)
                 err = E[fi] - T[ti]
-                row = {"rate_hz": rate, "noise_m": noise, "method": method, "n_true": T.size, "n_found": E.size,
-                       "missed": T.size - ti.size, "extra": E.size - fi.size,
-                       "timing_rms_s": float(np.sqrt(np.mean(err ** 2))) if err.size else float("nan"),
-                       "timing_max_z": float(np.max(np.abs(err) / s[fi])) if err.size else float("nan"),
-                       "frac_beyond_5sigma": float(np.mean(np.abs(err) > 5 * s[fi])) if err.size else float("nan"),
-                       "sigma_t_median_s": at["timing_sigma_median"], "noise_estimate_m": at["noise_sigma"]}
+                row = {
+                    "rate_hz": rate,
+                    "noise_m": noise,
+                    "method": method,
+                    "n_true": T.size,
+                    "n_found": E.size,
+                    "missed": T.size - ti.size,
+                    "extra": E.size - fi.size,
+                    "timing_rms_s": float(np.sqrt(np.mean(err**2))) if err.size else float("nan"),
+                    "timing_max_z": float(np.max(np.abs(err) / s[fi])) if err.size else float("nan"),
+                    "frac_beyond_5sigma": float(np.mean(np.abs(err) > 5 * s[fi])) if err.size else float("nan"),
+                    "sigma_t_median_s": at["timing_sigma_median"],
+                    "noise_estimate_m": at["noise_sigma"],
+                }
                 try:
                     row.update(_train_numbers(E, t0, t1, omega, analysis))
                 except ValueError as exc:  # e.g. too few impacts left: say so in the table
@@ -201,9 +284,12 @@ def panel_hooked(name: str, entry: dict | None, path_key: str, path: str, is_sur
         return False
     says = "surrogate" in entry["label"].lower()
     if is_surrogate and not says:
-        raise ValueError(f"config {name}.label is {entry['label']!r} but the panel shows the surrogate "
-                         f"(no measured record configured): label it {LABEL!r}")
+        raise ValueError(
+            f"config {name}.label is {entry['label']!r} but the panel shows the surrogate "
+            f"(no measured record configured): label it {LABEL!r}"
+        )
     if not is_surrogate and says:
-        raise ValueError(f"config {name}.label says surrogate but a measured record is configured; "
-                         "name the record instead")
+        raise ValueError(
+            f"config {name}.label says surrogate but a measured record is configured; name the record instead"
+        )
     return True

@@ -21,7 +21,9 @@ def write_rows(path, rows: list[dict], *, sources=None) -> None:
         missing = set(COLUMNS) - set(row)
         extra = set(row) - set(COLUMNS)
         if missing or extra:
-            raise ValueError(f"table row {row.get('quantity', row)!r}: missing {sorted(missing)}, unknown {sorted(extra)}")
+            raise ValueError(
+                f"table row {row.get('quantity', row)!r}: missing {sorted(missing)}, unknown {sorted(extra)}"
+            )
     write_csv(path, [{k: str(row[k]) for k in COLUMNS} for row in rows], COLUMNS, sources=sources)
 
 

@@ -17,14 +17,26 @@ from .style import DOUBLE, apply_style
 MM = 1e3  # m -> mm
 CM = 1 / 2.54
 
-__all__ = ["diagram_panel", "mark_transitions", "mark_abandoned", "period_strip", "fig02_poincare", "fig03b_isi",
-           "overlay_figure", "map2d_figure"]
+__all__ = [
+    "diagram_panel",
+    "mark_transitions",
+    "mark_abandoned",
+    "period_strip",
+    "fig02_poincare",
+    "fig03b_isi",
+    "overlay_figure",
+    "map2d_figure",
+]
 
 # Colours of the sweep directions wherever two are drawn together.
 DIRECTION_COLORS = {"increasing": "tab:blue", "decreasing": "tab:orange"}
 PARAMETER_LABELS = {"xI": r"obstacle $x_I$", "m0e": r"unbalance $m_0 e$"}
-MARK_STYLE = {"period doubling": ("v", "tab:red"), "grazing": ("v", "tab:green"),
-              "impact adding": ("v", "tab:purple"), "non-periodic boundary": ("v", "0.45")}
+MARK_STYLE = {
+    "period doubling": ("v", "tab:red"),
+    "grazing": ("v", "tab:green"),
+    "impact adding": ("v", "tab:purple"),
+    "non-periodic boundary": ("v", "0.45"),
+}
 
 
 def diagram_panel(ax, w, y, *, color="k", size=0.6, alpha=1.0, label=None):
@@ -46,12 +58,30 @@ def mark_transitions(ax, marks, *, legend=True, loc="lower right", anchor=None):
         if kind not in MARK_STYLE:
             continue
         m, c = MARK_STYLE[kind]
-        ax.plot([w], [1.0], marker=m, color=c, ms=4, transform=ax.get_xaxis_transform(), clip_on=False,
-                ls="none", label=kind if kind not in seen else None, zorder=6)
+        ax.plot(
+            [w],
+            [1.0],
+            marker=m,
+            color=c,
+            ms=4,
+            transform=ax.get_xaxis_transform(),
+            clip_on=False,
+            ls="none",
+            label=kind if kind not in seen else None,
+            zorder=6,
+        )
         seen.add(kind)
     if legend and seen:
-        ax.legend(loc=loc, bbox_to_anchor=anchor, frameon=True, framealpha=0.9, handletextpad=0.2, borderpad=0.3,
-                  fontsize=6, markerscale=1.0)
+        ax.legend(
+            loc=loc,
+            bbox_to_anchor=anchor,
+            frameon=True,
+            framealpha=0.9,
+            handletextpad=0.2,
+            borderpad=0.3,
+            fontsize=6,
+            markerscale=1.0,
+        )
 
 
 def mark_abandoned(ax, omegas, label=True):
@@ -59,17 +89,35 @@ def mark_abandoned(ax, omegas, label=True):
     omegas = np.asarray(omegas, dtype=float)
     if omegas.size == 0:
         return
-    ax.plot(omegas, np.zeros_like(omegas), marker="|", ls="none", color="0.55", ms=5, mew=0.6,
-            transform=ax.get_xaxis_transform(), clip_on=False, zorder=6,
-            label=f"no result ({omegas.size} w, see caption)" if label else None)
+    ax.plot(
+        omegas,
+        np.zeros_like(omegas),
+        marker="|",
+        ls="none",
+        color="0.55",
+        ms=5,
+        mew=0.6,
+        transform=ax.get_xaxis_transform(),
+        clip_on=False,
+        zorder=6,
+        label=f"no result ({omegas.size} w, see caption)" if label else None,
+    )
 
 
 def _poincare_axes(ax, w, x, x_obstacle, title, marks=(), color="k", abandoned=()):
     diagram_panel(ax, w, np.asarray(x) * MM, color=color)
     if x_obstacle is not None:
         ax.axhline(x_obstacle * MM, color="tab:red", lw=0.6, ls="--")
-        ax.text(0.5, x_obstacle * MM, r"obstacle $x_I$", color="tab:red", transform=ax.get_yaxis_transform(),
-                va="bottom", ha="center", fontsize=6)
+        ax.text(
+            0.5,
+            x_obstacle * MM,
+            r"obstacle $x_I$",
+            color="tab:red",
+            transform=ax.get_yaxis_transform(),
+            va="bottom",
+            ha="center",
+            fontsize=6,
+        )
     ax.set_xlabel(r"$\omega$ (rad/s)")
     ax.set_ylabel(r"$x$ at $\varphi = 2\pi i$ (mm)")
     ax.set_title(title)
@@ -91,13 +139,28 @@ def fig02_poincare(w, x, x_obstacle, *, experimental=None, marks=(), abandoned=(
         _poincare_axes(left, we, xe, x_obstacle, label)
     else:
         left.set_title("experimental (not supplied)")
-        left.text(0.5, 0.5, "no measured record configured\n(config: bifurcation.fig02.experimental)",
-                  ha="center", va="center", transform=left.transAxes, fontsize=7, color="0.4")
+        left.text(
+            0.5,
+            0.5,
+            "no measured record configured\n(config: bifurcation.fig02.experimental)",
+            ha="center",
+            va="center",
+            transform=left.transAxes,
+            fontsize=7,
+            color="0.4",
+        )
         left.set_xlabel(r"$\omega$ (rad/s)")
         left.set_ylabel(r"$x$ at $\varphi = 2\pi i$ (mm)")
         left.set_xlim(np.min(w), np.max(w))
-    _poincare_axes(right, w, x, x_obstacle, r"model BC, increasing $\omega$, $x_I = %.3f$ mm" % (x_obstacle * MM),
-                   marks, abandoned=abandoned)
+    _poincare_axes(
+        right,
+        w,
+        x,
+        x_obstacle,
+        r"model BC, increasing $\omega$, $x_I = %.3f$ mm" % (x_obstacle * MM),
+        marks,
+        abandoned=abandoned,
+    )
     right.tick_params(labelleft=True)
     right.set_xlim(np.min(w), np.max(w))
     return fig
@@ -127,9 +190,13 @@ def fig03b_isi(w, s, *, marks=(), zoom=None, start=None, axes=None):
     ax.set_ylim(0, None)
     mark_transitions(ax, marks, loc="upper center")
     if start is not None:
-        ax.annotate("", xy=(start - 0.06 * (np.max(w) - np.min(w)), 0.03), xytext=(start, 0.03),
-                    xycoords=("data", "axes fraction"),
-                    arrowprops=dict(arrowstyle="->", lw=0.8, color="0.3"))
+        ax.annotate(
+            "",
+            xy=(start - 0.06 * (np.max(w) - np.min(w)), 0.03),
+            xytext=(start, 0.03),
+            xycoords=("data", "axes fraction"),
+            arrowprops=dict(arrowstyle="->", lw=0.8, color="0.3"),
+        )
     if zoom is not None:
         lo, hi = zoom
         sel = (w >= lo) & (w <= hi)
@@ -178,18 +245,28 @@ def period_strip(ax, rows):
     rows: list of (label, omega, period) with period as in impactosc.analysis.orbits
     (NONPERIODIC = 0: non-periodic, FAILED = -1: no result).
     """
-    cmap, norm, labels = _period_colors()
-    for k, (label, w, p) in enumerate(rows):
+    cmap, norm, _labels = _period_colors()
+    for k, (_label, w, p) in enumerate(rows):
         order = np.argsort(w)
         w, p = np.asarray(w)[order], np.asarray(p)[order]
         edges = np.concatenate([[w[0]], 0.5 * (w[1:] + w[:-1]), [w[-1]]])
         ax.pcolormesh(edges, [k - 0.4, k + 0.4], _period_class(p)[None, :], cmap=cmap, norm=norm, rasterized=True)
     ax.set_yticks(range(len(rows)), [r[0] for r in rows])
     ax.set_ylim(-0.6, len(rows) - 0.4)
-    handles = [plt.Rectangle((0, 0), 1, 1, facecolor=cmap(norm(v)), edgecolor="0.5", lw=0.4)
-               for v in (1, 2, 3, 4, 5, 0, -1)]
-    ax.legend(handles, ["period 1", "2", "3", "4", "5", "non-periodic", "no result"], ncols=7, fontsize=6,
-              loc="upper center", bbox_to_anchor=(0.5, -0.95), frameon=False, handlelength=1.0, columnspacing=0.8)
+    handles = [
+        plt.Rectangle((0, 0), 1, 1, facecolor=cmap(norm(v)), edgecolor="0.5", lw=0.4) for v in (1, 2, 3, 4, 5, 0, -1)
+    ]
+    ax.legend(
+        handles,
+        ["period 1", "2", "3", "4", "5", "non-periodic", "no result"],
+        ncols=7,
+        fontsize=6,
+        loc="upper center",
+        bbox_to_anchor=(0.5, -0.95),
+        frameon=False,
+        handlelength=1.0,
+        columnspacing=0.8,
+    )
 
 
 def overlay_figure(sweeps, x_obstacle, *, windows=()):
@@ -229,8 +306,20 @@ def overlay_figure(sweeps, x_obstacle, *, windows=()):
 
 
 def _period_colors():
-    colors = ["white", "0.25", "#c6dbef", "#2171b5", "#41ab5d", "#fd8d3c", "#a63603", "#6a51a3", "#d4b9da",
-              "#ffd92f", "#e7298a", "#66c2a5"]
+    colors = [
+        "white",
+        "0.25",
+        "#c6dbef",
+        "#2171b5",
+        "#41ab5d",
+        "#fd8d3c",
+        "#a63603",
+        "#6a51a3",
+        "#d4b9da",
+        "#ffd92f",
+        "#e7298a",
+        "#66c2a5",
+    ]
     cmap = ListedColormap(colors)
     norm = BoundaryNorm(np.arange(-1.5, len(colors) - 1.5 + 1e-9), cmap.N)
     return cmap, norm, ["no result", "non-periodic"] + [str(k) for k in range(1, 10)] + [">= 10"]

@@ -37,8 +37,7 @@ def _panel_name(i: int, stats: dict) -> str:
     return f"({'ab'[i]}) {stats['train']['label']}"
 
 
-def fig06(trajectory: dict, omega: float, x_obstacle: float, portrait_span: float = 20.0,
-          spectrum: dict | None = None):
+def fig06(trajectory: dict, omega: float, x_obstacle: float, portrait_span: float = 20.0, spectrum: dict | None = None):
     """(a) phase portrait of the chaotic attractor, (b) amplitude spectrum of x.
 
     The portrait shows the first ``portrait_span`` seconds of the window (the whole 400 s
@@ -49,11 +48,17 @@ def fig06(trajectory: dict, omega: float, x_obstacle: float, portrait_span: floa
     fig, (a, b) = plt.subplots(1, 2, figsize=(DOUBLE, 6.0 * CM))
     t = _a(trajectory["t"])
     seg = t <= t[0] + portrait_span
-    a.plot(1e3 * _a(trajectory["x"])[seg], _a(trajectory["v"])[seg], color=C_MODEL, lw=0.3,
-           rasterized=True)
+    a.plot(1e3 * _a(trajectory["x"])[seg], _a(trajectory["v"])[seg], color=C_MODEL, lw=0.3, rasterized=True)
     a.axvline(1e3 * x_obstacle, color="k", ls="--", lw=0.7)
-    a.annotate(r"obstacle $x_I$", (1e3 * x_obstacle, a.get_ylim()[1]), xytext=(-3, -8),
-               textcoords="offset points", ha="right", va="top", fontsize=7)
+    a.annotate(
+        r"obstacle $x_I$",
+        (1e3 * x_obstacle, a.get_ylim()[1]),
+        xytext=(-3, -8),
+        textcoords="offset points",
+        ha="right",
+        va="top",
+        fontsize=7,
+    )
     a.set_xlabel("x (mm)")
     a.set_ylabel("v (m/s)")
     _letter(a, f"(a) phase portrait, t = {t[0]:.0f}..{t[seg][-1]:.0f} s")
@@ -68,10 +73,20 @@ def fig06(trajectory: dict, omega: float, x_obstacle: float, portrait_span: floa
     b.set_xlabel(r"angular frequency (rad/s)")
     b.set_ylabel("amplitude of x (mm)")
     _letter(b, f"(b) spectrum of x, t = {t[0]:.0f}..{t[-1]:.0f} s")
-    b.text(0.98, 0.97, rf"dominant peak (marked) {dom:.2f} rad/s" "\n" rf"forcing $\omega$ = {omega:g} rad/s" "\n"
-           f"{100 * spectrum['low_power_fraction']:.0f}% of the power below "
-           f"{spectrum['low_band']:g}$\\omega$", transform=b.transAxes, ha="right", va="top",
-           fontsize=7)
+    b.text(
+        0.98,
+        0.97,
+        rf"dominant peak (marked) {dom:.2f} rad/s"
+        "\n"
+        rf"forcing $\omega$ = {omega:g} rad/s"
+        "\n"
+        f"{100 * spectrum['low_power_fraction']:.0f}% of the power below "
+        f"{spectrum['low_band']:g}$\\omega$",
+        transform=b.transAxes,
+        ha="right",
+        va="top",
+        fontsize=7,
+    )
     return fig
 
 
@@ -117,8 +132,7 @@ def fig08(trains: list[dict]):
         _letter(b, f"dimensionless CV$^2$ -> {v['cv2']:.3f}")
         f = v["fano"]
         w = _a(f["windows"])
-        c.fill_between(w, f["poisson_low"], f["poisson_high"], color="0.85", lw=0,
-                       label="Poisson 95% band")
+        c.fill_between(w, f["poisson_low"], f["poisson_high"], color="0.85", lw=0, label="Poisson 95% band")
         c.axhline(1.0, color="0.5", ls="--", lw=0.7)
         c.plot(w, f["fano"], "o-", ms=3, color="C1", label="impact train")
         c.set_xscale("log")
@@ -137,13 +151,18 @@ def _density_panel(ax, d: dict, scale: float, color: str):
     maximum is marked on the curve.
     """
     edges = scale * _a(d["histogram_edges"])
-    ax.bar(edges[:-1], d["histogram_relative_frequency"], width=np.diff(edges), align="edge",
-           label=f"{len(edges) - 1}-bin histogram", **BAR)
+    ax.bar(
+        edges[:-1],
+        d["histogram_relative_frequency"],
+        width=np.diff(edges),
+        align="edge",
+        label=f"{len(edges) - 1}-bin histogram",
+        **BAR,
+    )
     bw = d["bin_width"]
     grid = _a(d["kde_grid"])
     keep = grid >= 0  # positive quantities: do not draw the kernel tail below zero
-    ax.plot(scale * grid[keep], bw * _a(d["kde_density"])[keep], color=color,
-            label="kernel density")
+    ax.plot(scale * grid[keep], bw * _a(d["kde_density"])[keep], color=color, label="kernel density")
     for m, h in zip(_a(d["maxima"]), _a(d["maxima_density"])):
         ax.plot([scale * m], [bw * h], "v", color=color, ms=4)
     ax.set_ylabel("relative frequency")
@@ -157,18 +176,25 @@ def _label_maxima(ax, d: dict, scale: float, color: str, fmt: str, unit: str):
     rf = _a(d["histogram_relative_frequency"])
     for m, r in zip(scale * _a(d["maxima"]), _a(d["maxima_relative_height"])):
         j = int(np.clip(np.searchsorted(edges, m) - 1, 0, rf.size - 1))
-        y = max([rf[j]] + [float(np.interp(m, *line.get_data())) for line in ax.lines
-                           if np.size(line.get_xdata()) > 2])
-        ax.annotate(f"{format(m, fmt)} {unit} ({r:.2f})", (m, y), xytext=(0, 3),
-                    textcoords="offset points", ha="center", va="bottom", fontsize=6.5,
-                    color=color)
+        y = max([rf[j]] + [float(np.interp(m, *line.get_data())) for line in ax.lines if np.size(line.get_xdata()) > 2])
+        ax.annotate(
+            f"{format(m, fmt)} {unit} ({r:.2f})",
+            (m, y),
+            xytext=(0, 3),
+            textcoords="offset points",
+            ha="center",
+            va="bottom",
+            fontsize=6.5,
+            color=color,
+        )
 
 
 def fig09(trains: list[dict]):
     """Relative-frequency ISI histogram, kernel density, its maxima and mixture fits."""
     apply_style()
-    fig, axes = plt.subplots(1, len(trains), figsize=(max(1.15 * SINGLE, DOUBLE * len(trains) / 2),
-                                                      7.0 * CM), squeeze=False)
+    fig, axes = plt.subplots(
+        1, len(trains), figsize=(max(1.15 * SINGLE, DOUBLE * len(trains) / 2), 7.0 * CM), squeeze=False
+    )
     for i, s in enumerate(trains):
         ax, d = axes[0][i], s["isi_density"]
         _density_panel(ax, d, 1.0, C_MODEL)
@@ -178,16 +204,27 @@ def fig09(trains: list[dict]):
             grid = _a(mix["grid"])
             k2 = mix["best_by_k"].get("2")
             if k2:
-                ax.plot(grid, bw * _a(mix["curves"][k2]["pdf"]), color=C_MIX, ls="--",
-                        label=f"2-component ML fit ({k2})")
+                ax.plot(
+                    grid, bw * _a(mix["curves"][k2]["pdf"]), color=C_MIX, ls="--", label=f"2-component ML fit ({k2})"
+                )
             if mix["best"] != k2:
-                ax.plot(grid, bw * _a(mix["curves"][mix["best"]]["pdf"]), color="C4", ls=":",
-                        label=f"BIC-best fit ({mix['best']})")
+                ax.plot(
+                    grid,
+                    bw * _a(mix["curves"][mix["best"]]["pdf"]),
+                    color="C4",
+                    ls=":",
+                    label=f"BIC-best fit ({mix['best']})",
+                )
         _label_maxima(ax, d, 1.0, C_MODEL, ".3f", "s")
         top = ax.get_ylim()[1]
         if d.get("forcing_period"):
-            ax.axvline(d["forcing_period"], color="k", ls="-.", lw=0.7,
-                       label=rf"forcing period $2\pi/\omega$ = {d['forcing_period']:.3f} s")
+            ax.axvline(
+                d["forcing_period"],
+                color="k",
+                ls="-.",
+                lw=0.7,
+                label=rf"forcing period $2\pi/\omega$ = {d['forcing_period']:.3f} s",
+            )
         ax.set_xlabel("inter-impact interval S (s)")
         ax.set_ylim(0, top * 1.5)
         ax.legend(loc="upper left", frameon=False, fontsize=6)
@@ -203,8 +240,7 @@ def fig10(trains: list[dict]):
         a, b = axes[i]
         c = s["acf"]
         k = _a(c["k"])
-        a.axhspan(-c["noise_level"], c["noise_level"], color="0.88", lw=0,
-                  label=r"$\pm 2/\sqrt{n}$ (uncorrelated)")
+        a.axhspan(-c["noise_level"], c["noise_level"], color="0.88", lw=0, label=r"$\pm 2/\sqrt{n}$ (uncorrelated)")
         a.vlines(k, 0, c["value"], color=C_MODEL, lw=0.8)
         a.plot(k, c["value"], "o", ms=2, color=C_MODEL)
         a.axhline(0, color="k", lw=0.5)
@@ -218,12 +254,22 @@ def fig10(trains: list[dict]):
         b.plot(f, mag, color=C_MODEL, label="one-sided spectrum")
         b.plot(1 - f, mag, color="0.65", lw=0.7, label="mirror image f -> 1 - f (two-sided DFT)")
         if c.get("surrogate_level") is not None:
-            b.axhline(c["surrogate_level"], color="k", ls="--", lw=0.7,
-                      label=f"{100 * (1 - s['options']['alpha']):.0f}% level, shuffled ISIs")
+            b.axhline(
+                c["surrogate_level"],
+                color="k",
+                ls="--",
+                lw=0.7,
+                label=f"{100 * (1 - s['options']['alpha']):.0f}% level, shuffled ISIs",
+            )
         for fp, mp, sig in zip(c["peak_frequency"], c["peak_magnitude"], c["significant"]):
             b.plot([fp], [mp], "v" if sig else "x", color="C3" if sig else "0.4", ms=4)
-            b.annotate(f"{fp:.3f} ({1 / fp:.2f} int., {c['mean_isi'] / fp:.2f} s)", (fp, mp),
-                       xytext=(4, 2), textcoords="offset points", fontsize=6.5)
+            b.annotate(
+                f"{fp:.3f} ({1 / fp:.2f} int., {c['mean_isi'] / fp:.2f} s)",
+                (fp, mp),
+                xytext=(4, 2),
+                textcoords="offset points",
+                fontsize=6.5,
+            )
         b.set_xlim(0, 1)
         b.set_ylim(0, 1.6 * mag.max())
         b.set_xlabel("frequency (cycles per interval)")
@@ -271,8 +317,9 @@ def make_figure(nn, run=None, stats=(), portrait_span: float | None = None):
         if nn == 6:
             if traj is None:
                 raise ValueError(f"{run} has no trajectory window; figure 6 needs one")
-            return fig06(traj, attrs["omega"], attrs["param_xI"],
-                         portrait_span=20.0 if portrait_span is None else portrait_span)
+            return fig06(
+                traj, attrs["omega"], attrs["param_xI"], portrait_span=20.0 if portrait_span is None else portrait_span
+            )
         return fig07(events["poincare"]["x"], events["impacts"]["t"])
     if nn not in (8, 9, 10, 11):
         raise ValueError(f"figure {nn} is not in the chaotic group (6-11)")

@@ -7,6 +7,7 @@ so restyling a figure never reruns a simulation or a statistic.
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -49,11 +50,16 @@ def fig03a_impact_construction(t, x, impact_t, x_impact_level, t_start: float, s
         ax.plot([T - t_start], [xi], "o", ms=3.5, mfc="white", mec="tab:red", mew=0.9, zorder=5)
         ax.axvline(T - t_start, color="tab:red", lw=0.4, alpha=0.5)
         ax.text(T - t_start, top + 0.22, f"$T_{{{j + 1}}}$", ha="center", va="bottom", fontsize=7)
-    for j, (a, b) in enumerate(zip(tj[:-1], tj[1:])):
-        ax.annotate("", xy=(b - t_start, top), xytext=(a - t_start, top),
-                    arrowprops=dict(arrowstyle="<->", lw=0.7, color="tab:blue", shrinkA=0, shrinkB=0))
-        ax.text(0.5 * (a + b) - t_start, top - 0.05, f"$S_{{{j + 1}}}$", ha="center", va="top", fontsize=7,
-                color="tab:blue")
+    for j, (a, b) in enumerate(itertools.pairwise(tj)):
+        ax.annotate(
+            "",
+            xy=(b - t_start, top),
+            xytext=(a - t_start, top),
+            arrowprops=dict(arrowstyle="<->", lw=0.7, color="tab:blue", shrinkA=0, shrinkB=0),
+        )
+        ax.text(
+            0.5 * (a + b) - t_start, top - 0.05, f"$S_{{{j + 1}}}$", ha="center", va="top", fontsize=7, color="tab:blue"
+        )
     ax.set_xlim(0, span)
     ax.set_ylim(float(x[sel].min() * MM) - 0.2, top + 0.8)
     ax.set_xlabel(f"$t - {t_start:g}$ s")
@@ -112,18 +118,29 @@ def fig04_grazing_portraits(before: dict, after: dict, spectrum: dict, x_impact_
     ax.set_ylabel("amplitude of $x$ (mm)")
     w1 = spectrum["omega1"]
     p, q = spectrum["omega1_over_omega_fraction"]
-    ax.set_title(f"(c) spectrum of $x$ at $\\omega = {w:g}$ rad/s: $\\omega_1 = {w1:.4f}$ rad/s "
-                 f"$= {spectrum['omega1_over_omega']:.5f}\\,\\omega \\approx ({p}/{q})\\,\\omega$\n"
-                 r"$a, b, c, d, f = \omega-\omega_1,\ \omega+\omega_1,\ 2\omega-\omega_1,\ "
-                 r"2\omega+\omega_1,\ 3\omega-\omega_1$", loc="left")
+    ax.set_title(
+        f"(c) spectrum of $x$ at $\\omega = {w:g}$ rad/s: $\\omega_1 = {w1:.4f}$ rad/s "
+        f"$= {spectrum['omega1_over_omega']:.5f}\\,\\omega \\approx ({p}/{q})\\,\\omega$\n"
+        r"$a, b, c, d, f = \omega-\omega_1,\ \omega+\omega_1,\ 2\omega-\omega_1,\ "
+        r"2\omega+\omega_1,\ 3\omega-\omega_1$",
+        loc="left",
+    )
     peaks_om = np.asarray(spectrum["peaks_omega"])
     peaks_amp = np.asarray(spectrum["peaks_amplitude"]) * MM
 
     def mark(freq, text, color):
         j = int(np.argmin(np.abs(peaks_om - freq)))
-        ax.annotate(text, xy=(peaks_om[j], peaks_amp[j]), xytext=(0, 7), textcoords="offset points",
-                    ha="center", va="bottom", fontsize=7, color=color,
-                    arrowprops=dict(arrowstyle="-", lw=0.5, color=color, shrinkA=0, shrinkB=1))
+        ax.annotate(
+            text,
+            xy=(peaks_om[j], peaks_amp[j]),
+            xytext=(0, 7),
+            textcoords="offset points",
+            ha="center",
+            va="bottom",
+            fontsize=7,
+            color=color,
+            arrowprops=dict(arrowstyle="-", lw=0.5, color=color, shrinkA=0, shrinkB=1),
+        )
 
     for k in range(1, int(om[-1] // w) + 1):
         mark(k * w, rf"${k if k > 1 else ''}\omega$", "tab:blue")
@@ -144,8 +161,9 @@ def fig05_impact_map(isi, numbers: dict, omega: float):
     # the cycle order of the four points, from the sequence itself
     first = s[: len(levels) + 2]  # one full cycle of arrows
     for p, q, r in zip(first[:-2], first[1:-1], first[2:]):
-        a.annotate("", xy=(q, r), xytext=(p, q),
-                   arrowprops=dict(arrowstyle="->", lw=0.5, color="0.5", shrinkA=4, shrinkB=4))
+        a.annotate(
+            "", xy=(q, r), xytext=(p, q), arrowprops=dict(arrowstyle="->", lw=0.5, color="0.5", shrinkA=4, shrinkB=4)
+        )
     lo, hi = 0.0, max(levels) * 1.1
     a.plot([lo, hi], [lo, hi], color="0.7", lw=0.5, ls=":")
     a.set_xlim(lo, hi)
@@ -158,22 +176,27 @@ def fig05_impact_map(isi, numbers: dict, omega: float):
     b.hist(s, bins=np.arange(0.0, hi + width, width), color="tab:blue", alpha=0.8)
     cmax = max(numbers["counts"])
     for k, (lv, c) in enumerate(zip(levels, numbers["counts"])):  # staggered: close levels do not collide
-        b.text(lv, c + 0.03 * cmax + (k % 2) * 0.2 * cmax, f"{lv:.5f} s\n({c})", ha="center", va="bottom",
-               fontsize=6)
+        b.text(lv, c + 0.03 * cmax + (k % 2) * 0.2 * cmax, f"{lv:.5f} s\n({c})", ha="center", va="bottom", fontsize=6)
     b.set_xlim(lo, hi)
     b.set_ylim(0, cmax * 1.75)
     b.set_xlabel("$S_j$ (s)")
     b.set_ylabel(f"count per {width * 1e3:g} ms bin")
     b.set_title(f"(b) {numbers['n_impacts']} impacts, {s.size} intervals", loc="left")
     q = round(numbers["periods_in_total"])
-    b.text(0.02, 0.97, f"$\\sum$ levels = {numbers['total']:.5f} s (paper: {PERIODIC['levels_sum']} s)\n"
-           f"${q}\\cdot 2\\pi/\\omega$ = {q * 2 * math.pi / omega:.5f} s",
-           transform=b.transAxes, ha="left", va="top", fontsize=6.5)
+    b.text(
+        0.02,
+        0.97,
+        f"$\\sum$ levels = {numbers['total']:.5f} s (paper: {PERIODIC['levels_sum']} s)\n"
+        f"${q}\\cdot 2\\pi/\\omega$ = {q * 2 * math.pi / omega:.5f} s",
+        transform=b.transAxes,
+        ha="left",
+        va="top",
+        fontsize=6.5,
+    )
     return fig
 
 
-def grazing_evidence(branch: dict, from_rest: dict, stats: dict, paper_omegas=(23.05, 23.03),
-                     window=(22.95, 23.3)):
+def grazing_evidence(branch: dict, from_rest: dict, stats: dict, paper_omegas=(23.05, 23.03), window=(22.95, 23.3)):
     """Near-miss gap and impacts per period vs w along the branch and from rest, and a zoom
     of the bracket: gap of the misses with the fitted line, impact velocity of the contacts.
 
@@ -197,10 +220,14 @@ def grazing_evidence(branch: dict, from_rest: dict, stats: dict, paper_omegas=(2
         w = np.asarray(d["omega"])
         return (w >= lo - 1e-9) & (w <= hi + 1e-9)
 
-    for d, style, label in ((branch, dict(color="tab:blue", ms=2.2, marker="o", ls="-", lw=0.6),
-                             "branch, decreasing $\\omega$"),
-                            (from_rest, dict(color="tab:orange", ms=3.2, marker="s", mfc="none", ls="none", mew=0.7),
-                             "from rest at each $\\omega$")):
+    for d, style, label in (
+        (branch, dict(color="tab:blue", ms=2.2, marker="o", ls="-", lw=0.6), "branch, decreasing $\\omega$"),
+        (
+            from_rest,
+            dict(color="tab:orange", ms=3.2, marker="s", mfc="none", ls="none", mew=0.7),
+            "from rest at each $\\omega$",
+        ),
+    ):
         m = in_win(d)
         w = np.asarray(d["omega"])[m]
         a.plot(w, np.asarray(d["min_gap"])[m] * UM, label=label, **style)
@@ -240,18 +267,35 @@ def grazing_evidence(branch: dict, from_rest: dict, stats: dict, paper_omegas=(2
     c.loglog(d[miss], gap[miss], "o", color="tab:blue", ms=3, label=r"branch: near-miss gap ($\omega > \omega_g$)")
     c.loglog(tw[tmiss], tg[tmiss], "D", color="tab:blue", mfc="none", ms=4, label="bisection: miss, gap")
     xs = np.logspace(-6.5, -2, 50)
-    c.loglog(xs, fit["slope"] * (xs + wstar - fit["omega_zero"]), color="tab:blue", lw=0.6, ls="--",
-             label=f"line through the last {len(fit['omega'])} gaps (zero at {fit['omega_zero']:.6f})")
-    c.loglog(-d[graze], bv[graze], "o", color="tab:red", ms=3,
-             label=r"branch: slowest impact ($\omega < \omega_g$)")
-    c.loglog(-tw[~tmiss], tv[~tmiss], "D", color="tab:red", mfc="none", ms=4, label="bisection: contact, slowest impact")
+    c.loglog(
+        xs,
+        fit["slope"] * (xs + wstar - fit["omega_zero"]),
+        color="tab:blue",
+        lw=0.6,
+        ls="--",
+        label=f"line through the last {len(fit['omega'])} gaps (zero at {fit['omega_zero']:.6f})",
+    )
+    c.loglog(-d[graze], bv[graze], "o", color="tab:red", ms=3, label=r"branch: slowest impact ($\omega < \omega_g$)")
+    c.loglog(
+        -tw[~tmiss], tv[~tmiss], "D", color="tab:red", mfc="none", ms=4, label="bisection: contact, slowest impact"
+    )
     if np.any(~tmiss):
         k = np.argmax(np.where(~tmiss, -tw, -np.inf))
-        c.loglog(xs, tv[k] * np.sqrt(xs / -tw[k]), color="tab:red", lw=0.6, ls=":", label=r"$\propto |\omega-\omega_g|^{1/2}$")
+        c.loglog(
+            xs,
+            tv[k] * np.sqrt(xs / -tw[k]),
+            color="tab:red",
+            lw=0.6,
+            ls=":",
+            label=r"$\propto |\omega-\omega_g|^{1/2}$",
+        )
     c.set_xlabel(r"$|\omega - \omega_g|$ (rad/s)")
     c.set_ylabel("gap (m, blue) / impact velocity (m/s, red)")
     br = stats["bracket"]
-    c.set_title(f"(c) $\\omega_g$ = {wstar:.6f} rad/s,\nbracket [{min(br['omega_contact'], br['omega_miss']):.7f}, "
-                f"{max(br['omega_contact'], br['omega_miss']):.7f}]", loc="left")
+    c.set_title(
+        f"(c) $\\omega_g$ = {wstar:.6f} rad/s,\nbracket [{min(br['omega_contact'], br['omega_miss']):.7f}, "
+        f"{max(br['omega_contact'], br['omega_miss']):.7f}]",
+        loc="left",
+    )
     c.legend(loc="lower right", frameon=False, fontsize=6)
     return fig

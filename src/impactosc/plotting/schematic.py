@@ -81,10 +81,16 @@ def fig01_rig():
     ax.text(cart_x0 + 0.12, cart_y1 - 0.1, "cart,\nmass $m$", fontsize=7.5, ha="left", va="top")
 
     # dry friction in the bearing: opposing arrows at the cart/guide interface
-    ax.annotate(r"dry friction $T\,\dot x/\sqrt{\dot x^2+\varepsilon^2}$" "\n(linear bearing)",
-                xy=(9.5, ground + 0.3), xytext=(10.4, 0.5), fontsize=7, ha="left", va="top",
-                bbox=dict(fc="white", ec="none", pad=0.3),
-                arrowprops=dict(arrowstyle="-", lw=0.6, color="0.3", shrinkA=0, shrinkB=2))
+    ax.annotate(
+        r"dry friction $T\,\dot x/\sqrt{\dot x^2+\varepsilon^2}$" "\n(linear bearing)",
+        xy=(9.5, ground + 0.3),
+        xytext=(10.4, 0.5),
+        fontsize=7,
+        ha="left",
+        va="top",
+        bbox=dict(fc="white", ec="none", pad=0.3),
+        arrowprops=dict(arrowstyle="-", lw=0.6, color="0.3", shrinkA=0, shrinkB=2),
+    )
 
     # springs k and damper c from the support to the cart
     _spring(ax, 1.0, cart_x0, cart_y0 + 1.85)
@@ -105,8 +111,17 @@ def fig01_rig():
     ax.text(cx + 0.5 * (mx - cx) + 0.12, cy + 0.5 * (my - cy) - 0.18, "$e$", fontsize=8, ha="left", va="center")
     ax.add_patch(Arc((cx, cy), 0.75, 0.75, theta1=90 - np.rad2deg(phi), theta2=90, lw=0.7, color="tab:blue"))
     ax.text(cx + 0.12, cy + 0.5, r"$\varphi$", fontsize=8, color="tab:blue", ha="left", va="bottom")
-    ax.add_patch(FancyArrowPatch((cx - 0.62, cy - 0.72), (cx + 0.62, cy - 0.72), connectionstyle="arc3,rad=0.45",
-                                 arrowstyle="->", mutation_scale=7, lw=0.7, color="tab:blue"))
+    ax.add_patch(
+        FancyArrowPatch(
+            (cx - 0.62, cy - 0.72),
+            (cx + 0.62, cy - 0.72),
+            connectionstyle="arc3,rad=0.45",
+            arrowstyle="->",
+            mutation_scale=7,
+            lw=0.7,
+            color="tab:blue",
+        )
+    )
     ax.text(cx, cy - r - 0.12, r"$\omega = \dot\varphi$", fontsize=7.5, color="tab:blue", ha="center", va="top")
     _dim_arrow(ax, cart_x0 + 0.6, cart_x0 + 2.1, cart_y1 + 0.15, r"$m_0 e\,\omega^2 \sin\varphi$", color="tab:blue")
 
@@ -118,14 +133,30 @@ def fig01_rig():
     block0, block1 = 12.4, 13.3
     ax.add_patch(Rectangle((block0, ground), block1 - block0, 3.3, fc="0.8", ec=INK, lw=1.0, hatch="///"))
     ax.text(block1 + 0.12, ground + 3.15, "obstacle\n(support)", fontsize=7, ha="left", va="top")
-    ax.add_patch(Polygon([[face, by - 0.55], [face + 0.12, by - 0.55], [face + 0.12, by + 0.55], [face, by + 0.55]],
-                         closed=True, fc="0.6", ec=INK, lw=0.8))
+    ax.add_patch(
+        Polygon(
+            [[face, by - 0.55], [face + 0.12, by - 0.55], [face + 0.12, by + 0.55], [face, by + 0.55]],
+            closed=True,
+            fc="0.6",
+            ec=INK,
+            lw=0.8,
+        )
+    )
     _spring(ax, face + 0.12, block0, by + 0.3, n=4, amp=0.1, lead=0.15, lw=0.8)
     _damper(ax, face + 0.12, block0, by - 0.3, w=0.12, lw=0.8)
     ax.text(0.5 * (face + block0), by + 0.62, r"$k_I,\ b$", fontsize=8, ha="center", va="bottom")
-    ax.text(block1 + 0.12, by - 0.05,
-            r"contact when $x \geq x_I$:" "\n" r"$F_I = k_I\,(h^{n_1} + b\,h^{n_2}\,\mathrm{sgn}\,\dot x\,|\dot x|^{n_3})$,"
-            "\n" r"$h = x - x_I$ (Hunt–Crossley)", fontsize=6.8, ha="left", va="center")
+    ax.text(
+        block1 + 0.12,
+        by - 0.05,
+        r"contact when $x \geq x_I$:"
+        "\n"
+        r"$F_I = k_I\,(h^{n_1} + b\,h^{n_2}\,\mathrm{sgn}\,\dot x\,|\dot x|^{n_3})$,"
+        "\n"
+        r"$h = x - x_I$ (Hunt–Crossley)",
+        fontsize=6.8,
+        ha="left",
+        va="center",
+    )
 
     # coordinate axis: current position x, obstacle face xI, relaxed springs x = 0
     ya = 5.45
@@ -138,8 +169,26 @@ def fig01_rig():
     ax.plot([tip, tip], [by, ya - 0.1], color="0.45", lw=0.5, ls="--")
     ax.plot([face, face], [by + 0.55, ya - 0.1], color="0.45", lw=0.5, ls="--")
     ax.plot([zero, zero], [by + 1.0, ya - 0.1], color="0.45", lw=0.5, ls=":")
-    ax.text(zero + 0.15, ya - 0.2, r"springs relaxed at $x = 0$;" "\n" r"$x_I = -2.086$ mm $< 0$: at rest the" "\n"
-            r"cart is pressed against the obstacle", fontsize=6.5, ha="left", va="top", color="0.3")
-    ax.text(0.6, 6.35, r"$m\ddot x + kx + c\dot x + T\dot x/\sqrt{\dot x^2+\varepsilon^2} + F_I(x,\dot x)"
-            r" = m_0 e\,\omega^2\sin\varphi,\quad \varphi = \omega t$", fontsize=8, ha="left", va="center")
+    ax.text(
+        zero + 0.15,
+        ya - 0.2,
+        r"springs relaxed at $x = 0$;"
+        "\n"
+        r"$x_I = -2.086$ mm $< 0$: at rest the"
+        "\n"
+        r"cart is pressed against the obstacle",
+        fontsize=6.5,
+        ha="left",
+        va="top",
+        color="0.3",
+    )
+    ax.text(
+        0.6,
+        6.35,
+        r"$m\ddot x + kx + c\dot x + T\dot x/\sqrt{\dot x^2+\varepsilon^2} + F_I(x,\dot x)"
+        r" = m_0 e\,\omega^2\sin\varphi,\quad \varphi = \omega t$",
+        fontsize=8,
+        ha="left",
+        va="center",
+    )
     return fig

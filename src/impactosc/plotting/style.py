@@ -11,9 +11,9 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-from ..files import atomic_write  # noqa: E402
+from ..files import atomic_write
 
 CM = 1 / 2.54
 SINGLE = 8.5 * CM

@@ -107,11 +107,19 @@ def _wp_panel(ax, rows, scene, metric, show_legend):
         if stopped:  # errors are infinite: at the right edge, at their wall time
             edge = mtransforms.blended_transform_factory(ax.transAxes, ax.transData)
             for r in stopped:
-                ax.plot([0.97], [_float(r["wall_time"])], transform=edge, color=style.get("color", "0.3"),
-                        **OPEN_MARKER)
-                ann = ax.annotate(f"{solver_label(solver)} rtol {_float(r['rtol']):.0e}: stopped",
-                                  (0.97, _float(r["wall_time"])), xycoords=edge, textcoords="offset points",
-                                  xytext=(-4, 4), fontsize=4.5, ha="right", color=style.get("color", "0.3"))
+                ax.plot(
+                    [0.97], [_float(r["wall_time"])], transform=edge, color=style.get("color", "0.3"), **OPEN_MARKER
+                )
+                ann = ax.annotate(
+                    f"{solver_label(solver)} rtol {_float(r['rtol']):.0e}: stopped",
+                    (0.97, _float(r["wall_time"])),
+                    xycoords=edge,
+                    textcoords="offset points",
+                    xytext=(-4, 4),
+                    fontsize=4.5,
+                    ha="right",
+                    color=style.get("color", "0.3"),
+                )
                 ann.set_in_layout(False)
         if not pts:
             continue
@@ -125,22 +133,31 @@ def _wp_panel(ax, rows, scene, metric, show_legend):
                 what = "stops" if stopped_500 else "leaves the attractor"
                 marked.setdefault((solver, what), []).append(f"{_float(r['rtol']):.0e}")
         if solver == CORE:  # tolerance labels: loosest below-right, tightest above-right
-            for r, e, w, off, ha in ((pts[0], err[0], wall[0], (3, -8), "left"),
-                                     (pts[-1], err[-1], wall[-1], (4, 4), "left")):
-                ann = ax.annotate(f"rtol {_float(r['rtol']):.0e}", (e, w), textcoords="offset points",
-                                  xytext=off, fontsize=5, ha=ha)
+            for r, e, w, off, ha in (
+                (pts[0], err[0], wall[0], (3, -8), "left"),
+                (pts[-1], err[-1], wall[-1], (4, 4), "left"),
+            ):
+                ann = ax.annotate(
+                    f"rtol {_float(r['rtol']):.0e}", (e, w), textcoords="offset points", xytext=off, fontsize=5, ha=ha
+                )
                 ann.set_in_layout(False)
     if marked and metric == METRICS[0]:  # the labels of the open markers, once per scene
         lines = [f"{solver_label(solver)} rtol {', '.join(rtols)}: {what}" for (solver, what), rtols in marked.items()]
-        ax.text(0.03, 0.08, "open markers, 500 s from rest:\n" + "\n".join(lines), transform=ax.transAxes,
-                fontsize=4.5, va="bottom", ha="left", color="0.2")
+        ax.text(
+            0.03,
+            0.08,
+            "open markers, 500 s from rest:\n" + "\n".join(lines),
+            transform=ax.transAxes,
+            fontsize=4.5,
+            va="bottom",
+            ha="left",
+            color="0.2",
+        )
     for r in (r for r in rows if r["scene"] == scene and r["status"] == "floor"):
-        ax.axhline(_float(r["wall_time"]), label=f"floor: {r['solver']}, tol {_float(r['rtol']):.0e}",
-                   **FLOOR_STYLE)
+        ax.axhline(_float(r["wall_time"]), label=f"floor: {r['solver']}, tol {_float(r['rtol']):.0e}", **FLOOR_STYLE)
     budget = budget_notes(rows, scene)
     if budget and metric == METRICS[0]:  # fewer points, not different numbers: say where a sweep stops
-        ax.text(0.03, 0.97, "\n".join(budget), transform=ax.transAxes, fontsize=4.5, va="top", ha="left",
-                color="0.35")
+        ax.text(0.03, 0.97, "\n".join(budget), transform=ax.transAxes, fontsize=4.5, va="top", ha="left", color="0.35")
     notes = unavailable_notes(rows, scene)
     if notes:
         ax.text(0.03, 0.03, "\n".join(notes), transform=ax.transAxes, fontsize=5.5, color="C3", va="bottom")
@@ -169,8 +186,15 @@ def _shared_legend(fig, axes, rows):
     if any(_off_attractor(r) or r.get("status") == "stopped" for r in rows):
         labels.append("open: off the attractor or stopped (labelled)")
         handles[labels[-1]] = Line2D([], [], color="0.3", **OPEN_MARKER)
-    fig.legend([handles[lab] for lab in labels], labels, loc="outside lower center", ncols=min(len(labels), 3),
-               frameon=False, fontsize=5.5, handlelength=2.2)
+    fig.legend(
+        [handles[lab] for lab in labels],
+        labels,
+        loc="outside lower center",
+        ncols=min(len(labels), 3),
+        frameon=False,
+        fontsize=5.5,
+        handlelength=2.2,
+    )
 
 
 def _stat_panel(ax, stats_rows, key, label):
@@ -217,9 +241,12 @@ def plot_work_precision(rows, stats_rows, *, jit: dict | None = None, n_ensemble
         cold = f"{jit['cold']:.0f} s cold" if jit.get("cold") is not None else "cold not measured"
         note += f"\nJIT compile of the core excluded: {cold}, {jit['cached']:.1f} s from cache."
     if any(str(r["solver"]).startswith("CyRK") and r.get("status") != "unavailable" for r in rows):
-        note += ("\nCyRK (dashed): the model in one right-hand side, no splitting at contacts; numba cfunc "
-                 "right-hand side and events on CyRK's dense output.")
-    note += (f"\nBottom: chaotic scene (100 s + 400 s) at each core rtol; band: mean $\\pm$ 2 std of {n_ens} "
-             "realisations.")
+        note += (
+            "\nCyRK (dashed): the model in one right-hand side, no splitting at contacts; numba cfunc "
+            "right-hand side and events on CyRK's dense output."
+        )
+    note += (
+        f"\nBottom: chaotic scene (100 s + 400 s) at each core rtol; band: mean $\\pm$ 2 std of {n_ens} realisations."
+    )
     fig.suptitle(note, fontsize=6)
     return fig

@@ -33,9 +33,7 @@ def as_finite_1d(values, name: str, min_size: int = 1) -> np.ndarray:
     bad = ~np.isfinite(arr)
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
-        raise ValueError(
-            f"{name} contains non-finite values (NaN or inf); first at index {i}: {arr[i]}"
-        )
+        raise ValueError(f"{name} contains non-finite values (NaN or inf); first at index {i}: {arr[i]}")
     return arr
 
 
@@ -45,9 +43,7 @@ def as_positive_1d(values, name: str, min_size: int = 1) -> np.ndarray:
     nonpos = arr <= 0
     if nonpos.any():
         i = int(np.flatnonzero(nonpos)[0])
-        raise ValueError(
-            f"{name} must be strictly positive; first non-positive value at index {i}: {arr[i]}"
-        )
+        raise ValueError(f"{name} must be strictly positive; first non-positive value at index {i}: {arr[i]}")
     return arr
 
 

@@ -79,7 +79,7 @@ def autocorrelation(S, kmax: int | None = None) -> Autocorrelation:
         raise ValueError("S is constant; its autocorrelation is undefined")
     # sum_i d_i d_{i+L} for L = 0..kmax-1 (output index n-1 is lag 0); "auto" sums directly
     # for short series and uses the FFT (O(n log n)) for long ones.
-    raw = signal.correlate(d, d, mode="full", method="auto")[n - 1:n - 1 + kmax]
+    raw = signal.correlate(d, d, mode="full", method="auto")[n - 1 : n - 1 + kmax]
     lag = np.arange(kmax)
     value = n / (n - lag) * raw / denom
     value[0] = 1.0  # exact by definition; removes rounding

@@ -137,8 +137,5 @@ def equal_rate_test(counts, alpha: float = 0.05) -> EqualRateTest:
             f"scatter, the train is not stationary over these windows"
         )
     else:
-        conclusion = (
-            f"consistent with equal rates ({detail} >= {alpha}): no evidence against "
-            f"stationarity"
-        )
+        conclusion = f"consistent with equal rates ({detail} >= {alpha}): no evidence against stationarity"
     return EqualRateTest(statistic, dof, pvalue, float(alpha), conclusion)

@@ -108,9 +108,7 @@ class KernelDensity:
     bandwidth: float
 
 
-def kernel_density(
-    values, bw_method="scott", grid=None, n_grid: int = 1024
-) -> KernelDensity:
+def kernel_density(values, bw_method="scott", grid=None, n_grid: int = 1024) -> KernelDensity:
     """Gaussian kernel density estimate (``scipy.stats.gaussian_kde``) on a grid.
 
     Why: a smooth estimate of the ISI density whose maxima define the time scales, without

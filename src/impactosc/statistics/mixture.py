@@ -134,9 +134,7 @@ def _moments(family: str, p: dict) -> tuple[np.ndarray, np.ndarray]:
     return a * th, a * th**2
 
 
-def _component_logpdf(
-    family: str, x: np.ndarray, p: dict, lx: np.ndarray | None = None
-) -> np.ndarray:
+def _component_logpdf(family: str, x: np.ndarray, p: dict, lx: np.ndarray | None = None) -> np.ndarray:
     """log density of each component, shape (n, K); ``lx = log(x)`` may be passed in."""
     x = x[:, None]
     if family == "gaussian":
@@ -353,9 +351,7 @@ def fit_mixture(
     loglik = _estep(fam, best.weights, best.params)[0]
     order = np.argsort(_moments(family, best.params)[0])
     p = {name: val[order] for name, val in best.params.items()}
-    return MixtureFit(
-        family, best.weights[order], p, loglik, int(v.size), best.converged, best.n_iter
-    )
+    return MixtureFit(family, best.weights[order], p, loglik, int(v.size), best.converged, best.n_iter)
 
 
 @dataclass(frozen=True)

@@ -57,9 +57,7 @@ class ExponentialKSTest:
         return self.pvalue < self.alpha
 
 
-def exponential_ks_test(
-    S, alpha: float = 0.05, n_bootstrap: int = 999, seed: int = 0
-) -> ExponentialKSTest:
+def exponential_ks_test(S, alpha: float = 0.05, n_bootstrap: int = 999, seed: int = 0) -> ExponentialKSTest:
     """Kolmogorov-Smirnov test of intervals against the exponential with the same mean.
 
     Why: exponential ISIs are necessary for a Poisson train; rejection means the train is
@@ -105,8 +103,12 @@ def exponential_ks_test(
         exceed = 0
         for done in range(0, n_bootstrap, rows):
             gof = stats.goodness_of_fit(
-                stats.expon, s, known_params={"loc": 0.0}, statistic="ks",
-                n_mc_samples=min(rows, n_bootstrap - done), rng=rng,
+                stats.expon,
+                s,
+                known_params={"loc": 0.0},
+                statistic="ks",
+                n_mc_samples=min(rows, n_bootstrap - done),
+                rng=rng,
             )
             exceed += int(np.sum(gof.null_distribution >= d))
         p_boot = (1 + exceed) / (n_bootstrap + 1)
@@ -114,12 +116,7 @@ def exponential_ks_test(
     kind = "bootstrap" if p_boot is not None else "classical KS, conservative"
     detail = f"D={d:.3g}, p={p:.3g} ({kind}), n={s.size}"
     if p < alpha:
-        conclusion = (
-            f"exponential intervals rejected ({detail} < {alpha}): the train is not Poisson"
-        )
+        conclusion = f"exponential intervals rejected ({detail} < {alpha}): the train is not Poisson"
     else:
-        conclusion = (
-            f"consistent with exponential intervals ({detail} >= {alpha}): "
-            f"no evidence against a Poisson train"
-        )
+        conclusion = f"consistent with exponential intervals ({detail} >= {alpha}): no evidence against a Poisson train"
     return ExponentialKSTest(d, p, float(ks.pvalue), p_boot, mean, float(alpha), conclusion)

@@ -68,9 +68,7 @@ def _running_mean_var(s: np.ndarray, ddof: int) -> tuple[np.ndarray, np.ndarray,
     if ddof < 0:
         raise ValueError(f"ddof must be >= 0, got {ddof}")
     if s.size < ddof + 1:
-        raise ValueError(
-            f"S has too few samples: need at least {ddof + 1} for ddof={ddof}, got {s.size}"
-        )
+        raise ValueError(f"S has too few samples: need at least {ddof + 1} for ddof={ddof}, got {s.size}")
     shift = s.mean()
     d = s - shift
     i = np.arange(1, s.size + 1, dtype=float)
@@ -168,9 +166,7 @@ def fano_factor(times, window: float, t_start: float, t_stop: float, ddof: int =
     a, b = check_time_span(t_start, t_stop)
     edges = _window_edges(w, a, b)
     if edges.size - 1 < 2:
-        raise ValueError(
-            f"window={w} s is too long: fewer than 2 windows fit in [{a}, {b}] s"
-        )
+        raise ValueError(f"window={w} s is too long: fewer than 2 windows fit in [{a}, {b}] s")
     if edges.size - 1 <= ddof:
         raise ValueError(f"too few windows ({edges.size - 1}) for ddof={ddof}")
     counts = counts_in_windows(t, edges)

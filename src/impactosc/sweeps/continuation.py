@@ -23,9 +23,9 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Sequence
 
 import h5py
 import numpy as np
@@ -35,8 +35,18 @@ from ..integration.model import ModelParams
 from ..integration.simulate import DEFAULT_ATOL, DEFAULT_RTOL, StallError, simulate
 
 __all__ = [
-    "SweepSettings", "SweepResult", "omega_grid", "continuation", "plan_chunks", "coarse_pass",
-    "run_chunk", "merge_chunks", "sweep_chunked", "save_sweep", "load_sweep", "MAP_PARAMETERS",
+    "SweepSettings",
+    "SweepResult",
+    "omega_grid",
+    "continuation",
+    "plan_chunks",
+    "coarse_pass",
+    "run_chunk",
+    "merge_chunks",
+    "sweep_chunked",
+    "save_sweep",
+    "load_sweep",
+    "MAP_PARAMETERS",
     "parameter_rows",
 ]
 
@@ -77,26 +87,38 @@ class SweepSettings:
 
     def to_attrs(self) -> dict:
         """Flat attributes for the HDF5 file (reproducibility)."""
-        out = {k: getattr(self, k) for k in ("n_transient", "n_record", "n_initial", "x0", "v0", "rtol", "atol",
-                                             "max_steps_per_period")}
+        out = {
+            k: getattr(self, k)
+            for k in ("n_transient", "n_record", "n_initial", "x0", "v0", "rtol", "atol", "max_steps_per_period")
+        }
         out.update({f"param_{k}": v for k, v in self.params.to_dict().items()})
         return out
 
     @classmethod
-    def from_config(cls, per_w: dict, model: dict, solver: dict, **overrides) -> "SweepSettings":
+    def from_config(cls, per_w: dict, model: dict, solver: dict, **overrides) -> SweepSettings:
         """Settings from the workflow config sections (bifurcation.per_w, model, solver)."""
-        kw = {k: per_w[k] for k in ("n_transient", "n_record", "n_initial", "x0", "v0", "max_steps_per_period")
-              if k in per_w}
+        kw = {
+            k: per_w[k]
+            for k in ("n_transient", "n_record", "n_initial", "x0", "v0", "max_steps_per_period")
+            if k in per_w
+        }
         kw.update(overrides)
         return cls(params=ModelParams(**model), rtol=solver["rtol"], atol=solver["atol"], **kw)
 
     @classmethod
-    def from_attrs(cls, attrs) -> "SweepSettings":
+    def from_attrs(cls, attrs) -> SweepSettings:
         params = ModelParams(**{k[6:]: float(v) for k, v in attrs.items() if k.startswith("param_")})
-        return cls(n_transient=int(attrs["n_transient"]), n_record=int(attrs["n_record"]),
-                   n_initial=int(attrs["n_initial"]), x0=float(attrs["x0"]), v0=float(attrs["v0"]),
-                   params=params, rtol=float(attrs["rtol"]), atol=float(attrs["atol"]),
-                   max_steps_per_period=int(attrs["max_steps_per_period"]))
+        return cls(
+            n_transient=int(attrs["n_transient"]),
+            n_record=int(attrs["n_record"]),
+            n_initial=int(attrs["n_initial"]),
+            x0=float(attrs["x0"]),
+            v0=float(attrs["v0"]),
+            params=params,
+            rtol=float(attrs["rtol"]),
+            atol=float(attrs["atol"]),
+            max_steps_per_period=int(attrs["max_steps_per_period"]),
+        )
 
 
 # Per-w arrays of a SweepResult (all shape (n,) except the Poincare arrays (n, n_record)).
@@ -150,7 +172,7 @@ class SweepResult:
 
     def impacts(self, i: int) -> np.ndarray:
         """Impact onset times at the i-th w (s from the start of its recorded interval)."""
-        return self.impact_t[self.impact_offsets[i]:self.impact_offsets[i + 1]]
+        return self.impact_t[self.impact_offsets[i] : self.impact_offsets[i + 1]]
 
     def isi(self, i: int) -> np.ndarray:
         """Inter-impact intervals S_j at the i-th w (s)."""
@@ -169,15 +191,21 @@ class SweepResult:
         ok = np.isfinite(x)  # abandoned w values have no points
         return w[ok], x[ok]
 
-    def subset(self, start: int, stop: int) -> "SweepResult":
+    def subset(self, start: int, stop: int) -> SweepResult:
         """The w values start..stop-1 (contiguous), e.g. dropping a chunk's warm-up."""
         if not 0 <= start <= stop <= len(self):
             raise ValueError(f"subset [{start}, {stop}) outside the sweep of {len(self)} w values")
         lo, hi = self.impact_offsets[start], self.impact_offsets[stop]
         kw = {k: getattr(self, k)[start:stop].copy() for k in _PER_W}
-        return SweepResult(poincare_x=self.poincare_x[start:stop].copy(), poincare_v=self.poincare_v[start:stop].copy(),
-                           impact_t=self.impact_t[lo:hi].copy(), impact_v=self.impact_v[lo:hi].copy(),
-                           impact_offsets=self.impact_offsets[start:stop + 1] - lo, settings=self.settings, **kw)
+        return SweepResult(
+            poincare_x=self.poincare_x[start:stop].copy(),
+            poincare_v=self.poincare_v[start:stop].copy(),
+            impact_t=self.impact_t[lo:hi].copy(),
+            impact_v=self.impact_v[lo:hi].copy(),
+            impact_offsets=self.impact_offsets[start : stop + 1] - lo,
+            settings=self.settings,
+            **kw,
+        )
 
     @property
     def steps_per_second(self) -> float:
@@ -225,16 +253,29 @@ def _run_one(om: float, n_tr: int, x: float, v: float, s: SweepSettings):
     def guard(t, t_end, n_imp):
         state["calls"] += 1
         if t < t_end and state["calls"] * _CHUNK_STEPS > budget:
-            raise _Stalled(f"more than {budget} steps for {n_tr + s.n_record} periods, stuck at t = {t:.9g} s "
-                           f"of {t_end:.9g} s (start x0 = {x!r}, v0 = {v!r})")
+            raise _Stalled(
+                f"more than {budget} steps for {n_tr + s.n_record} periods, stuck at t = {t:.9g} s "
+                f"of {t_end:.9g} s (start x0 = {x!r}, v0 = {v!r})"
+            )
 
     # Record from half a period before the first section time so that rounding of
     # n_tr * period can never drop the Poincare point at phi = 2 pi n_tr.
     transient = max((n_tr - 0.5) * period, 0.0)
     duration = (n_tr + s.n_record) * period - transient
-    return simulate(om, transient, duration, x0=x, v0=v, params=s.params, rtol=s.rtol, atol=s.atol,
-                    record=("impacts", "near_misses", "poincare"), chunk_steps=_CHUNK_STEPS, progress=guard,
-                    step_budget=max(100.0, _STALL_PACE * s.max_steps_per_period))
+    return simulate(
+        om,
+        transient,
+        duration,
+        x0=x,
+        v0=v,
+        params=s.params,
+        rtol=s.rtol,
+        atol=s.atol,
+        record=("impacts", "near_misses", "poincare"),
+        chunk_steps=_CHUNK_STEPS,
+        progress=guard,
+        step_budget=max(100.0, _STALL_PACE * s.max_steps_per_period),
+    )
 
 
 def continuation(
@@ -321,9 +362,15 @@ def continuation(
         if progress is not None:
             progress(i, n, float(om))
     offsets = np.cumsum(offsets)
-    return SweepResult(poincare_x=px, poincare_v=pv, impact_t=np.concatenate(imp_t),
-                       impact_v=np.concatenate(imp_v), impact_offsets=offsets,
-                       settings=s, **per_w)
+    return SweepResult(
+        poincare_x=px,
+        poincare_v=pv,
+        impact_t=np.concatenate(imp_t),
+        impact_v=np.concatenate(imp_v),
+        impact_offsets=offsets,
+        settings=s,
+        **per_w,
+    )
 
 
 # ------------------------------------------------------------------ chunking
@@ -341,10 +388,12 @@ def plan_chunks(n: int, n_chunks: int, stride: int) -> list[tuple[int, int]]:
         raise ValueError(f"n_chunks must be an integer >= 1, got {n_chunks!r}")
     n_coarse = (n - 1) // stride + 1  # coarse points 0, stride, ... <= n-1
     if n_chunks > n_coarse:
-        raise ValueError(f"{n_chunks} chunks need at least {n_chunks} coarse points; "
-                         f"n = {n} w values with stride {stride} give {n_coarse}")
+        raise ValueError(
+            f"{n_chunks} chunks need at least {n_chunks} coarse points; "
+            f"n = {n} w values with stride {stride} give {n_coarse}"
+        )
     starts = [stride * int(round(k * n_coarse / n_chunks)) for k in range(n_chunks)]
-    return [(a, b) for a, b in zip(starts, starts[1:] + [n])]
+    return [(a, b) for a, b in zip(starts, [*starts[1:], n])]
 
 
 def coarse_indices(n: int, stride: int) -> np.ndarray:
@@ -358,8 +407,15 @@ def coarse_pass(omegas, settings: SweepSettings, stride: int, progress=None, on_
     return continuation(w[coarse_indices(w.size, stride)], settings, progress=progress, on_failure=on_failure)
 
 
-def run_chunk(omegas, settings: SweepSettings, chunk: tuple[int, int], stride: int,
-              seeds: SweepResult | None, progress=None, on_failure=None) -> SweepResult:
+def run_chunk(
+    omegas,
+    settings: SweepSettings,
+    chunk: tuple[int, int],
+    stride: int,
+    seeds: SweepResult | None,
+    progress=None,
+    on_failure=None,
+) -> SweepResult:
     """The fine sweep over indices chunk = (a, b), seeded from the coarse pass.
 
     Chunk 0 starts like the sequential sweep (from settings.x0, v0); chunk a > 0 starts
@@ -378,10 +434,19 @@ def run_chunk(omegas, settings: SweepSettings, chunk: tuple[int, int], stride: i
         raise ValueError("chunks after the first need the coarse pass (seeds)")
     j = a // stride - 1
     if j >= len(seeds) or not math.isclose(seeds.omega[j], w[a - stride], rel_tol=0, abs_tol=1e-12):
-        raise ValueError(f"seeds do not belong to this grid: coarse point {j} is w = "
-                         f"{seeds.omega[j] if j < len(seeds) else 'missing'}, expected {w[a - stride]}")
-    res = continuation(w[a - stride + 1:b], settings, x0=seeds.x_end[j], v0=seeds.v_end[j],
-                       first_transient=settings.n_transient, progress=progress, on_failure=on_failure)
+        raise ValueError(
+            f"seeds do not belong to this grid: coarse point {j} is w = "
+            f"{seeds.omega[j] if j < len(seeds) else 'missing'}, expected {w[a - stride]}"
+        )
+    res = continuation(
+        w[a - stride + 1 : b],
+        settings,
+        x0=seeds.x_end[j],
+        v0=seeds.v_end[j],
+        first_transient=settings.n_transient,
+        progress=progress,
+        on_failure=on_failure,
+    )
     return res.subset(stride - 1, len(res))
 
 
@@ -403,8 +468,10 @@ def merge_chunks(chunks: Sequence[SweepResult]) -> SweepResult:
         poincare_v=np.concatenate([c.poincare_v for c in chunks]),
         impact_t=np.concatenate([c.impact_t for c in chunks]),
         impact_v=np.concatenate([c.impact_v for c in chunks]),
-        impact_offsets=np.concatenate(offsets), settings=s,
-        **{k: np.concatenate([getattr(c, k) for c in chunks]) for k in _PER_W})
+        impact_offsets=np.concatenate(offsets),
+        settings=s,
+        **{k: np.concatenate([getattr(c, k) for c in chunks]) for k in _PER_W},
+    )
     _check_omegas(merged.omega)
     return merged
 
@@ -419,7 +486,7 @@ def sweep_chunked(omegas, settings: SweepSettings, n_chunks: int, stride: int) -
 
 # ------------------------------------------------------------------ files
 
-_ARRAYS = ("poincare_x", "poincare_v", "impact_t", "impact_v", "impact_offsets") + _PER_W
+_ARRAYS = ("poincare_x", "poincare_v", "impact_t", "impact_v", "impact_offsets", *_PER_W)
 
 
 def save_sweep(path, result: SweepResult, *, sources=None, **attrs) -> Path:
@@ -450,7 +517,6 @@ def load_sweep(path) -> tuple[SweepResult, dict]:
     return SweepResult(settings=SweepSettings.from_attrs(attrs), **arrays), attrs
 
 
-
 # ------------------------------------------------------------------ 2-D maps
 
 MAP_PARAMETERS = ("xI", "m0e")  # obstacle position (m), forcing amplitude m0 e (kg m)
@@ -469,7 +535,9 @@ def parameter_rows(omegas, settings: SweepSettings, parameter: str, values, prog
         raise ValueError("map parameter values must be a non-empty 1-D sequence of finite numbers")
     w = _check_omegas(omegas)
     for k, value in enumerate(vals):
-        row_settings = dataclasses.replace(settings, params=dataclasses.replace(settings.params, **{parameter: float(value)}))
+        row_settings = dataclasses.replace(
+            settings, params=dataclasses.replace(settings.params, **{parameter: float(value)})
+        )
         yield float(value), continuation(w, row_settings)
         if progress is not None:
             progress(k, vals.size, float(value))

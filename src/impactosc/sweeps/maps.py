@@ -39,12 +39,16 @@ class MapResult:
     wall_time: float = 0.0
 
     @classmethod
-    def from_tables(cls, parameter: str, values, tables: list[BranchTable], wall_time: float = 0.0) -> "MapResult":
+    def from_tables(cls, parameter: str, values, tables: list[BranchTable], wall_time: float = 0.0) -> MapResult:
         if not tables:
             raise ValueError("a map needs at least one row")
-        return cls(parameter, np.asarray(values, dtype=float), tables[0].omega.copy(),
-                   *(np.vstack([getattr(t, k) for t in tables]) for k in ("period", "impacts", "rate", "n_isi_levels")),
-                   wall_time=float(wall_time))
+        return cls(
+            parameter,
+            np.asarray(values, dtype=float),
+            tables[0].omega.copy(),
+            *(np.vstack([getattr(t, k) for t in tables]) for k in ("period", "impacts", "rate", "n_isi_levels")),
+            wall_time=float(wall_time),
+        )
 
 
 _MAP_ARRAYS = ("values", "omega", "period", "impacts", "rate", "n_isi_levels")
@@ -81,6 +85,10 @@ def merge_maps(parts: list[MapResult]) -> MapResult:
     for p in parts[1:]:
         if p.parameter != parts[0].parameter or not np.array_equal(p.omega, parts[0].omega):
             raise ValueError("map chunks differ in parameter or w grid")
-    return MapResult(parts[0].parameter, np.concatenate([p.values for p in parts]), parts[0].omega.copy(),
-                     *(np.vstack([getattr(p, k) for p in parts]) for k in ("period", "impacts", "rate", "n_isi_levels")),
-                     wall_time=float(sum(p.wall_time for p in parts)))
+    return MapResult(
+        parts[0].parameter,
+        np.concatenate([p.values for p in parts]),
+        parts[0].omega.copy(),
+        *(np.vstack([getattr(p, k) for p in parts]) for k in ("period", "impacts", "rate", "n_isi_levels")),
+        wall_time=float(sum(p.wall_time for p in parts)),
+    )

@@ -37,8 +37,17 @@ from .impacts import _shrinking_runs, bounce_to_rest_case, chattering_case, coin
 from .sticking import CoulombOscillator, stick_on_obstacle_case, stick_slip_case
 
 __all__ = [
-    "run_all", "row", "grazing_case", "scan_free_flight", "chattering_case", "bounce_to_rest_case",
-    "CoulombOscillator", "stick_slip_case", "stick_on_obstacle_case", "regularisation_case", "coincidence_case",
+    "run_all",
+    "row",
+    "grazing_case",
+    "scan_free_flight",
+    "chattering_case",
+    "bounce_to_rest_case",
+    "CoulombOscillator",
+    "stick_slip_case",
+    "stick_on_obstacle_case",
+    "regularisation_case",
+    "coincidence_case",
     "long_run_case",
 ]
 
@@ -57,8 +66,9 @@ def run_all(hc: dict, log=print) -> list[dict]:
     rows += bounce_to_rest_case(bounce, 8.0, 20.0, log=log)
     rows += stick_slip_case(ratios=tuple(s["ratios"]), eps_values=tuple(s["eps"]), periods=s["periods"], log=log)
     rows += stick_on_obstacle_case(log=log)
-    rows += regularisation_case(eps_values=tuple(r["eps"]), kI_factor=r["kI_factor"],
-                                ensemble_x0=tuple(r["ensemble_x0"]), log=log)
+    rows += regularisation_case(
+        eps_values=tuple(r["eps"]), kI_factor=r["kI_factor"], ensemble_x0=tuple(r["ensemble_x0"]), log=log
+    )
     rows += coincidence_case(log=log)
     rows += long_run_case(duration=lr["duration"], block=lr["block"], log=log)
     return rows

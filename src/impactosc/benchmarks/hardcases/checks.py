@@ -9,9 +9,23 @@ def row(case, check, measured, bound, unit, passed=None, detail="", info=False):
     measured figure that no bound applies to (passed: "n.a.")."""
     measured = float(measured)
     if info:
-        return {"case": case, "check": check, "measured": measured, "bound": "n.a.", "unit": unit,
-                "passed": "n.a.", "detail": detail}
+        return {
+            "case": case,
+            "check": check,
+            "measured": measured,
+            "bound": "n.a.",
+            "unit": unit,
+            "passed": "n.a.",
+            "detail": detail,
+        }
     if passed is None:
         passed = bool(measured <= bound)
-    return {"case": case, "check": check, "measured": measured, "bound": bound, "unit": unit,
-            "passed": bool(passed), "detail": detail}
+    return {
+        "case": case,
+        "check": check,
+        "measured": measured,
+        "bound": bound,
+        "unit": unit,
+        "passed": bool(passed),
+        "detail": detail,
+    }

@@ -41,8 +41,16 @@ def scan_free_flight(omega, params, t_a, x_a, v_a, t_b, dt):
     return float(x.max() - p.xI), a_max * dt * dt / 8.0
 
 
-def grazing_case(params=None, depths=(1e-7, 1e-8, 1e-9), gaps=(1e-5, 1e-6, 1e-7, 1e-8, 1e-9), fine_points=0,
-                 fine_halfwidth=1e-5, periods=150, scan_dt=2e-6, log=print) -> list[dict]:
+def grazing_case(
+    params=None,
+    depths=(1e-7, 1e-8, 1e-9),
+    gaps=(1e-5, 1e-6, 1e-7, 1e-8, 1e-9),
+    fine_points=0,
+    fine_halfwidth=1e-5,
+    periods=150,
+    scan_dt=2e-6,
+    log=print,
+) -> list[dict]:
     """Sweep w through the grazing point of the period-1 branch so that its grazing maximum
     is a contact of each depth in `depths` or a near miss of each gap in `gaps` (plus
     `fine_points` w on a uniform grid of half-width `fine_halfwidth` rad/s around w*).
@@ -90,21 +98,48 @@ def grazing_case(params=None, depths=(1e-7, 1e-8, 1e-9), gaps=(1e-5, 1e-6, 1e-7,
             shallowest = min(shallowest, g)
         else:
             closest = min(closest, -g)
-        log(f"w = {w:.11f}: core {g:+.4e} m, scan {value:+.4e} (+{bound:.1e}) m, |dev| {dev:.1e} <= {tol:.1e}, "
-            f"impacts at the maximum: {n_imp}, {'ok' if ok else 'FAIL'}{'' if resolved else ' (unresolved)'}")
+        log(
+            f"w = {w:.11f}: core {g:+.4e} m, scan {value:+.4e} (+{bound:.1e}) m, |dev| {dev:.1e} <= {tol:.1e}, "
+            f"impacts at the maximum: {n_imp}, {'ok' if ok else 'FAIL'}{'' if resolved else ' (unresolved)'}"
+        )
     n = len(omegas)
-    detail = (f"w* = {w_star:.11f} rad/s (secant on the signed clearance, dg/dw = {slope:.4g} m s/rad); "
-              f"{n} w values: contacts {', '.join(f'{d:g}' for d in depths)} m, gaps "
-              f"{', '.join(f'{d:g}' for d in gaps)} m, {fine_points} on w* +- {fine_halfwidth:g}; "
-              f"{n_unresolved} within the scan's resolution")
+    detail = (
+        f"w* = {w_star:.11f} rad/s (secant on the signed clearance, dg/dw = {slope:.4g} m s/rad); "
+        f"{n} w values: contacts {', '.join(f'{d:g}' for d in depths)} m, gaps "
+        f"{', '.join(f'{d:g}' for d in gaps)} m, {fine_points} on w* +- {fine_halfwidth:g}; "
+        f"{n_unresolved} within the scan's resolution"
+    )
     return [
-        row("grazing", "w values whose grazing event (contact with one impact, or near miss) the core "
-            "classifies as an independent fixed-step scan (SciPy DOP853, dt 2e-6 s) does", n_ok, n, "count",
-            passed=n_ok == n, detail=detail),
-        row("grazing", "worst |core - scan| depth or gap, over its allowed deviation (scan bound A dt^2/8 "
-            "+ neglected contact force + 1e-12 m)", worst_ratio, 1.0, "ratio"),
-        row("grazing", "shallowest contact detected (bound: the smallest depth asked for)", shallowest,
-            min(depths) * 1.5, "m"),
-        row("grazing", "smallest near-miss gap resolved (bound: the smallest gap asked for)", closest,
-            min(gaps) * 1.5, "m"),
+        row(
+            "grazing",
+            "w values whose grazing event (contact with one impact, or near miss) the core "
+            "classifies as an independent fixed-step scan (SciPy DOP853, dt 2e-6 s) does",
+            n_ok,
+            n,
+            "count",
+            passed=n_ok == n,
+            detail=detail,
+        ),
+        row(
+            "grazing",
+            "worst |core - scan| depth or gap, over its allowed deviation (scan bound A dt^2/8 "
+            "+ neglected contact force + 1e-12 m)",
+            worst_ratio,
+            1.0,
+            "ratio",
+        ),
+        row(
+            "grazing",
+            "shallowest contact detected (bound: the smallest depth asked for)",
+            shallowest,
+            min(depths) * 1.5,
+            "m",
+        ),
+        row(
+            "grazing",
+            "smallest near-miss gap resolved (bound: the smallest gap asked for)",
+            closest,
+            min(gaps) * 1.5,
+            "m",
+        ),
     ]

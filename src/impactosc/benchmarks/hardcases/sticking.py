@@ -33,7 +33,7 @@ class CoulombOscillator:
 
     def __init__(self, params: ModelParams, omega: float, scan: float = 2e-5):
         p = params
-        if not p.c ** 2 < 4 * p.k * p.m:
+        if not p.c**2 < 4 * p.k * p.m:
             raise ValueError("the closed form assumes an underdamped oscillator (c^2 < 4 k m)")
         self.p, self.w, self.scan = p, omega, scan
         self.F0 = p.m0e * omega**2
@@ -46,8 +46,10 @@ class CoulombOscillator:
 
     def _xp(self, t, sigma):
         w = self.w
-        return (self.A * np.sin(w * t) + self.B * np.cos(w * t) - sigma * self.p.T / self.p.k,
-                w * (self.A * np.cos(w * t) - self.B * np.sin(w * t)))
+        return (
+            self.A * np.sin(w * t) + self.B * np.cos(w * t) - sigma * self.p.T / self.p.k,
+            w * (self.A * np.cos(w * t) - self.B * np.sin(w * t)),
+        )
 
     def _slip_state(self, t, t0, c1, c2, sigma):
         tau = t - t0
@@ -118,8 +120,17 @@ class CoulombOscillator:
         return sum(1 for *_, kind, _ in self.pieces if kind == "stick")
 
 
-def stick_slip_case(ratios=(0.3, 0.6, 0.9, 0.95), omega=23.03, periods=10, eps_values=(1e-6, 1e-7, 1e-8, 1e-9),
-                    v_th=1e-3, dt=1e-4, rtol=1e-10, atol=1e-12, log=print) -> list[dict]:
+def stick_slip_case(
+    ratios=(0.3, 0.6, 0.9, 0.95),
+    omega=23.03,
+    periods=10,
+    eps_values=(1e-6, 1e-7, 1e-8, 1e-9),
+    v_th=1e-3,
+    dt=1e-4,
+    rtol=1e-10,
+    atol=1e-12,
+    log=print,
+) -> list[dict]:
     """Dry friction T = ratio * F0 (F0 = m0e w^2, the forcing amplitude), obstacle out of
     reach: the cart sticks at most reversals. Against the closed-form Coulomb solution
     (the eps -> 0 limit of the regularised friction):
@@ -146,8 +157,9 @@ def stick_slip_case(ratios=(0.3, 0.6, 0.9, 0.95), omega=23.03, periods=10, eps_v
             p = dataclasses.replace(base, T=ratio * F0, eps=eps, xI=1.0)
             ref = CoulombOscillator(p, omega).solve(t_end)
             t0 = time.perf_counter()
-            res = simulate(omega, 0.0, t_end, params=p, rtol=rtol, atol=atol, window=Window(0.0, t_end, dt),
-                           record=("poincare",))
+            res = simulate(
+                omega, 0.0, t_end, params=p, rtol=rtol, atol=atol, window=Window(0.0, t_end, dt), record=("poincare",)
+            )
             wall = time.perf_counter() - t0
             tw, xw, vw = res.trajectory["t"], res.trajectory["x"], res.trajectory["v"]
             xr, vr = ref.state(tw)
@@ -156,30 +168,55 @@ def stick_slip_case(ratios=(0.3, 0.6, 0.9, 0.95), omega=23.03, periods=10, eps_v
             a = res.attrs
             steps = a["n_steps"] + a["n_implicit_steps"] + a["n_rejected"]
             explicit_need = ref.stick_time / (p.m * eps / p.T)
-            log(f"T/F0 {ratio} eps {eps:g}: |v| < {v_th:g} for {stuck[eps][0]:.4f} s (Coulomb {stuck[eps][1]:.4f} s; "
+            log(
+                f"T/F0 {ratio} eps {eps:g}: |v| < {v_th:g} for {stuck[eps][0]:.4f} s (Coulomb {stuck[eps][1]:.4f} s; "
                 f"{ref.n_sticks} sticks, {ref.stick_time:.4f} s at v = 0), max|dx| {errs[eps]:.2e} m, "
-                f"{steps} steps, wall {wall:.3f} s")
+                f"{steps} steps, wall {wall:.3f} s"
+            )
             cost[eps] = (steps, wall, explicit_need)
         e_min = eps_values[-1]
         n_sticks = CoulombOscillator(dataclasses.replace(base, T=ratio * F0, xI=1.0), omega).solve(t_end).n_sticks
-        rows.append(row("sticking", f"T = {ratio:g} F0: |time with |v| < {v_th:g} m/s - Coulomb's| at eps {e_min:g} "
-                        f"(bound: 2 samples of {dt:g} s per stick)", abs(stuck[e_min][0] - stuck[e_min][1]),
-                        2 * dt * max(n_sticks, 1), "s",
-                        detail=f"w = {omega}, T = {ratio * F0:.4g} N, {periods} periods, {n_sticks} sticks, "
-                        f"{stuck[e_min][1]:.4f} s with |v| < {v_th:g}; at eps {eps_values[0]:g} the difference is "
-                        f"{abs(stuck[eps_values[0]][0] - stuck[eps_values[0]][1]):.4f} s (the regularisation's "
-                        "breakaway lag, a property of the model)"))
+        rows.append(
+            row(
+                "sticking",
+                f"T = {ratio:g} F0: |time with |v| < {v_th:g} m/s - Coulomb's| at eps {e_min:g} "
+                f"(bound: 2 samples of {dt:g} s per stick)",
+                abs(stuck[e_min][0] - stuck[e_min][1]),
+                2 * dt * max(n_sticks, 1),
+                "s",
+                detail=f"w = {omega}, T = {ratio * F0:.4g} N, {periods} periods, {n_sticks} sticks, "
+                f"{stuck[e_min][1]:.4f} s with |v| < {v_th:g}; at eps {eps_values[0]:g} the difference is "
+                f"{abs(stuck[eps_values[0]][0] - stuck[eps_values[0]][1]):.4f} s (the regularisation's "
+                "breakaway lag, a property of the model)",
+            )
+        )
         e0 = eps_values[0]
         for eps in eps_values[1:]:
             steps, wall, need = cost[eps]
-            rows.append(row("sticking", f"T = {ratio:g} F0: steps at eps {eps:g} over steps at eps {e0:g} (no "
-                            "collapse: steps limited by stability would grow like 1/eps)", steps / cost[e0][0], 2.0,
-                            "ratio", detail=f"{steps} steps (incl. rejected), wall {wall:.3f} s; steps of m eps/T "
-                            f"over the stuck time would be {need:.3g}"))
+            rows.append(
+                row(
+                    "sticking",
+                    f"T = {ratio:g} F0: steps at eps {eps:g} over steps at eps {e0:g} (no "
+                    "collapse: steps limited by stability would grow like 1/eps)",
+                    steps / cost[e0][0],
+                    2.0,
+                    "ratio",
+                    detail=f"{steps} steps (incl. rejected), wall {wall:.3f} s; steps of m eps/T "
+                    f"over the stuck time would be {need:.3g}",
+                )
+            )
         for eps in eps_values[1:]:
             allowed = 1.5 * errs[e0] * (eps / e0) ** 0.8
-            rows.append(row("sticking", f"T = {ratio:g} F0: max |x - x_Coulomb| at eps {eps:g} (bound: 1.5 x "
-                            f"eps^(4/5) scaling from {errs[e0]:.3g} m at eps {e0:g})", errs[eps], allowed, "m"))
+            rows.append(
+                row(
+                    "sticking",
+                    f"T = {ratio:g} F0: max |x - x_Coulomb| at eps {eps:g} (bound: 1.5 x "
+                    f"eps^(4/5) scaling from {errs[e0]:.3g} m at eps {e0:g})",
+                    errs[eps],
+                    allowed,
+                    "m",
+                )
+            )
     return rows
 
 
@@ -191,8 +228,16 @@ def stick_on_obstacle_case(omega=15.0, t_end=20.0, rtol=1e-10, atol=1e-12, log=p
     may not exceed what dry friction and the Hunt-Crossley damping can supply at |v| < eps."""
     p = ModelParams()
     t0 = time.perf_counter()
-    res = simulate(omega, 0.0, t_end, params=p, rtol=rtol, atol=atol, window=Window(0.0, t_end, 1e-4),
-                   record=("impacts", "penetrations"))
+    res = simulate(
+        omega,
+        0.0,
+        t_end,
+        params=p,
+        rtol=rtol,
+        atol=atol,
+        window=Window(0.0, t_end, 1e-4),
+        record=("impacts", "penetrations"),
+    )
     wall = time.perf_counter() - t0
     a = res.attrs
     tw, xw, vw = res.trajectory["t"], res.trajectory["x"], res.trajectory["v"]
@@ -211,13 +256,27 @@ def stick_on_obstacle_case(omega=15.0, t_end=20.0, rtol=1e-10, atol=1e-12, log=p
     # kI b h^n2 |v|^n3 (at most with |v| = eps; it acts like extra static friction) and c eps
     capacity = p.T + p.kI * p.b * h[held] ** p.n2 * p.eps**p.n3 + p.c * p.eps
     worst = float(np.max(np.abs(net) / capacity)) if held.any() else math.nan
-    log(f"stick on the obstacle w = {omega}: {a['n_stick']} sticks, {held.mean() * t_end:.2f} s held, "
-        f"max |net|/capacity {worst:.3f}, wall {wall:.3f} s")
+    log(
+        f"stick on the obstacle w = {omega}: {a['n_stick']} sticks, {held.mean() * t_end:.2f} s held, "
+        f"max |net|/capacity {worst:.3f}, wall {wall:.3f} s"
+    )
     return [
-        row("sticking", f"held on the obstacle (w = {omega}, from rest): core wall time for {t_end} s",
-            wall, 2.0, "s", detail=f"{a['n_stick']} stick phases, {a['n_steps']} explicit + {a['n_implicit_steps']} "
+        row(
+            "sticking",
+            f"held on the obstacle (w = {omega}, from rest): core wall time for {t_end} s",
+            wall,
+            2.0,
+            "s",
+            detail=f"{a['n_stick']} stick phases, {a['n_steps']} explicit + {a['n_implicit_steps']} "
             f"implicit steps, {a['n_rejected']} rejected; {held.mean() * t_end:.2f} s held in contact "
-            "(before the fix in radau.py/model.py: no result after 300 s)"),
-        row("sticking", "held on the obstacle: max |F0 sin(w t) - k x - kI h^n1| over what can hold the cart at |v| < eps "
-            "(T + kI b h^n2 eps^n3 + c eps), over >= 10 ms holds (1 % for the inertia m a)", worst, 1.01, "ratio"),
+            "(before the fix in radau.py/model.py: no result after 300 s)",
+        ),
+        row(
+            "sticking",
+            "held on the obstacle: max |F0 sin(w t) - k x - kI h^n1| over what can hold the cart at |v| < eps "
+            "(T + kI b h^n2 eps^n3 + c eps), over >= 10 ms holds (1 % for the inertia m a)",
+            worst,
+            1.01,
+            "ratio",
+        ),
     ]
