@@ -487,3 +487,34 @@ def test_known_long_runs_reuse_the_benchmark_table():
     assert ("CyRK DOP853 free flight", 1e-10) not in known
     cols = wp.attractor_columns(known[("CyRK DOP853", 1e-12)], 2888)
     assert cols["on_attractor"] is False and "stopped" in cols["attractor_note"]
+
+
+def test_references_made_apart_give_the_same_sweep(tmp_path):
+    """wp_reference computes the references once, beside other jobs, and wp_measure reads them
+    back from JSON: the errors of every row are those of a sweep that made its own."""
+    from impactosc.files import read_json, write_json
+
+    case = wp.Case("chaotic", 40.86, 100.0, 0.3)
+    ref = {
+        "method": "DOP853",
+        "rtol": 1e-12,
+        "atol": 1e-14,
+        "check_method": "LSODA",
+        "check_rtol": 1e-11,
+        "check_atol": 1e-14,
+    }
+    write_json(tmp_path / "ref.json", wp.reference_set(case, ModelParams(), ref))
+    apart = wp.sweep_case(
+        case,
+        ModelParams(),
+        [1e-8],
+        1e-2,
+        [wp.CORE],
+        ref,
+        core_repeats=1,
+        log=quiet,
+        reference=read_json(tmp_path / "ref.json"),
+    )
+    inside = wp.sweep_case(case, ModelParams(), [1e-8], 1e-2, [wp.CORE], ref, core_repeats=1, log=quiet)
+    for key in ("impact_time_error", "penetration_error", "poincare_x_error", "reference_impact_time_error"):
+        assert apart[0][key] == inside[0][key]

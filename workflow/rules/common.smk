@@ -128,6 +128,7 @@ MEAS_NOISE_TABLE = "results/tables/measured/measured_noise_study.csv"
 
 # work_precision group (and the hard cases)
 WP_MEASURE = "results/runs/work_precision/{wp_scene}.csv"
+WP_REFERENCE = "results/runs/work_precision/{wp_scene}_reference.json"
 WP_JIT = "results/runs/work_precision/jit.json"
 WP_TABLE = "results/tables/work_precision/work_precision.csv"
 WP_HEADLINE = "results/tables/work_precision/work_precision_headline.csv"

@@ -1,11 +1,12 @@
 # Speed against error, and numerical stability on hard cases (issue 7).
 # work_precision: per scene, the core and SciPy's solvers (and, on work_precision.peers.scenes,
 # the compiled peers CyRK and heyoka's floor) over a tolerance sweep against a reference from
-# another method (wp_measure); the chaotic statistics against tolerance
-# (wp_statistics); JIT compile time apart (wp_jit); then table, speed ratios and figure.
-# hard_cases: every hard case of impactosc.benchmarks.hardcases at full length, one CSV.
-# Timing rules claim all cores of a local run (threads: all_local_cores), so no other job
-# of the workflow runs beside them; under a cluster executor each job has its own allocation.
+# another method (wp_reference, computed once per scene beside other jobs; wp_measure); the
+# chaotic statistics against tolerance (wp_statistics); JIT compile time apart (wp_jit); then
+# table, speed ratios and figure. hard_cases: every hard case of
+# impactosc.benchmarks.hardcases at full length, one CSV.
+# The timing rule wp_measure claims all cores of a local run (threads: all_local_cores), so no
+# other job runs beside it; under a cluster executor each job has its own allocation.
 WP = config["work_precision"]
 HC = config["hard_cases"]
 WP_CAPTIONS = "Work-precision and hard cases"
@@ -16,10 +17,30 @@ if set(WP["peers"]["scenes"]) - set(WP["scenes"]):
     )
 
 
+rule wp_reference:
+    input:
+        cache=NUMBA_CACHE,
+    output:
+        json=WP_REFERENCE,
+    log:
+        logfile("work_precision", "wp_reference_{wp_scene}"),
+    benchmark:
+        benchmark_file("work_precision", "wp_reference_{wp_scene}")
+    wildcard_constraints:
+        wp_scene="|".join(WP["scenes"]),
+    params:
+        model=config["model"],
+        entry=lambda wc: WP["scenes"][wc.wp_scene],
+        reference=WP["reference"],
+    script:
+        "../scripts/wp_reference.py"
+
+
 rule wp_measure:
     input:
         unpack(wp_benchmark_input),
         cache=NUMBA_CACHE,
+        reference=WP_REFERENCE,
     output:
         csv=WP_MEASURE,
     log:
@@ -42,7 +63,6 @@ rule wp_statistics:
         csv=WP_STATISTICS,
     log:
         logfile("work_precision", "wp_statistics"),
-    threads: all_local_cores
     params:
         model=config["model"],
         scene=scene(WP["statistics"]["scene"]),
@@ -96,7 +116,6 @@ rule hard_cases:
         csv=HARD_CASES_TABLE,
     log:
         logfile("work_precision", "hard_cases"),
-    threads: all_local_cores
     params:
         hc=HC,
     script:

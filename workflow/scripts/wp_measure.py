@@ -1,7 +1,9 @@
 """Measure one work-precision scene: the core, SciPy's solvers and (on the scenes of
 work_precision.peers.scenes) the compiled peers over the tolerance sweep.
 
-Reads snakemake.params (model, the work_precision config, the scene's name and entry);
+Reads snakemake.input.reference (the scene's references, rule wp_reference), optionally
+.benchmark (the core-speed table, whose 500 s runs the attractor check reuses) and
+snakemake.params (model, the work_precision config, the scene's name and entry);
 writes snakemake.output.csv (one row per solver and tolerance: wall time, RHS evaluations,
 errors against the reference, for the core and the peers the 500 s attractor check; a row
 per peer that is not installed and heyoka's free-flight floor; see
@@ -16,11 +18,11 @@ import logging
 import math
 
 from impactosc.benchmarks.workprecision import CORE, Case, known_long_runs, peer_solvers, sweep_case
-from impactosc.files import read_table, write_table
+from impactosc.files import read_json, read_table, write_table
 from impactosc.integration.model import ModelParams
 
 
-def main(model, wp, name, entry, benchmark, out):
+def main(model, wp, name, entry, reference, benchmark, out):
     case = Case(name, entry["omega"], entry["settle"], entry["horizon"], entry["starts"], entry["spacing"])
     pc = wp["peers"]
     with_peers = name in pc["scenes"]
@@ -43,9 +45,10 @@ def main(model, wp, name, entry, benchmark, out):
         attractor_check=with_peers and pc["attractor_check"],
         floor=with_peers and pc["heyoka"],
         known_500s=known,
+        reference=read_json(reference),
         log=logging.info,
     )
-    write_table(out, rows, sources=[benchmark] if benchmark else None)
+    write_table(out, rows, sources=[reference, benchmark] if benchmark else [reference])
 
 
 main(
@@ -53,6 +56,7 @@ main(
     snakemake.params.wp,
     snakemake.wildcards.wp_scene,
     snakemake.params.entry,
+    snakemake.input.reference,
     snakemake.input.get("benchmark"),
     snakemake.output.csv,
 )

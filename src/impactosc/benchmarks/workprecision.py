@@ -389,6 +389,35 @@ def references(case: Case, starts, params, ref: dict) -> tuple[list[dict], list[
     return primary, check, _worst(check_errs)
 
 
+def reference_set(case: Case, params, ref: dict) -> dict:
+    """Everything a sweep of `case` measures against, computed once (rule wp_reference, beside
+    other jobs: the Radau check of the 20 s periodic horizon alone takes minutes): the start
+    states, the primary and check reference events per start, the reference uncertainty.
+    JSON-ready (event arrays as lists); :func:`sweep_case` takes it back as `reference`."""
+    starts = attractor_starts(case, params)
+    primary, check, unc = references(case, starts, params, ref)
+
+    def plain(run):
+        return {k: np.asarray(v, float).tolist() if k in _EVENT_KEYS else v for k, v in run.items()}
+
+    return {
+        "case": case.name,
+        "method": ref,
+        "starts": [list(s) for s in starts],
+        "primary": [plain(r) for r in primary],
+        "check": [plain(r) for r in check],
+        "uncertainty": unc,
+    }
+
+
+def _from_reference_set(refset: dict) -> tuple[list, list[dict], list[dict], dict]:
+    def arrays(run):
+        return {k: np.asarray(v, float) if k in _EVENT_KEYS else v for k, v in run.items()}
+
+    starts = [tuple(s) for s in refset["starts"]]
+    return starts, [arrays(r) for r in refset["primary"]], [arrays(r) for r in refset["check"]], refset["uncertainty"]
+
+
 def sweep_case(
     case: Case,
     params: ModelParams,
@@ -405,6 +434,7 @@ def sweep_case(
     floor: bool = False,
     known_500s: dict | None = None,
     log=print,
+    reference: dict | None = None,
 ) -> list[dict]:
     """One row per (solver, rtol): wall time (sum over the starts of the minimum of the
     repeats), RHS evaluations and the errors against the reference.
@@ -422,8 +452,9 @@ def sweep_case(
     """
     known_500s = known_500s or {}
     warm_up()  # JIT compile (or cache load) stays out of every timing
-    starts = attractor_starts(case, params)
-    refs, checks, unc = references(case, starts, params, ref)
+    if reference is None:  # (else: made before by reference_set, with the same case and ref)
+        reference = reference_set(case, params, ref)
+    starts, refs, checks, unc = _from_reference_set(reference)
     log(
         f"{case.name}: {len(starts)} start(s), reference impacts {unc['n_impacts_ref']}, uncertainty "
         + ", ".join(f"{k} {unc[k]:.2e}" for k in METRICS)

@@ -1,0 +1,45 @@
+"""The references of one work-precision scene: start states on the attractor, SciPy's
+primary and check reference runs from each, and the reference uncertainty.
+
+Reads snakemake.params (model, the scene's entry, work_precision.reference); writes
+snakemake.output.json (impactosc.benchmarks.workprecision.reference_set), which
+wp_measure measures every contestant against. Not a timing rule: it runs beside other jobs.
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)
+
+import logging
+import time
+
+from impactosc.benchmarks.workprecision import Case, reference_set
+from impactosc.files import write_json
+from impactosc.integration.model import ModelParams
+
+
+def main(model, name, entry, ref, out):
+    case = Case(name, entry["omega"], entry["settle"], entry["horizon"], entry["starts"], entry["spacing"])
+    t0 = time.perf_counter()
+    refset = reference_set(case, ModelParams(**model), ref)
+    unc = refset["uncertainty"]
+    logging.info(
+        "%s: %d start(s), %d reference impacts, uncertainty (%s vs %s) %.2e s in impact time; %.1f s",
+        name,
+        len(refset["starts"]),
+        unc["n_impacts_ref"],
+        ref["check_method"],
+        ref["method"],
+        unc["impact_time_error"],
+        time.perf_counter() - t0,
+    )
+    write_json(out, refset)
+
+
+main(
+    snakemake.params.model,
+    snakemake.wildcards.wp_scene,
+    snakemake.params.entry,
+    snakemake.params.reference,
+    snakemake.output.json,
+)
