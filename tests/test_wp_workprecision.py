@@ -6,6 +6,9 @@ import math
 import numpy as np
 import pytest
 
+from impactosc.benchmarks import event_errors as ee
+from impactosc.benchmarks import speed_at_error as sae
+from impactosc.benchmarks import tolerance_statistics as ts
 from impactosc.benchmarks import workprecision as wp
 from impactosc.files import read_table, write_table
 from impactosc.integration.model import ModelParams
@@ -32,7 +35,7 @@ def _events(impacts=(), pens=(), sections=(1.0, 2.0), x=(0.0, 0.0)):
 def test_errors_of_matching_runs_are_the_largest_differences():
     ref = _events([0.1, 0.5, 0.9], [1e-4, 2e-4, 3e-4], x=(1e-3, 2e-3))
     run = _events([0.1 + 1e-9, 0.5 - 3e-9, 0.9], [1e-4, 2e-4 + 5e-12, 3e-4], x=(1e-3 + 7e-13, 2e-3))
-    e = wp.event_errors(run, ref)
+    e = ee.event_errors(run, ref)
     assert e["impact_time_error"] == pytest.approx(3e-9, rel=1e-6)
     assert e["penetration_error"] == pytest.approx(5e-12, rel=1e-3)
     assert e["poincare_x_error"] == pytest.approx(7e-13, rel=1e-3)
@@ -42,16 +45,16 @@ def test_errors_of_matching_runs_are_the_largest_differences():
 def test_a_missed_impact_costs_its_distance_to_the_nearest_other():
     ref = _events([0.1, 0.5, 0.9], [1e-4, 2e-4, 3e-4])
     run = _events([0.1, 0.9], [1e-4, 3e-4])
-    e = wp.event_errors(run, ref)
+    e = ee.event_errors(run, ref)
     assert e["impact_time_error"] == pytest.approx(0.4)  # 0.5 has nearest 0.1 or 0.9
     assert e["penetration_error"] == pytest.approx(3e-4)  # counts differ: the deepest unmatched
-    invented = wp.event_errors(_events([0.1, 0.5, 0.52, 0.9], [1e-4] * 4), ref)
+    invented = ee.event_errors(_events([0.1, 0.5, 0.52, 0.9], [1e-4] * 4), ref)
     assert invented["impact_time_error"] == pytest.approx(0.02)
 
 
 def test_mismatched_sections_are_an_error():
     with pytest.raises(ValueError, match="Poincare sections differ"):
-        wp.event_errors(_events(sections=(1.0,), x=(0.0,)), _events())
+        ee.event_errors(_events(sections=(1.0,), x=(0.0,)), _events())
 
 
 def test_best_time_takes_the_minimum_and_stops_for_slow_runs():
@@ -128,14 +131,14 @@ def _rows():
 
 def test_cost_at_error_is_the_cheapest_run_at_least_that_accurate():
     rows = _rows()
-    assert wp.cost_at_error(rows, "chaotic", "DOP853", "impact_time_error", 1e-6) == 0.3
-    assert wp.cost_at_error(rows, "chaotic", "LSODA", "impact_time_error", 1e-8) == 0.2
-    assert math.isnan(wp.cost_at_error(rows, "chaotic", "LSODA", "impact_time_error", 1e-10))
-    assert math.isnan(wp.cost_at_error(rows, "chaotic", "RK45", "impact_time_error", 1.0))
+    assert sae.cost_at_error(rows, "chaotic", "DOP853", "impact_time_error", 1e-6) == 0.3
+    assert sae.cost_at_error(rows, "chaotic", "LSODA", "impact_time_error", 1e-8) == 0.2
+    assert math.isnan(sae.cost_at_error(rows, "chaotic", "LSODA", "impact_time_error", 1e-10))
+    assert math.isnan(sae.cost_at_error(rows, "chaotic", "RK45", "impact_time_error", 1.0))
 
 
 def test_headline_ratio_against_the_fastest_scipy_solver():
-    head = wp.headline(_rows(), {"impact_time_error": [1e-6, 1e-9, 1e-12]})
+    head = sae.headline(_rows(), {"impact_time_error": [1e-6, 1e-9, 1e-12]})
     h = {r["error_level"]: r for r in head}
     assert h[1e-6]["best_scipy"] == "LSODA" and h[1e-6]["speedup"] == pytest.approx(0.2 / 0.002)
     assert h[1e-9]["best_scipy"] == "DOP853" and h[1e-9]["speedup"] == pytest.approx(0.6 / 0.004)
@@ -164,11 +167,11 @@ def _stat_rows():
 
 
 def test_statistics_summary_flags_unconverged_tolerances():
-    out = {r["rtol"]: r for r in wp.statistics_summary(_stat_rows())}
+    out = {r["rtol"]: r for r in ts.statistics_summary(_stat_rows())}
     assert out[1e-6]["converged"] is True
     assert out[1e-2]["converged"] is False and out[1e-2]["z_n_impacts"] > 3
     with pytest.raises(ValueError, match=">= 3 runs"):
-        wp.statistics_summary([r for r in _stat_rows() if r["kind"] == "sweep"])
+        ts.statistics_summary([r for r in _stat_rows() if r["kind"] == "sweep"])
 
 
 def test_tables_roundtrip_mixed_columns(tmp_path):
@@ -301,13 +304,13 @@ def _peer_rows():
 
 
 def test_headline_names_the_fastest_compiled_peer_apart_from_scipy():
-    head = {r["error_level"]: r for r in wp.headline(_peer_rows(), {"impact_time_error": [1e-6, 1e-9, 1e-11]})}
+    head = {r["error_level"]: r for r in sae.headline(_peer_rows(), {"impact_time_error": [1e-6, 1e-9, 1e-11]})}
     # SciPy's columns are as without peers
     assert head[1e-6]["best_scipy"] == "LSODA" and head[1e-6]["speedup"] == pytest.approx(0.2 / 0.002)
     assert head[1e-6]["best_peer"] == "CyRK DOP853" and head[1e-6]["peer_over_core"] == pytest.approx(0.0015 / 0.002)
     # the rtol 1e-12 run is accurate over 1.5 s but leaves the attractor in 500 s: it does not count
     assert head[1e-11]["best_peer"] == "none" and math.isnan(head[1e-11]["peer_over_core"])
-    assert "best_peer" not in wp.headline(_rows(), {"impact_time_error": [1e-6]})[0]
+    assert "best_peer" not in sae.headline(_rows(), {"impact_time_error": [1e-6]})[0]
 
 
 def test_attractor_columns_flag_a_run_that_stops_or_leaves():
@@ -366,7 +369,7 @@ def test_peer_contestant_gives_the_events_of_the_others(cyrk):
     ref = wp.run_scipy(40.86, 1.5, 0.0, 0.0, p, "DOP853", 1e-13, 1e-15)
     run = wp.run_solver("CyRK DOP853", 40.86, 1.5, 0.0, 0.0, p, 1e-12, 1e-14)
     assert run["success"] and run["t_reached"] == 1.5
-    e = wp.event_errors(run, ref)
+    e = ee.event_errors(run, ref)
     assert e["n_impacts"] == e["n_impacts_ref"] == 10
     assert run["penetrations_h"].size == ref["penetrations_h"].size
     assert e["impact_time_error"] < 1e-9 and e["penetration_error"] < 3e-12 and e["poincare_x_error"] < 5e-11
@@ -423,12 +426,12 @@ def test_time_budget_gives_a_lower_bound_where_scipy_stopped():
                 "reference_impact_time_error": 1e-12,
             }
         )
-    h = {r["error_level"]: r for r in wp.headline(rows, {"impact_time_error": [1e-6, 1e-9]})}
+    h = {r["error_level"]: r for r in sae.headline(rows, {"impact_time_error": [1e-6, 1e-9]})}
     assert h[1e-6]["speedup"] == pytest.approx(0.2 / 0.002) and math.isnan(h[1e-6]["speedup_at_least"])
     assert h[1e-9]["best_scipy"] == "none" and math.isnan(h[1e-9]["speedup"])
     assert h[1e-9]["speedup_at_least"] == pytest.approx(0.2 / 0.004)  # LSODA's last point, 0.2 s
     # without a stopped sweep there is no bound: the full sweeps never reached 1e-12
-    full = wp.headline(_rows(), {"impact_time_error": [1e-12]})[0]
+    full = sae.headline(_rows(), {"impact_time_error": [1e-12]})[0]
     assert math.isnan(full["speedup_at_least"])
 
 

@@ -12,7 +12,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.benchmarks.workprecision import headline, statistics_summary
+from impactosc.benchmarks.speed_at_error import headline
+from impactosc.benchmarks.tolerance_statistics import statistics_summary
 from impactosc.files import read_json, read_table, write_table
 from impactosc.plotting import save_figure
 from impactosc.plotting.work_precision import plot_work_precision

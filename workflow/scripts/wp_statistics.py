@@ -2,7 +2,7 @@
 
 Reads snakemake.params (model, the chaotic scene, work_precision.statistics, atol ratio,
 the chaotic group's analysis options); writes snakemake.output.csv (rows of kind "sweep"
-and "ensemble", see impactosc.benchmarks.workprecision.statistics_convergence) and a log.
+and "ensemble", see impactosc.benchmarks.tolerance_statistics.statistics_convergence) and a log.
 """
 
 from _logging import configure_logging
@@ -12,7 +12,7 @@ configure_logging(snakemake)
 import logging
 
 from impactosc.analysis.impact_train import AnalysisOptions
-from impactosc.benchmarks.workprecision import statistics_convergence
+from impactosc.benchmarks.tolerance_statistics import statistics_convergence
 from impactosc.files import write_table
 from impactosc.integration.model import ModelParams
 

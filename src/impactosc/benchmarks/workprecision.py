@@ -5,16 +5,17 @@ paper extracts - impact times, penetration depths, Poincare points - against a r
 computed by a *different* method at tighter tolerance, on horizons where trajectories are
 still comparable: tens of seconds on a periodic orbit, ~1.5 s on the chaotic attractor
 (later, chaos amplifies any difference). For a chaotic train the statistics, not the
-trajectory, must converge; :func:`statistics_convergence` compares them with the spread of
-an ensemble of realisations.
+trajectory, must converge (tolerance_statistics.py). The speed ratios at equal error are
+read from the rows by speed_at_error.py; the error measures are event_errors.py.
 
 Reference: SciPy ``solve_ivp`` DOP853 at rtol 1e-13 / atol 1e-15, split at contact onset and
 exit (SciPy's own step control, event location and dense output; no code shared with the
-numba core but the model parameters). It is cross-checked by SciPy Radau (an implicit
-collocation method) at rtol 1e-12, atol 1e-14; the difference of the two is the
-reference's own uncertainty and is reported beside every error. (Radau at rtol 1e-13 or
-atol 1e-15, and DOP853 at atol 1e-16, stall at a v = 0 inside contact, where |v|^n3 is
-singular.)
+numba core but the model parameters). It is cross-checked by another method (config
+work_precision.reference: SciPy RK45 at rtol 1e-13 by default, or Radau, an implicit
+collocation method, at rtol 1e-12, atol 1e-14: the same uncertainty, 1e-11 s, at several
+times the cost); the difference of the two is the reference's own uncertainty and is
+reported beside every error. (Radau at rtol 1e-13 or atol 1e-15, and DOP853 at atol 1e-16,
+stall at a v = 0 inside contact, where |v|^n3 is singular.)
 
 Timing follows DiffEqBenchmarks: minimum of several runs, JIT compile time excluded (and
 reported apart), the same events requested from every solver.
@@ -42,16 +43,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..analysis.chaotic import analyse_train, key_numbers
-from ..analysis.impact_train import ImpactTrain
 from ..integration.model import ModelParams
 from ..integration.reference import solve_reference
 from ..integration.simulate import StallError, simulate, warm_up
 from . import peers
+from .event_errors import METRICS, event_errors, worst_errors
 
 CORE = "impactosc core"
 SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
-METRICS = ("impact_time_error", "penetration_error", "poincare_x_error")
 METRIC_LABELS = {
     "impact_time_error": "impact-time error (s)",
     "penetration_error": "penetration error (m)",
@@ -299,61 +298,6 @@ def heyoka_floor(case: Case, starts, params: ModelParams, repeats: int, tol: flo
     }
 
 
-# --------------------------------------------------------------------------- the errors
-
-
-def _nearest(a, b) -> np.ndarray:
-    """For each element of sorted a, the distance to the nearest element of sorted b."""
-    a, b = np.asarray(a, float), np.asarray(b, float)
-    if b.size == 0:
-        return np.full(a.size, np.inf)
-    j = np.clip(np.searchsorted(b, a), 1, max(b.size - 1, 1))
-    lo = np.abs(a - b[j - 1])
-    hi = np.abs(a - b[np.minimum(j, b.size - 1)])
-    return np.minimum(lo, hi)
-
-
-def event_errors(run: dict, ref: dict) -> dict:
-    """Errors of one run against a reference over the same horizon.
-
-    impact_time_error: the larger of (max over reference impacts of the distance to the
-        nearest impact of the run) and the converse, so a missed or an invented impact
-        counts as the distance to its nearest neighbour instead of shifting every pair;
-    penetration_error: max |H - H_ref| over penetrations paired in order when the counts
-        agree, else the deepest unmatched penetration (a whole contact missing);
-    poincare_x_error / poincare_v_error: max difference at the common section times.
-    """
-    ti, tr = run["impacts_t"], ref["impacts_t"]
-    if ti.size == 0 and tr.size == 0:
-        err_t = 0.0
-    else:
-        err_t = float(max(_nearest(ti, tr).max(initial=0.0), _nearest(tr, ti).max(initial=0.0)))
-    h, hr = run["penetrations_h"], ref["penetrations_h"]
-    if h.size == hr.size:
-        err_h = float(np.abs(h - hr).max(initial=0.0))
-    else:
-        err_h = float(max(np.abs(h).max(initial=0.0), np.abs(hr).max(initial=0.0)))
-    pt, prt = run["poincare_t"], ref["poincare_t"]
-    if pt.size != prt.size or (pt.size and np.abs(pt - prt).max() > 1e-9):
-        raise ValueError(f"Poincare sections differ: {pt.size} against {prt.size} reference points")
-    return {
-        "impact_time_error": err_t,
-        "penetration_error": err_h,
-        "poincare_x_error": float(np.abs(run["poincare_x"] - ref["poincare_x"]).max(initial=0.0)),
-        "poincare_v_error": float(np.abs(run["poincare_v"] - ref["poincare_v"]).max(initial=0.0)),
-        "n_impacts": int(ti.size),
-        "n_impacts_ref": int(tr.size),
-    }
-
-
-def _worst(errs: list[dict]) -> dict:
-    """Errors over several starts: the largest of each, impact counts summed."""
-    out = {k: max(e[k] for e in errs) for k in (*METRICS, "poincare_v_error")}
-    out["n_impacts"] = sum(e["n_impacts"] for e in errs)
-    out["n_impacts_ref"] = sum(e["n_impacts_ref"] for e in errs)
-    return out
-
-
 def best_time(fn, repeats: int, repeat_below: float = math.inf):
     """(result, min wall, median wall, runs): fn run up to `repeats` times, stopping after
     a run longer than `repeat_below` s (slow solvers are timed fewer times)."""
@@ -386,7 +330,7 @@ def references(case: Case, starts, params, ref: dict) -> tuple[list[dict], list[
         primary.append(a)
         check.append(b)
         check_errs.append(event_errors(b, a))
-    return primary, check, _worst(check_errs)
+    return primary, check, worst_errors(check_errs)
 
 
 def reference_set(case: Case, params, ref: dict) -> dict:
@@ -542,7 +486,7 @@ def sweep_case(
                     "wall_time_median": meds,
                     "repeats": nrep,
                     "rhs_evals": rhs,
-                    **_worst(errs),
+                    **worst_errors(errs),
                     "note": note,
                 }
             )
@@ -556,199 +500,3 @@ def sweep_case(
         rows.append({**base, **heyoka_floor(case, starts, params, peer_repeats)})
         log(f"{case.name} {rows[-1]['solver']}: {rows[-1]['wall_time']:.4g} s")
     return rows
-
-
-# ------------------------------------------------------------------------------ summary
-
-
-def cost_at_error(rows: list[dict], scene: str, solver: str, metric: str, level: float) -> float:
-    """Least wall time of any run of `solver` on `scene` whose error is <= level (nan if none).
-
-    A step function on the measured points, not an interpolation: the time one actually
-    has to spend to be at least that accurate. A run whose 500 s check left the attractor
-    (on_attractor no) does not count.
-    """
-    walls = [
-        r["wall_time"]
-        for r in rows
-        if r["scene"] == scene
-        and r["solver"] == solver
-        and r.get("status") == "ok"
-        and r.get("on_attractor") not in (False, "no")
-        and r[metric] <= level
-    ]
-    return min(walls) if walls else math.nan
-
-
-def budget_bound(rows: list[dict], scene: str, solvers) -> float:
-    """Least time any of `solvers` would need for an error none of them reached, where the time
-    budget stopped sweeps: a solver stopped by it would have needed a tighter tolerance than
-    its last point, which costs more, so at least that point's time; a solver that ran its
-    whole sweep without reaching the error cannot reach it. nan if no sweep was stopped."""
-    lows = []
-    for solver in solvers:
-        mine = [r for r in rows if r["scene"] == scene and r["solver"] == solver]
-        done = [float(r["wall_time"]) for r in mine if r.get("status") == "ok"]
-        if done and any(r.get("status") == "skipped" for r in mine):
-            lows.append(max(done))
-    return min(lows) if lows else math.nan
-
-
-def _fastest(rows, scene, solvers, metric, level):
-    """(costs per solver, the fastest solver or None) at an error level."""
-    costs = {s: cost_at_error(rows, scene, s, metric, level) for s in solvers}
-    finite = {s: c for s, c in costs.items() if not math.isnan(c)}
-    return costs, (min(finite, key=finite.get) if finite else None)
-
-
-def headline(rows: list[dict], levels: dict) -> list[dict]:
-    """Speed ratio at equal error: the fastest SciPy solver's cost over the core's, and the
-    fastest compiled peer's (if any were measured) over the core's.
-
-    levels: metric -> list of error levels. One row per (scene, metric, level).
-    """
-    out = []
-    scenes = list(dict.fromkeys(r["scene"] for r in rows))
-    solvers = list(dict.fromkeys(r["solver"] for r in rows if r["solver"] in SCIPY_METHODS))
-    compiled = list(
-        dict.fromkeys(r["solver"] for r in rows if is_peer(str(r["solver"])) and r.get("status") != "unavailable")
-    )
-    for scene in scenes:
-        unc = next(r for r in rows if r["scene"] == scene)
-        for metric, lv in levels.items():
-            for level in lv:
-                core = cost_at_error(rows, scene, CORE, metric, level)
-                costs, best = _fastest(rows, scene, solvers, metric, level)
-                row = {
-                    "scene": scene,
-                    "metric": metric,
-                    "error_level": level,
-                    "reference_uncertainty": unc[f"reference_{metric}"],
-                    "core_wall_time": core,
-                    "best_scipy": best or "none",
-                    "best_scipy_wall_time": costs[best] if best else math.nan,
-                    "speedup": costs[best] / core if best and core > 0 else math.nan,
-                    "speedup_at_least": (
-                        budget_bound(rows, scene, solvers) / core if not best and core > 0 else math.nan
-                    ),
-                    **{f"{s}_wall_time": c for s, c in costs.items()},
-                }
-                if compiled:
-                    peer_costs, peer = _fastest(rows, scene, compiled, metric, level)
-                    row.update(
-                        {
-                            "best_peer": peer or "none",
-                            "best_peer_wall_time": peer_costs[peer] if peer else math.nan,
-                            "peer_over_core": peer_costs[peer] / core if peer and core > 0 else math.nan,
-                        }
-                    )
-                out.append(row)
-    return out
-
-
-# ------------------------------------------------------------- statistics of the chaos
-
-STAT_KEYS = ("n_impacts", "cv2_paper", "cv2", "isi_first_maximum", "isi_last_maximum")
-
-
-def train_statistics(times, t_start, t_stop, omega, options=None) -> dict:
-    """The numbers the chaotic group reports (impactosc.analysis.chaotic): counts, C_V^2, maxima."""
-    train = ImpactTrain(times, t_start, t_stop, omega=omega)
-    k = key_numbers(analyse_train(train, options, parts=("stationarity", "variability", "isi_density")))
-    return {
-        "n_impacts": k["n_impacts"],
-        "window_counts": k["window_counts"],
-        "cv2_paper": k["cv2_paper"],
-        "cv2": k["cv2"],
-        "isi_first_maximum": k["isi_first_maximum"],
-        "isi_last_maximum": k["isi_last_maximum"],
-    }
-
-
-def statistics_convergence(
-    omega,
-    transient,
-    duration,
-    rtols,
-    atol_ratio,
-    ensemble_x0,
-    ensemble_rtol,
-    params: ModelParams,
-    options=None,
-    log=print,
-) -> list[dict]:
-    """The chaotic scene's statistics at each tolerance, and an ensemble that fixes their
-    converged value and spread: runs at `ensemble_rtol` from the perturbed starts x(0) in
-    `ensemble_x0` (each an independent realisation of the attractor).
-    """
-    warm_up()
-    rows = []
-    runs = [("sweep", r, 0.0) for r in rtols] + [("ensemble", ensemble_rtol, x0) for x0 in ensemble_x0]
-    for kind, rtol, x0 in runs:
-        t0 = time.perf_counter()
-        res = simulate(
-            omega, transient, duration, x0=x0, params=params, rtol=rtol, atol=rtol * atol_ratio, record=("impacts",)
-        )
-        wall = time.perf_counter() - t0
-        s = train_statistics(res.events["impacts"]["t"], transient, transient + duration, omega, options)
-        rows.append(
-            {
-                "kind": kind,
-                "rtol": rtol,
-                "atol": rtol * atol_ratio,
-                "x0": x0,
-                "wall_time": wall,
-                "rhs_evals": res.attrs["n_rhs"],
-                **s,
-            }
-        )
-        log(
-            f"statistics {kind} rtol {rtol:g} x0 {x0:g}: {wall:.3f} s, {s['n_impacts']} impacts, "
-            f"C_V^2 {s['cv2_paper']:.4f} s"
-        )
-    return rows
-
-
-def zscores(stats: dict, ensemble: list[dict]) -> dict:
-    """(value - ensemble mean) / ensemble std for each statistic in STAT_KEYS, and for the
-    window counts the largest |z| over the windows against the pooled ensemble windows
-    (the train is stationary, so every window shares one distribution; pooling gives a
-    far steadier spread than per-window estimates from a dozen runs)."""
-    if len(ensemble) < 3:
-        raise ValueError(f"the ensemble needs >= 3 runs for a spread, got {len(ensemble)}")
-    z = {}
-    for k in STAT_KEYS:
-        vals = np.array([e[k] for e in ensemble], float)
-        sd = vals.std(ddof=1)
-        z[k] = (stats[k] - vals.mean()) / sd if sd > 0 else math.nan
-    wc = np.concatenate([np.asarray(e["window_counts"], float) for e in ensemble])
-    z["window_counts"] = float(np.max(np.abs(np.asarray(stats["window_counts"], float) - wc.mean()) / wc.std(ddof=1)))
-    return z
-
-
-def statistics_summary(rows: list[dict], n_sigma: float = 3.0) -> list[dict]:
-    """Each sweep row against the ensemble: z-scores (see :func:`zscores`) and whether all
-    lie within n_sigma, i.e. the statistics have converged to within the sampling noise."""
-    ens = [r for r in rows if r["kind"] == "ensemble"]
-    if len(ens) < 3:
-        raise ValueError(f"the ensemble needs >= 3 runs for a spread, got {len(ens)}")
-    mean = {k: float(np.mean([r[k] for r in ens])) for k in STAT_KEYS}
-    std = {k: float(np.std([r[k] for r in ens], ddof=1)) for k in STAT_KEYS}
-    out = []
-    for r in rows:
-        if r["kind"] != "sweep":
-            continue
-        z = zscores(r, ens)
-        worst = max(abs(v) for v in z.values())
-        out.append(
-            {
-                "rtol": r["rtol"],
-                "wall_time": r["wall_time"],
-                **{k: r[k] for k in STAT_KEYS},
-                **{f"z_{k}": v for k, v in z.items()},
-                "converged": bool(worst <= n_sigma),
-                **{f"ensemble_mean_{k}": mean[k] for k in STAT_KEYS},
-                **{f"ensemble_std_{k}": std[k] for k in STAT_KEYS},
-            }
-        )
-    return out

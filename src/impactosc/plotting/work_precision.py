@@ -24,7 +24,8 @@ import matplotlib.transforms as mtransforms
 import numpy as np
 from matplotlib.lines import Line2D
 
-from ..benchmarks.workprecision import CORE, METRIC_LABELS, METRICS, SCIPY_METHODS
+from ..benchmarks.event_errors import METRICS
+from ..benchmarks.workprecision import CORE, METRIC_LABELS, SCIPY_METHODS
 from .style import DOUBLE, apply_style
 
 STYLES = {

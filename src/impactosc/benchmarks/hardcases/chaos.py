@@ -2,7 +2,7 @@
 a stiffer contact) and a long run (10^4 s).
 
 Why a module: a chaotic trajectory cannot be compared point by point, so both cases judge
-the impact train's statistics (:func:`impactosc.benchmarks.workprecision.train_statistics`
+the impact train's statistics (:func:`impactosc.benchmarks.tolerance_statistics.train_statistics`
 against an ensemble of realisations), the contact's scaling law, memory and speed.
 """
 
@@ -16,7 +16,7 @@ import numpy as np
 
 from ...integration.model import ModelParams
 from ...integration.simulate import simulate, warm_up
-from ..workprecision import train_statistics, zscores
+from ..tolerance_statistics import train_statistics, zscores
 from .checks import row
 
 # ======================================================================== regularisation
