@@ -35,13 +35,16 @@ lock: $(BIN)/python
 # The default checks (.ci/run): format and lint (ruff for the code, snakefmt for the rules,
 # snakemake --lint), a dry run of the whole workflow, then the tests (which include the tiny
 # end-to-end run of every rule, tests/test_workflow_tiny.py).
-test: install
+test: lint
+	$(BIN)/python -m pytest
+
+# The checks make test runs before the tests: format, lint, a dry run of the whole workflow
+lint: install
 	$(BIN)/ruff format --check --quiet .
 	$(BIN)/ruff check --quiet .
 	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/python .ci/snakemake_lint.py $(BIN)/snakemake
 	$(BIN)/snakemake -n all --quiet rules > /dev/null
-	$(BIN)/python -m pytest
 
 format: install
 	$(BIN)/ruff format .
@@ -53,10 +56,6 @@ test-slow: install
 
 report: install
 	$(BIN)/snakemake -j$(JOBS) --report results/report.html
-
-lint: install
-	$(BIN)/ruff check .
-	$(BIN)/python .ci/snakemake_lint.py $(BIN)/snakemake
 
 # The README's cluster route without a cluster (.ci/run, after make test): the SLURM profile
 # must parse and plan map2d. A dry run alone would not catch issue 17 (snakemake sets
