@@ -76,7 +76,9 @@ def push(ev, n, kind, t, a, b):
     """Append the row (kind, t, a, b), doubling ``ev`` when full; returns (ev, n)."""
     if n >= ev.shape[0]:
         grown = np.empty((2 * ev.shape[0], 4))
-        grown[:n] = ev[:n]
+        for i in range(n):  # a loop, not grown[:n] = ev[:n]: the slice copy's shape-error
+            for j in range(4):  # formatting costs numba about 8 s of compile per kind
+                grown[i, j] = ev[i, j]
         ev = grown
     ev[n, 0] = kind
     ev[n, 1] = t
