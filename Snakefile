@@ -7,6 +7,10 @@
 configfile: "config/config.yaml"
 
 
+# Front page of `snakemake --report` (make report): what the workflow does and how to read it.
+report: "workflow/report/workflow.rst"
+
+
 include: "workflow/rules/common.smk"
 include: "workflow/rules/simulate.smk"
 include: "workflow/rules/periodic.smk"
@@ -23,4 +27,4 @@ rule all:
     input:
         ALL_TARGETS,
         expand(SCENE_RUN, scene=config["scenes"]),
-        [PAPER_TABLE_CSV, PAPER_TABLE_MD] if TABLE_ROWS else [],
+        [PAPER_TABLE_CSV, PAPER_TABLE_MD, PAPER_TABLE_HTML] if TABLE_ROWS else [],

@@ -1,4 +1,5 @@
-"""Merge the per-figure-group rows into results/tables/paper_vs_replication.csv and .md."""
+"""Merge the per-figure-group rows into results/tables/paper_vs_replication.csv, .md and .html
+(the copy the Snakemake report shows)."""
 
 from _logging import configure_logging
 
@@ -8,5 +9,5 @@ import logging
 
 from impactosc.paper.table import merge_tables
 
-rows = merge_tables(snakemake.input.rows, snakemake.output.csv, snakemake.output.md)
+rows = merge_tables(snakemake.input.rows, snakemake.output.csv, snakemake.output.md, snakemake.output.html)
 logging.info(f"{len(rows)} rows")

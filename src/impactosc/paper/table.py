@@ -4,10 +4,13 @@ Each row: section, quantity, paper (the paper's value as printed), replication (
 tolerance (what counts as agreement, with its reason), agrees (yes/no/n.a.), command (how
 to regenerate it). Figure groups write their own rows file (built in
 :mod:`impactosc.paper.rows`); :func:`merge_tables` builds
-results/tables/paper_vs_replication.csv and a Markdown copy.
+results/tables/paper_vs_replication.csv, a Markdown copy, and an HTML copy for the
+Snakemake report (which shows HTML files, not CSV).
 """
 
 from __future__ import annotations
+
+import html
 
 from ..files import read_csv, write_csv, write_text
 
@@ -40,8 +43,31 @@ def to_markdown(rows: list[dict]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def merge_tables(inputs, csv_out, md_out) -> list[dict]:
+def to_html(rows: list[dict]) -> str:
+    """A standalone HTML page of the table (every cell escaped); rows that do not agree are
+    marked, so that they stand out in the report."""
+    head = "".join(f"<th>{html.escape(c)}</th>" for c in COLUMNS)
+    body = []
+    for r in rows:
+        cls = ' class="disagree"' if r["agrees"] == "no" else ""
+        body.append(f"<tr{cls}>" + "".join(f"<td>{html.escape(str(r[c]))}</td>" for c in COLUMNS) + "</tr>")
+    agree = sum(r["agrees"] == "yes" for r in rows)
+    return (
+        '<!DOCTYPE html>\n<html><head><meta charset="utf-8"><title>Paper vs replication</title>\n'
+        "<style>body{font-family:sans-serif;font-size:13px} table{border-collapse:collapse}"
+        " td,th{border:1px solid #bbb;padding:3px 6px;vertical-align:top;text-align:left}"
+        " th{background:#eee} tr.disagree td{background:#fdd}</style></head><body>\n"
+        f"<h1>Paper vs replication</h1>\n<p>{len(rows)} rows; {agree} agree within their stated tolerance "
+        "(the tolerance column gives the reason for each).</p>\n"
+        f"<table>\n<thead><tr>{head}</tr></thead>\n<tbody>\n" + "\n".join(body) + "\n</tbody></table>\n</body></html>\n"
+    )
+
+
+def merge_tables(inputs, csv_out, md_out, html_out=None) -> list[dict]:
+    """Concatenate the groups' rows files into the table's CSV, Markdown (and HTML) files."""
     rows = [row for path in inputs for row in read_rows(path)]
     write_rows(csv_out, rows, sources=inputs)
     write_text(md_out, "# Paper vs replication\n\n" + to_markdown(rows))
+    if html_out is not None:
+        write_text(html_out, to_html(rows))
     return rows
