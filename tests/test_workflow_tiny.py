@@ -71,3 +71,17 @@ def test_finished_build_is_up_to_date(tiny_build):
     )
     assert dry.returncode == 0, dry.stderr[-3000:]
     assert "Nothing to be done" in dry.stdout + dry.stderr, (dry.stdout + dry.stderr)[-3000:]
+
+
+def test_report_has_front_page_and_paper_table(tiny_build):
+    report = tiny_build / "report.html"
+    run = subprocess.run(
+        [*SNAKEMAKE, "-d", str(tiny_build), *CONFIGS, "--report", str(report)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert run.returncode == 0, run.stderr[-3000:]
+    page = report.read_text()
+    assert "How the results are made" in page  # the front page, workflow/report/workflow.rst
+    assert "paper_vs_replication.html" in page  # the table as a report item

@@ -29,9 +29,7 @@ rule paper_vs_replication:
     output:
         csv=PAPER_TABLE_CSV,
         md=PAPER_TABLE_MD,
-        html=report(
-            PAPER_TABLE_HTML, caption="../report/paper_vs_replication.rst", category="Paper vs replication"
-        ),
+        html=report(PAPER_TABLE_HTML, caption="../report/paper_vs_replication.rst", category="Paper vs replication"),
     log:
         logfile("combined", "paper_vs_replication"),
     script:
