@@ -15,6 +15,9 @@ density      relative-frequency histogram, kernel density, density maxima (Figs 
 mixture      1-/2-component gaussian/lognormal/gamma mixtures, BIC ranking
 poisson      KS test of the ISIs against the exponential law
 spectrum     amplitude spectrum, peaks, combination-frequency labels (Figs 4c, 6b)
+
+scipy.signal and scipy.stats are imported inside the functions that call them: importing them
+costs 1-2 s, which every workflow job importing this package would pay, most of them for nothing.
 """
 
 from .acf import ACFSpectrum, Autocorrelation, acf_spectrum, autocorrelation

@@ -10,7 +10,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import stats
 
 from ._validation import as_event_times, as_finite_1d, check_time_span
 
@@ -127,6 +126,8 @@ def equal_rate_test(counts, alpha: float = 0.05) -> EqualRateTest:
     if not 0 < alpha < 1:
         raise ValueError(f"alpha must be in (0, 1), got {alpha}")
     # expected counts default to the mean; ddof=0 gives k - 1 dof (nbar uses only the total)
+    from scipy import stats
+
     res = stats.chisquare(c)
     statistic, pvalue = float(res.statistic), float(res.pvalue)
     dof = c.size - 1

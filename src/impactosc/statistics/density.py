@@ -11,7 +11,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import signal, stats
 
 from ._peaks import parabolic_refine
 from ._validation import as_finite_1d
@@ -136,6 +135,8 @@ def kernel_density(values, bw_method="scott", grid=None, n_grid: int = 1024) -> 
     v = as_finite_1d(values, "values", min_size=2)
     if np.ptp(v) == 0:
         raise ValueError("values are all equal; a kernel density estimate is undefined")
+    from scipy import stats
+
     kde = stats.gaussian_kde(v, bw_method=bw_method)
     bw = float(np.sqrt(kde.covariance[0, 0]))
     if grid is None:
@@ -209,6 +210,8 @@ def density_maxima(grid, density, min_prominence: float = 0.05) -> DensityMaxima
     # pad with the curve minimum so maxima at the grid ends are not lost
     floor = float(np.min(y))
     padded = np.concatenate([[floor], y, [floor]])
+    from scipy import signal
+
     idx, props = signal.find_peaks(padded, prominence=min_prominence * ymax)
     idx = idx - 1
     off, val = parabolic_refine(y, idx)

@@ -10,7 +10,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import stats
 
 from ._validation import as_positive_1d
 
@@ -94,6 +93,8 @@ def exponential_ks_test(S, alpha: float = 0.05, n_bootstrap: int = 999, seed: in
     if n_bootstrap < 0:
         raise ValueError(f"n_bootstrap must be >= 0, got {n_bootstrap}")
     mean = float(s.mean())
+    from scipy import stats
+
     ks = stats.kstest(s, "expon", args=(0.0, mean))
     d = float(ks.statistic)
     p_boot = None

@@ -11,7 +11,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import signal
 
 from ._peaks import parabolic_refine
 from ._validation import as_finite_1d, check_positive_scalar
@@ -98,6 +97,8 @@ def amplitude_spectrum(
     n_fft = n if n_fft is None else int(n_fft)
     if n_fft < n:
         raise ValueError(f"n_fft must be >= the number of samples ({n}), got {n_fft}")
+    from scipy import signal
+
     if detrend != "none":
         v = signal.detrend(v, type=detrend)
     w = signal.get_window(window, n, fftbins=False)
@@ -172,6 +173,8 @@ def find_peaks_spectrum(
         raise ValueError("spectrum is identically zero (constant signal?)")
     db = 20 * np.log10(np.maximum(amp, np.finfo(float).tiny))
     top = db[1:].max()
+    from scipy import signal
+
     idx, props = signal.find_peaks(db, prominence=prominence_db, height=top - dynamic_range_db)
     keep = idx > 0
     idx, prom = idx[keep], props["prominences"][keep]
