@@ -17,7 +17,7 @@ poisson      KS test of the ISIs against the exponential law
 spectrum     amplitude spectrum, peaks, combination-frequency labels (Figs 4c, 6b)
 """
 
-from .acf import ACFSpectrum, Autocorrelation, acf_spectrum, autocorrelation
+from .acf import ACFSpectrum, Autocorrelation, acf_spectrum, autocorrelation, shuffled_autocorrelations
 from .counts import EqualRateTest, counts_in_windows, equal_rate_test, window_counts
 from .density import (
     DensityMaxima,
@@ -72,6 +72,7 @@ __all__ = [
     "Autocorrelation",
     "ACFSpectrum",
     "autocorrelation",
+    "shuffled_autocorrelations",
     "acf_spectrum",
     # density
     "Histogram",
