@@ -254,10 +254,8 @@ def _acf(train: ImpactTrain, o: AnalysisOptions, scales: dict | None) -> dict:
         # same prominence rule; the largest value at f > 0 if no peak qualifies).
         rng = np.random.default_rng(o.seed)
         top = []
-        for _ in range(o.acf_surrogates):
-            sp = st.acf_spectrum(
-                st.autocorrelation(rng.permutation(S), kmax=kmax), n_peaks=1, min_prominence=o.acf_min_prominence
-            )
+        for value in st.shuffled_autocorrelations(S, kmax, o.acf_surrogates, rng):
+            sp = st.acf_spectrum(value, n_peaks=1, min_prominence=o.acf_min_prominence)
             top.append(sp.peak_magnitude[0] if sp.peak_magnitude.size else sp.magnitude[1:].max())
         threshold = float(np.quantile(top, 1 - o.alpha))
     sig = (spec.peak_magnitude > threshold) if threshold is not None else np.zeros(spec.peak_frequency.size, bool)

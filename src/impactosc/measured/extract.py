@@ -138,13 +138,13 @@ def estimate_x_impact(record: Record, *, window: float = 2.5e-3) -> tuple[float,
     idx = idx[(idx >= hf) & (idx < x.size - hf)]
     if idx.size < 5:
         raise ValueError(f"{record.path}: only {idx.size} turning points; cannot estimate x_impact, pass it")
-    curv, height = np.empty(idx.size), np.empty(idx.size)
-    for k, j in enumerate(idx):
-        c, _ = _quadfit(t[j - hf : j + hf + 1], x[j - hf : j + hf + 1], t[j])
-        s = -c[1] / (2 * c[2]) if c[2] < 0 else 0.0
-        curv[k], height[k] = -2 * c[2], c[0] + c[1] * s + c[2] * s * s
-    _, cov = _quadfit(t[: 2 * hf + 1], x[: 2 * hf + 1], t[hf])
-    curv_noise = 2 * sigma * math.sqrt(cov[2, 2])
+    c, _ = _quadfits(t, x, idx - hf, idx + hf + 1, t[idx])
+    s = np.zeros(idx.size)
+    top = c[:, 2] < 0
+    s[top] = -c[top, 1] / (2 * c[top, 2])
+    curv, height = -2 * c[:, 2], c[:, 0] + c[:, 1] * s + c[:, 2] * s * s
+    _, cov = _quadfits(t, x, np.array([0]), np.array([2 * hf + 1]), t[[hf]])
+    curv_noise = 2 * sigma * math.sqrt(cov[0, 2, 2])
     contact = curv > max(0.25 * np.median(curv), 5 * curv_noise)
     if contact.sum() < 3:
         raise ValueError(
@@ -164,59 +164,115 @@ def estimate_x_impact(record: Record, *, window: float = 2.5e-3) -> tuple[float,
     }
 
 
-def _quadfit(tt, xx, t0):
-    """Quadratic LS fit in s = t - t0; coefficients (c0, c1, c2) and their covariance/sigma^2."""
-    s = tt - t0
-    A = np.column_stack([np.ones_like(s), s, s * s])
-    ata_inv = np.linalg.inv(A.T @ A)
-    return ata_inv @ (A.T @ xx), ata_inv
+def _quadfits(t, x, lo, hi, t0):
+    """Quadratic LS fits of x over samples lo..hi-1 in s = t - t0, one per entry of lo, hi, t0.
+
+    Why batched: extraction fits two quadratics per impact (tens of thousands per record);
+    one stacked solve avoids numpy's per-call overhead.  Windows shorter than the longest
+    are padded with zero rows, which add nothing to the normal equations.  Returns the
+    coefficients (c0, c1, c2), shape (m, 3), and their covariance / sigma^2, shape (m, 3, 3).
+    """
+    width = int(np.max(hi - lo, initial=0))
+    k = lo[:, None] + np.arange(width)
+    inside = k < hi[:, None]
+    k = np.where(inside, k, lo[:, None])
+    s = np.where(inside, t[k] - t0[:, None], 0.0)
+    A = np.stack([inside.astype(float), s, s * s], axis=-1)
+    At = A.transpose(0, 2, 1)
+    ata_inv = np.linalg.inv(At @ A)
+    return (ata_inv @ (At @ np.where(inside, x[k], 0.0)[..., None]))[..., 0], ata_inv
 
 
-def _crossing(t, x, i, xi, n, sigma):
-    """Sub-sample time of the upward crossing between samples i and i+1 (fit ends at i)."""
-    lo = max(0, i - n + 1)
-    tt, xx = t[lo : i + 1], x[lo : i + 1]
+def _crossings(t, x, i, xi, n, sigma):
+    """Sub-sample times, velocities and sigma_t of the upward crossings between samples i and
+    i+1 (i: the onsets in order; each fit ends at i).
+
+    Fitted root: real roots in (-dt, 2 dt) with positive slope, the one closest to the linear
+    interpolation; without such a root (or with fewer than 3 samples) the linear
+    interpolation itself.
+    """
     dt = t[i + 1] - t[i]
     lin = t[i] + dt * (xi - x[i]) / (x[i + 1] - x[i])
-    if tt.size >= 3:
-        c, cov = _quadfit(tt, xx, t[i])
-        a, b, cc = c[2], c[1], c[0] - xi
-        roots = np.roots([a, b, cc]) if abs(a) > 0 else np.array([-cc / b])
-        roots = roots[np.isreal(roots)].real
-        ok = roots[(roots > -dt) & (roots < 2 * dt)]
-        slopes = b + 2 * a * ok
-        ok = ok[slopes > 0]
-        if ok.size:
-            s = ok[np.argmin(np.abs(ok - (lin - t[i])))]
-            v = b + 2 * a * s
-            g = np.array([1.0, s, s * s])
-            sx = sigma * math.sqrt(max(float(g @ cov @ g), 0.0))
-            st = sx / v
-            if x[i] > xi - 3 * sigma:
-                # the signal dwells within 3 sigma below x_impact before the crossing (a
-                # slow, grazing approach, or a contact sample pushed down by noise): the
-                # crossing is only known to within that dwell time
-                k0 = i
-                while k0 > 0 and x[k0] > xi - 3 * sigma:
-                    k0 -= 1
-                st = max(st, t[i + 1] - t[k0])
-            return t[i] + s, v, st
-    v = (x[i + 1] - x[i]) / dt
-    return lin, v, sigma / abs(v) if v else dt
+    v_lin = (x[i + 1] - x[i]) / dt
+    st = np.divide(sigma, np.abs(v_lin), out=dt.copy(), where=v_lin != 0)
+    tc, v = lin.copy(), v_lin.copy()
+    f = np.flatnonzero(i >= 2)  # at least 3 samples in the fit window
+    fi = i[f]
+    c, cov = _quadfits(t, x, np.maximum(0, fi - n + 1), fi + 1, t[fi])
+    a, b, cc = c[:, 2], c[:, 1], c[:, 0] - xi
+    # both roots in the numerically stable form (no cancellation in b +- sqrt(disc); q = 0
+    # only for the double root 0); a == 0 leaves the linear root
+    disc = b * b - 4 * a * cc
+    real = (disc >= 0) | (a == 0)
+    q = -0.5 * (b + np.copysign(np.sqrt(np.where(real, disc, 0.0)), b))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        roots = np.where(
+            (a == 0)[:, None],
+            (-cc / b)[:, None],
+            np.stack([q / a, np.where(q != 0, cc / q, 0.0)], axis=1),
+        )
+    slope = b[:, None] + 2 * a[:, None] * roots
+    ok = real[:, None] & (roots > -dt[f, None]) & (roots < 2 * dt[f, None]) & (slope > 0)
+    dist = np.where(ok, np.abs(roots - (lin[f] - t[fi])[:, None]), np.inf)
+    pick = np.argmin(dist, axis=1)
+    has = ok.any(axis=1)
+    f, fi, s, vf = f[has], fi[has], roots[has, pick[has]], slope[has, pick[has]]
+    g = np.stack([np.ones_like(s), s, s * s], axis=1)
+    var = np.einsum("mj,mj->m", np.einsum("mi,mij->mj", g, cov[has]), g)
+    stf = sigma * np.sqrt(np.maximum(var, 0.0)) / vf
+    # the signal dwells within 3 sigma below x_impact before the crossing (a slow, grazing
+    # approach, or a contact sample pushed down by noise): the crossing is only known to
+    # within that dwell time, back to the last sample below the band (or the record start)
+    below = np.flatnonzero(x <= xi - 3 * sigma)
+    last = np.searchsorted(below, fi, side="right") - 1
+    k0 = np.where(last >= 0, below[np.maximum(last, 0)], 0)
+    stf = np.where(x[fi] > xi - 3 * sigma, np.maximum(stf, t[fi + 1] - t[k0]), stf)
+    tc[f], v[f], st[f] = t[fi] + s, vf, stf
+    # fitted roots of adjacent crossings can overlap (only without hysteresis): keep the
+    # order with the linear interpolation inside [t_i, t_i+1] (sequential: each onset is
+    # compared with the previous one's final time)
+    overlap = np.zeros(i.size, bool)
+    prev = -math.inf
+    for k, tk in enumerate(tc.tolist()):
+        overlap[k] = tk <= prev
+        prev = float(lin[k]) if overlap[k] else tk
+    st = np.abs(st)
+    return (
+        np.where(overlap, lin, tc),
+        np.where(overlap, v_lin, v),
+        np.where(overlap, np.maximum(st, dt), st),
+    )
 
 
-def _peak(t, x, j, half):
-    """Vertex (time, value) of a quadratic through samples j-half..j+half."""
-    lo, hi = max(0, j - half), min(x.size, j + half + 1)
-    if hi - lo < 3:
-        return t[j], x[j]
-    c, _ = _quadfit(t[lo:hi], x[lo:hi], t[j])
-    if c[2] >= 0:  # not a maximum (noise-dominated); keep the sample
-        return t[j], x[j]
-    s = -c[1] / (2 * c[2])
-    if abs(s) > (t[hi - 1] - t[lo]) / 2:
-        return t[j], x[j]
-    return t[j] + s, c[0] + c[1] * s + c[2] * s * s
+def _segment_argmax(x, start, stop):
+    """Index of the (first) largest sample of x in each of the disjoint ranges [start, stop)."""
+    size = stop - start
+    if not size.size:
+        return np.empty(0, int)
+    offset = np.cumsum(size) - size  # where each range starts in the gathered samples
+    seg = np.repeat(np.arange(size.size), size)
+    pos = np.arange(size.sum()) - offset[seg] + start[seg]
+    is_top = x[pos] == np.maximum.reduceat(x[pos], offset)[seg]
+    hits = np.flatnonzero(is_top)
+    return pos[hits[np.unique(seg[hits], return_index=True)[1]]]
+
+
+def _peaks(t, x, j, half):
+    """Vertex (time, value) of a quadratic through samples j-half..j+half (arrays of j).
+
+    The sample itself where the window has fewer than 3 samples, the fit is not a maximum
+    (noise-dominated) or the vertex lies outside the window.
+    """
+    lo, hi = np.maximum(0, j - half), np.minimum(x.size, j + half + 1)
+    tp, xp = t[j].copy(), x[j].copy()
+    f = np.flatnonzero(hi - lo >= 3)
+    c, _ = _quadfits(t, x, lo[f], hi[f], t[j[f]])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = -c[:, 1] / (2 * c[:, 2])
+    use = (c[:, 2] < 0) & (np.abs(s) <= (t[hi[f] - 1] - t[lo[f]]) / 2)
+    f, c, s = f[use], c[use], s[use]
+    tp[f], xp[f] = t[j[f]] + s, c[:, 0] + c[:, 1] * s + c[:, 2] * s * s
+    return tp, xp
 
 
 def poincare_points(rec: Record, half=3) -> dict:
@@ -278,63 +334,34 @@ def extract_events(
 
     above = x >= x_impact
     armed_level = x < x_impact - hyst if hyst > 0 else ~above
-    onsets = []
-    # hysteresis state machine: after each onset, wait for the next arming sample, then for
-    # the next sample at/above x_impact
-    i = 0
+    # hysteresis state machine (after each onset, wait for the next arming sample, then for
+    # the next sample at/above x_impact), in closed form: an onset is a sample at/above
+    # x_impact whose nearest earlier armed-or-above sample is an armed one
     n = x.size
     arm_idx = np.flatnonzero(armed_level)
-    up_idx = np.flatnonzero(above)
-    while True:
-        k = np.searchsorted(arm_idx, i)
-        if k >= arm_idx.size:
-            break
-        a = arm_idx[k]
-        m = np.searchsorted(up_idx, a)
-        if m >= up_idx.size:
-            break
-        u = up_idx[m]  # first sample at/above x_impact after arming
-        onsets.append(u - 1)
-        i = u
-    onsets = np.asarray(onsets, dtype=int)
-    imp_t, imp_v, imp_s = [], [], []
-    for i in onsets:
-        tc, vc, sc = _crossing(t, x, i, x_impact, o.fit_points, sigma)
-        if imp_t and tc <= imp_t[-1]:
-            # fitted roots of adjacent crossings can overlap (only without hysteresis):
-            # keep the order with the linear interpolation inside [t_i, t_i+1]
-            tc = t[i] + (t[i + 1] - t[i]) * (x_impact - x[i]) / (x[i + 1] - x[i])
-            vc = (x[i + 1] - x[i]) / (t[i + 1] - t[i])
-            sc = max(abs(sc), t[i + 1] - t[i])
-        imp_t.append(tc)
-        imp_v.append(vc)
-        imp_s.append(abs(sc))
-    # each contact runs from its onset to the next re-arming sample (or the record's end)
-    pen_t, pen_h, keep = [], [], []
+    marked = np.flatnonzero(armed_level | above)
+    is_up = above[marked]
+    onsets = marked[1:][is_up[1:] & ~is_up[:-1]] - 1
+    imp_t, imp_v, imp_s = _crossings(t, x, onsets, x_impact, o.fit_points, sigma)
+    # each contact runs from its onset to the next re-arming sample (or the record's end);
+    # a contact that never rose clearly above the obstacle (a near miss lifted by noise, or
+    # a contact shallower than the noise) is not resolvable from this record
+    k = np.searchsorted(arm_idx, onsets + 1)
+    stop = np.append(arm_idx, n)[k]
+    j = _segment_argmax(x, onsets + 1, stop)
     confirm = o.confirm_sigmas * sigma
-    for k, i in enumerate(onsets):
-        j_end = np.searchsorted(arm_idx, i + 1)
-        stop = arm_idx[j_end] if j_end < arm_idx.size else n
-        j = i + 1 + int(np.argmax(x[i + 1 : stop]))
-        if x[j] < x_impact + confirm:
-            # never rose clearly above the obstacle: a near miss lifted by noise, or a
-            # contact shallower than the noise -- not resolvable from this record
-            continue
-        keep.append(k)
-        tp, xp = _peak(t, x, j, o.peak_half_width)
-        pen_t.append(tp)
-        pen_h.append(max(xp - x_impact, 0.0))
-    keep = np.asarray(keep, dtype=int)
+    keep = np.flatnonzero(x[j] >= x_impact + confirm)
+    pen_t, pen_x = _peaks(t, x, j[keep], o.peak_half_width)
+    pen_h = np.maximum(pen_x - x_impact, 0.0)
     attrs["n_unconfirmed"] = int(len(onsets) - keep.size)
     attrs["confirm_level"] = confirm
-    imp_t, imp_v, imp_s = (np.asarray(a)[keep] if len(a) else np.asarray(a) for a in (imp_t, imp_v, imp_s))
     events = {
-        "impacts": {"t": imp_t, "v": imp_v, "sigma_t": imp_s},
-        "penetrations": {"t": np.asarray(pen_t), "h": np.asarray(pen_h)},
+        "impacts": {"t": imp_t[keep], "v": imp_v[keep], "sigma_t": imp_s[keep]},
+        "penetrations": {"t": pen_t, "h": pen_h},
     }
     if record.omega is not None:
         events["poincare"] = poincare_points(record)
-    s = np.asarray(imp_s)
+    s = events["impacts"]["sigma_t"]
     attrs["n_impacts"] = int(s.size)
     attrs["timing_sigma_median"] = float(np.median(s)) if s.size else float("nan")
     attrs["timing_sigma_max"] = float(np.max(s)) if s.size else float("nan")

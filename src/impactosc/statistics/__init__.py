@@ -20,7 +20,7 @@ scipy.signal and scipy.stats are imported inside the functions that call them: i
 costs 1-2 s, which every workflow job importing this package would pay, most of them for nothing.
 """
 
-from .acf import ACFSpectrum, Autocorrelation, acf_spectrum, autocorrelation
+from .acf import ACFSpectrum, Autocorrelation, acf_spectrum, autocorrelation, shuffled_autocorrelations
 from .counts import EqualRateTest, counts_in_windows, equal_rate_test, window_counts
 from .density import (
     DensityMaxima,
@@ -75,6 +75,7 @@ __all__ = [
     "Autocorrelation",
     "ACFSpectrum",
     "autocorrelation",
+    "shuffled_autocorrelations",
     "acf_spectrum",
     # density
     "Histogram",

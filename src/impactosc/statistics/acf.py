@@ -16,12 +16,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import signal
+from scipy import fft, signal
 
 from ._peaks import parabolic_refine
 from ._validation import as_finite_1d
 
-__all__ = ["Autocorrelation", "ACFSpectrum", "autocorrelation", "acf_spectrum"]
+__all__ = ["Autocorrelation", "ACFSpectrum", "autocorrelation", "shuffled_autocorrelations", "acf_spectrum"]
 
 
 @dataclass(frozen=True)
@@ -75,15 +75,48 @@ def autocorrelation(S, kmax: int | None = None) -> Autocorrelation:
         raise ValueError(f"kmax must be between 1 and n={n}, got {kmax}")
     d = s - s.mean()
     denom = float(np.dot(d, d))
-    if denom <= 1e-28 * float(np.dot(s, s)):  # relative spread below ~1e-14: constant
-        raise ValueError("S is constant; its autocorrelation is undefined")
+    _require_spread(denom, s)
     # sum_i d_i d_{i+L} for L = 0..kmax-1 (output index n-1 is lag 0); "auto" sums directly
     # for short series and uses the FFT (O(n log n)) for long ones.
     raw = signal.correlate(d, d, mode="full", method="auto")[n - 1 : n - 1 + kmax]
-    lag = np.arange(kmax)
-    value = n / (n - lag) * raw / denom
-    value[0] = 1.0  # exact by definition; removes rounding
-    return Autocorrelation(lag + 1, value, n)
+    return Autocorrelation(np.arange(1, kmax + 1), _normalised(raw, n, denom), n)
+
+
+def _require_spread(denom, s):
+    """Raise for a constant sequence (sum d^2 below ~1e-28 sum s^2: relative spread ~1e-14)."""
+    if np.any(np.asarray(denom) <= 1e-28 * float(np.dot(s, s))):
+        raise ValueError("S is constant; its autocorrelation is undefined")
+
+
+def _normalised(raw, n, denom):
+    """Eq. (3) from the lag sums ``raw`` (lags 0.. along the last axis) and sum d^2."""
+    lag = np.arange(raw.shape[-1])
+    value = n / (n - lag) * raw / np.asarray(denom)[..., None]
+    value[..., 0] = 1.0  # exact by definition; removes rounding
+    return value
+
+
+def shuffled_autocorrelations(S, kmax: int, n_shuffles: int, rng: np.random.Generator) -> np.ndarray:
+    """ACF values (k = 1 .. kmax) of ``n_shuffles`` random permutations of S, shape (n_shuffles, kmax).
+
+    Why: a significance level needs the ACFs of hundreds of shuffled copies; one FFT of all
+    of them at once replaces hundreds of ``signal.correlate`` calls.  Row i is
+    ``autocorrelation(rng.permutation(S), kmax).value`` of the i-th permutation drawn (same
+    random stream) to rounding (a few 1e-16): the lag sums come from the power spectrum,
+    zero-padded to at least n + kmax - 1 so no lag below kmax wraps around.
+    """
+    s = as_finite_1d(S, "S", min_size=2)
+    n = s.size
+    if not 1 <= kmax <= n:
+        raise ValueError(f"kmax must be between 1 and n={n}, got {kmax}")
+    rows = np.stack([rng.permutation(s) for _ in range(n_shuffles)]) if n_shuffles else np.empty((0, n))
+    d = rows - rows.mean(axis=1, keepdims=True)
+    denom = np.einsum("ij,ij->i", d, d)
+    _require_spread(denom, s)
+    nfft = fft.next_fast_len(n + kmax - 1, real=True)
+    spec = fft.rfft(d, nfft, axis=1)
+    raw = fft.irfft(spec.real**2 + spec.imag**2, nfft, axis=1)[:, :kmax]
+    return _normalised(raw, n, denom)
 
 
 @dataclass(frozen=True)
