@@ -94,3 +94,18 @@ def test_acf_matches_old_fft(n, kmax):
     # both are sums of products normalised by sum d^2 (ACF(1) = 1): rounding ~ eps, then
     # scaled by n/(n-L) (up to n at the last lag); measured <= 2.3e-16 n/(n-L), allow 1e-12
     np.testing.assert_array_less(np.abs(acf.value - old), 1e-12 * n / (n - acf.lag))
+
+
+@pytest.mark.parametrize("n", [59, 400, 4038])
+def test_shuffled_acfs_are_the_acfs_of_the_same_permutations(n):
+    """The batched FFT of the significance level gives, row by row, autocorrelation() of the
+    permutations drawn from the same random stream (to rounding: ACF(1) = 1 sets the scale)."""
+    from impactosc.statistics import shuffled_autocorrelations
+
+    s = np.random.default_rng(n).gamma(2.0, 0.07, n)
+    kmax = min(50, n)
+    batched = shuffled_autocorrelations(s, kmax, 25, np.random.default_rng(0))
+    rng = np.random.default_rng(0)
+    one_by_one = np.stack([autocorrelation(rng.permutation(s), kmax=kmax).value for _ in range(25)])
+    assert batched.shape == (25, kmax)
+    np.testing.assert_allclose(batched, one_by_one, rtol=0, atol=1e-13)

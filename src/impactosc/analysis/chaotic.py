@@ -36,7 +36,6 @@ from collections import Counter
 from pathlib import Path
 
 import numpy as np
-from scipy import stats as sps
 
 from .. import statistics as st
 from ..files import read_run
@@ -78,6 +77,8 @@ def _fano(train: ImpactTrain, o: AnalysisOptions) -> dict:
         raise ValueError(f"no Fano window fits {o.min_fano_windows} times into the {train.duration} s span")
     curve = st.fano_curve(train.times, fit, train.t_start, train.t_stop)
     dof = curve.n_windows - 1
+    from scipy import stats as sps
+
     lo = sps.chi2.ppf(o.alpha / 2, dof) / dof
     hi = sps.chi2.ppf(1 - o.alpha / 2, dof) / dof
     below = curve.fano < lo

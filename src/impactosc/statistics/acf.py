@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import fft, signal
+from scipy import fft
 
 from ._peaks import parabolic_refine
 from ._validation import as_finite_1d
@@ -78,6 +78,8 @@ def autocorrelation(S, kmax: int | None = None) -> Autocorrelation:
     _require_spread(denom, s)
     # sum_i d_i d_{i+L} for L = 0..kmax-1 (output index n-1 is lag 0); "auto" sums directly
     # for short series and uses the FFT (O(n log n)) for long ones.
+    from scipy import signal
+
     raw = signal.correlate(d, d, mode="full", method="auto")[n - 1 : n - 1 + kmax]
     return Autocorrelation(np.arange(1, kmax + 1), _normalised(raw, n, denom), n)
 
@@ -199,6 +201,8 @@ def acf_spectrum(
     # last bin is f=0.5 itself; for odd n_fft f=0.5 lies half a bin beyond it.
     right = mag[-2::-1] if n_fft % 2 == 0 else mag[::-1]
     ext = np.concatenate([mag[:0:-1], mag, right])
+    from scipy import signal
+
     idx, _ = signal.find_peaks(ext, prominence=min_prominence * mag.max())
     idx = idx - (nb - 1)
     keep = (idx >= 0) & (idx < nb)
