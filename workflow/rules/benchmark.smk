@@ -1,7 +1,7 @@
 # Speed of the core against the compiled peers (CyRK with numba cfuncs, heyoka's free-flight
 # floor; the `peers` extra, skipped with a note where not installed) and SciPy DOP853 on the
-# chaotic scene. A timing rule: it claims all cores of a local run (threads: all_local_cores),
-# so no other job of the workflow runs beside it.
+# chaotic scene. A timing rule (threads: timing_threads): with timing.exclusive it claims all
+# cores of a local run, so that no other job of the workflow runs beside it.
 BC = config["benchmark_core"]
 
 
@@ -15,7 +15,7 @@ rule benchmark_core:
         md=BENCHMARK_CORE_MD,
     log:
         logfile("benchmark", "benchmark_core"),
-    threads: all_local_cores
+    threads: timing_threads
     params:
         bc=BC,
     script:

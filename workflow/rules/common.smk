@@ -21,11 +21,14 @@ ALL_TARGETS = []
 TABLE_ROWS = []
 
 
-def all_local_cores(wildcards):
-    """Threads of a timing rule: every core of a local run (snakemake -jN: N), so that no other
-    job runs beside it; 1 where no total is defined (an executor such as SLURM without --cores,
-    where each job has its own allocation). A plain `threads: workflow.cores` would stop the
-    whole workflow from parsing there (issue 17)."""
+def timing_threads(wildcards):
+    """Threads of a timing job. With timing.exclusive: every core of a local run (snakemake
+    -jN: N), so that no other job runs beside it; 1 where no total is defined (an executor
+    such as SLURM without --cores, where each job has its own allocation; a plain
+    `threads: workflow.cores` would stop the whole workflow from parsing there, issue 17).
+    Without it: one core, like any job (the README says what that changes in the timings)."""
+    if not config["timing"]["exclusive"]:
+        return 1
     try:
         return workflow.cores
     except WorkflowError:
@@ -127,7 +130,10 @@ MEAS_NOISE_STATS = "results/stats/measured/measured_noise_study.json"
 MEAS_NOISE_TABLE = "results/tables/measured/measured_noise_study.csv"
 
 # work_precision group (and the hard cases)
-WP_MEASURE = "results/runs/work_precision/{wp_scene}.csv"
+# per scene, two jobs: the compiled contestants (the core, CyRK, heyoka's floor: a timing
+# job) and SciPy's solvers (100-1000x slower: measured beside other jobs)
+WP_MEASURE = "results/runs/work_precision/{wp_scene}_{contestants}.csv"
+WP_CONTESTANTS = ["compiled", "scipy"]
 WP_REFERENCE = "results/runs/work_precision/{wp_scene}_reference.json"
 WP_JIT = "results/runs/work_precision/jit.json"
 WP_TABLE = "results/tables/work_precision/work_precision.csv"
@@ -156,6 +162,6 @@ def wp_benchmark_input(wildcards):
     """The core-speed benchmark's table, whose 500 s runs from rest (core and peers) the
     attractor check of a peers scene reuses instead of running them again."""
     pc = config["work_precision"]["peers"]
-    if wildcards.wp_scene in pc["scenes"] and pc["attractor_check"]:
+    if wildcards.contestants == "compiled" and wildcards.wp_scene in pc["scenes"] and pc["attractor_check"]:
         return {"benchmark": BENCHMARK_CORE_CSV}
     return {}

@@ -1,12 +1,12 @@
 # Speed against error, and numerical stability on hard cases (issue 7).
 # work_precision: per scene, the core and SciPy's solvers (and, on work_precision.peers.scenes,
 # the compiled peers CyRK and heyoka's floor) over a tolerance sweep against a reference from
-# another method (wp_reference, computed once per scene beside other jobs; wp_measure); the
-# chaotic statistics against tolerance (wp_statistics); JIT compile time apart (wp_jit); then
-# table, speed ratios and figure. hard_cases: every hard case of
-# impactosc.benchmarks.hardcases at full length, one CSV.
-# The timing rule wp_measure claims all cores of a local run (threads: all_local_cores), so no
-# other job runs beside it; under a cluster executor each job has its own allocation.
+# another method (wp_reference, computed once per scene beside other jobs; wp_measure, one job
+# for the compiled contestants and one for SciPy's); the chaotic statistics against tolerance
+# (wp_statistics); JIT compile time apart (wp_jit); then table, speed ratios and figure.
+# hard_cases: every hard case of impactosc.benchmarks.hardcases at full length, one CSV.
+# The compiled contestants' job is a timing job (threads: timing_threads: the whole machine
+# when timing.exclusive is set); SciPy's, 100-1000x slower, is never exclusive.
 WP = config["work_precision"]
 HC = config["hard_cases"]
 WP_CAPTIONS = "Work-precision and hard cases"
@@ -47,10 +47,11 @@ rule wp_measure:
     output:
         csv=WP_MEASURE,
     log:
-        logfile("work_precision", "wp_measure_{wp_scene}"),
+        logfile("work_precision", "wp_measure_{wp_scene}_{contestants}"),
     wildcard_constraints:
         wp_scene="|".join(WP["scenes"]),
-    threads: all_local_cores
+        contestants="|".join(WP_CONTESTANTS),
+    threads: lambda wc: timing_threads(wc) if wc.contestants == "compiled" else 1
     params:
         model=config["model"],
         wp=WP,
@@ -91,7 +92,7 @@ rule wp_jit:
 
 rule work_precision:
     input:
-        scenes=expand(rules.wp_measure.output.csv, wp_scene=list(WP["scenes"])),
+        scenes=expand(rules.wp_measure.output.csv, wp_scene=list(WP["scenes"]), contestants=WP_CONTESTANTS),
         stats=rules.wp_statistics.output.csv,
         jit=rules.wp_jit.output.json,
     output:

@@ -1,5 +1,6 @@
-"""Measure one work-precision scene: the core, SciPy's solvers and (on the scenes of
-work_precision.peers.scenes) the compiled peers over the tolerance sweep.
+"""Measure one work-precision scene over the tolerance sweep, for one group of contestants
+(wildcard contestants): "compiled" = the core and, on the scenes of work_precision.peers.scenes,
+the compiled peers and heyoka's floor; "scipy" = SciPy's solvers.
 
 Reads snakemake.input.reference (the scene's references, rule wp_reference), optionally
 .benchmark (the core-speed table, whose 500 s runs the attractor check reuses) and
@@ -22,11 +23,14 @@ from impactosc.files import read_json, read_table, write_table
 from impactosc.integration.model import ModelParams
 
 
-def main(model, wp, name, entry, reference, benchmark, out):
+def main(model, wp, name, contestants, entry, reference, benchmark, out):
     case = Case(name, entry["omega"], entry["settle"], entry["horizon"], entry["starts"], entry["spacing"])
     pc = wp["peers"]
-    with_peers = name in pc["scenes"]
-    solvers = [CORE, *wp["scipy_methods"], *(peer_solvers(pc["methods"]) if with_peers else [])]
+    with_peers = contestants == "compiled" and name in pc["scenes"]
+    if contestants == "compiled":
+        solvers = [CORE, *(peer_solvers(pc["methods"]) if with_peers else [])]
+    else:
+        solvers = list(wp["scipy_methods"])
     known = known_long_runs(read_table(benchmark)) if benchmark else {}
     if known:
         logging.info("%d runs of 500 s taken from %s", len(known), benchmark)
@@ -55,6 +59,7 @@ main(
     snakemake.params.model,
     snakemake.params.wp,
     snakemake.wildcards.wp_scene,
+    snakemake.wildcards.contestants,
     snakemake.params.entry,
     snakemake.input.reference,
     snakemake.input.get("benchmark"),
