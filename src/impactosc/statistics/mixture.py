@@ -152,19 +152,34 @@ def _gamma_shape(log_mean: np.ndarray, mean_log: np.ndarray, shape_max: float) -
     """Solve ``log a - digamma(a) = log_mean - mean_log`` for the gamma shape a.
 
     Minka's (2002) closed-form start and generalised Newton iterations; converges in a
-    handful of steps for any s > 0.
+    handful of steps for any s > 0.  Between the ufunc calls (log, digamma, trigamma) the K
+    shapes are Python floats, whose arithmetic rounds as numpy's does: on arrays of one to
+    three elements numpy's per-call overhead cost more than the arithmetic.  For large
+    shapes rounding can make the iterates alternate between two neighbouring values that
+    never meet the tolerance; the remaining iterations are then skipped, ending on the value
+    the 20th would give.
     """
     s = np.maximum(log_mean - mean_log, 1.0 / (2 * shape_max))
     a = (3 - s + np.sqrt((s - 3) ** 2 + 24 * s)) / (12 * s)
-    for _ in range(20):
-        g = np.log(a) - special.digamma(a) - s
-        a_new = 1.0 / (1.0 / a + g / (a * a * (1.0 / a - special.polygamma(1, a))))
-        a_new = np.where(a_new > 0, a_new, a / 2)
-        if np.all(np.abs(a_new - a) <= 1e-12 * a):
+    s, a, a_old = s.tolist(), a.tolist(), None
+    for it in range(20):
+        arr = np.array(a)
+        # zeta(2, a) is the trigamma function: what polygamma(1, a) returns, without its overhead
+        funcs = zip(np.log(arr).tolist(), special.digamma(arr).tolist(), special.zeta(2.0, arr).tolist())
+        a_new = []
+        for ak, sk, (log_a, psi, trigamma) in zip(a, s, funcs):
+            inv = 1.0 / ak
+            v = 1.0 / (inv + (log_a - psi - sk) / (ak * ak * (inv - trigamma)))
+            a_new.append(v if v > 0 else ak / 2)
+        if all(abs(v - ak) <= 1e-12 * ak for v, ak in zip(a_new, a)):
             a = a_new
             break
-        a = a_new
-    return np.minimum(a, shape_max)
+        if a_old is not None and all(v == v_old for v, v_old in zip(a_new, a_old)):
+            # a 2-cycle: the tolerance tests repeat too, so the 20th iterate is known
+            a = a_new if (19 - it) % 2 == 0 else a
+            break
+        a_old, a = a, a_new
+    return np.minimum(np.array(a), shape_max)
 
 
 class _Family:
