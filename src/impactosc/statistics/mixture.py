@@ -20,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 from scipy import special
 
 from ._validation import as_finite_1d, as_positive_1d
@@ -31,6 +32,7 @@ _SPREAD_FLOOR = 1e-3
 _SHORT_RUN = 30  # EM iterations every start gets before the ranking
 _N_FINISH = 2  # best starts that are run to convergence
 _LOG_2PI = np.log(2 * np.pi)
+_CODE = {"gaussian": 0, "lognormal": 1, "gamma": 2}  # family as the compiled kernel sees it
 
 
 @dataclass(frozen=True)
@@ -108,8 +110,10 @@ class MixtureFit:
         out = np.zeros(x.shape)
         ok = np.isfinite(x) & ((x > 0) if self.family != "gaussian" else True)
         if np.any(ok):
-            lp = _component_logpdf(self.family, x[ok].ravel(), self.params)
-            out[ok] = np.exp(special.logsumexp(lp + np.log(self.weights), axis=1))
+            v = x[ok].ravel()
+            y = v if self.family == "gaussian" else np.log(v)
+            e, top, _ = _shifted_log_joint(self.family, v, y, self.weights, self.params)
+            out[ok] = np.exp(top) * (1.0 + np.exp(e[:-1]).sum(axis=0))  # 1: the top component's term
         return out
 
     def summary(self) -> str:
@@ -134,37 +138,150 @@ def _moments(family: str, p: dict) -> tuple[np.ndarray, np.ndarray]:
     return a * th, a * th**2
 
 
-def _component_logpdf(family: str, x: np.ndarray, p: dict, lx: np.ndarray | None = None) -> np.ndarray:
-    """log density of each component, shape (n, K); ``lx = log(x)`` may be passed in."""
-    x = x[:, None]
-    if family == "gaussian":
-        mu, s = p["mu"], p["sigma"]
-        return -0.5 * _LOG_2PI - np.log(s) - 0.5 * ((x - mu) / s) ** 2
-    lx = np.log(x) if lx is None else lx[:, None]
-    if family == "lognormal":
-        mu, s = p["mu"], p["sigma"]
-        return -0.5 * _LOG_2PI - np.log(s) - lx - 0.5 * ((lx - mu) / s) ** 2
-    a, th = p["shape"], p["scale"]
-    return (a - 1) * lx - x / th - special.gammaln(a) - a * np.log(th)
+# EM's arithmetic lives in two compiled kernels, with numpy's exp and log between them.  They
+# evaluate every expression operation for operation, and add every sum in the order, of the
+# numpy code they replaced (over the sample in sample order, over components in component
+# order), so log-likelihoods keep every bit.  That matters: restarts that reach the same
+# maximum differ only in the last bits of their log-likelihoods, and those bits decide which
+# restart, with which parameters, EM returns.  Components are rows of (K, n) arrays; the
+# kernels write into arrays passed in (they compile faster than ones that allocate).
+
+
+def _shifted_log_joint(family: str, x: np.ndarray, y: np.ndarray, w: np.ndarray, p: dict):
+    """``log(w_k f_k(x_i)) - top_i`` with ``top_i = max_k log(w_k f_k(x_i))``, for the exp of the E-step.
+
+    ``y`` is ``log x`` (``x`` itself for gaussian).  Returns ``(out, top, arg)``: ``out``
+    (K, n) holds in its first K - 1 rows the values of every component but the top one,
+    ``arg``; the top one's value, ``top - top`` (0, whose exp is 1, unless top is not
+    finite), is left out so that numpy's exp runs on ``out[:-1]`` only.
+    :func:`_responsibility_moments` puts the rows back in order.
+    """
+    if family == "gamma":
+        a, th = p["shape"], p["scale"]
+        c = (a - 1, th, special.gammaln(a), a * np.log(th))
+    else:
+        s = p["sigma"]
+        c = (-0.5 * _LOG_2PI - np.log(s), p["mu"], s, s)  # the last is unused
+    out, top, arg = np.empty((w.size, x.size)), np.empty(x.size), np.empty(x.size, dtype=np.int64)
+    _shifted_log_joint_kernel(_CODE[family], x, y, *c, np.log(w), out, top, arg)
+    return out, top, arg
+
+
+@njit(cache=True, error_model="numpy")
+def _shifted_log_joint_kernel(code, x, y, c0, c1, c2, c3, log_w, out, top, arg):
+    """Fill ``out``, ``top`` and ``arg`` for :func:`_shifted_log_joint`."""
+    k_count, n = out.shape
+    for k in range(k_count):
+        row = out[k]
+        # scalars, not array loads, inside the loops: lets LLVM vectorise them
+        u0, u1, u2, u3, lw = c0[k], c1[k], c2[k], c3[k], log_w[k]
+        if code == 2:  # gamma: (a - 1) log x - x / scale - gammaln(a) - a log(scale)
+            for i in range(n):
+                row[i] = u0 * y[i] - x[i] / u1 - u2 - u3 + lw
+        elif code == 1:  # lognormal: -log(2 pi)/2 - log(sigma) - log x - ((log x - mu) / sigma)^2 / 2
+            for i in range(n):
+                z = (y[i] - u1) / u2
+                row[i] = u0 - y[i] - 0.5 * (z * z) + lw
+        else:  # gaussian: -log(2 pi)/2 - log(sigma) - ((x - mu) / sigma)^2 / 2
+            for i in range(n):
+                z = (y[i] - u1) / u2
+                row[i] = u0 - 0.5 * (z * z) + lw
+    for i in range(n):
+        top[i], arg[i] = out[0, i], 0
+    for k in range(1, k_count):
+        for i in range(n):
+            if out[k, i] > top[i] or out[k, i] != out[k, i]:  # nan wins, as in numpy's max
+                top[i], arg[i] = out[k, i], k
+    for k in range(k_count):
+        for i in range(n):
+            out[k, i] -= top[i]
+    last = k_count - 1
+    for i in range(n):  # the last row's value takes the top one's place
+        out[arg[i], i] = out[last, i]
+
+
+def _responsibility_moments(
+    e: np.ndarray, top: np.ndarray, arg: np.ndarray, x: np.ndarray, y: np.ndarray, with_var: bool
+):
+    """Responsibilities from the exp of :func:`_shifted_log_joint`'s ``out[:-1]``, and their moments.
+
+    Puts the rows of ``e`` (K, n) back in order (``top - top`` for the top component,
+    whose exp is 1, or nan) and normalises its columns to responsibilities ``r``, in
+    place.  Returns the column sums and a (4, K) array of what the M-step needs: the total
+    responsibility ``nk`` of each component, the ``r``-weighted means of x and y and, if
+    ``with_var``, the variance of y (nk = 0 gives inf or nan, not an exception).
+    """
+    tot, m = np.empty(x.size), np.empty((4, e.shape[0]))
+    _responsibility_moments_kernel(e, top, arg, x, y, with_var, tot, m)
+    return tot, m
+
+
+@njit(cache=True, error_model="numpy")
+def _responsibility_moments_kernel(e, top, arg, x, y, with_var, tot, m):
+    """Fill ``e``, ``tot`` and ``m`` for :func:`_responsibility_moments`."""
+    k_count, n = e.shape
+    last = k_count - 1
+    for i in range(n):
+        e[last, i] = e[arg[i], i]
+        e[arg[i], i] = 1.0 + (top[i] - top[i])
+    for i in range(n):
+        tot[i] = e[0, i]
+    for k in range(1, k_count):
+        for i in range(n):
+            tot[i] += e[k, i]
+    for k in range(k_count):
+        r = e[k]
+        for i in range(n):
+            r[i] /= tot[i]
+        nk, sx, sy = r[0], r[0] * x[0], r[0] * y[0]
+        for i in range(1, n):
+            nk += r[i]
+            sx += r[i] * x[i]
+            sy += r[i] * y[i]
+        mean_y = sy / nk
+        m[0, k], m[1, k], m[2, k] = nk, sx / nk, mean_y
+        m[3, k] = np.nan
+        if with_var:
+            d = y[0] - mean_y
+            sv = r[0] * (d * d)
+            for i in range(1, n):
+                d = y[i] - mean_y
+                sv += r[i] * (d * d)
+            m[3, k] = sv / nk
 
 
 def _gamma_shape(log_mean: np.ndarray, mean_log: np.ndarray, shape_max: float) -> np.ndarray:
     """Solve ``log a - digamma(a) = log_mean - mean_log`` for the gamma shape a.
 
     Minka's (2002) closed-form start and generalised Newton iterations; converges in a
-    handful of steps for any s > 0.
+    handful of steps for any s > 0.  Between the ufunc calls (log, digamma, trigamma) the K
+    shapes are Python floats, whose arithmetic rounds as numpy's does: on arrays of one to
+    three elements numpy's per-call overhead cost more than the arithmetic.  For large
+    shapes rounding can make the iterates alternate between two neighbouring values that
+    never meet the tolerance; the remaining iterations are then skipped, ending on the value
+    the 20th would give.
     """
     s = np.maximum(log_mean - mean_log, 1.0 / (2 * shape_max))
     a = (3 - s + np.sqrt((s - 3) ** 2 + 24 * s)) / (12 * s)
-    for _ in range(20):
-        g = np.log(a) - special.digamma(a) - s
-        a_new = 1.0 / (1.0 / a + g / (a * a * (1.0 / a - special.polygamma(1, a))))
-        a_new = np.where(a_new > 0, a_new, a / 2)
-        if np.all(np.abs(a_new - a) <= 1e-12 * a):
+    s, a, a_old = s.tolist(), a.tolist(), None
+    for it in range(20):
+        arr = np.array(a)
+        # zeta(2, a) is the trigamma function: what polygamma(1, a) returns, without its overhead
+        funcs = zip(np.log(arr).tolist(), special.digamma(arr).tolist(), special.zeta(2.0, arr).tolist())
+        a_new = []
+        for ak, sk, (log_a, psi, trigamma) in zip(a, s, funcs):
+            inv = 1.0 / ak
+            v = 1.0 / (inv + (log_a - psi - sk) / (ak * ak * (inv - trigamma)))
+            a_new.append(v if v > 0 else ak / 2)
+        if all(abs(v - ak) <= 1e-12 * ak for v, ak in zip(a_new, a)):
             a = a_new
             break
-        a = a_new
-    return np.minimum(a, shape_max)
+        if a_old is not None and all(v == v_old for v, v_old in zip(a_new, a_old)):
+            # a 2-cycle: the tolerance tests repeat too, so the 20th iterate is known
+            a = a_new if (19 - it) % 2 == 0 else a
+            break
+        a_old, a = a, a_new
+    return np.minimum(np.array(a), shape_max)
 
 
 class _Family:
@@ -172,36 +289,30 @@ class _Family:
 
     def __init__(self, family: str, x: np.ndarray):
         self.family = family
-        self.x = x
-        self.y = np.log(x) if family != "gaussian" else x  # scale the floors live on
+        self.x = np.array(x, dtype=float)  # C-contiguous and writable: the kernels' one compiled signature
+        self.y = np.log(self.x) if family != "gaussian" else self.x  # scale the floors live on
         spread = max(float(np.std(self.y)), 1e-12 * max(float(np.abs(self.y).max()), 1.0))
         self.sigma_min = _SPREAD_FLOOR * spread
         cv = float(np.std(x) / np.mean(x)) if family == "gamma" else 1.0
         self.shape_max = 1.0 / max(_SPREAD_FLOOR * cv, 1e-6) ** 2
 
-    def logpdf(self, p: dict) -> np.ndarray:
-        """Component log densities of the sample, shape (n, K)."""
-        lx = None if self.family == "gaussian" else self.y
-        return _component_logpdf(self.family, self.x, p, lx)
+    def shifted_log_joint(self, w: np.ndarray, p: dict):
+        """:func:`_shifted_log_joint` of the sample."""
+        return _shifted_log_joint(self.family, self.x, self.y, w, p)
 
-    def mstep(self, r: np.ndarray) -> tuple[np.ndarray, dict]:
-        """Weighted ML parameters given responsibilities ``r`` (n, K)."""
-        nk = r.sum(axis=0)
+    def mstep(self, moments: np.ndarray) -> tuple[np.ndarray, dict]:
+        """Weighted ML parameters from the :func:`_responsibility_moments` of the responsibilities."""
+        nk, mean_x, mean_y, var_y = moments
         w = nk / nk.sum()
         if self.family == "gamma":
-            m = (r * self.x[:, None]).sum(axis=0) / nk
-            ml = (r * self.y[:, None]).sum(axis=0) / nk
-            a = _gamma_shape(np.log(m), ml, self.shape_max)
-            return w, {"shape": a, "scale": m / a}
-        mu = (r * self.y[:, None]).sum(axis=0) / nk
-        var = (r * (self.y[:, None] - mu) ** 2).sum(axis=0) / nk
-        return w, {"mu": mu, "sigma": np.maximum(np.sqrt(var), self.sigma_min)}
+            a = _gamma_shape(np.log(mean_x), mean_y, self.shape_max)
+            return w, {"shape": a, "scale": mean_x / a}
+        return w, {"mu": mean_y, "sigma": np.maximum(np.sqrt(var_y), self.sigma_min)}
 
     def hard_start(self, labels: np.ndarray, k: int) -> np.ndarray:
-        """Responsibilities of a hard partition (every component non-empty)."""
-        r = np.zeros((self.x.size, k))
-        r[np.arange(self.x.size), labels] = 1.0
-        return r
+        """Responsibility moments of a hard partition (every component non-empty)."""
+        n = self.x.size  # all the weight on the labelled component: it is the top one, the rest 0
+        return _responsibility_moments(np.zeros((k, n)), np.zeros(n), labels, self.x, self.y, self.family != "gamma")[1]
 
 
 def _kmeans_1d(y: np.ndarray, centers: np.ndarray, n_iter: int = 100) -> np.ndarray:
@@ -245,12 +356,11 @@ class _EMState:
 
 
 def _estep(fam: _Family, w: np.ndarray, p: dict) -> tuple[float, np.ndarray]:
-    """Log-likelihood of the sample and responsibilities (n, K) for weights ``w``, params ``p``."""
-    lp = fam.logpdf(p) + np.log(w)
-    top = lp.max(axis=1, keepdims=True)
-    r = np.exp(lp - top)
-    tot = r.sum(axis=1, keepdims=True)
-    return float(np.sum(top) + np.sum(np.log(tot))), r / tot
+    """Log-likelihood of the sample and responsibility moments for weights ``w``, params ``p``."""
+    e, top, arg = fam.shifted_log_joint(w, p)
+    np.exp(e[:-1], out=e[:-1])
+    tot, moments = _responsibility_moments(e, top, arg, fam.x, fam.y, fam.family != "gamma")
+    return float(top.sum() + np.log(tot).sum()), moments
 
 
 def _em(fam: _Family, st: _EMState, tol: float, n_steps: int) -> _EMState:
@@ -263,9 +373,9 @@ def _em(fam: _Family, st: _EMState, tol: float, n_steps: int) -> _EMState:
     w, p = st.weights, st.params
     prev = st.loglik
     for _ in range(n_steps):
-        ll, r = _estep(fam, w, p)
+        ll, moments = _estep(fam, w, p)
         st.n_iter += 1
-        if np.any(r.sum(axis=0) < 1e-8 * n):  # a component died
+        if (moments[0] < 1e-8 * n).any():  # a component died
             st.loglik, st.converged = -np.inf, False
             return st
         st.loglik = ll
@@ -273,7 +383,7 @@ def _em(fam: _Family, st: _EMState, tol: float, n_steps: int) -> _EMState:
             st.converged = True
             return st
         prev = ll
-        w, p = fam.mstep(r)
+        w, p = fam.mstep(moments)
         st.weights, st.params = w, p
     return st
 
