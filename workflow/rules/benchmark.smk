@@ -16,6 +16,7 @@ rule benchmark_core:
     log:
         logfile("benchmark", "benchmark_core"),
     threads: timing_threads
+    priority: 5
     params:
         bc=BC,
     script:

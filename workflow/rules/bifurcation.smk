@@ -29,6 +29,7 @@ rule bifurcation_coarse:
         benchmark_file("bifurcation", "bifurcation_coarse_{sweep}")
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
+    priority: 8
     params:
         **BIF_COMMON,
         grid=lambda wc: BIF["sweeps"][wc.sweep],
@@ -53,6 +54,7 @@ rule bifurcation_chunk:
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
         chunk=BIF_WILDCARDS["chunk"],
+    priority: 5
     params:
         **BIF_COMMON,
         grid=lambda wc: BIF["sweeps"][wc.sweep],

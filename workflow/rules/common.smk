@@ -2,6 +2,9 @@
 # path pattern of results/, and the target lists that each rules file extends (rule all and
 # the numbers table collect them). Rules files read only globals defined here (and their
 # own), never another rules file's, so the order of the include: lines does not matter.
+# Priorities: the long jobs with chains of jobs behind them (the branch followed down from
+# 40.86, the bifurcation sweeps, the references, timings and SciPy sweeps, the hard cases)
+# start first, so that the short statistics and plot jobs fill the end of a -j2 rebuild.
 from pathlib import Path
 
 import impactosc

@@ -23,6 +23,7 @@ rule periodic_branch:
         logfile("periodic", "periodic_branch"),
     benchmark:
         benchmark_file("periodic", "periodic_branch")
+    priority: 10
     params:
         branch=PERIODIC["branch"],
         grazing=PERIODIC["grazing"],
@@ -41,6 +42,7 @@ rule periodic_from_rest:
         logfile("periodic", "periodic_from_rest"),
     benchmark:
         benchmark_file("periodic", "periodic_from_rest")
+    priority: 3
     params:
         scan=PERIODIC["from_rest"],
         n_record=PERIODIC["branch"]["n_record"],

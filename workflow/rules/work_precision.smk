@@ -52,6 +52,7 @@ rule wp_measure:
         wp_scene="|".join(WP["scenes"]),
         contestants="|".join(WP_CONTESTANTS),
     threads: lambda wc: timing_threads(wc) if wc.contestants == "compiled" else 1
+    priority: 5
     params:
         model=config["model"],
         wp=WP,
@@ -67,6 +68,7 @@ rule wp_statistics:
         csv=WP_STATISTICS,
     log:
         logfile("work_precision", "wp_statistics"),
+    priority: 3
     params:
         model=config["model"],
         scene=scene(WP["statistics"]["scene"]),
@@ -120,6 +122,7 @@ rule hard_cases:
         csv=HARD_CASES_TABLE,
     log:
         logfile("work_precision", "hard_cases"),
+    priority: 3
     params:
         hc=HC,
     script:
