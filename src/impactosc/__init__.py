@@ -2,6 +2,7 @@
 
 import hashlib
 import os
+import sys
 from pathlib import Path
 
 __version__ = "0.1.0"
@@ -25,7 +26,14 @@ def _core_cache_dir() -> str:
     return os.path.join(base, "impactosc", "numba-" + digest.hexdigest()[:16])
 
 
-if not os.environ.get("NUMBA_CACHE_DIR"):
-    from numba.core import config as _numba_config
+# Set through the environment, which numba reads when it is imported, so that importing this
+# package does not import numba (0.4 s that the plotting and table jobs do not need). Child
+# processes inherit it; the companion variable tells an inherited automatic setting (recomputed
+# here, for this tree's sources) from one the user chose (respected).
+_AUTO_CACHE_DIR = "IMPACTOSC_AUTO_NUMBA_CACHE_DIR"
+if os.environ.get("NUMBA_CACHE_DIR", "") in ("", os.environ.get(_AUTO_CACHE_DIR)):
+    os.environ["NUMBA_CACHE_DIR"] = os.environ[_AUTO_CACHE_DIR] = _core_cache_dir()
+    if "numba" in sys.modules:  # numba has read its settings already: set this one directly
+        from numba.core import config as _numba_config
 
-    _numba_config.CACHE_DIR = _core_cache_dir()
+        _numba_config.CACHE_DIR = os.environ["NUMBA_CACHE_DIR"]
