@@ -54,6 +54,7 @@ def scene(name):
 # benchmark (benchmark.smk), combined (combined.smk: products that join several groups).
 # ---------------------------------------------------------------------------------------
 NUMBA_CACHE = "results/.numba_cache_ready"  # marker: the core is compiled into the shared cache
+CYRK_SHIM = "results/.cyrk_shim_ready"  # marker: the CyRK shim is built (or why it cannot be)
 
 
 def logfile(group, name):

@@ -9,6 +9,7 @@ rule numba_cache:
         marker=NUMBA_CACHE,
     log:
         logfile("scenes", "numba_cache"),
+    priority: 20
     script:
         "../scripts/numba_cache.py"
 

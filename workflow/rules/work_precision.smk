@@ -43,6 +43,7 @@ rule wp_measure:
     input:
         unpack(wp_benchmark_input),
         cache=NUMBA_CACHE,
+        shim=CYRK_SHIM,
         reference=WP_REFERENCE,
     output:
         csv=WP_MEASURE,
@@ -51,8 +52,8 @@ rule wp_measure:
     wildcard_constraints:
         wp_scene="|".join(WP["scenes"]),
         contestants="|".join(WP_CONTESTANTS),
-    threads: lambda wc: timing_threads(wc) if wc.contestants == "compiled" else 1
     priority: 5
+    threads: lambda wc: timing_threads(wc) if wc.contestants == "compiled" else 1
     params:
         model=config["model"],
         wp=WP,
@@ -79,9 +80,11 @@ rule wp_statistics:
         "../scripts/wp_statistics.py"
 
 
-# A compile in a fresh process, one core: it may run beside one other job of -j2 (each
-# has its own core), which keeps the 50 s compile off the rebuild's critical path.
+# The cold compile is the numba_cache job's when it found the cache empty (a fresh clone);
+# otherwise (and work_precision.jit_cold) one in a fresh process with an empty temporary cache.
 rule wp_jit:
+    input:
+        cache=NUMBA_CACHE,
     output:
         json=WP_JIT,
     log:

@@ -49,17 +49,31 @@ SCIPY = "SciPy solve_ivp DOP853 + events"
 MAX_ERROR = 2.5e-9  # s: impact-time error over 1.5 s at which the headline compares solvers
 
 
-def jit_times(cold: bool = True) -> dict:
+JIT_PROBE = (
+    "import time; t=time.perf_counter(); from impactosc.integration.simulate import warm_up; "
+    "warm_up(); print(time.perf_counter()-t)"
+)
+
+
+def _fresh_process_seconds(env: dict) -> float:
+    """Seconds of JIT_PROBE (import and compile or cache load of the core) in a new process."""
+    r = subprocess.run([sys.executable, "-c", JIT_PROBE], env=env, capture_output=True, text=True, check=True)
+    return float(r.stdout.strip().splitlines()[-1])
+
+
+def jit_times(cold: bool = True, cold_seconds: float | None = None) -> dict:
     """Seconds to compile the core into an empty cache, and to load it from that cache, each in
-    a fresh process. cold=False: the load from the cache only (the cold compile, about 50 s,
-    is then None: not measured)."""
-    code = "import time; t=time.perf_counter(); from impactosc.integration.simulate import warm_up; warm_up(); print(time.perf_counter()-t)"
+    a fresh process (JIT_PROBE). cold=False: the load from the cache only (the cold compile,
+    about 40 s, is then None: not measured). `cold_seconds`: a cold compile already measured
+    the same way (the workflow's numba_cache job, when it found the cache empty), taken
+    instead of compiling again."""
+    if cold_seconds is not None:
+        return {"cold": float(cold_seconds), "cached": _fresh_process_seconds(dict(os.environ))}
+    out = {"cold": None}
     with tempfile.TemporaryDirectory() as cache:
-        env = dict(os.environ) if not cold else dict(os.environ, NUMBA_CACHE_DIR=cache)
-        out = {"cold": None}
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache) if cold else dict(os.environ)
         for label in ("cold", "cached") if cold else ("cached",):
-            r = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
-            out[label] = float(r.stdout.strip().splitlines()[-1])
+            out[label] = _fresh_process_seconds(env)
     return out
 
 

@@ -1,0 +1,31 @@
+"""Build the CyRK shim of the compiled peers once (impactosc.benchmarks.cyrk_shim), before the
+timing jobs need it. Reads nothing; writes snakemake.output.marker (JSON: built, the seconds it
+took, or why the peers cannot run here: a missing peers extra is a note, not a failure; the
+timing jobs then report the peers as unavailable).
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)
+
+import logging
+import time
+
+from impactosc.benchmarks.cyrk_shim import PeerUnavailable, load_cyrk_shim
+from impactosc.files import write_json
+
+
+def main(marker):
+    t0 = time.perf_counter()
+    try:
+        load_cyrk_shim()
+    except PeerUnavailable as e:
+        logging.info("CyRK shim not built: %s", e)
+        write_json(marker, {"built": False, "reason": str(e)}, final_newline=True)
+        return
+    seconds = time.perf_counter() - t0
+    logging.info("CyRK shim ready in %.1f s", seconds)
+    write_json(marker, {"built": True, "seconds": seconds}, final_newline=True)
+
+
+main(snakemake.output.marker)
