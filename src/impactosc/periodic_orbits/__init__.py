@@ -1,0 +1,6 @@
+"""Periodic orbits of model BC, stable or not: shooting on the stroboscopic map and Floquet
+multipliers (issue 13; continuation and bifurcation points build on it)."""
+
+from .shooting import PeriodicOrbit, ShootingError, monodromy, shoot, stroboscopic_map
+
+__all__ = ["PeriodicOrbit", "ShootingError", "monodromy", "shoot", "stroboscopic_map"]
