@@ -1,0 +1,151 @@
+"""Pseudo-arclength continuation of periodic orbits in w, through folds.
+
+Why: natural continuation (:func:`bifurcation_points.follow`, w stepped, the orbit shot from the
+previous one) fails at a fold, where the branch turns back in w and M - I is singular. Here the
+branch is a curve in (x, v, w), followed by its arclength (Keller): a predictor along the unit
+tangent, a Newton corrector on the orbit condition plus the constraint of staying on the plane
+normal to the tangent at the predicted point. The bordered Jacobian is regular at a fold, so the
+branch passes it; the fold shows as a sign change of the tangent's w component (and of
+det(M - I)).
+
+Coordinates are scaled (x / 1 mm, v / 0.1 m/s, w / 1 rad/s) so that one arclength unit weighs
+the three alike.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .shooting import DEFAULT_STEP, SCALE, PeriodicOrbit, ShootingError, _multipliers, monodromy
+
+__all__ = ["BranchPoint", "continue_branch", "folds", "locate_fold"]
+
+W_SCALE = 1.0  # rad/s: the scale of w in the arclength
+W_STEP = 1e-5  # rad/s: difference step of dP/dw (fourth order, as the monodromy)
+
+
+@dataclass(frozen=True)
+class BranchPoint:
+    """One point of a continued branch: the orbit, the unit tangent (scaled x, v, w) there."""
+
+    orbit: PeriodicOrbit
+    tangent: np.ndarray
+
+
+def _residual_and_jacobian(z, n_periods, params, step):
+    """F(z) = (P^N(y) - y) / SCALE at scaled z = (x, v, w), and dF/dz (2 x 3)."""
+    y, w = z[:2] * SCALE, z[2] * W_SCALE
+    image, M = monodromy(y, w, n_periods, params, step=step)
+    dw = W_STEP
+    images = [monodromy(y, w + k * dw, n_periods, params, step=step)[0] if k else image for k in (-2, -1, 1, 2)]
+    dP_dw = (8 * (images[2] - images[1]) - (images[3] - images[0])) / (12 * dw)
+    J = np.empty((2, 3))
+    J[:, :2] = (M - np.eye(2)) * SCALE[None, :] / SCALE[:, None]
+    J[:, 2] = dP_dw * W_SCALE / SCALE
+    return (image - y) / SCALE, J, M
+
+
+def _tangent(J, previous=None):
+    """Unit null vector of the 2 x 3 Jacobian, oriented along `previous` (or towards +w)."""
+    t = np.linalg.svd(J)[2][-1]
+    ref = previous if previous is not None else np.array([0.0, 0.0, 1.0])
+    return t if float(t @ ref) >= 0 else -t
+
+
+def _point(z, J, M, n_periods, previous_tangent, newton_steps, residual):
+    y, w = z[:2] * SCALE, z[2] * W_SCALE
+    orbit = PeriodicOrbit(
+        float(w), int(n_periods), float(y[0]), float(y[1]), M, _multipliers(M), residual, newton_steps
+    )
+    return BranchPoint(orbit, _tangent(J, previous_tangent))
+
+
+def _scaled(orbit: PeriodicOrbit) -> np.ndarray:
+    return np.array([orbit.x0 / SCALE[0], orbit.v0 / SCALE[1], orbit.omega / W_SCALE])
+
+
+def _correct(prev: BranchPoint, h: float, params, step, tol, max_newton) -> BranchPoint | None:
+    """The branch point at arclength h from `prev` along its tangent (Newton on the orbit
+    condition and the plane normal to the tangent); None if Newton does not converge."""
+    t, n = prev.tangent, prev.orbit.n_periods
+    z_pred = _scaled(prev.orbit) + h * t
+    z = z_pred.copy()
+    for k in range(1, max_newton + 1):
+        F, J, M = _residual_and_jacobian(z, n, params, step)
+        dz = np.linalg.solve(np.vstack([J, t]), -np.concatenate([F, [float(t @ (z - z_pred))]]))
+        z = z + dz
+        if np.max(np.abs(dz)) < tol:
+            F, J, M = _residual_and_jacobian(z, n, params, step)
+            return _point(z, J, M, n, t, k, float(np.max(np.abs(F))))
+    return None
+
+
+def continue_branch(
+    start: PeriodicOrbit,
+    ds: float,
+    n_points: int,
+    params=None,
+    *,
+    direction: float = 1.0,
+    w_range=(0.0, math.inf),
+    tol: float = 1e-10,
+    max_newton: int = 8,
+    step: float = DEFAULT_STEP,
+    min_ds: float = 1e-6,
+) -> list[BranchPoint]:
+    """Follow the branch through `start` for up to `n_points` points of arclength `ds` (scaled
+    units), towards increasing w for direction = +1 (at the start), decreasing for -1; stops
+    when w leaves `w_range`. A corrector that does not converge halves ds (down to `min_ds`,
+    then raises ShootingError); a quick one lets ds grow back by 1.5 up to its initial value."""
+    if ds <= 0 or n_points < 1:
+        raise ValueError(f"ds must be > 0 and n_points >= 1, got {ds} and {n_points}")
+    z = _scaled(start)
+    F, J, M = _residual_and_jacobian(z, start.n_periods, params, step)
+    toward = np.array([0.0, 0.0, float(np.sign(direction) or 1.0)])
+    branch, h = [_point(z, J, M, start.n_periods, toward, 0, float(np.max(np.abs(F))))], ds
+    while len(branch) < n_points:
+        nxt = _correct(branch[-1], h, params, step, tol, max_newton)
+        if nxt is None:
+            h /= 2
+            if h < min_ds:
+                raise ShootingError(
+                    f"arclength continuation stuck at w = {branch[-1].orbit.omega:.8f} (ds < {min_ds:g})"
+                )
+            continue
+        branch.append(nxt)
+        h = min(ds, 1.5 * h) if nxt.orbit.newton_steps <= 3 else h
+        if not w_range[0] <= nxt.orbit.omega <= w_range[1]:
+            break
+    return branch
+
+
+def folds(branch: list[BranchPoint]) -> list[tuple[BranchPoint, BranchPoint]]:
+    """Neighbouring points between which the tangent's w component changes sign: a fold."""
+    return [(a, b) for a, b in itertools.pairwise(branch) if a.tangent[2] * b.tangent[2] < 0]
+
+
+def locate_fold(a: BranchPoint, b: BranchPoint, params=None, *, tol: float = 1e-9, step: float = DEFAULT_STEP):
+    """The fold between two neighbouring branch points (:func:`folds`): bisection on the
+    arclength from `a` until the tangent's w component changes sign within `tol` (scaled
+    units; w at a fold varies quadratically along the branch, so its error is far smaller).
+    Returns the branch point there."""
+    lo, hi = 0.0, float(np.linalg.norm(_scaled(b.orbit) - _scaled(a.orbit))) * 1.5
+    sign = np.sign(a.tangent[2])
+    best = a
+    while hi - lo > tol:
+        mid = 0.5 * (lo + hi)
+        p = _correct(a, mid, params, step, 1e-12, 10)
+        if p is None:
+            raise ShootingError(
+                f"fold location: no corrector convergence at arclength {mid:g} from w = {a.orbit.omega}"
+            )
+        best = p
+        if np.sign(p.tangent[2]) == sign:
+            lo = mid
+        else:
+            hi = mid
+    return best
