@@ -22,7 +22,7 @@ import numpy as np
 
 from .shooting import DEFAULT_STEP, SCALE, PeriodicOrbit, ShootingError, _multipliers, monodromy
 
-__all__ = ["BranchPoint", "continue_branch", "folds", "locate_fold"]
+__all__ = ["BranchPoint", "continue_branch", "folds", "locate_fold", "switch_at_period_doubling"]
 
 W_SCALE = 1.0  # rad/s: the scale of w in the arclength
 W_STEP = 1e-5  # rad/s: difference step of dP/dw (fourth order, as the monodromy)
@@ -96,17 +96,23 @@ def continue_branch(
     max_newton: int = 8,
     step: float = DEFAULT_STEP,
     min_ds: float = 1e-6,
+    tangent=None,
 ) -> list[BranchPoint]:
     """Follow the branch through `start` for up to `n_points` points of arclength `ds` (scaled
     units), towards increasing w for direction = +1 (at the start), decreasing for -1; stops
     when w leaves `w_range`. A corrector that does not converge halves ds (down to `min_ds`,
-    then raises ShootingError); a quick one lets ds grow back by 1.5 up to its initial value."""
+    then raises ShootingError); a quick one lets ds grow back by 1.5 up to its initial value.
+    `tangent` (scaled x, v, w) sets the first direction instead, where the branch through
+    `start` is not unique (branch switching: :func:`switch_at_period_doubling`)."""
     if ds <= 0 or n_points < 1:
         raise ValueError(f"ds must be > 0 and n_points >= 1, got {ds} and {n_points}")
     z = _scaled(start)
     F, J, M = _residual_and_jacobian(z, start.n_periods, params, step)
     toward = np.array([0.0, 0.0, float(np.sign(direction) or 1.0)])
-    branch, h = [_point(z, J, M, start.n_periods, toward, 0, float(np.max(np.abs(F))))], ds
+    first = _point(z, J, M, start.n_periods, toward, 0, float(np.max(np.abs(F))))
+    if tangent is not None:
+        first = BranchPoint(first.orbit, np.asarray(tangent, float) / np.linalg.norm(tangent))
+    branch, h = [first], ds
     while len(branch) < n_points:
         nxt = _correct(branch[-1], h, params, step, tol, max_newton)
         if nxt is None:
@@ -149,3 +155,15 @@ def locate_fold(a: BranchPoint, b: BranchPoint, params=None, *, tol: float = 1e-
         else:
             hi = mid
     return best
+
+
+def switch_at_period_doubling(orbit: PeriodicOrbit, params=None, *, ds: float = 1e-3, **options) -> list[BranchPoint]:
+    """Branch switching at a period doubling: `orbit` has a multiplier at -1 (located by
+    bifurcation_points.locate), so as an orbit of 2N periods it has one at +1 and the doubled
+    branch leaves it along that multiplier's eigenvector, at constant w to first order. The
+    first two points of that branch (arclength `ds`, scaled), from which continue_branch goes on."""
+    mu, vectors = np.linalg.eig(orbit.monodromy)
+    e = np.real(vectors[:, int(np.argmin(np.abs(mu + 1)))]) / SCALE
+    doubled = PeriodicOrbit(orbit.omega, 2 * orbit.n_periods, orbit.x0, orbit.v0, orbit.monodromy @ orbit.monodromy,
+                            _multipliers(orbit.monodromy @ orbit.monodromy), orbit.residual, 0)  # fmt: skip
+    return continue_branch(doubled, ds, 2, params, tangent=np.array([e[0], e[1], 0.0]), **options)
