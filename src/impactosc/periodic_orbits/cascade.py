@@ -59,10 +59,12 @@ def cascade(
         found.append(d)
         if log:
             log(f"period {d.n_periods} -> {2 * d.n_periods} at w = {d.omega:.10f} rad/s")
-        # onto the doubled branch, and along it by arclength until it is well apart from the
-        # branch it left (which is a fixed point of the doubled map too), then in w again
-        first = switch_at_period_doubling(d.orbit, params)[-1]
-        orbit = continue_branch(first.orbit, 0.02, 10, params, tangent=first.tangent)[-1].orbit
+        # onto the doubled branch, and along it by arclength (small steps: its w grows only
+        # quadratically there) until it is one w step past the doubling, then in w again
+        point = switch_at_period_doubling(d.orbit, params)[-1]
+        while point.orbit.omega < d.omega + dw / shrink ** (k + 1):
+            point = continue_branch(point.orbit, 0.005, 2, params, tangent=point.tangent)[-1]
+        orbit = point.orbit
     return found
 
 
