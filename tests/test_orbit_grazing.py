@@ -7,7 +7,7 @@ import pytest
 
 from impactosc.integration.simulate import simulate
 from impactosc.periodic_orbits import shoot
-from impactosc.periodic_orbits.grazing import locate_grazing, orbit_events
+from impactosc.periodic_orbits.grazing import locate_orbit_grazing, orbit_events
 
 # Located with gap floors 4e-6, 2e-6 and 1e-6 m: 23.0441224132, 23.0441223655, 23.0441223486
 # (converging by ~3x per halving of the floor, so the last is within ~1e-8 of the limit); the
@@ -19,7 +19,7 @@ W_GRAZING = 23.04412235
 @pytest.fixture(scope="module")
 def grazing():
     a = shoot([-0.00415, 0.0], 23.3)
-    return locate_grazing(a, shoot([a.x0, a.v0], 23.2))
+    return locate_orbit_grazing(a, shoot([a.x0, a.v0], 23.2))
 
 
 def test_grazing_of_the_period_one_orbit(grazing):

@@ -17,7 +17,7 @@ import numpy as np
 from ..integration.simulate import simulate
 from .shooting import ATOL, RTOL, PeriodicOrbit, ShootingError, shoot
 
-__all__ = ["gap_line", "locate_grazing", "orbit_events"]
+__all__ = ["gap_line", "locate_orbit_grazing", "orbit_events"]
 
 
 def orbit_events(orbit: PeriodicOrbit, params=None) -> dict:
@@ -31,7 +31,9 @@ def orbit_events(orbit: PeriodicOrbit, params=None) -> dict:
     return {"impacts": int(run.events["impacts"]["t"].size), "min_gap": float(gaps.min()) if gaps.size else math.inf}
 
 
-def locate_grazing(a: PeriodicOrbit, b: PeriodicOrbit, params=None, *, gap_floor: float = 1e-6, max_steps: int = 30):
+def locate_orbit_grazing(
+    a: PeriodicOrbit, b: PeriodicOrbit, params=None, *, gap_floor: float = 1e-6, max_steps: int = 30
+):
     """w where the smallest near-miss gap of a branch reaches zero, from two of its orbits
     (`a`, `b`, both with the near miss): secant steps on gap(w) = 0, each new orbit shot from
     the last, until the gap is below `gap_floor`; then the parabola through the last three
