@@ -17,7 +17,7 @@ import numpy as np
 from ..integration.simulate import simulate
 from .shooting import ATOL, RTOL, PeriodicOrbit, ShootingError, shoot
 
-__all__ = ["gap_line", "locate_orbit_grazing", "orbit_events"]
+__all__ = ["locate_orbit_grazing", "orbit_events"]
 
 
 def orbit_events(orbit: PeriodicOrbit, params=None) -> dict:
@@ -69,12 +69,3 @@ def _quadratic_zero(pts, w_linear: float) -> float:
     roots = np.roots(np.polyfit(w - w_linear, [g for _, g in pts], 2))
     real = roots[np.isreal(roots)].real
     return float(w_linear + real[np.argmin(np.abs(real))]) if real.size else w_linear
-
-
-def gap_line(orbits: list[PeriodicOrbit], params=None) -> tuple[float, np.ndarray]:
-    """w where a straight line through (w, smallest gap) of the orbits reaches zero, and the
-    gaps: the grazing extrapolated, as the sweeps read it, for comparison."""
-    gaps = np.array([orbit_events(o, params)["min_gap"] for o in orbits])
-    w = np.array([o.omega for o in orbits])
-    slope, intercept = np.polyfit(w, gaps, 1)
-    return float(-intercept / slope), gaps
