@@ -20,7 +20,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .shooting import DEFAULT_STEP, SCALE, PeriodicOrbit, ShootingError, _multipliers, monodromy, stroboscopic_map
+from .shooting import (
+    DEFAULT_STEP,
+    SCALE,
+    PeriodicOrbit,
+    ShootingError,
+    _multipliers,
+    central_difference,
+    monodromy,
+    stroboscopic_map,
+)
 
 __all__ = ["BranchPoint", "continue_branch", "folds", "locate_fold", "switch_at_period_doubling"]
 
@@ -40,9 +49,7 @@ def _residual_and_jacobian(z, n_periods, params, step):
     """F(z) = (P^N(y) - y) / SCALE at scaled z = (x, v, w), and dF/dz (2 x 3)."""
     y, w = z[:2] * SCALE, z[2] * W_SCALE
     image, M = monodromy(y, w, n_periods, params, step=step)
-    dw = W_STEP
-    images = [stroboscopic_map(y, w + k * dw, n_periods, params) for k in (-2, -1, 1, 2)]
-    dP_dw = (8 * (images[2] - images[1]) - (images[3] - images[0])) / (12 * dw)
+    dP_dw = central_difference(lambda s: stroboscopic_map(y, w + s, n_periods, params), W_STEP)
     J = np.empty((2, 3))
     J[:, :2] = (M - np.eye(2)) * SCALE[None, :] / SCALE[:, None]
     J[:, 2] = dP_dw * W_SCALE / SCALE

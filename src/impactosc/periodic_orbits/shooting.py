@@ -81,17 +81,16 @@ def monodromy(y, omega: float, n_periods: int = 1, params: ModelParams | None = 
     image = stroboscopic_map(y, omega, n_periods, params, **tol)
     M = np.empty((2, 2))
     for j in range(2):
-        h = step * SCALE[j]
-        e = np.zeros(2)
-        e[j] = h
-        d1 = stroboscopic_map(y + e, omega, n_periods, params, **tol) - stroboscopic_map(
-            y - e, omega, n_periods, params, **tol
+        unit = np.eye(2)[j]
+        M[:, j] = central_difference(
+            lambda s, unit=unit: stroboscopic_map(y + s * unit, omega, n_periods, params, **tol), step * SCALE[j]
         )
-        d2 = stroboscopic_map(y + 2 * e, omega, n_periods, params, **tol) - stroboscopic_map(
-            y - 2 * e, omega, n_periods, params, **tol
-        )
-        M[:, j] = (8 * d1 - d2) / (12 * h)
     return image, M
+
+
+def central_difference(f, h: float):
+    """f'(0) to fourth order: (8 (f(h) - f(-h)) - (f(2h) - f(-2h))) / 12h."""
+    return (8 * (f(h) - f(-h)) - (f(2 * h) - f(-2 * h))) / (12 * h)
 
 
 def _multipliers(M: np.ndarray) -> np.ndarray:
