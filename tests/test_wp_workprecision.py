@@ -239,11 +239,10 @@ def test_a_contestant_that_raises_is_a_failed_row(monkeypatch):
     assert status["LSODA"] == ("failed", "ValueError: f(a) and f(b) must have different signs")
 
 
-def test_figure_from_synthetic_rows(tmp_path):
-    from impactosc.plotting import save_figure
-    from impactosc.plotting.work_precision import plot_work_precision
-
-    rows = [
+def _with_every_metric(rows):
+    """Rows as the figure reads them: the horizon and every error metric (penetration and
+    Poincare errors scaled from the impact-time error), with their reference uncertainties."""
+    return [
         dict(
             r,
             horizon=1.5,
@@ -252,8 +251,15 @@ def test_figure_from_synthetic_rows(tmp_path):
             penetration_error=r.get("impact_time_error", math.nan) * 1e-3,
             poincare_x_error=r.get("impact_time_error", math.nan) * 1e-2,
         )
-        for r in _rows()
+        for r in rows
     ]
+
+
+def test_figure_from_synthetic_rows(tmp_path):
+    from impactosc.plotting import save_figure
+    from impactosc.plotting.work_precision import plot_work_precision
+
+    rows = _with_every_metric(_rows())
     stats = _stat_rows()
     fig = plot_work_precision(rows, stats, jit={"cold": 27.0, "cached": 0.8})
     save_figure(fig, tmp_path / "wp.png", tmp_path / "wp.pdf")
@@ -341,17 +347,7 @@ def test_figure_draws_peers_floors_and_failures(tmp_path):
     from impactosc.plotting import save_figure
     from impactosc.plotting.work_precision import plot_work_precision
 
-    rows = [
-        dict(
-            r,
-            horizon=1.5,
-            reference_penetration_error=1e-15,
-            reference_poincare_x_error=1e-13,
-            penetration_error=r.get("impact_time_error", math.nan) * 1e-3,
-            poincare_x_error=r.get("impact_time_error", math.nan) * 1e-2,
-        )
-        for r in _peer_rows()
-    ]
+    rows = _with_every_metric(_peer_rows())
     rows.append(dict(rows[0], solver="CyRK Vern7", status="unavailable", note="CyRK is not installed"))
     fig = plot_work_precision(rows, _stat_rows(), jit={"cold": 27.0, "cached": 0.8})
     labels = fig.subfigs[0].legends[0].get_texts()
