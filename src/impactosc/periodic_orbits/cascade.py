@@ -16,11 +16,12 @@ import numpy as np
 
 from .arclength import continue_branch, switch_at_period_doubling
 from .bifurcation_points import TEST_FUNCTIONS, locate
-from .shooting import PeriodicOrbit, shoot
+from .shooting import PeriodicOrbit, ShootingError, shoot
 
 __all__ = ["Doubling", "cascade", "feigenbaum_ratios"]
 
 FEIGENBAUM_DELTA = 4.669201609
+MAX_SWITCH_STEPS = 200  # arclength steps after a switch before giving up on the doubled branch
 
 
 @dataclass(frozen=True)
@@ -62,8 +63,14 @@ def cascade(
         # onto the doubled branch, and along it by arclength (small steps: its w grows only
         # quadratically there) until it is one w step past the doubling, then in w again
         point = switch_at_period_doubling(d.orbit, params)[-1]
-        while point.orbit.omega < d.omega + dw / shrink ** (k + 1):
+        for _ in range(MAX_SWITCH_STEPS):
+            if point.orbit.omega >= d.omega + dw / shrink ** (k + 1):
+                break
             point = continue_branch(point.orbit, 0.005, 2, params, tangent=point.tangent)[-1]
+        else:  # the doubled branch does not move to higher w (a subcritical doubling)
+            raise ShootingError(
+                f"the period-{2 * d.n_periods} branch born at w = {d.omega:.10f} does not go to higher w"
+            )
         orbit = point.orbit
     return found
 
