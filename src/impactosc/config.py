@@ -125,7 +125,29 @@ def validate_config(config: dict, schema_path) -> dict:
                 f"invalid configuration:\n  scenes.{name}.window: [start, stop] must satisfy "
                 f"start <= stop <= transient + duration = {end}"
             )
+    _check_orbit_segments(config.get("periodic_orbits", {}).get("segments", {}))
     return config
+
+
+def _check_orbit_segments(segments: dict) -> None:
+    """Each doubled segment names an existing parent, without a cycle; each w_range is ordered."""
+    for name, seg in segments.items():
+        where = f"invalid configuration:\n  periodic_orbits.segments.{name}"
+        lo, hi = seg["w_range"]
+        if not lo < hi:
+            raise ConfigError(f"{where}.w_range: must be [lo, hi] with lo < hi, got {seg['w_range']}")
+        if "seed" in seg and not lo <= seg["seed"]["omega"] <= hi:
+            raise ConfigError(f"{where}.seed.omega: {seg['seed']['omega']} lies outside w_range {seg['w_range']}")
+        seen, parent = {name}, seg.get("doubling_of", {}).get("segment")
+        while parent is not None:
+            if parent not in segments:
+                raise ConfigError(
+                    f"{where}.doubling_of.segment: no segment named {parent!r} (segments: {', '.join(segments)})"
+                )
+            if parent in seen:
+                raise ConfigError(f"{where}.doubling_of: the chain of parents comes back to {parent!r}")
+            seen.add(parent)
+            parent = segments[parent].get("doubling_of", {}).get("segment")
 
 
 def load_config(path, schema_path) -> dict:

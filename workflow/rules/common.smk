@@ -50,7 +50,7 @@ def scene(name):
 #   tables/<group>/   numbers (CSV/MD), incl. the group's rows of the paper table
 #   figures/          the paper's figures figNN (and fig03a, fig03b); supplementary ones in figures/<group>/
 #   logs/<group>/, benchmarks/<group>/   one file per job: <rule>[_<wildcards>]
-# Groups: scenes (simulate.smk), periodic, bifurcation, chaotic, measured, work_precision,
+# Groups: scenes (simulate.smk), periodic, bifurcation, orbits (periodic_orbits.smk), chaotic, measured, work_precision,
 # benchmark (benchmark.smk), combined (combined.smk: products that join several groups).
 # ---------------------------------------------------------------------------------------
 NUMBA_CACHE = "results/.numba_cache_ready"  # marker: the core is compiled into the shared cache
@@ -117,6 +117,11 @@ BIF_TABLES = {
 }
 MAP2D_PART = "results/runs/bifurcation/map2d/part{chunk}.h5"
 MAP2D = "results/runs/bifurcation/map2d.h5"
+
+# orbits group (periodic orbits continued in w: one file per branch segment)
+ORBIT_SEGMENT = "results/runs/orbits/{segment}.json"
+ORBIT_POINTS_TABLE = "results/tables/orbits/bifurcation_points.csv"
+ORBIT_POINTS_MD = "results/tables/orbits/bifurcation_points.md"
 
 # chaotic group
 CHAOTIC_MEMBER_RUN = "results/runs/chaotic/ensemble/{member}.h5"

@@ -9,6 +9,7 @@ and why.
 
 periodic_rows      section 2.1, Fig 4 and the grazing w (results/stats/periodic/periodic.json, grazing.json)
 bifurcation_rows   Fig 3b: reverse period doublings and the grazing on the decreasing sweep
+orbit_rows         the same two, located on the continued orbits (results/runs/orbits/)
 chaotic_rows       section 2.2, Figs 6-11, judged against an ensemble of realisations
 measured_rows      the experimental panels (Figs 8b, 9b, 10 lower) and the noise remark
 numerics_rows      the step-size cap the paper needed, from the hard cases and work-precision
@@ -27,7 +28,7 @@ from .numbers import BIFURCATION, CHAOTIC, GRAZING, MAX_STEP_SIZE, MEASURED, PER
 if TYPE_CHECKING:  # annotations only
     from ..analysis.bifurcation import SweepReading, Transition
 
-__all__ = ["periodic_rows", "bifurcation_rows", "chaotic_rows", "measured_rows", "numerics_rows"]
+__all__ = ["periodic_rows", "bifurcation_rows", "orbit_rows", "chaotic_rows", "measured_rows", "numerics_rows"]
 
 
 # ----------------------------------------------------------------- section 2.1, Fig 4
@@ -257,6 +258,59 @@ def bifurcation_rows(
                 "command": command,
             }
         )
+    return rows
+
+
+def orbit_rows(
+    chain: list[dict], ratios: list[float], grazings: list[dict], command: str,
+    start: float = BIFURCATION["start"], near_fraction: float = 0.10, paper_bracket=PAPER_GRAZING_BRACKET,
+) -> list[dict]:  # fmt: skip
+    """The Fig 3b rows again, with the values the continued orbits give: the doubling cascade
+    (`chain`, located period doublings N -> 2N -> ..., and the `ratios` of its intervals) and
+    the grazing of the period-1 orbit (`grazings`: located grazing points of period 1)."""
+    lower = start * (1 - near_fraction)
+    if chain:
+        rep = "; ".join(f"{2 * p['n_periods']} -> {p['n_periods']} at {p['omega']:.7f}" for p in chain) + " rad/s"
+        if ratios:
+            rep += "; ratios of successive intervals " + ", ".join(f"{r:.2f}" for r in ratios) + " (Feigenbaum 4.669)"
+        agrees = _yes(all(lower <= p["omega"] <= start for p in chain))
+    else:
+        rep, agrees = "no period doubling located", "no"
+    rows = [
+        {
+            "section": "Fig 3b (orbits)",
+            "quantity": f"reverse period doublings below {start}, located on the continued orbits",
+            "paper": f"close to the starting w = {start} rad/s (no value given)",
+            "replication": rep + " (each bisected to 1e-9 rad/s on det(M + I))",
+            "tolerance": f"the cascade within {near_fraction:.0%} below {start} (w >= {lower:.2f} rad/s)",
+            "agrees": agrees,
+            "command": command,
+        }
+    ]
+    plo, phi = paper_bracket
+    near = [g for g in grazings if plo - 1 <= g["omega"] <= phi + 1]
+    if near:
+        g = min(near, key=lambda g: abs(g["omega"] - 0.5 * (plo + phi)))
+        before, after = g["mu_before"], g["mu_after"]
+        rep = (
+            f"{g['omega']:.7f} rad/s, where the period-1 orbit's smallest near-miss gap reaches zero; "
+            f"past it the orbit has {max(g['impacts'])} impacts per period and its multipliers jump from "
+            f"{before} to {after}"
+        )
+        agrees = _yes(plo <= g["omega"] <= phi)
+    else:
+        rep, agrees = "no grazing of the period-1 orbit located", "no"
+    rows.append(
+        {
+            "section": "Fig 3b / Fig 4 (orbits)",
+            "quantity": "grazing w, located on the continued period-1 orbit",
+            "paper": f"between {phi} (before) and {plo} (after) rad/s",
+            "replication": rep,
+            "tolerance": f"inside [{plo}, {phi}]",
+            "agrees": agrees,
+            "command": command,
+        }
+    )
     return rows
 
 

@@ -34,12 +34,14 @@ def read_rows(path) -> list[dict]:
     return read_csv(path)
 
 
-def to_markdown(rows: list[dict]) -> str:
+def to_markdown(rows: list[dict], columns=COLUMNS) -> str:
+    """Rows as a Markdown table (the paper table's columns, or `columns` of any table)."""
+
     def esc(s):
         return str(s).replace("|", "\\|")
 
-    lines = ["| " + " | ".join(COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]
-    lines += ["| " + " | ".join(esc(r[c]) for c in COLUMNS) + " |" for r in rows]
+    lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
+    lines += ["| " + " | ".join(esc(r[c]) for c in columns) + " |" for r in rows]
     return "\n".join(lines) + "\n"
 
 

@@ -31,7 +31,7 @@ from .shooting import (
     stroboscopic_map,
 )
 
-__all__ = ["BranchPoint", "continue_branch", "folds", "locate_fold", "switch_at_period_doubling"]
+__all__ = ["BranchPoint", "branch_points", "continue_branch", "folds", "locate_fold", "switch_at_period_doubling"]
 
 W_SCALE = 1.0  # rad/s: the scale of w in the arclength
 W_STEP = 1e-5  # rad/s: difference step of dP/dw (fourth order, as the monodromy)
@@ -91,47 +91,58 @@ def _correct(prev: BranchPoint, h: float, params, step, tol, max_newton) -> Bran
     return None
 
 
-def continue_branch(
+def branch_points(
     start: PeriodicOrbit,
     ds: float,
-    n_points: int,
     params=None,
     *,
     direction: float = 1.0,
-    w_range=(0.0, math.inf),
     tol: float = 1e-10,
     max_newton: int = 8,
     step: float = DEFAULT_STEP,
     min_ds: float = 1e-6,
     tangent=None,
-) -> list[BranchPoint]:
-    """Follow the branch through `start` for up to `n_points` points of arclength `ds` (scaled
-    units), towards increasing w for direction = +1 (at the start), decreasing for -1; stops
-    when w leaves `w_range`. A corrector that does not converge halves ds (down to `min_ds`,
-    then raises ShootingError); a quick one lets ds grow back by 1.5 up to its initial value.
-    `tangent` (scaled x, v, w) sets the first direction instead, where the branch through
-    `start` is not unique (branch switching: :func:`switch_at_period_doubling`)."""
-    if ds <= 0 or n_points < 1:
-        raise ValueError(f"ds must be > 0 and n_points >= 1, got {ds} and {n_points}")
+):
+    """The points of the branch through `start`, `start` first, each at arclength up to `ds`
+    (scaled units) from the last, without end: the caller stops (:func:`continue_branch`, or
+    a segment's own end conditions). The first step goes towards increasing w for direction
+    = +1, decreasing for -1, or along `tangent` (scaled x, v, w) where the branch through
+    `start` is not unique (branch switching: :func:`switch_at_period_doubling`). A corrector
+    that does not converge halves the step (below `min_ds`: ShootingError); a quick one lets
+    it grow back by 1.5 up to `ds`."""
+    if ds <= 0:
+        raise ValueError(f"ds must be > 0, got {ds}")
     z = _scaled(start)
     F, J, M = _residual_and_jacobian(z, start.n_periods, params, step)
     toward = np.array([0.0, 0.0, float(np.sign(direction) or 1.0)])
-    first = _point(z, J, M, start.n_periods, toward, 0, float(np.max(np.abs(F))))
+    point = _point(z, J, M, start.n_periods, toward, 0, float(np.max(np.abs(F))))
     if tangent is not None:
-        first = BranchPoint(first.orbit, np.asarray(tangent, float) / np.linalg.norm(tangent))
-    branch, h = [first], ds
-    while len(branch) < n_points:
-        nxt = _correct(branch[-1], h, params, step, tol, max_newton)
+        point = BranchPoint(point.orbit, np.asarray(tangent, float) / np.linalg.norm(tangent))
+    yield point
+    h = ds
+    while True:
+        nxt = _correct(point, h, params, step, tol, max_newton)
         if nxt is None:
             h /= 2
             if h < min_ds:
-                raise ShootingError(
-                    f"arclength continuation stuck at w = {branch[-1].orbit.omega:.8f} (ds < {min_ds:g})"
-                )
+                raise ShootingError(f"arclength continuation stuck at w = {point.orbit.omega:.8f} (ds < {min_ds:g})")
             continue
-        branch.append(nxt)
+        point = nxt
+        yield point
         h = min(ds, 1.5 * h) if nxt.orbit.newton_steps <= 3 else h
-        if not w_range[0] <= nxt.orbit.omega <= w_range[1]:
+
+
+def continue_branch(
+    start: PeriodicOrbit, ds: float, n_points: int, params=None, *, w_range=(0.0, math.inf), **options
+) -> list[BranchPoint]:
+    """Up to `n_points` points of the branch through `start` (:func:`branch_points`, whose
+    options it takes), stopping after the first point whose w leaves `w_range`."""
+    if n_points < 1:
+        raise ValueError(f"n_points must be >= 1, got {n_points}")
+    branch = []
+    for point in branch_points(start, ds, params, **options):
+        branch.append(point)
+        if len(branch) >= n_points or not w_range[0] <= point.orbit.omega <= w_range[1]:
             break
     return branch
 

@@ -75,8 +75,8 @@ def cascade(
     return found
 
 
-def feigenbaum_ratios(doublings: list[Doubling]) -> list[float]:
-    """(w_k - w_{k-1}) / (w_{k+1} - w_k) for successive doublings: tends to 4.669 in a
-    Feigenbaum cascade."""
-    w = [d.omega for d in doublings]
+def feigenbaum_ratios(doublings) -> list[float]:
+    """(w_k - w_{k-1}) / (w_{k+1} - w_k) for successive doublings (Doublings or their w):
+    tends to 4.669 in a Feigenbaum cascade."""
+    w = [getattr(d, "omega", d) for d in doublings]
     return [(w[k] - w[k - 1]) / (w[k + 1] - w[k]) for k in range(1, len(w) - 1)]

@@ -1,0 +1,101 @@
+# Periodic orbits continued in w (beyond the paper, issue 13): one job per branch segment of
+# config periodic_orbits.segments (a seed orbit followed both ways by pseudo-arclength, or the
+# doubled branch born at a parent segment's period doubling), then the table of every located
+# bifurcation point beside the sweeps' grid readings, the refined paper-vs-replication rows,
+# and Figs 2 and 3b with the branches drawn over the brute-force points (own targets: the
+# paper's figures stay as they are). Targets: orbits, fig02_orbits, fig03b_orbits.
+
+ORB = config["periodic_orbits"]
+ORB_REPORT = "Periodic orbits, continued (beyond the paper)"
+ORB_SEGMENTS = list(ORB["segments"])
+
+
+def orbit_parent(wildcards):
+    """The parent segment's file of a doubled segment (its located doublings seed this one)."""
+    parent = ORB["segments"][wildcards.segment].get("doubling_of")
+    return {"parent": ORBIT_SEGMENT.format(segment=parent["segment"])} if parent else {}
+
+
+rule orbit_segment:
+    input:
+        unpack(orbit_parent),
+        cache=NUMBA_CACHE,
+    output:
+        segment=ORBIT_SEGMENT,
+    log:
+        logfile("orbits", "orbit_segment_{segment}"),
+    benchmark:
+        benchmark_file("orbits", "orbit_segment_{segment}")
+    wildcard_constraints:
+        segment="|".join(ORB_SEGMENTS) or "none",
+    priority: 5
+    params:
+        spec=lambda wc: ORB["segments"][wc.segment],
+        ds=ORB["ds"],
+        tol=ORB["tol"],
+        settle_periods=ORB["settle_periods"],
+        model=config["model"],
+    script:
+        "../scripts/orbit_segment.py"
+
+
+rule orbits:
+    input:
+        segments=expand(ORBIT_SEGMENT, segment=ORB_SEGMENTS),
+        transitions=BIF_TABLES["transitions"],
+    output:
+        csv=ORBIT_POINTS_TABLE,
+        md=ORBIT_POINTS_MD,
+        rows=rows_file("orbits"),
+    log:
+        logfile("orbits", "orbits"),
+    params:
+        names=ORB_SEGMENTS,
+        command="snakemake -j2 orbits",
+    script:
+        "../scripts/orbit_table.py"
+
+
+rule fig02_orbits:
+    input:
+        segments=expand(ORBIT_SEGMENT, segment=ORB_SEGMENTS),
+        sweeps=expand(BIF_SWEEP, sweep=config["bifurcation"]["fig02"]["sweep"]),
+    output:
+        png=report(
+            supplementary("orbits", "fig02_orbits")[0], caption="../report/fig02_orbits.rst", category=ORB_REPORT
+        ),
+        pdf=supplementary("orbits", "fig02_orbits")[1],
+    log:
+        logfile("orbits", "fig02_orbits"),
+    params:
+        figure="fig02",
+        names=ORB_SEGMENTS,
+        model=config["model"],
+    # one script draws both (params.figure: fig02 Poincare points, fig03b inter-impact intervals)
+    script:
+        "../scripts/orbit_figure.py"
+
+
+rule fig03b_orbits:
+    input:
+        segments=expand(ORBIT_SEGMENT, segment=ORB_SEGMENTS),
+        sweeps=expand(BIF_SWEEP, sweep=config["bifurcation"]["fig03b"]["sweep"]),
+    output:
+        png=report(
+            supplementary("orbits", "fig03b_orbits")[0], caption="../report/fig03b_orbits.rst", category=ORB_REPORT
+        ),
+        pdf=supplementary("orbits", "fig03b_orbits")[1],
+    log:
+        logfile("orbits", "fig03b_orbits"),
+    params:
+        figure="fig03b",
+        names=ORB_SEGMENTS,
+        model=config["model"],
+    # one script draws both (params.figure: fig02 Poincare points, fig03b inter-impact intervals)
+    script:
+        "../scripts/orbit_figure.py"
+
+
+if ORB_SEGMENTS:
+    ALL_TARGETS.extend(rules.fig02_orbits.output + rules.fig03b_orbits.output + [rules.orbits.output.csv])
+    TABLE_ROWS.append(rules.orbits.output.rows)

@@ -1,0 +1,38 @@
+"""Draw Fig 2 or Fig 3b with the continued orbits over the sweep (params.figure: fig02 Poincare
+points, fig03b inter-impact intervals).
+
+Reads snakemake.input.segments (named by snakemake.params.names) and snakemake.input.sweeps
+(the figure's sweep); writes snakemake.output.png/.pdf and a log.
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)
+
+import logging
+
+from impactosc.files import read_json
+from impactosc.plotting import save_figure
+from impactosc.plotting.orbits import orbit_figure
+from impactosc.sweeps.continuation import load_sweep
+
+
+def main(inp, params, out):
+    segments = {name: read_json(path) for name, path in zip(params.names, inp.segments)}
+    res, attrs = load_sweep(inp.sweeps[0])
+    direction = str(attrs["direction"])
+    if params.figure == "fig02":
+        w, y = res.poincare_points()
+        fig = orbit_figure(segments, w, y, quantity="poincare", x_obstacle=params.model["xI"],
+                           title=rf"Fig 2 with the continued orbits ({direction} $\omega$ sweep in grey)")  # fmt: skip
+    elif params.figure == "fig03b":
+        w, y = res.isi_points()
+        fig = orbit_figure(segments, w, y, quantity="isi",
+                           title=rf"Fig 3b with the continued orbits ({direction} $\omega$ sweep in grey)")  # fmt: skip
+    else:
+        raise ValueError(f"unknown orbit figure {params.figure!r}")
+    save_figure(fig, out.png, out.pdf)
+    logging.info("wrote %s", out.png)
+
+
+main(snakemake.input, snakemake.params, snakemake.output)

@@ -1,0 +1,49 @@
+"""Continue one branch segment of periodic orbits (config periodic_orbits.segments.<name>).
+
+Reads snakemake.params.spec (seed or doubling_of, w_range, max_points), ds, tol,
+settle_periods, model, and, for a doubled segment, snakemake.input.parent (the parent
+segment's file, whose period doubling nearest to `near` is switched at); writes
+snakemake.output.segment (JSON: sampled orbits in branch order, located special points, why
+each end stopped, the job's cost) and a log.
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)
+
+import logging
+
+from impactosc.files import read_json, write_json
+from impactosc.integration.model import ModelParams
+from impactosc.periodic_orbits.segments import seed_from_rest, trace_segment
+
+
+def main(inp, params, name, out):
+    spec, model = params.spec, ModelParams(**params.model)
+    options = dict(ds=params.ds, w_range=tuple(spec["w_range"]), max_points=spec["max_points"], params=model,
+                   tol=params.tol, log=lambda m: logging.info("%s: %s", name, m))  # fmt: skip
+    sources = []
+    if "seed" in spec:
+        seed = spec["seed"]
+        logging.info("%s: seed from rest at w = %s, period %d", name, seed["omega"], seed["n_periods"])
+        orbit = seed_from_rest(seed["omega"], seed["n_periods"], model, settle_periods=params.settle_periods)
+        result = trace_segment(seed=orbit, **options)
+    else:
+        parent, near = spec["doubling_of"]["segment"], spec["doubling_of"]["near"]
+        doublings = [
+            s for s in read_json(inp.parent)["special_points"] if s["kind"] == "period_doubling" and s["located"]
+        ]
+        if not doublings:
+            raise RuntimeError(f"{name}: segment {parent!r} has no located period doubling to switch at")
+        at = min(doublings, key=lambda s: abs(s["omega"] - near))
+        logging.info("%s: doubled branch of %s's doubling at w = %.10f", name, parent, at["omega"])
+        result = trace_segment(parent_doubling=at, **options)
+        sources = [inp.parent]
+    for s in result["special_points"]:
+        logging.info("%s: %s at w = %.10f%s", name, s["kind"], s["omega"], "" if s["located"] else " (not located)")
+    logging.info("%s: %d points, %.1f s (%.1f CPU s)", name, len(result["points"]), result["wall_seconds"],
+                 result["cpu_seconds"])  # fmt: skip
+    write_json(out.segment, {"segment": name, "spec": spec, **result}, sources=sources)
+
+
+main(snakemake.input, snakemake.params, snakemake.wildcards.segment, snakemake.output)
