@@ -118,3 +118,36 @@ def test_config_docs_lists_nested_and_map_keys(tmp_path, capsys):
     assert out.read_text(encoding="utf-8") == text
     assert main(["config-docs", "--schema", str(SCHEMA), "--output", str(out), "--check"]) == 0
     capsys.readouterr()
+
+
+@pytest.mark.parametrize(
+    "segment, message",
+    [
+        ({"doubling_of": {"segment": "nowhere", "near": 37.3}, "w_range": [37.0, 45.0]}, "no segment named 'nowhere'"),
+        ({"seed": {"omega": 50.0, "n_periods": 1}, "w_range": [19.0, 45.0]}, "lies outside w_range"),
+        ({"seed": {"omega": 30.0, "n_periods": 1}, "w_range": [45.0, 19.0]}, "lo < hi"),
+    ],
+)
+def test_bad_orbit_segment_is_named(config, segment, message):
+    config["periodic_orbits"]["segments"]["extra"] = segment
+    with pytest.raises(ConfigError, match=message) as err:
+        validate_config(config, SCHEMA)
+    assert "periodic_orbits.segments.extra" in str(err.value)
+
+
+def test_orbit_segments_whose_parents_form_a_cycle_are_refused(config):
+    segs = config["periodic_orbits"]["segments"]
+    segs["a"] = {"doubling_of": {"segment": "b", "near": 38.0}, "w_range": [37.0, 45.0]}
+    segs["b"] = {"doubling_of": {"segment": "a", "near": 38.0}, "w_range": [37.0, 45.0]}
+    with pytest.raises(ConfigError, match="comes back to"):
+        validate_config(config, SCHEMA)
+
+
+def test_orbit_segment_needs_exactly_one_start(config):
+    config["periodic_orbits"]["segments"]["both"] = {
+        "seed": {"omega": 38.0, "n_periods": 2},
+        "doubling_of": {"segment": "period1", "near": 37.28},
+        "w_range": [37.0, 45.0],
+    }
+    with pytest.raises(ConfigError, match=r"periodic_orbits\.segments\.both"):
+        validate_config(config, SCHEMA)

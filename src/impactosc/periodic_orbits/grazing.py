@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from ..integration.simulate import simulate
-from .shooting import ATOL, RTOL, PeriodicOrbit, ShootingError, shoot
+from .shooting import ATOL, DEFAULT_STEP, RTOL, SCALE, PeriodicOrbit, ShootingError, shoot
 
 __all__ = ["locate_orbit_grazing", "orbit_events"]
 
@@ -32,15 +32,17 @@ def orbit_events(orbit: PeriodicOrbit, params=None) -> dict:
 
 
 def locate_orbit_grazing(
-    a: PeriodicOrbit, b: PeriodicOrbit, params=None, *, gap_floor: float = 1e-6, max_steps: int = 30
+    a: PeriodicOrbit, b: PeriodicOrbit, params=None, *, gap_floor: float = 1e-9, max_steps: int = 30
 ):
     """w where the smallest near-miss gap of a branch reaches zero, from two of its orbits
     (`a`, `b`, both with the near miss): secant steps on gap(w) = 0, each new orbit shot from
     the last, until the gap is below `gap_floor`; then the parabola through the last three
-    points gives the grazing. Orbits are not shot closer to the grazing than that: the
-    difference steps of the monodromy (0.1 um in x) must not reach the obstacle. A straight
-    line through the last two moves by 1e-7 rad/s between floors 2e-6 and 1e-6 m on model BC's
-    period-1 branch (the gap's slope changes slowly); the parabola by far less.
+    points gives the grazing. Near the obstacle each orbit is shot with difference steps of
+    1e-3 of the current gap, so that the monodromy's perturbed orbits miss the obstacle too
+    (with the default 0.1 um they reach it once the gap is below 0.2 um, and the branch's
+    Newton stalls). On model BC's period-1 branch, floors 1e-6, 1e-7, 1e-8 and 1e-9 m give
+    23.04412235, 23.044122337, 23.044122336048 and 23.044122336048 rad/s, and two different
+    starting pairs agree to 2e-8, 1e-9, 4e-13 and 4e-15 rad/s at those floors.
     Returns (w at zero gap, the orbit nearest to it, its gap in m)."""
     pts = [(o, orbit_events(o, params)["min_gap"]) for o in (a, b)]
     if not all(math.isfinite(g) and g > 0 for _, g in pts):
@@ -52,7 +54,10 @@ def locate_orbit_grazing(
             return _quadratic_zero(pts[-3:], w_zero), o2, g2
         # aim at half the floor's gap rather than at zero, so the next orbit stays shootable
         w_next = o2.omega + (w_zero - o2.omega) * (1 - 0.5 * gap_floor / g2)
-        o3 = shoot([o2.x0, o2.v0], w_next, o2.n_periods, params)
+        # difference steps well inside the gap, so that the monodromy's perturbed orbits miss
+        # the obstacle too (1e-3 of it: the map is still resolved, the core's error is 1e-14 m)
+        step = min(DEFAULT_STEP, 1e-3 * g2 / SCALE[0])
+        o3 = shoot([o2.x0, o2.v0], w_next, o2.n_periods, params, step=step)
         g3 = orbit_events(o3, params)["min_gap"]
         if not (math.isfinite(g3) and g3 > 0):
             raise ShootingError(f"the near miss vanished at w = {w_next} before the gap fell below {gap_floor} m")

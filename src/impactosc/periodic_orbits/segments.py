@@ -102,16 +102,29 @@ def trace(
 
 def _grazing(points, samples, i, params):
     """The grazing between points i and i + 1 (their impact counts differ), located from the
-    two neighbouring orbits on the near-miss side; None where those are not both near misses."""
-    a, b = samples[i], samples[i + 1]
-    pair = (i - 1, i) if a["impacts"] < b["impacts"] else (i + 1, i + 2)
-    if min(pair) < 0 or max(pair) >= len(points):
+    near-miss side: that neighbour and the next point beyond it, or, where the branch has no
+    such point (it ends there, or that point has another impact count), an orbit shot half a
+    step further from the grazing. None where the near-miss side has no near miss."""
+    near, far = (i, i + 1) if samples[i]["impacts"] < samples[i + 1]["impacts"] else (i + 1, i)
+    if not math.isfinite(_gap(samples[near])):
         return None
-    near = [samples[j] for j in pair]
-    if not all(math.isfinite(s["min_gap"]) and s["impacts"] == near[0]["impacts"] for s in near):
-        return None
-    w, orbit, _ = locate_orbit_grazing(points[pair[0]].orbit, points[pair[1]].orbit, params)
-    return w, orbit
+    beyond = near + (near - far)
+    orbit = points[near].orbit
+    if (
+        0 <= beyond < len(points)
+        and samples[beyond]["impacts"] == samples[near]["impacts"]
+        and math.isfinite(_gap(samples[beyond]))
+    ):
+        partner = points[beyond].orbit
+    else:
+        w = orbit.omega + 0.5 * (orbit.omega - points[far].orbit.omega)
+        partner = shoot([orbit.x0, orbit.v0], w, orbit.n_periods, params)
+    w, located, _ = locate_orbit_grazing(partner, orbit, params)
+    return w, located
+
+
+def _gap(sample) -> float:
+    return math.inf if sample["min_gap"] is None else float(sample["min_gap"])
 
 
 def _located(kind, omega, orbit, bracket, **extra) -> dict:
