@@ -2,5 +2,6 @@
 multipliers (issue 13; continuation and bifurcation points build on it)."""
 
 from .shooting import PeriodicOrbit, ShootingError, monodromy, shoot, stroboscopic_map
+from .variational import variational_monodromy
 
-__all__ = ["PeriodicOrbit", "ShootingError", "monodromy", "shoot", "stroboscopic_map"]
+__all__ = ["PeriodicOrbit", "ShootingError", "monodromy", "shoot", "stroboscopic_map", "variational_monodromy"]
