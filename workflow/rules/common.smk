@@ -123,6 +123,13 @@ ORBIT_SEGMENT = "results/runs/orbits/{segment}.json"
 ORBIT_POINTS_TABLE = "results/tables/orbits/bifurcation_points.csv"
 ORBIT_POINTS_MD = "results/tables/orbits/bifurcation_points.md"
 
+
+def orbit_parent(wildcards):
+    """The parent segment's file of a doubled orbit segment (its located doublings seed it)."""
+    parent = config["periodic_orbits"]["segments"][wildcards.segment].get("doubling_of")
+    return {"parent": ORBIT_SEGMENT.format(segment=parent["segment"])} if parent else {}
+
+
 # chaotic group
 CHAOTIC_MEMBER_RUN = "results/runs/chaotic/ensemble/{member}.h5"
 CHAOTIC_TRAIN_STATS = "results/stats/chaotic/chaotic_{train}.json"  # train: model, second

@@ -10,12 +10,6 @@ ORB_REPORT = "Periodic orbits, continued (beyond the paper)"
 ORB_SEGMENTS = list(ORB["segments"])
 
 
-def orbit_parent(wildcards):
-    """The parent segment's file of a doubled segment (its located doublings seed this one)."""
-    parent = ORB["segments"][wildcards.segment].get("doubling_of")
-    return {"parent": ORBIT_SEGMENT.format(segment=parent["segment"])} if parent else {}
-
-
 rule orbit_segment:
     input:
         unpack(orbit_parent),
