@@ -17,6 +17,8 @@ from impactosc.files import read_json, write_json
 from impactosc.integration.model import ModelParams
 from impactosc.periodic_orbits.segments import seed_from_rest, trace_segment
 
+NEAR = 0.5  # rad/s: a parent's doubling farther than this from `near` is not the one meant
+
 
 def main(inp, params, name, out):
     spec, model = params.spec, ModelParams(**params.model)
@@ -30,15 +32,24 @@ def main(inp, params, name, out):
         result = trace_segment(seed=orbit, **options)
     else:
         parent, near = spec["doubling_of"]["segment"], spec["doubling_of"]["near"]
+        parent_file = read_json(inp.parent)
         doublings = [
-            s for s in read_json(inp.parent)["special_points"] if s["kind"] == "period_doubling" and s["located"]
-        ]
+            s for s in parent_file["special_points"]
+            if s["kind"] == "period_doubling" and s["located"] and abs(s["omega"] - near) <= NEAR
+        ]  # fmt: skip
+        sources = [inp.parent]
         if not doublings:
-            raise RuntimeError(f"{name}: segment {parent!r} has no located period doubling to switch at")
+            # e.g. other model parameters, or a parent that is empty itself: an empty segment
+            # that says why, rather than a failed workflow
+            why = f"segment {parent!r} has no located period doubling within {NEAR} rad/s of {near}"
+            logging.warning("%s: %s; nothing to follow", name, why)
+            empty = {"n_periods": 2 * parent_file["n_periods"], "points": [], "special_points": [],
+                     "stops": {"start": why, "end": why}, "wall_seconds": 0.0, "cpu_seconds": 0.0}  # fmt: skip
+            write_json(out.segment, {"segment": name, "spec": spec, **empty}, sources=sources)
+            return
         at = min(doublings, key=lambda s: abs(s["omega"] - near))
         logging.info("%s: doubled branch of %s's doubling at w = %.10f", name, parent, at["omega"])
         result = trace_segment(parent_doubling=at, **options)
-        sources = [inp.parent]
     for s in result["special_points"]:
         logging.info("%s: %s at w = %.10f%s", name, s["kind"], s["omega"], "" if s["located"] else " (not located)")
     logging.info("%s: %d points, %.1f s (%.1f CPU s)", name, len(result["points"]), result["wall_seconds"],

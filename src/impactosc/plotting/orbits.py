@@ -69,6 +69,8 @@ def orbit_figure(segments: dict, sweep_w, sweep_y, *, quantity: str, x_obstacle=
     diagram_panel(ax, sweep_w, np.asarray(sweep_y) * scale, color="0.6", size=0.5)
     periods = set()
     for seg in segments.values():
+        if not seg["points"]:
+            continue  # an empty segment (its parent had no doubling to switch at)
         color = _period_color(seg["n_periods"])
         periods.add(seg["n_periods"])
         for w, y, stable in branch_curves(seg["points"], quantity):
