@@ -137,6 +137,15 @@ CHAOTIC_ENSEMBLE_STATS = "results/stats/chaotic/chaotic_ensemble.json"
 CHAOTIC_ENSEMBLE_TABLE = "results/tables/chaotic/chaotic_ensemble.csv"
 ISI_MIXTURE_TABLE = "results/tables/chaotic/isi_mixture.csv"
 
+# lyapunov group (exponents of the chaotic attractor; lambda1 along the sweeps)
+LYAP_MEMBER = "results/runs/lyapunov/chaos_{member}.json"
+LYAP_CHECKS = "results/runs/lyapunov/chaos_checks.json"
+LYAP_STATS = "results/stats/lyapunov/lyapunov_chaos.json"
+LYAP_TABLE = "results/tables/lyapunov/lyapunov_chaos.md"
+LYAP_SWEEP_PART = "results/runs/lyapunov/{sweep}/part{chunk}.csv"
+LYAP_SWEEP = "results/tables/lyapunov/lambda1_{sweep}.csv"
+LYAP_SIGNS = "results/tables/lyapunov/sign_vs_period.md"
+
 # measured group (config chaotic.second_train and bifurcation.fig02.experimental name the
 # two files the other groups read)
 MEAS_SURROGATE = "results/runs/measured/surrogate_{kind}.h5"

@@ -1,0 +1,145 @@
+# Lyapunov exponents of the stroboscopic map (beyond the paper, issue 14): the spectrum of the
+# chaotic attractor, one job per realisation (start x0), the tangent numerics compared on the
+# same points and the sum of the exponents against the divergence of the vector field
+# (variational equations), merged into a table and a convergence figure; and the largest
+# exponent at every w of the two bifurcation sweeps, drawn under Figs 2 and 3b (own targets)
+# with a table of its sign against the period each sweep detected.
+# Targets: lyapunov_chaos, lyapunov_sweeps, fig02_lyapunov, fig03b_lyapunov.
+
+LYA = config["lyapunov"]
+LYA_REPORT = "Lyapunov exponents (beyond the paper)"
+LYA_MEMBERS = [str(i) for i in range(len(LYA["chaos"]["x0"]))]
+
+
+rule lyapunov_member:
+    input:
+        cache=NUMBA_CACHE,
+    output:
+        run=LYAP_MEMBER,
+    log:
+        logfile("lyapunov", "lyapunov_member_{member}"),
+    benchmark:
+        benchmark_file("lyapunov", "lyapunov_member_{member}")
+    wildcard_constraints:
+        member=r"\d+",
+    priority: 3
+    params:
+        chaos=LYA["chaos"],
+        x0=lambda wc: LYA["chaos"]["x0"][int(wc.member)],
+        model=config["model"],
+    script:
+        "../scripts/lyapunov_member.py"
+
+
+rule lyapunov_checks:
+    input:
+        run=expand(LYAP_MEMBER, member=0),
+    output:
+        checks=LYAP_CHECKS,
+    log:
+        logfile("lyapunov", "lyapunov_checks"),
+    benchmark:
+        benchmark_file("lyapunov", "lyapunov_checks")
+    params:
+        chaos=LYA["chaos"],
+        model=config["model"],
+    script:
+        "../scripts/lyapunov_checks.py"
+
+
+rule lyapunov_chaos:
+    input:
+        runs=expand(LYAP_MEMBER, member=LYA_MEMBERS),
+        checks=LYAP_CHECKS,
+    output:
+        stats=LYAP_STATS,
+        table=LYAP_TABLE,
+        png=report(
+            supplementary("lyapunov", "lyapunov_chaos")[0], caption="../report/lyapunov_chaos.rst", category=LYA_REPORT
+        ),
+        pdf=supplementary("lyapunov", "lyapunov_chaos")[1],
+    log:
+        logfile("lyapunov", "lyapunov_chaos"),
+    script:
+        "../scripts/lyapunov_chaos.py"
+
+
+rule lyapunov_sweep_part:
+    input:
+        sweep=BIF_SWEEP,
+    output:
+        part=LYAP_SWEEP_PART,
+    log:
+        logfile("lyapunov", "lyapunov_sweep_part_{sweep}_{chunk}"),
+    benchmark:
+        benchmark_file("lyapunov", "lyapunov_sweep_part_{sweep}_{chunk}")
+    wildcard_constraints:
+        chunk=r"\d+",
+    params:
+        sweeps=LYA["sweeps"],
+        part=lambda wc: int(wc.chunk),
+        model=config["model"],
+    script:
+        "../scripts/lyapunov_sweep_part.py"
+
+
+rule lyapunov_sweeps:
+    input:
+        parts=expand(LYAP_SWEEP_PART, sweep=config["bifurcation"]["sweeps"], chunk=range(LYA["sweeps"]["chunks"])),
+        per_w=BIF_TABLES["per_w"],
+        transitions=BIF_TABLES["transitions"],
+    output:
+        lambdas=expand(LYAP_SWEEP, sweep=config["bifurcation"]["sweeps"]),
+        signs=LYAP_SIGNS,
+    log:
+        logfile("lyapunov", "lyapunov_sweeps"),
+    params:
+        names=list(config["bifurcation"]["sweeps"]),
+        chunks=LYA["sweeps"]["chunks"],
+        grids=config["bifurcation"]["sweeps"],
+    script:
+        "../scripts/lyapunov_sweeps.py"
+
+
+rule fig02_lyapunov:
+    input:
+        sweep=expand(BIF_SWEEP, sweep=config["bifurcation"]["fig02"]["sweep"]),
+        lambdas=expand(LYAP_SWEEP, sweep=config["bifurcation"]["fig02"]["sweep"]),
+    output:
+        png=report(
+            supplementary("lyapunov", "fig02_lyapunov")[0], caption="../report/fig02_lyapunov.rst", category=LYA_REPORT
+        ),
+        pdf=supplementary("lyapunov", "fig02_lyapunov")[1],
+    log:
+        logfile("lyapunov", "fig02_lyapunov"),
+    params:
+        quantity="poincare",
+        model=config["model"],
+    # one script draws both (params.quantity: poincare for Fig 2, isi for Fig 3b)
+    script:
+        "../scripts/lyapunov_figure.py"
+
+
+rule fig03b_lyapunov:
+    input:
+        sweep=expand(BIF_SWEEP, sweep=config["bifurcation"]["fig03b"]["sweep"]),
+        lambdas=expand(LYAP_SWEEP, sweep=config["bifurcation"]["fig03b"]["sweep"]),
+    output:
+        png=report(
+            supplementary("lyapunov", "fig03b_lyapunov")[0],
+            caption="../report/fig03b_lyapunov.rst",
+            category=LYA_REPORT,
+        ),
+        pdf=supplementary("lyapunov", "fig03b_lyapunov")[1],
+    log:
+        logfile("lyapunov", "fig03b_lyapunov"),
+    params:
+        quantity="isi",
+        model=config["model"],
+    # one script draws both (params.quantity: poincare for Fig 2, isi for Fig 3b)
+    script:
+        "../scripts/lyapunov_figure.py"
+
+
+ALL_TARGETS.extend(rules.lyapunov_chaos.output + rules.fig02_lyapunov.output + rules.fig03b_lyapunov.output)
+ALL_TARGETS.append(rules.lyapunov_sweeps.output.signs)

@@ -1,0 +1,32 @@
+"""Draw a bifurcation diagram with the largest Lyapunov exponent under it (params.quantity:
+poincare for Fig 2, isi for Fig 3b).
+
+Reads snakemake.input.sweep and .lambdas (the same sweep's lambda1 CSV); writes
+snakemake.output.png/.pdf and a log.
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)
+
+import logging
+
+from impactosc.files import read_csv
+from impactosc.plotting import save_figure
+from impactosc.plotting.lyapunov import diagram_with_exponent
+from impactosc.sweeps.continuation import load_sweep
+
+
+def main(inp, params, out):
+    res, attrs = load_sweep(inp.sweep[0])
+    rows = read_csv(inp.lambdas[0], numbers=True)
+    w = [float(r["omega"]) for r in rows]
+    lam = [float(r["lambda1_per_period"]) for r in rows]
+    sw, sy = res.poincare_points() if params.quantity == "poincare" else res.isi_points()
+    title = f"{'Fig 2' if params.quantity == 'poincare' else 'Fig 3b'} with the largest Lyapunov exponent ({attrs['direction']} w)"
+    fig = diagram_with_exponent(sw, sy, w, lam, quantity=params.quantity, x_obstacle=params.model["xI"], title=title)
+    save_figure(fig, out.png, out.pdf)
+    logging.info("wrote %s", out.png)
+
+
+main(snakemake.input, snakemake.params, snakemake.output)

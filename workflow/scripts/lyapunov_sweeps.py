@@ -1,0 +1,51 @@
+"""Join the largest exponent's sweep parts and set its sign against each sweep's periods.
+
+Reads snakemake.input.parts (per sweep, chunks in order), .per_w and .transitions (the sweeps'
+reading); writes snakemake.output.lambdas (one CSV per sweep), .signs (Markdown table) and a log.
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)
+
+import logging
+
+from impactosc.chaos.reading import sign_agreement, summarise_agreement
+from impactosc.files import read_csv, write_csv, write_text
+
+
+def main(inp, params, out):
+    per_w, transitions = read_csv(inp.per_w, numbers=True), read_csv(inp.transitions, numbers=True)
+    parts = list(inp.parts)
+    lines = [
+        "# The largest Lyapunov exponent against the period each sweep detected",
+        "",
+        "lambda1 < 0 should go with a periodic w (period >= 1) and lambda1 > 0 with a non-periodic one; a "
+        "disagreement within one grid step of a transition of the sweep's reading is expected (lambda1 passes "
+        "through zero at a bifurcation, and neither a finite run nor the reading is settled there).",
+        "",
+        "| sweep | w values | agrees | near a transition | disagrees | no exponent | disagrees at w (rad/s) |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for k, name in enumerate(params.names):
+        rows = [r for p in parts[k * params.chunks : (k + 1) * params.chunks] for r in read_csv(p, numbers=True)]
+        write_csv(out.lambdas[k], rows, floats=".8g", sources=parts)
+        lam = {round(float(r["omega"]), 6): float(r["lambda1_per_period"]) for r in rows}
+        verdicts = sign_agreement(
+            [r for r in per_w if r["sweep"] == name],
+            lam,
+            [float(t["omega"]) for t in transitions if t["sweep"] == name],
+            abs(params.grids[name]["step"]),
+        )
+        summary = summarise_agreement(verdicts)
+        c = summary["counts"]
+        at = ", ".join(f"{w:g}" for w in summary["disagree_at"]) or "-"
+        lines.append(
+            f"| {name} | {len(verdicts)} | {c.get('agrees', 0)} | {c.get('near a transition', 0)} "
+            f"| {c.get('disagrees', 0)} | {c.get('no exponent', 0)} | {at} |"
+        )
+        logging.info("%s: %s", name, c)
+    write_text(out.signs, "\n".join(lines) + "\n")
+
+
+main(snakemake.input, snakemake.params, snakemake.output)
