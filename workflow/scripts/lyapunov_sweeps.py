@@ -27,6 +27,7 @@ def main(inp, params, out):
         "| sweep | w values | agrees | near a transition | disagrees | no exponent | disagrees at w (rad/s) |",
         "|---|---|---|---|---|---|---|",
     ]
+    details = []
     for k, name in enumerate(params.names):
         rows = [r for p in parts[k * params.chunks : (k + 1) * params.chunks] for r in read_csv(p, numbers=True)]
         write_csv(out.lambdas[k], rows, floats=".8g", sources=parts)
@@ -45,6 +46,24 @@ def main(inp, params, out):
             f"| {c.get('disagrees', 0)} | {c.get('no exponent', 0)} | {at} |"
         )
         logging.info("%s: %s", name, c)
+        ts = [float(t["omega"]) for t in transitions if t["sweep"] == name]
+        for r in verdicts:
+            if r["verdict"] == "disagrees":
+                near = min(ts, key=lambda t: abs(t - r["omega"])) if ts else float("nan")
+                read = f"period {r['period']}" if r["period"] else "non-periodic"
+                details.append(f"| {name} | {r['omega']:g} | {read} | {r['lambda1_per_period']:+.4f} | {near:g} |")
+    if details:
+        lines += [
+            "",
+            "Each disagreement: the reading, lambda1 per period, and the nearest transition of the reading. A "
+            "non-periodic reading with lambda1 < 0 is a periodic orbit the reading missed (a transient not decayed "
+            "in its 200 periods near a doubling, or a period beyond what it detects); |lambda1| of a few 1e-3 is a "
+            "bifurcation that the reading places elsewhere.",
+            "",
+            "| sweep | w (rad/s) | reading | lambda1 | nearest transition (rad/s) |",
+            "|---|---|---|---|---|",
+            *details,
+        ]
     write_text(out.signs, "\n".join(lines) + "\n")
 
 
