@@ -46,7 +46,7 @@ def basins_figure(x0, v0, classes, periods, attractors, fractions, rest, *, omeg
     im = axes[1].pcolormesh(
         x, v0, p, cmap="viridis", norm=LogNorm(max(1.0, p.min()), max(2.0, p.max())), shading="nearest", rasterized=True
     )
-    ticks = [t for t in (5, 10, 20, 50, 100, 200, 500, 1000) if p.min() <= t <= p.max()]
+    ticks = [t for t in (6, 10, 20, 30, 50, 100, 200, 400, 1000) if p.min() <= t <= p.max()]
     cb = fig.colorbar(im, ax=axes[1], ticks=ticks or None)
     cb.ax.yaxis.set_major_formatter(ScalarFormatter())
     cb.ax.yaxis.set_minor_formatter(NullFormatter())
@@ -56,9 +56,8 @@ def basins_figure(x0, v0, classes, periods, attractors, fractions, rest, *, omeg
     handles = []
     for i, a in enumerate(attractors):
         r = main[i + 1]
-        label = (
-            f"{a.name} ({a.impacts} impacts / {a.n_periods} T): {100 * r['fraction']:.1f} $\\pm$ {100 * r['se']:.1f} %"
-        )
+        impacts = f"{a.impacts} impact{'s' if a.impacts != 1 else ''} per {a.n_periods} T"
+        label = f"{a.name} ({impacts}): {100 * r['fraction']:.1f} $\\pm$ {100 * r['se']:.1f} % of cells"
         handles.append(Patch(facecolor=colors[i + 2], edgecolor="none", label=label))
     for code, color in ((UNRESOLVED, UNRESOLVED_COLOR), (FAILED, FAILED_COLOR)):
         r = main.get(code)
