@@ -24,6 +24,7 @@ SUPPLEMENTARY = [
     "periodic/grazing",
     "bifurcation/bifurcation_overlay",
     "bifurcation/map2d",
+    "basins/basins",
     "measured/measured_noise_study",
     "work_precision/work_precision",
 ]

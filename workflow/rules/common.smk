@@ -118,6 +118,12 @@ BIF_TABLES = {
 MAP2D_PART = "results/runs/bifurcation/map2d/part{chunk}.h5"
 MAP2D = "results/runs/bifurcation/map2d.h5"
 
+# basins group (basins.smk): which attractor each initial state reaches at one w; grid is
+# "coarse" (the default build) or "fine" (opt-in, for a cluster)
+BASINS_PART = "results/runs/basins/{grid}/part{chunk}.h5"
+BASINS_MAP = "results/runs/basins/basins_{grid}.h5"
+BASINS_TABLE = "results/tables/basins/basins_{grid}.csv"
+
 # orbits group (periodic orbits continued in w: one file per branch segment)
 ORBIT_SEGMENT = "results/runs/orbits/{segment}.json"
 ORBIT_POINTS_TABLE = "results/tables/orbits/bifurcation_points.csv"
