@@ -25,6 +25,11 @@ SUPPLEMENTARY = [
     "bifurcation/bifurcation_overlay",
     "bifurcation/map2d",
     "basins/basins",
+    "orbits/fig02_orbits",
+    "orbits/fig03b_orbits",
+    "lyapunov/lyapunov_chaos",
+    "lyapunov/fig02_lyapunov",
+    "lyapunov/fig03b_lyapunov",
     "measured/measured_noise_study",
     "work_precision/work_precision",
 ]
