@@ -158,6 +158,15 @@ def _locate(kind, i, points, samples, params, tol) -> dict:
     return _located(kind, hit[0], hit[1], bracket, located=True)
 
 
+def _near_one(orbit: PeriodicOrbit, within: float = 0.2) -> bool:
+    """A multiplier within `within` of +1: where a smooth fold's neighbours are."""
+    return bool(np.any(np.abs(orbit.multipliers - 1.0) < within))
+
+
+def _text(orbit: PeriodicOrbit) -> str:
+    return ", ".join(f"{m.real:.3g}" if abs(m.imag) < 1e-12 else f"{m:.3g}" for m in orbit.multipliers)
+
+
 def special_points(points: list[BranchPoint], samples: list[dict], params=None, *, tol: float = 1e-9) -> list[dict]:
     """Grazings, period doublings and folds between neighbouring points of one traced branch,
     each located (tol rad/s for the doubling; the grazing and the fold to their own accuracy,
@@ -184,7 +193,11 @@ def special_points(points: list[BranchPoint], samples: list[dict], params=None, 
             try:
                 found.append({**_locate(kind, i, points, samples, params, tol), **sides})
             except (ShootingError, ValueError) as e:
-                found.append(_located(kind, np.mean(bracket), a.orbit, bracket, located=False, why=str(e), **sides))
+                why = str(e)
+                if kind == "fold" and not _near_one(a.orbit) and not _near_one(b.orbit):
+                    why = (f"a non-smooth turn of the branch: no multiplier near +1 on either side "
+                           f"(they jump from {_text(a.orbit)} to {_text(b.orbit)}); {why}")  # fmt: skip
+                found.append(_located(kind, np.mean(bracket), a.orbit, bracket, located=False, why=why, **sides))
     return found
 
 
