@@ -75,6 +75,8 @@ rule lyapunov_sweep_part:
         benchmark_file("lyapunov", "lyapunov_sweep_part_{sweep}_{chunk}")
     wildcard_constraints:
         chunk=r"\d+",
+    # at the end of the sweeps' chain: start as soon as a sweep is merged
+    priority: 4
     params:
         sweeps=LYA["sweeps"],
         part=lambda wc: int(wc.chunk),
