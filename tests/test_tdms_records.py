@@ -1,15 +1,17 @@
 """Rig records as National Instruments software writes them (TDMS), and the phase channel:
 reading, units, the committed example, and one clear line for each bad file."""
 
+import importlib.util
 from pathlib import Path
 
 import numpy as np
 import pytest
-from nptdms import ChannelObject, GroupObject, RootObject, TdmsWriter
+from nptdms import ChannelObject, GroupObject, RootObject, TdmsFile, TdmsWriter
 
 from impactosc.measured.records import phase_factor, read_record, write_record
 
 ROOT = Path(__file__).resolve().parents[1]
+EXAMPLE = ROOT / "examples" / "record_example.tdms"
 N, DT, W = 2000, 5e-4, 40.0
 
 
@@ -162,3 +164,29 @@ def test_phase_roundtrip_csv_h5(tmp_path, suffix):
     lines = [f"{a:.17g},{b:.17g},{np.degrees(c) % 360:.17g}" for a, b, c in zip(t, x, ph)]
     wrapped.write_text("# units: mm\n# phase_units: deg\nt,x,angle\n" + "\n".join(lines) + "\n")
     np.testing.assert_allclose(read_record(wrapped, phase_channel="angle").phase, ph, atol=1e-9)
+
+
+def _example_module():
+    spec = importlib.util.spec_from_file_location("make_tdms_example", ROOT / "examples" / "make_tdms_example.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_example_tdms_reads_like_the_rig():
+    assert EXAMPLE.stat().st_size < 200_000
+    rec = read_record(EXAMPLE, group="rig", channel="cart", phase_channel="encoder")
+    assert rec.omega == pytest.approx(40.86) and rec.dt == pytest.approx(5e-4)
+    assert rec.meta["x_impact"] == pytest.approx(-2.086e-3)  # declared in mm, returned in m
+    assert np.ptp(rec.x) < 0.05 and "surrogate" in rec.label
+    # 20 forcing periods, the encoder's phase unwrapped from counts reset each revolution
+    assert rec.phase[-1] - rec.phase[0] == pytest.approx(20 * 2 * np.pi, abs=0.05)
+
+
+def test_example_tdms_matches_its_script(tmp_path):
+    fresh = _example_module().write_example(tmp_path / "ex.tdms")
+    a, b = TdmsFile.read(EXAMPLE), TdmsFile.read(fresh)
+    for name in ("cart", "encoder"):
+        np.testing.assert_array_equal(a["rig"][name][:], b["rig"][name][:])
+        assert a["rig"][name].properties == b["rig"][name].properties
+    assert a.properties == b.properties
