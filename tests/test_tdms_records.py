@@ -190,3 +190,14 @@ def test_example_tdms_matches_its_script(tmp_path):
         np.testing.assert_array_equal(a["rig"][name][:], b["rig"][name][:])
         assert a["rig"][name].properties == b["rig"][name].properties
     assert a.properties == b.properties
+
+
+def test_example_tdms_extracts_with_the_encoder():
+    from impactosc.measured.extract import extract_events
+
+    rec = read_record(EXAMPLE, group="rig", channel="cart", phase_channel="encoder")
+    ev, at = extract_events(rec)
+    assert at["poincare_phase_source"] == "encoder" and at["x_impact_source"] == "record metadata"
+    assert ev["poincare"]["t"].size == 20 and ev["impacts"]["t"].size >= 15
+    # the motor runs 0.1 % fast with a 0.2 % ripple (make_tdms_example.speed_profile)
+    assert 40.86 * 0.998 < at["omega_measured_min"] < at["omega_measured_max"] < 40.86 * 1.004
