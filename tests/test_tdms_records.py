@@ -2,6 +2,7 @@
 reading, units, the committed example, and one clear line for each bad file."""
 
 import importlib.util
+import re
 from pathlib import Path
 
 import numpy as np
@@ -201,3 +202,78 @@ def test_example_tdms_extracts_with_the_encoder():
     assert ev["poincare"]["t"].size == 20 and ev["impacts"]["t"].size >= 15
     # the motor runs 0.1 % fast with a 0.2 % ripple (make_tdms_example.speed_profile)
     assert 40.86 * 0.998 < at["omega_measured_min"] < at["omega_measured_max"] < 40.86 * 1.004
+
+
+def test_cli_extract_tdms_and_one_line_errors(tmp_path, capsys):
+    from impactosc.cli import main
+    from impactosc.files import read_run
+
+    out = tmp_path / "ev.h5"
+    args = ["extract", str(EXAMPLE), "--group", "rig", "--channel", "cart", "--phase-channel", "encoder"]
+    assert main([*args, "--output", str(out)]) == 0
+    assert "20 Poincare points (encoder, measured w" in capsys.readouterr().out
+    events, attrs, _ = read_run(out)
+    assert attrs["poincare_phase_source"] == "encoder" and events["poincare"]["omega"].size == 20
+    assert main(["extract", str(EXAMPLE), "--group", "rig", "--channel", "hall", "--output", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and re.search(
+        r"no channel 'hall' in the TDMS file; channels: \['cart', 'encoder'\]", err
+    )
+
+
+def test_cli_sweep_extract_writes_the_fig02_points(tmp_path, capsys):
+    import h5py
+
+    from impactosc.cli import main
+
+    rec = tmp_path / "sweep.h5"
+    ramp = ["surrogate", "--ramp", "30", "31", "--transient", "20", "--duration", "60", "--encoder-counts", "4096"]
+    assert main([*ramp, "--output", str(rec)]) == 0
+    assert "surrogate sweep record, w 30 -> 31 rad/s in 60 s" in capsys.readouterr().out
+    out = tmp_path / "pts.h5"
+    assert main(["sweep-extract", str(rec), "--bin-width", "0.25", "--settle", "5", "--output", str(out)]) == 0
+    assert "segments of w" in capsys.readouterr().out
+    with h5py.File(out) as f:  # the layout bifurcation_figure.py reads: omega, x (one row per point)
+        w, x = f["omega"][()], f["x"][()]
+        assert w.shape == x.shape and f["omega"].attrs["units"] == "rad/s" and f.attrs["label"]
+        assert f.attrs["poincare_phase_source"] == "encoder" and f.attrs["settle"] == 5.0
+        assert set(np.round(f["record_omega"][()] / 0.25)) <= set(range(120, 125))
+    # the CSV written by the surrogate carries the phase as a column
+    csv = tmp_path / "sweep.csv"
+    assert main([*ramp, "--units", "mm", "--output", str(csv)]) == 0
+    assert main(["sweep-extract", str(csv), "--settle", "5", "--output", str(out)]) == 0
+    # a record without a phase: one line naming the file and the fix
+    assert main(["sweep-extract", str(ROOT / "examples" / "record_example.csv"), "--output", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "needs a phase (encoder) channel" in err
+    assert (
+        main(
+            [
+                "surrogate",
+                "--omega",
+                "30",
+                "--transient",
+                "1",
+                "--duration",
+                "1",
+                "--encoder-counts",
+                "8",
+                "--output",
+                str(csv),
+            ]
+        )
+        == 2
+    )
+    assert "--encoder-counts goes with --ramp" in capsys.readouterr().err
+
+
+def test_cli_help_explains_tdms_and_sweeps(capsys):
+    from impactosc.cli import main
+
+    for cmd in ("extract", "sweep-extract"):
+        with pytest.raises(SystemExit):
+            main([cmd, "--help"])
+        text = capsys.readouterr().out
+        for opt in ("--group", "--channel", "--phase-channel", "--time-channel", "--units", "--phase-units"):
+            assert opt in text, (cmd, opt)
+        assert "wf_increment" in text and "counts:N" in text
