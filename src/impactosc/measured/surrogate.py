@@ -279,8 +279,9 @@ def surrogate_ramp(start, stop, duration, options: SurrogateOptions | None = Non
     """A slow sweep in one record: w ramped linearly from ``start`` to ``stop`` over
     ``duration`` s (the rig's experimental bifurcation diagram, as its motor produces it),
     with an encoder phase; ``n_initial`` periods at ``start`` discarded first.  Slow enough to
-    be quasi-stationary when dw/dt times the settling time (a few s) moves the attractor by
-    less than the noise: 0.01 rad/s^2 (25 rad/s in 2500 s) does on the period-1 branch.
+    be quasi-stationary when dw/dt times the relaxation time (0.9 s measured) moves the
+    attractor by little: at 0.01 rad/s^2 (25 rad/s in 2500 s) the lag is below 6 um on the
+    flat parts of the period-1 branch, 45 um on its steep part (:mod:`impactosc.measured.sweep`).
     Keywords as :func:`surrogate_driven`; returns (record, truth)."""
     rec, truth = surrogate_driven(ramp_omegas(start, stop, duration), options, n_initial=n_initial, **kwargs)
     meta = dict(rec.meta, surrogate_ramp=f"{float(start):g} -> {float(stop):g} rad/s in {float(duration):g} s")

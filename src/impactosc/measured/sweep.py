@@ -23,6 +23,15 @@ Method
   (``point_omega``) and each segment's spread of w (``omega_spread``, how stationary it was)
   are kept too.
 
+Measured on the surrogate ramp 20 -> 45 rad/s in 2500 s (0.01 rad/s^2, 2 kHz, 5 um noise,
+4096-count encoder, bins 0.25 rad/s, settle 10 s; 100 segments): a segment's median point
+lies within 6 um (median 1.8 um) of the model's attractor at the segment's w on the flat
+parts of the period-1 branch, within 17 um on period 2 away from the doublings, but up to
+45 um on the steep part of the period-1 branch (24.5-27 rad/s, 5 mm per rad/s): the lag
+behind the ramp, slope x dw/dt x 0.9 s; it halves with the ramp rate.  Within ~0.3 rad/s
+after a bifurcation the sweep still follows the old, now unstable, orbit (bifurcation delay:
+1.4 mm off at 37.57 rad/s) -- a property of sweeping that a rig's sweep shares.
+
 The result has the layout of the Fig 2 experimental panel (``omega``, ``x``; see
 :func:`impactosc.measured.extract.record_set_poincare`) plus the segment datasets.
 """
