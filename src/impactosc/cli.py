@@ -1,4 +1,4 @@
-"""Command line: ``impactosc simulate|extract|surrogate|config-docs ...`` (see ``impactosc <command> --help``)."""
+"""Command line: ``impactosc simulate|extract|sweep-extract|surrogate|config-docs ...`` (see ``impactosc <command> --help``)."""
 
 from __future__ import annotations
 
@@ -25,6 +25,74 @@ def _finite(text: str) -> float:
     if not math.isfinite(value):
         raise argparse.ArgumentTypeError(f"{text!r} is not finite")
     return value
+
+
+RECORD_FORMATS = """\
+Record formats (impactosc.measured.records):
+  .csv   '# key: value' metadata block (units, omega, x_impact ...), then a header; columns
+         chosen with --column; a column named 'phase' (or --phase-channel) is the phase
+  .h5    record/t, record/x (m), optional record/phase (rad), metadata as attributes
+  .tdms  National Instruments TDMS (LabVIEW, DAQmx): --group and --channel name the
+         displacement (either may be left out when there is only one); time from the
+         channel's wf_increment / wf_start_offset properties, or from --time-channel;
+         units from the channel's unit_string (m, mm, um) or --units
+Phase (optional): the unbalance's angle from an encoder (--phase-channel), 2 pi i at the
+forcing's phase 0; units from its unit_string or --phase-units: rad, deg, rev, or counts:N
+(N counts per revolution; counts reset each revolution are fine). With a phase, Poincare
+points are taken where it crosses 2 pi i and w is measured from it (attribute
+poincare_phase_source = encoder); without, at t = 2 pi i / omega (nominal omega).
+"""
+
+
+def _add_record_options(p) -> None:
+    """Options that say how to read a record (shared by extract and sweep-extract)."""
+    p.add_argument("record", help="record file (.csv, .h5 or .tdms)")
+    p.add_argument(
+        "--column",
+        nargs=2,
+        metavar=("TIME", "X"),
+        default=("t", "x"),
+        help="CSV column names of time (s) and displacement (default: t x)",
+    )
+    p.add_argument("--group", help="TDMS group holding the channels (default: the only group)")
+    p.add_argument("--channel", help="TDMS displacement channel (default: the only channel besides phase and time)")
+    p.add_argument(
+        "--phase-channel",
+        metavar="NAME",
+        help="TDMS channel (or CSV column) of the measured forcing phase, e.g. the unbalance's encoder",
+    )
+    p.add_argument(
+        "--time-channel",
+        metavar="NAME",
+        help="TDMS time channel (s, ms, or timestamps); default: the waveform properties wf_increment, wf_start_offset",
+    )
+    p.add_argument(
+        "--units",
+        choices=("m", "mm", "um"),
+        help="displacement units when the record does not declare them (if it does, they must agree)",
+    )
+    p.add_argument(
+        "--phase-units",
+        metavar="U",
+        help="phase units when the channel does not declare them: rad, deg, rev or counts:N (N per revolution)",
+    )
+
+
+def _read(args, omega=None):
+    from .measured.records import read_record
+
+    return read_record(
+        args.record,
+        time_column=args.column[0],
+        x_column=args.column[1],
+        units=args.units,
+        omega=omega,
+        group=args.group,
+        channel=args.channel,
+        phase_channel=args.phase_channel,
+        time_channel=args.time_channel,
+        phase_units=args.phase_units,
+    )
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -83,50 +151,97 @@ def build_parser() -> argparse.ArgumentParser:
     ext = sub.add_parser(
         "extract",
         help="extract impact events from a measured (or surrogate) displacement record",
-        description="Read a record (CSV with a '# key: value' metadata block and a header, or HDF5 "
-        "record/t, record/x; see impactosc.measured.records), validate it, and write the same event datasets as "
-        "'simulate' (impacts/t, impacts/v, penetrations/t, penetrations/h, poincare/* when omega is "
-        "known) to an HDF5 file. Impacts are upward crossings of XI with hysteresis; their times are "
-        "interpolated below the sample interval and their uncertainties stored in impacts/sigma_t.",
+        description="Read a record (CSV, HDF5 or TDMS; see below), validate it, and write the same event "
+        "datasets as 'simulate' (impacts/t, impacts/v, penetrations/t, penetrations/h, poincare/* when omega "
+        "or a phase channel is known; poincare/omega = w measured by the encoder) to an HDF5 file. Impacts "
+        "are upward crossings of XI with hysteresis; their times are interpolated below the sample interval "
+        "and their uncertainties stored in impacts/sigma_t.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog="Example:\n  impactosc extract examples/record_example.csv --x-impact=-2.086e-3 --output events.h5\n"
+        epilog=RECORD_FORMATS
+        + "\nExamples:\n  impactosc extract examples/record_example.csv --x-impact=-2.086e-3 --output events.h5\n"
+        "  impactosc extract examples/record_example.tdms --group rig --channel cart --phase-channel encoder "
+        "--output events.h5\n"
         "Without --x-impact (and no x_impact in the record) XI is estimated from the record's highest "
         "turning points and the estimate is printed.",
     )
-    ext.add_argument("record", help="record file (.csv or .h5)")
+    _add_record_options(ext)
     ext.add_argument(
         "--x-impact",
         type=_finite,
         help="obstacle position XI, m (write --x-impact=-2.086e-3 for negative values; default: record metadata, else estimated)",
     )
     ext.add_argument("--output", required=True, help="HDF5 events file to write (atomically)")
-    ext.add_argument(
-        "--column",
-        nargs=2,
-        metavar=("TIME", "X"),
-        default=("t", "x"),
-        help="CSV column names of time (s) and displacement (default: t x)",
-    )
-    ext.add_argument("--units", choices=("m", "mm"), help="displacement units when the record does not declare them")
-    ext.add_argument("--omega", type=_finite, help="forcing frequency, rad/s (overrides the record's)")
+    ext.add_argument("--omega", type=_finite, help="nominal forcing frequency, rad/s (overrides the record's)")
     ext.add_argument("--noise", type=_finite, help="sensor-noise std, m (default: estimated from the record)")
+    swe = sub.add_parser(
+        "sweep-extract",
+        help="cut a slow-sweep record (w drifting, one file) into the Poincare points of the Fig 2 panel",
+        description="Read a record whose forcing frequency was swept slowly (a whole experimental "
+        "bifurcation diagram in one file) with its encoder phase; take the Poincare points where the "
+        "phase crosses 2 pi i, measure w at each from the phase, cut the record into segments of "
+        "quasi-constant w (bins BIN_WIDTH wide, centred on multiples of it, with hysteresis at the edges), "
+        "discard the first SETTLE s of each segment, and write the points (datasets omega = the segment's "
+        "median measured w, and x, as the workflow's Fig 2 experimental panel reads them; plus t, "
+        "point_omega, and per segment record_omega, n_points, segment_start, segment_stop, omega_spread) "
+        "to an HDF5 file. See impactosc.measured.sweep.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=RECORD_FORMATS + "\nExample (the surrogate sweep of the README):\n"
+        "  impactosc sweep-extract sweep.h5 --bin-width 0.25 --settle 10 --output fig02_experimental.h5\n"
+        "Choose SETTLE a few relaxation times of the rig (model BC: 2.6 s from its damping alone) and "
+        "BIN_WIDTH so that each segment keeps at least MIN_POINTS forcing periods after it.",
+    )
+    _add_record_options(swe)
+    swe.add_argument(
+        "--bin-width",
+        type=_finite,
+        default=0.25,
+        help="width of the w bins, rad/s (default 0.25, the stepped sweep's step)",
+    )
+    swe.add_argument(
+        "--settle",
+        type=_finite,
+        default=10.0,
+        help="time discarded at the start of each segment, s (default 10: about 4 relaxation times of model BC)",
+    )
+    swe.add_argument("--min-points", type=int, default=5, help="fewest Poincare points a kept segment has (default 5)")
+    swe.add_argument("--label", help="panel label stored with the points (default: the record's label)")
+    swe.add_argument("--output", required=True, help="HDF5 points file to write (atomically)")
     sur = sub.add_parser(
         "surrogate",
         help="write a surrogate record: the model sampled like the rig, plus sensor noise",
         description="Simulate model BC at OMEGA, sample x at RATE Hz on [TRANSIENT, TRANSIENT + DURATION], "
         "add white Gaussian noise of std NOISE and write it in the measured-record format (.csv or .h5), "
-        "labelled 'surrogate (model + noise)'.",
+        "labelled 'surrogate (model + noise)'. With --ramp instead of --omega: a slow sweep in one record, "
+        "w ramped linearly from W_START to W_STOP over DURATION after TRANSIENT s at W_START, with the "
+        "forcing phase (column/dataset 'phase', rad) as an encoder measures it. The core takes w as a "
+        "constant of a run, so the ramp is chained one-period runs (state and phase continuous, w stepping "
+        "by dw/dt times a period); see impactosc.measured.surrogate.surrogate_driven.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog="Example:\n  impactosc surrogate --omega 40.86 --transient 100 --duration 400 --output rec.h5",
+        epilog="Examples:\n  impactosc surrogate --omega 40.86 --transient 100 --duration 400 --output rec.h5\n"
+        "  impactosc surrogate --ramp 20 45 --transient 200 --duration 2500 --encoder-counts 4096 --output sweep.h5",
     )
-    sur.add_argument("--omega", type=_finite, required=True, help="forcing frequency w in rad/s (> 0)")
+    what = sur.add_mutually_exclusive_group(required=True)
+    what.add_argument("--omega", type=_finite, help="forcing frequency w in rad/s (> 0)")
+    what.add_argument(
+        "--ramp",
+        type=_finite,
+        nargs=2,
+        metavar=("W_START", "W_STOP"),
+        help="sweep w linearly from W_START to W_STOP rad/s over DURATION (0.01 rad/s^2 is quasi-stationary)",
+    )
+    sur.add_argument(
+        "--encoder-counts",
+        type=int,
+        metavar="N",
+        help="with --ramp: phase read by an encoder of N counts per revolution (default: exact phase)",
+    )
     sur.add_argument("--transient", type=_finite, required=True, help="time discarded before sampling, s")
     sur.add_argument("--duration", type=_finite, required=True, help="sampled time, s")
     sur.add_argument("--rate", type=_finite, default=2000.0, help="sample rate, Hz (default 2000)")
     sur.add_argument("--noise", type=_finite, default=5e-6, help="sensor-noise std, m (default 5e-6)")
     sur.add_argument("--mismatch", default="", help="relative parameter changes, e.g. 'c=0.02,T=-0.05' (default none)")
     sur.add_argument("--seed", type=int, default=0, help="noise seed (default 0)")
-    sur.add_argument("--units", choices=("m", "mm"), default="m", help="CSV displacement units (default m)")
+    sur.add_argument("--units", choices=("m", "mm", "um"), default="m", help="CSV displacement units (default m)")
     sur.add_argument("--output", required=True, help="record file to write (.csv or .h5)")
     doc = sub.add_parser(
         "config-docs",
@@ -168,19 +283,39 @@ def _config_docs(args) -> int:
 def _extract(args) -> int:
     from .files import check_writable, write_run
     from .measured.extract import ExtractOptions, extract_events
-    from .measured.records import read_record
 
     check_writable(args.output)
-    rec = read_record(
-        args.record, time_column=args.column[0], x_column=args.column[1], units=args.units, omega=args.omega
-    )
+    rec = _read(args, omega=args.omega)
     events, attrs = extract_events(rec, args.x_impact, ExtractOptions(noise=args.noise))
-    write_run(args.output, events, attrs)
+    write_run(args.output, events, attrs, sources=[args.record])
+    section = ""
+    if "poincare" in events:
+        section = f"; {events['poincare']['t'].size} Poincare points ({attrs['poincare_phase_source']}"
+        if "omega_measured_median" in attrs:
+            section += f", measured w {attrs['omega_measured_min']:.5g}..{attrs['omega_measured_max']:.5g} rad/s"
+        section += ")"
     print(
         f"{args.output}: {attrs['n_impacts']} impacts in [{attrs['t_start']:g}, {attrs['t_stop']:g}] s; "
         f"x_impact = {attrs['x_impact']:.6g} m ({attrs['x_impact_source']}); noise {attrs['noise_sigma']:.3g} m; "
         f"timing uncertainty median {attrs['timing_sigma_median']:.3g} s, max {attrs['timing_sigma_max']:.3g} s "
-        f"(sample interval {attrs['sample_interval']:.3g} s)"
+        f"(sample interval {attrs['sample_interval']:.3g} s){section}"
+    )
+    return 0
+
+
+def _sweep_extract(args) -> int:
+    from .files import check_writable
+    from .measured.sweep import sweep_segments, write_sweep_points
+
+    check_writable(args.output)
+    rec = _read(args)
+    points, info = sweep_segments(rec, args.bin_width, args.settle, min_points=args.min_points)
+    write_sweep_points(args.output, points, info, label=args.label or rec.label, sources=[args.record])
+    print(
+        f"{args.output}: {info['n_segments']} segments of w {points['record_omega'].min():.4g}.."
+        f"{points['record_omega'].max():.4g} rad/s, {points['x'].size} Poincare points "
+        f"(of {info['n_points_total']}; {info['n_points_settling']} discarded while settling, "
+        f"{info['n_segments_dropped']} segments with fewer than {info['min_points']} points dropped)"
     )
     return 0
 
@@ -201,13 +336,28 @@ def _parse_mismatch(text):
 def _surrogate(args) -> int:
     from .files import check_writable
     from .measured.records import write_record
-    from .measured.surrogate import SurrogateOptions, surrogate_record
+    from .measured.surrogate import SurrogateOptions, surrogate_ramp, surrogate_record
 
     check_writable(args.output)
     opts = SurrogateOptions(rate=args.rate, noise=args.noise, mismatch=_parse_mismatch(args.mismatch), seed=args.seed)
-    rec, _ = surrogate_record(args.omega, args.transient, args.duration, opts)
-    write_record(args.output, rec.t, rec.x, omega=rec.omega, meta=rec.meta, units=args.units)
-    print(f"{args.output}: surrogate record, {rec.t.size} samples at {args.rate:g} Hz, noise {args.noise:g} m")
+    if args.ramp is None:
+        if args.encoder_counts is not None:
+            raise ValueError("--encoder-counts goes with --ramp (a constant-w record has no phase channel)")
+        rec, _ = surrogate_record(args.omega, args.transient, args.duration, opts)
+        write_record(args.output, rec.t, rec.x, omega=rec.omega, meta=rec.meta, units=args.units)
+        print(f"{args.output}: surrogate record, {rec.t.size} samples at {args.rate:g} Hz, noise {args.noise:g} m")
+        return 0
+    w0, w1 = args.ramp
+    if not (w0 > 0 and w1 > 0 and args.transient >= 0 and args.duration > 0):
+        raise ValueError("--ramp needs W_START, W_STOP > 0 rad/s, --transient >= 0 s and --duration > 0 s")
+    n_initial = round(args.transient * w0 / (2 * math.pi))  # whole periods: the ramp starts at phase 0
+    rec, _ = surrogate_ramp(w0, w1, args.duration, opts, n_initial=n_initial, encoder_counts=args.encoder_counts)
+    write_record(args.output, rec.t, rec.x, meta=rec.meta, units=args.units, phase=rec.phase)
+    print(
+        f"{args.output}: surrogate sweep record, w {w0:g} -> {w1:g} rad/s in {args.duration:g} s "
+        f"({abs(w1 - w0) / args.duration:.3g} rad/s^2), {rec.t.size} samples at {args.rate:g} Hz with phase, "
+        f"noise {args.noise:g} m"
+    )
     return 0
 
 
@@ -264,6 +414,8 @@ def main(argv=None) -> int:
             return _simulate(args)
         if args.command == "extract":
             return _extract(args)
+        if args.command == "sweep-extract":
+            return _sweep_extract(args)
         if args.command == "surrogate":
             return _surrogate(args)
         if args.command == "config-docs":

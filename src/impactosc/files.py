@@ -98,6 +98,12 @@ DATASET_UNITS = {
     # Poincare points of a measured record set
     "record_omega": "rad/s",
     "n_points": "1",
+    # measured forcing phase (encoder) of a record; segments of a measured slow sweep
+    "phase": "rad",
+    "point_omega": "rad/s",
+    "segment_start": "s",
+    "segment_stop": "s",
+    "omega_spread": "rad/s",
 }
 
 _LIBRARIES = ("numpy", "scipy", "numba", "h5py")

@@ -1,8 +1,10 @@
 # Measured records through the model's pipeline: the experimental panels of Figs 2 (left),
 # 8b, 9b and 10 (lower), and a supplementary noise study.
-# Stages: record (the user's, or a surrogate = model sampled like the rig, with sensor noise
-# and a small parameter mismatch, always labelled so) -> event extraction (impactosc.measured.extract,
-# same datasets as a simulation run) -> the chaotic group's statistics and figure rules
+# Stages: record (the user's CSV, HDF5 or TDMS, read as measured.*.read says, or a surrogate =
+# model sampled like the rig, with sensor noise and a small parameter mismatch, always labelled
+# so) -> event extraction (impactosc.measured.extract, same datasets as a simulation run; Fig 2
+# from per-w records or from one slow-sweep record cut by its measured w,
+# impactosc.measured.sweep) -> the chaotic group's statistics and figure rules
 # (via config chaotic.second_train) and the bifurcation group's Fig 2 (via config
 # bifurcation.fig02.experimental).  Targets: measured_noise_study, measured_rows.
 from impactosc.measured.surrogate import panel_hooked
@@ -10,7 +12,13 @@ from impactosc.measured.surrogate import panel_hooked
 MEAS = config["measured"]
 MEAS_REPORT = "Measured records (experimental panels)"
 MEAS_CHAOS_RECORD = MEAS["chaos"]["record"] or MEAS_SURROGATE.format(kind="chaos")
-MEAS_FIG02_RECORDS = MEAS["fig02"]["records"] or MEAS_SURROGATE.format(kind="sweep")
+# Fig 2: per-w records (a record set), or one slow-sweep record cut by its measured w
+MEAS_FIG02_SWEEP = MEAS["fig02"]["sweep_record"]
+if MEAS_FIG02_SWEEP and MEAS["fig02"]["records"]:
+    raise ValueError(
+        "config measured.fig02: set records (one record per w) or sweep_record (one slow-sweep record), not both"
+    )
+MEAS_FIG02_RECORDS = MEAS_FIG02_SWEEP or MEAS["fig02"]["records"] or MEAS_SURROGATE.format(kind="sweep")
 
 
 MEAS_HOOK_CHAOS = panel_hooked(
@@ -25,7 +33,7 @@ MEAS_HOOK_FIG02 = panel_hooked(
     config["bifurcation"]["fig02"]["experimental"],
     "file",
     MEAS_FIG02_POINTS,
-    MEAS["fig02"]["records"] is None,
+    MEAS["fig02"]["records"] is None and MEAS_FIG02_SWEEP is None,
 )
 
 
@@ -58,6 +66,7 @@ rule measured_chaos_events:
     params:
         x_impact=MEAS["chaos"]["x_impact"],
         noise=MEAS["chaos"]["noise"],
+        reader=MEAS["chaos"]["read"] if MEAS["chaos"]["record"] else {},
     script:
         "../scripts/measured_chaos_events.py"
 
@@ -69,6 +78,9 @@ rule measured_fig02_points:
         points=MEAS_FIG02_POINTS,
     log:
         logfile("measured", "measured_fig02_points"),
+    params:
+        segments=MEAS["fig02"]["segments"] if MEAS_FIG02_SWEEP else None,
+        reader=MEAS["fig02"]["read"],
     script:
         "../scripts/measured_fig02_points.py"
 

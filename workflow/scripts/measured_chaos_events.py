@@ -1,7 +1,8 @@
 """Extract impact events from one record (measured or surrogate).
 
-Reads snakemake.input.record (impactosc.measured.records format), x_impact and noise from
-snakemake.params (None: metadata / estimated); writes snakemake.output.events in the
+Reads snakemake.input.record (impactosc.measured.records format; a TDMS record's group and
+channels from snakemake.params.reader), x_impact and noise from snakemake.params (None:
+metadata / estimated); writes snakemake.output.events in the
 run-file contract (impactosc.files) so the chaotic statistics treat it like a simulation.
 """
 
@@ -16,7 +17,7 @@ from impactosc.measured.extract import ExtractOptions, extract_events
 from impactosc.measured.records import read_record
 
 p = snakemake.params
-rec = read_record(snakemake.input.record)
+rec = read_record(snakemake.input.record, **p.reader)
 events, attrs = extract_events(rec, p.x_impact, ExtractOptions(noise=p.noise))
 write_run(snakemake.output.events, events, attrs, sources=snakemake.input.record)
 logging.info(

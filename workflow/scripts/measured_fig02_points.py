@@ -1,8 +1,11 @@
-"""Poincare points of a bifurcation experiment (one record per w) for the Fig 2 left panel.
+"""Measured Poincare points for the Fig 2 left panel: per-w records, or one slow-sweep record.
 
-Reads snakemake.input.records (record set: HDF5 or CSV manifest, impactosc.measured.records);
-writes snakemake.output.points, HDF5 with flat datasets omega (rad/s) and x (m), stamped
-with units and provenance (impactosc.files.stamp_h5).
+Reads snakemake.input.records: a record set (HDF5 or CSV manifest, impactosc.measured.records),
+or, when snakemake.params.segments is set (config measured.fig02.sweep_record), one record of
+a slow sweep of w with an encoder phase (read as snakemake.params.reader says), cut into
+segments of quasi-constant measured w (impactosc.measured.sweep).  Writes
+snakemake.output.points, HDF5 with flat datasets omega (rad/s) and x (m) (plus the segment
+datasets of a sweep), stamped with units and provenance (impactosc.files.stamp_h5).
 """
 
 from _logging import configure_logging
@@ -15,14 +18,27 @@ import h5py
 
 from impactosc.files import atomic_write, check_writable, stamp_h5
 from impactosc.measured.extract import record_set_poincare
-from impactosc.measured.records import read_record_set
+from impactosc.measured.records import read_record, read_record_set
+from impactosc.measured.sweep import sweep_segments, write_sweep_points
 
-recs = read_record_set(snakemake.input.records)
-pts = record_set_poincare(recs)
-out = check_writable(snakemake.output.points)
-with atomic_write(out) as tmp, h5py.File(tmp, "w") as f:
-    for k, v in pts.items():
-        f.create_dataset(k, data=v)
-    f.attrs["label"] = recs[0].label
-    stamp_h5(f, sources=snakemake.input.records)
-logging.info(f"{len(recs)} records, {pts['x'].size} Poincare points")
+p = snakemake.params
+if p.segments:
+    s = p.segments
+    rec = read_record(snakemake.input.records, **p.reader)
+    pts, info = sweep_segments(rec, s["bin_width"], s["settle"], min_points=s["min_points"])
+    write_sweep_points(snakemake.output.points, pts, info, label=rec.label, sources=snakemake.input.records)
+    logging.info(
+        f"{rec.path}: sweep record cut into {info['n_segments']} segments of w "
+        f"{pts['record_omega'].min():.4g}..{pts['record_omega'].max():.4g} rad/s, {pts['x'].size} Poincare points "
+        f"({info['n_points_settling']} discarded while settling, {info['n_segments_dropped']} short segments dropped)"
+    )
+else:
+    recs = read_record_set(snakemake.input.records)
+    pts = record_set_poincare(recs)
+    out = check_writable(snakemake.output.points)
+    with atomic_write(out) as tmp, h5py.File(tmp, "w") as f:
+        for k, v in pts.items():
+            f.create_dataset(k, data=v)
+        f.attrs["label"] = recs[0].label
+        stamp_h5(f, sources=snakemake.input.records)
+    logging.info(f"{len(recs)} records, {pts['x'].size} Poincare points")

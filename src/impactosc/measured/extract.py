@@ -26,8 +26,13 @@ Method
 * Penetration H_j: vertex of a quadratic fit through the samples around the largest sample
   of each contact (not the raw maximum sample, which is biased up by noise and down by
   sampling).
-* Poincare points: x and v at t_i = 2 pi i / omega from a local quadratic fit
-  (Savitzky-Golay).
+* Poincare points: x and v from a local quadratic fit (Savitzky-Golay) at the section
+  times: where the measured forcing phase (an encoder on the unbalance, ``Record.phase``)
+  crosses 2 pi i, timed by a straight-line fit of the phase through the samples around the
+  crossing; else at t_i = 2 pi i / omega (the nominal w).  The rig's motor speed is not
+  exactly nominal: an error dw slides the nominal section by dw t_i / w of a period after
+  t_i, so after a few hundred periods the nominal points are no longer on the section.  The
+  encoder also gives w(t): 4 pi over the time between the neighbouring crossings.
 
 When x_impact is not known, :func:`estimate_x_impact` estimates it from the record.
 """
@@ -46,9 +51,16 @@ __all__ = [
     "estimate_noise",
     "estimate_x_impact",
     "extract_events",
+    "phase_crossings",
     "poincare_points",
+    "poincare_phase_source",
     "record_set_poincare",
 ]
+
+#: Samples either side of a phase crossing in its straight-line fit.  Why 10: the fit
+#: averages the encoder's quantization (one count, 1.5 mrad at 4096 per revolution) over 20
+#: samples, while w changes by less than 1e-4 of itself in those 10 ms at 2 kHz.
+PHASE_FIT_HALF = 10
 
 
 @dataclass(frozen=True)
@@ -275,20 +287,96 @@ def _peaks(t, x, j, half):
     return tp, xp
 
 
-def poincare_points(rec: Record, half=3) -> dict:
-    """Poincare points t, x, v at t_i = 2 pi i / omega inside the record (local quadratic fits)."""
+def phase_crossings(t, phase, half: int = PHASE_FIT_HALF) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Where a measured (unwrapped, advancing) phase crosses 2 pi i: (i, t_i, w_i).
+
+    t_i: root of a least-squares line through the ``2 half`` samples around the crossing
+    (the first sample at or past 2 pi i, found on the running maximum, so noise cannot
+    make a crossing twice); w_i: 4 pi / (t_(i+1) - t_(i-1)), the mean forcing frequency
+    over the two periods around t_i (one period at the ends; the line's slope when the
+    record holds a single crossing).
+    """
+    t = np.asarray(t, dtype=float)
+    phase = np.asarray(phase, dtype=float)
+    two_pi = 2 * math.pi
+    i = np.arange(math.ceil(phase[0] / two_pi), math.floor(phase[-1] / two_pi) + 1)
+    if i.size == 0:
+        return i, np.empty(0), np.empty(0)
+    level = two_pi * i
+    k = np.searchsorted(np.maximum.accumulate(phase), level, side="left")
+    width = min(2 * half, t.size)
+    lo = np.clip(k - width // 2, 0, t.size - width)
+    idx = lo[:, None] + np.arange(width)
+    s = t[idx] - t[k][:, None]  # local time, and the phase relative to the level: no cancellation
+    y = phase[idx] - level[:, None]
+    sm, ym = s.mean(axis=1), y.mean(axis=1)
+    slope = ((s - sm[:, None]) * (y - ym[:, None])).sum(axis=1) / ((s - sm[:, None]) ** 2).sum(axis=1)
+    tc = t[k] + sm - ym / slope
+    if tc.size >= 3:
+        w = np.empty(tc.size)
+        w[1:-1] = 2 * two_pi / (tc[2:] - tc[:-2])
+        w[0], w[-1] = two_pi / (tc[1] - tc[0]), two_pi / (tc[-1] - tc[-2])
+    elif tc.size == 2:
+        w = np.full(2, two_pi / (tc[1] - tc[0]))
+    else:
+        w = slope
+    return i, tc, w
+
+
+def poincare_phase_source(rec: Record, source: str = "auto") -> str:
+    """Which phase the Poincare points of ``rec`` are taken at: "encoder" (the measured
+    phase) or "nominal omega" (t_i = 2 pi i / omega); ``source`` "auto" prefers the encoder."""
+    if source not in ("auto", "encoder", "nominal"):
+        raise ValueError(f"Poincare source must be auto, encoder or nominal, got {source!r}")
+    if source == "encoder" or (source == "auto" and rec.phase is not None):
+        if rec.phase is None:
+            raise ValueError(f"{rec.path}: no phase channel; the encoder's Poincare points need one")
+        return "encoder"
     if rec.omega is None:
-        raise ValueError(f"{rec.path}: no omega; Poincare points need the forcing frequency")
+        raise ValueError(
+            f"{rec.path}: no omega and no phase channel; Poincare points need the forcing frequency or phase"
+        )
+    return "nominal omega"
+
+
+def poincare_points(rec: Record, half=3, source: str = "auto") -> dict:
+    """Poincare points t, x, v of a record (local quadratic fits), at the crossings of 2 pi i
+    by the measured phase (then also ``omega``, w measured there; :func:`phase_crossings`) or
+    at t_i = 2 pi i / omega; ``source`` as :func:`poincare_phase_source`."""
     from scipy.signal import savgol_filter
 
-    period = 2 * math.pi / rec.omega
-    i0, i1 = math.ceil(rec.t[0] / period), math.floor(rec.t[-1] / period)
-    tp = np.arange(i0, i1 + 1) * period
+    how = poincare_phase_source(rec, source)
+    out = {}
+    if how == "encoder":
+        _, tp, w = phase_crossings(rec.t, rec.phase)
+        keep = (tp >= rec.t[0]) & (tp <= rec.t[-1])  # a line fit at the record's edge may land outside
+        tp, out["omega"] = tp[keep], w[keep]
+    else:
+        period = 2 * math.pi / rec.omega
+        i0, i1 = math.ceil(rec.t[0] / period), math.floor(rec.t[-1] / period)
+        tp = np.arange(i0, i1 + 1) * period
     dt = rec.dt
     win = 2 * half + 1
     xs = savgol_filter(rec.x, win, 2)
     vs = savgol_filter(rec.x, win, 2, deriv=1, delta=dt)
-    return {"t": tp, "x": np.interp(tp, rec.t, xs), "v": np.interp(tp, rec.t, vs)}
+    return {"t": tp, "x": np.interp(tp, rec.t, xs), "v": np.interp(tp, rec.t, vs), **out}
+
+
+def _poincare_attrs(rec: Record, points: dict) -> dict:
+    """Attributes saying where the Poincare points were taken (and w measured by the encoder)."""
+    how = poincare_phase_source(rec)
+    attrs = {"poincare_phase_source": how}
+    w = points.get("omega")
+    if how == "encoder" and w is not None and w.size:
+        attrs.update(
+            omega_measured_median=float(np.median(w)),
+            omega_measured_min=float(np.min(w)),
+            omega_measured_max=float(np.max(w)),
+        )
+        if rec.omega is None:
+            attrs["omega"] = float(np.median(w))
+            attrs["omega_source"] = "encoder (median of the measured w)"
+    return attrs
 
 
 def extract_events(
@@ -299,7 +387,8 @@ def extract_events(
     Returns ``(events, attrs)`` for :func:`impactosc.files.write_run`.  attrs hold x_impact
     (and how it was obtained), the noise level, hysteresis, sample interval, the timing
     uncertainty (median and maximum of the per-impact sigma_t), t_start/t_stop (the
-    record's span) and omega when known.
+    record's span) and omega when known; with Poincare points, ``poincare_phase_source``
+    ("encoder" or "nominal omega") and, from the encoder, the measured w's median and range.
     """
     o = options or ExtractOptions()
     t, x = record.t, record.x
@@ -359,8 +448,9 @@ def extract_events(
         "impacts": {"t": imp_t[keep], "v": imp_v[keep], "sigma_t": imp_s[keep]},
         "penetrations": {"t": pen_t, "h": pen_h},
     }
-    if record.omega is not None:
+    if record.omega is not None or record.phase is not None:
         events["poincare"] = poincare_points(record)
+        attrs.update(_poincare_attrs(record, events["poincare"]))
     s = events["impacts"]["sigma_t"]
     attrs["n_impacts"] = int(s.size)
     attrs["timing_sigma_median"] = float(np.median(s)) if s.size else float("nan")
