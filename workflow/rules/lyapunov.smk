@@ -90,6 +90,8 @@ rule lyapunov_sweeps:
         parts=expand(LYAP_SWEEP_PART, sweep=config["bifurcation"]["sweeps"], chunk=range(LYA["sweeps"]["chunks"])),
         per_w=BIF_TABLES["per_w"],
         transitions=BIF_TABLES["transitions"],
+        # the bifurcations located on the continued orbits count as transitions too
+        orbits=expand(ORBIT_SEGMENT, segment=config["periodic_orbits"]["segments"]),
     output:
         lambdas=expand(LYAP_SWEEP, sweep=config["bifurcation"]["sweeps"]),
         signs=LYAP_SIGNS,

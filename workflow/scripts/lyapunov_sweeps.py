@@ -1,7 +1,7 @@
 """Join the largest exponent's sweep parts and set its sign against each sweep's periods.
 
 Reads snakemake.input.parts (per sweep, chunks in order), .per_w and .transitions (the sweeps'
-reading); writes snakemake.output.lambdas (one CSV per sweep), .signs (Markdown table) and a log.
+reading) and .orbits (the continued segments, whose located bifurcations count as transitions); writes snakemake.output.lambdas (one CSV per sweep), .signs (Markdown table) and a log.
 """
 
 from _logging import configure_logging
@@ -11,18 +11,20 @@ configure_logging(snakemake)
 import logging
 
 from impactosc.chaos.reading import sign_agreement, summarise_agreement
-from impactosc.files import read_csv, write_csv, write_text
+from impactosc.files import read_csv, read_json, write_csv, write_text
 
 
 def main(inp, params, out):
     per_w, transitions = read_csv(inp.per_w, numbers=True), read_csv(inp.transitions, numbers=True)
+    located = [p["omega"] for f in inp.orbits for p in read_json(f)["special_points"] if p["located"]]
     parts = list(inp.parts)
     lines = [
         "# The largest Lyapunov exponent against the period each sweep detected",
         "",
         "lambda1 < 0 should go with a periodic w (period >= 1) and lambda1 > 0 with a non-periodic one; a "
-        "disagreement within one grid step of a transition of the sweep's reading is expected (lambda1 passes "
-        "through zero at a bifurcation, and neither a finite run nor the reading is settled there).",
+        "disagreement within one grid step of a transition is expected (lambda1 passes through zero at a "
+        "bifurcation, and neither a finite run nor the reading is settled there). Transitions: those of the sweep's "
+        "reading and the bifurcations located on the continued orbits (results/tables/orbits/).",
         "",
         "| sweep | w values | agrees | near a transition | disagrees | no exponent | disagrees at w (rad/s) |",
         "|---|---|---|---|---|---|---|",
@@ -35,7 +37,7 @@ def main(inp, params, out):
         verdicts = sign_agreement(
             [r for r in per_w if r["sweep"] == name],
             lam,
-            [float(t["omega"]) for t in transitions if t["sweep"] == name],
+            [float(t["omega"]) for t in transitions if t["sweep"] == name] + located,
             abs(params.grids[name]["step"]),
         )
         summary = summarise_agreement(verdicts)
@@ -46,7 +48,7 @@ def main(inp, params, out):
             f"| {c.get('disagrees', 0)} | {c.get('no exponent', 0)} | {at} |"
         )
         logging.info("%s: %s", name, c)
-        ts = [float(t["omega"]) for t in transitions if t["sweep"] == name]
+        ts = [float(t["omega"]) for t in transitions if t["sweep"] == name] + located
         for r in verdicts:
             if r["verdict"] == "disagrees":
                 near = min(ts, key=lambda t: abs(t - r["omega"])) if ts else float("nan")
