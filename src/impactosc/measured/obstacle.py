@@ -134,11 +134,11 @@ def _ssr(Y, j, f):
 
 
 @njit(cache=True)
-def _project(Y, a, gam, mu, K, xi, b, n3, half, dt, nsub, H, tau, max_iter, out):
+def _project(Y, a, gam, mu, K, xi, b, n3, half, dt, nsub, H, tau, tau_max, max_iter, out):
     """Per window, fit H and tau (Levenberg-Marquardt, finite-difference Jacobian); residuals to out.
 
     H and tau hold the starting values on entry and the fitted ones on return; tau is kept
-    within +-2 sample intervals of the window's centre.
+    within +-tau_max of the window's centre.
     """
     M, L = Y.shape
     f = np.empty(L)
@@ -174,7 +174,7 @@ def _project(Y, a, gam, mu, K, xi, b, n3, half, dt, nsub, H, tau, max_iter, out)
                     lam *= 4.0
                     continue
                 hc = h_ + (b22 * g1 - a12 * g2) / det
-                tc = min(max(t_ + (b11 * g2 - a12 * g1) / det, -2.0 * dt), 2.0 * dt)
+                tc = min(max(t_ + (b11 * g2 - a12 * g1) / det, -tau_max), tau_max)
                 _window(hc, tc, a[j], gam, mu, K, xi, b, n3, half, dt, nsub, fc)
                 s1 = _ssr(Y, j, fc)
                 if s1 <= s0:
@@ -211,22 +211,22 @@ def _savgol(x, dt, half_t, deg, deriv):
 def forcing_frequency(t, a, mask, *, f_min=0.5, f_max=None) -> float:
     """Forcing frequency (rad/s) as the largest line of the free-flight acceleration a[mask].
 
-    Lomb-Scargle periodogram (the mask leaves gaps) on a grid of 1/(4 T) Hz from f_min to
-    f_max (default: a tenth of the sample rate), refined by the regression of step 1.
+    Periodogram of the acceleration with the masked-out samples (contacts) set to zero,
+    zero-padded 4 times, between f_min and f_max Hz (default: a tenth of the sample rate),
+    refined by least squares of a0 + F sin(w t) + G cos(w t) on the masked samples.
     """
     from scipy.optimize import minimize_scalar
-    from scipy.signal import lombscargle
 
-    tt, aa = t[mask], a[mask] - np.mean(a[mask])
-    span = tt[-1] - tt[0]
-    f_max = f_max or 0.1 / (t[1] - t[0])
-    step = 1.0 / (4.0 * span)
-    f = np.arange(f_min, f_max, step)
-    if f.size > 200_000:  # long records: a coarser grid (the refinement below recovers it)
-        f = np.linspace(f_min, f_max, 200_000)
-        step = f[1] - f[0]
-    p = lombscargle(tt, aa, 2 * np.pi * f)
-    f0 = f[int(np.argmax(p))]
+    dt = float(t[1] - t[0])
+    f_max = f_max or 0.1 / dt
+    filled = np.where(mask, a - np.mean(a[mask]), 0.0)
+    n = 4 * filled.size
+    p = np.abs(np.fft.rfft(filled, n)) ** 2
+    f = np.fft.rfftfreq(n, dt)
+    band = (f >= f_min) & (f <= f_max)
+    f0 = f[band][int(np.argmax(p[band]))]
+    step = f[1] - f[0]
+    tt, aa = t[mask], a[mask]
 
     def rss(w):
         B = np.column_stack([np.ones_like(tt), np.sin(w * tt), np.cos(w * tt)])
@@ -297,7 +297,7 @@ def fit_contact_law(
     band=150e-6,
     margin=30e-6,
     n3=None,
-    nsub=2,
+    step=0.25e-3,
 ) -> dict:
     """Steps 1-5 of the module docstring.  Returns x_impact (m), its 1-sigma uncertainty and the fit.
 
@@ -306,6 +306,8 @@ def fit_contact_law(
     sigma : sensor-noise std (m), the scale of the residuals.
     K0 : starting value of kI/m (m^-1/2 s^-2); None: 2.7e7 (model BC).
     n3 : damping exponent; None fits it (the default), a number fixes it.
+    step : longest RK4 step of the local model between samples, s (0.25 ms: 6 nm from the
+        converged trajectory on model BC's contacts).
     """
     from scipy.optimize import least_squares
 
@@ -313,6 +315,7 @@ def fit_contact_law(
     x = np.asarray(x, dtype=float)
     dt = float(t[1] - t[0])
     half = max(3, int(round(window / dt)))
+    nsub = max(1, math.ceil(dt / step - 1e-9))
     sigma = max(float(sigma), 1e-9)
     ff = free_flight_law(t, x, guess - margin - 5 * sigma, omega)
     a0, F, G, cx, gam, mu = ff["coef"]
@@ -320,7 +323,11 @@ def fit_contact_law(
     idx, Y = _windows(t, x, half, smooth, separation)
     s = np.arange(-half, half + 1) * dt
     c = Y @ np.linalg.pinv(s[:, None] ** np.arange(3)).T
-    tau0 = np.clip(-c[:, 1] / (2 * np.where(c[:, 2] < 0, c[:, 2], -1e-12)), -dt, dt)
+    # the vertex may lie up to tau_max from the smoothed maximum (the contact is lopsided: up to
+    # about 0.5 ms here; a limit of +-2 samples at 5 kHz clipped a sixth of the windows and
+    # biased x_impact by -2 um)
+    tau_max = max(2 * dt, 0.4 * window)
+    tau0 = np.clip(-c[:, 1] / (2 * np.where(c[:, 2] < 0, c[:, 2], -1e-12)), -tau_max, tau_max)
     H0 = c[:, 0] + c[:, 1] * tau0 + c[:, 2] * tau0**2
     keep = (H0 - guess) > -band
     idx, Y, H0, tau0 = idx[keep], Y[keep], H0[keep], tau0[keep]
@@ -342,7 +349,7 @@ def fit_contact_law(
     def residuals(u):
         xi, K, b, nn = unpack(u)
         Hj, tj_ = H.copy(), tau.copy()
-        _project(Y, a, gam, mu, K, xi, b, nn, half, dt, nsub, Hj, tj_, 50, out)
+        _project(Y, a, gam, mu, K, xi, b, nn, half, dt, nsub, Hj, tj_, tau_max, 50, out)
         return out.ravel() / sigma
 
     u0 = np.array([0.0, 0.0, 0.5] + ([0.3] if fit_n3 else []))
@@ -351,7 +358,7 @@ def fit_contact_law(
     # warm start of the per-window unknowns at the starting constants (every evaluation
     # starts from these, so the objective is a deterministic, smooth function of u)
     xi, K, b, nn = unpack(u0)
-    _project(Y, a, gam, mu, K, xi, b, nn, half, dt, nsub, H, tau, 50, out)
+    _project(Y, a, gam, mu, K, xi, b, nn, half, dt, nsub, H, tau, tau_max, 50, out)
     # diff_step 1e-2 (0.1 um in x_impact, 1 % in K): well above the objective's rounding
     r = least_squares(residuals, u0, bounds=(lo, hi), diff_step=1e-2, xtol=1e-10, ftol=1e-10, gtol=1e-10)
     xi, K, b, nn = unpack(r.x)
@@ -360,7 +367,7 @@ def fit_contact_law(
     s2 = float(r.fun @ r.fun) / dof
     cov = np.linalg.pinv(r.jac.T @ r.jac) * s2
     Hf, tf = H.copy(), tau.copy()
-    _project(Y, a, gam, mu, K, xi, b, nn, half, dt, nsub, Hf, tf, 50, out)
+    _project(Y, a, gam, mu, K, xi, b, nn, half, dt, nsub, Hf, tf, tau_max, 50, out)
     return {
         "x_impact": float(xi),
         "sigma": float(1e-5 * math.sqrt(cov[0, 0])),
@@ -372,7 +379,7 @@ def fit_contact_law(
         "n_windows": int(Y.shape[0]),
         "n_contacts": int(np.sum(Hf > xi)),
         "window_samples": int(2 * half + 1),
-        "at_tau_limit": int(np.sum(np.abs(tf) >= 2 * dt * (1 - 1e-9))),
+        "at_tau_limit": int(np.sum(np.abs(tf) >= tau_max * (1 - 1e-9))),
         "chi2_dof": s2,
         "nfev": int(r.nfev),
         "free_flight": ff,
