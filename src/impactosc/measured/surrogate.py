@@ -508,8 +508,8 @@ def _realism_rows(omega, transient, duration, rate, noise, cases, *, mismatch, s
         rec = Record(t, x, None, meta, "<surrogate>")
         cols, _ = _extraction_row(rec, p.xI, truth, ExtractOptions(noise=estimate_noise(x)))
         row = {"rate_hz": rate, "noise_m": noise, "method": _realism_name(case), **cols}
-        if meta.get("sensor_delay"):
-            row["sensor_delay_s"] = meta["sensor_delay"]
+        if o.lowpass_hz > 0:  # the filter's delay, corrected or not (see the method)
+            row["sensor_delay_s"] = o.sensor_delay
         xrec = Record(t - meta.get("sensor_delay", 0.0), x, omega, {}, "<surrogate>")
         row.update(_x_impact_columns(xrec, x_impact_span, p.xI))
         out.append(row)
