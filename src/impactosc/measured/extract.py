@@ -414,7 +414,12 @@ def extract_events(
     o = options or ExtractOptions()
     delay, delay_source = o.delay, "given"
     if delay is None:
-        delay, delay_source = float(record.meta.get("sensor_delay", 0.0)), "record metadata"
+        try:
+            delay, delay_source = float(record.meta.get("sensor_delay", 0.0)), "record metadata"
+        except ValueError:
+            raise ValueError(
+                f"{record.path}: sensor_delay {record.meta['sensor_delay']!r} is not a number (seconds)"
+            ) from None
     if delay:
         # every time of the motion is the sample time minus the sensor's delay
         record = dataclasses.replace(record, t=record.t - delay)
