@@ -58,8 +58,9 @@ def test_hysteresis_prevents_chatter():
 def test_x_impact_estimate(case):
     _noise, rec, truth, *_ = case
     est, det = estimate_x_impact(rec)
-    # measured -9 to -13 um for 20-400 s records at 0-5 um noise (README); 15 um bound
-    assert abs(est - (-2.086e-3)) < 15e-6, est
+    # contact-law fit (tests/test_obstacle.py): measured -0.07, -0.30, -0.38 um at 0, 2, 5 um
+    # noise on this record (the curvature estimate it replaced: -9 to -13 um); 3 um bound
+    assert abs(est - (-2.086e-3)) < 3e-6, est
     assert det["n_contacts"] <= truth["impacts"]["t"].size
 
 

@@ -121,6 +121,8 @@ def test_noise_study_and_rows():
     by = {(r["noise_m"], r["method"]): r for r in rows}
     assert by[(0.0, "hysteresis")]["missed"] == by[(0.0, "hysteresis")]["extra"] == 0
     assert by[(2e-5, "naive threshold")]["extra"] > 0  # noise chatter without hysteresis
+    # timing error against the Cramer-Rao bound of the crossing fit (README: 0.65 at 20 um, 2 kHz)
+    assert 0.3 < by[(2e-5, "hysteresis")]["timing_crb_ratio"] < 1.5
     assert by[(0.0, "exact events")]["cv2_paper"] == pytest.approx(by[(0.0, "hysteresis")]["cv2_paper"], rel=1e-3)
     _rec, truth = surrogate_record(40.86, 100.0, 30.0, SurrogateOptions(noise=0.0))
     stats = analyse_train(
@@ -143,9 +145,10 @@ def test_cli_reports_estimated_x_impact(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "estimated" in out
     _, attrs, _ = read_run(tmp_path / "e.h5")
-    # curvature-based estimate: measured -8 to -16 um on 20-400 s records at <= 5 um noise
-    # (the fit's bias; it depends on which contacts the chaotic record happens to hold)
-    assert abs(attrs["x_impact"] - (-2.086e-3)) < 20e-6
+    # contact-law fit: measured +0.02 um (stated sigma 0.50 um) on this 20 s record at 2 um
+    # noise (the curvature estimate it replaced: -8 to -16 um); 3 um bound
+    assert abs(attrs["x_impact"] - (-2.086e-3)) < 3e-6
+    assert attrs["x_impact_method"] == "contact" and 0 < attrs["x_impact_sigma"] < 1e-6
 
 
 def test_h5_record_names_the_sample(tmp_path):

@@ -74,6 +74,7 @@ DATASET_UNITS = {
     "h": "m",
     "gap": "m",
     "sigma_t": "s",
+    "crb_t": "s",  # Cramer-Rao bound of a measured impact time
     # sweep files (impactosc.sweeps.continuation)
     "omega": "rad/s",
     "poincare_x": "m",

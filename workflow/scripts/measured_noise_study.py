@@ -1,8 +1,9 @@
 """Noise study: sensor noise and sample rate against the extracted train's statistics.
 
-Reads snakemake.params (study: rates, noise levels; surrogate: scene, mismatch, seed;
-analysis: chaotic.analysis options); writes snakemake.output.csv (one row per rate x noise
-x extraction method) and .json (the same rows with ISI kernel densities, for the figure).
+Reads snakemake.params (study: rates, noise levels, x_impact_span, realism cases; surrogate:
+scene, mismatch, seed; analysis: chaotic.analysis options); writes snakemake.output.csv (one
+row per rate x noise x extraction method, then one per sensor-realism case) and .json (the
+same rows with ISI kernel densities, for the figure).
 """
 
 from _logging import configure_logging
@@ -30,6 +31,10 @@ rows = noise_study(
     mismatch=p.surrogate["mismatch"],
     seed=p.surrogate["seed"],
     params=ModelParams(**p.model),
+    x_impact_span=p.study.get("x_impact_span", 0.0),
+    realism=p.study.get("realism", {}).get("cases"),
+    realism_noise=p.study.get("realism", {}).get("noise", 5e-6),
+    realism_rate=p.study["density_rate"],
     **p.solver,
 )
 write_json(snakemake.output.json, {"rows": rows})
@@ -42,9 +47,18 @@ columns = [
     "missed",
     "extra",
     "timing_rms_s",
+    "timing_bias_s",
     "timing_max_z",
     "frac_beyond_5sigma",
     "sigma_t_median_s",
+    "timing_err_median_s",
+    "timing_crb_median_s",
+    "timing_crb_ratio",
+    "penetration_bias_m",
+    "penetration_err_median_m",
+    "x_impact_err_m",
+    "x_impact_sigma_m",
+    "sensor_delay_s",
     "noise_estimate_m",
     "cv2_paper",
     "cv2",
@@ -53,6 +67,7 @@ columns = [
     "isi_valley_ratio",
     "acf_n_significant",
     "note",
+    "x_impact_note",
 ]
 write_csv(snakemake.output.csv, [{k: r.get(k, "") for k in columns} for r in rows])
 logging.info(f"{len(rows)} rows in {time.perf_counter() - t0:.1f} s")

@@ -20,7 +20,10 @@ from impactosc.measured.surrogate import SurrogateOptions, surrogate_record, sur
 
 p = snakemake.params
 s = p.surrogate
-opts = SurrogateOptions(rate=s["rate"], noise=s["noise"], mismatch=s["mismatch"], seed=s["seed"])
+realism = ("lowpass_hz", "lowpass_order", "drift", "drift_time", "clock_jitter", "quantum")
+opts = SurrogateOptions(
+    rate=s["rate"], noise=s["noise"], mismatch=s["mismatch"], seed=s["seed"], **{k: s[k] for k in realism if k in s}
+)
 params = ModelParams(**p.model)
 t0 = time.perf_counter()
 if snakemake.wildcards.kind == "chaos":

@@ -8,7 +8,9 @@ experimental.
 
 * sampling at ``rate`` Hz (a data-acquisition card's 1-5 kHz),
 * additive white Gaussian sensor noise of std ``noise`` (m), seeded,
-* a small parameter mismatch: relative changes of ModelParams fields, e.g. {"c": 0.02}.
+* a small parameter mismatch: relative changes of ModelParams fields, e.g. {"c": 0.02},
+* optional sensor realism (each off by default; :class:`SurrogateOptions`): a causal
+  Butterworth anti-aliasing filter, a slow zero drift, sample-clock jitter and ADC quantisation.
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ from ..analysis.chaotic import analyse_train
 from ..analysis.impact_train import ImpactTrain
 from ..integration.model import ModelParams
 from ..integration.simulate import Window, simulate
-from .extract import ExtractOptions, estimate_noise, extract_events
+from .extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
 from .records import Record
 
 __all__ = [
@@ -30,6 +32,7 @@ __all__ = [
     "panel_hooked",
     "noise_study",
     "SurrogateOptions",
+    "butterworth_delay",
     "mismatched_params",
     "surrogate_record",
     "surrogate_sweep",
@@ -43,19 +46,84 @@ LABEL = "surrogate (model + noise)"
 
 @dataclasses.dataclass(frozen=True)
 class SurrogateOptions:
-    """rate (Hz), noise (m, std), mismatch (field -> relative change), seed."""
+    """How the model is turned into a record; every realism option is off (0) by default.
+
+    rate : sample rate, Hz.
+    noise : std of the white sensor noise, m (added after the filter, at the samples).
+    mismatch : model parameter -> relative change.
+    seed : seed of every random draw (noise first, then drift, then jitter: with the realism
+        options off the noise is the same as without them).
+    lowpass_hz, lowpass_order : causal Butterworth anti-aliasing filter (cutoff, Hz, below
+        rate / 2; order) applied to the motion before sampling.  Simulated on an 8 times finer
+        grid (an analog filter, not its sampled copy) and then sampled.  It delays the signal by
+        its group delay, ``butterworth_delay`` (0.83 ms for order 4 at 500 Hz), which the record
+        declares in its metadata as ``sensor_delay`` (s); extraction subtracts it.
+    drift, drift_time : slow zero drift of the sensor, an Ornstein-Uhlenbeck process of std
+        ``drift`` (m) and correlation time ``drift_time`` (s) (a random walk pulled back to zero
+        over drift_time), added to every sample.
+    clock_jitter : std of the sample-time errors, s: sample k is the signal at t_k + e_k (e_k
+        white Gaussian) but is stamped t_k.
+    quantum : ADC step, m: every sample is rounded to a multiple of it, last (e.g. a 16-bit
+        card over a 20 mm range: 20e-3 / 2**16 = 0.31 um).
+    """
 
     rate: float = 2000.0
     noise: float = 5e-6
     mismatch: dict = dataclasses.field(default_factory=dict)
     seed: int = 0
+    lowpass_hz: float = 0.0
+    lowpass_order: int = 4
+    drift: float = 0.0
+    drift_time: float = 10.0
+    clock_jitter: float = 0.0
+    quantum: float = 0.0
 
     def __post_init__(self):
         if not math.isfinite(self.rate) or self.rate <= 0:
             raise ValueError(f"rate must be > 0 Hz, got {self.rate}")
         if not math.isfinite(self.noise) or self.noise < 0:
             raise ValueError(f"noise must be >= 0 m, got {self.noise}")
+        for name, unit in (("lowpass_hz", "Hz"), ("drift", "m"), ("clock_jitter", "s"), ("quantum", "m")):
+            v = getattr(self, name)
+            if not math.isfinite(v) or v < 0:
+                raise ValueError(f"{name} must be >= 0 {unit} (0: off), got {v}")
+        if self.lowpass_hz >= self.rate / 2:
+            raise ValueError(
+                f"lowpass_hz must be below half the sample rate ({self.rate / 2:g} Hz), got {self.lowpass_hz}"
+            )
+        if not (isinstance(self.lowpass_order, int) and 1 <= self.lowpass_order <= 10):
+            raise ValueError(f"lowpass_order must be an integer 1-10, got {self.lowpass_order!r}")
+        if not math.isfinite(self.drift_time) or self.drift_time <= 0:
+            raise ValueError(f"drift_time must be > 0 s, got {self.drift_time}")
+        if self.clock_jitter >= 0.5 / self.rate:
+            raise ValueError(f"clock_jitter must be well below the sample interval, got {self.clock_jitter} s")
         object.__setattr__(self, "mismatch", dict(self.mismatch or {}))
+
+    @property
+    def oversample(self) -> int:
+        """Simulation grid per sample interval: 8 with the anti-aliasing filter, else 1."""
+        return 8 if self.lowpass_hz > 0 else 1
+
+    @property
+    def sensor_delay(self) -> float:
+        """Group delay of the anti-aliasing filter at low frequency, s (0 without it)."""
+        if self.lowpass_hz <= 0:
+            return 0.0
+        return butterworth_delay(self.lowpass_order, self.lowpass_hz, self.rate * self.oversample)
+
+
+def butterworth_delay(order: int, cutoff_hz: float, fs: float) -> float:
+    """Low-frequency group delay (s) of the causal Butterworth low-pass (order, cutoff) at fs.
+
+    A slowly varying signal comes out of the filter delayed by this (the first moment of the
+    impulse response); for the analog filter it is sum_k sin((2k - 1) pi / (2 order)) / (2 pi
+    cutoff) over the poles, e.g. 2.613 / (2 pi cutoff) for order 4.
+    """
+    from scipy.signal import butter, group_delay
+
+    b, a = butter(order, cutoff_hz, fs=fs)
+    _, gd = group_delay((b, a), w=[1e-4 * cutoff_hz], fs=fs)
+    return float(gd[0]) / fs
 
 
 def mismatched_params(params: ModelParams | None, mismatch: dict) -> ModelParams:
@@ -81,12 +149,58 @@ def _meta(o: SurrogateOptions, params: ModelParams, extra=None) -> dict:
         "surrogate_mismatch": ", ".join(f"{k}{r:+g}" for k, r in sorted(o.mismatch.items())) or "none",
         "x_impact": params.xI,
     }
+    # realism options only when on (records without them keep their metadata)
+    if o.lowpass_hz > 0:
+        meta.update(
+            surrogate_lowpass_hz=o.lowpass_hz, surrogate_lowpass_order=o.lowpass_order, sensor_delay=o.sensor_delay
+        )
+    if o.drift > 0:
+        meta.update(surrogate_drift_m=o.drift, surrogate_drift_time_s=o.drift_time)
+    if o.clock_jitter > 0:
+        meta["surrogate_clock_jitter_s"] = o.clock_jitter
+    if o.quantum > 0:
+        meta["surrogate_quantum_m"] = o.quantum
     meta.update(extra or {})
     return meta
 
 
 def _noisy(traj, o: SurrogateOptions, rng):
-    return traj["x"] + (rng.normal(0.0, o.noise, traj["x"].size) if o.noise > 0 else 0.0)
+    """The recorded samples of a trajectory (t, x, v on a grid of 1 / (rate * k), k >= 1).
+
+    Order of the sensor chain: anti-aliasing filter on the fine grid -> sampling every k-th
+    point at the jittered instants -> + zero drift -> + white noise -> ADC rounding.  With
+    every realism option off this is x + noise, drawn exactly as before they existed.
+    """
+    t, x = traj["t"], traj["x"]
+    k = max(1, int(round(1.0 / (o.rate * float(t[1] - t[0]))))) if t.size > 1 else 1
+    v = traj.get("v")
+    if o.lowpass_hz > 0:
+        from scipy.signal import butter, sosfilt, sosfilt_zi
+
+        sos = butter(o.lowpass_order, o.lowpass_hz, fs=o.rate * k, output="sos")
+        zi = sosfilt_zi(sos)
+        # started in steady state at the first value (no switch-on transient); the filter is
+        # linear, so the filtered velocity is the velocity of the filtered signal
+        x = sosfilt(sos, x, zi=zi * x[0])[0]
+        v = sosfilt(sos, v, zi=zi * v[0])[0] if v is not None else None
+    x = x[::k]
+    n = x.size
+    out = x + (rng.normal(0.0, o.noise, n) if o.noise > 0 else 0.0)
+    if o.drift > 0:
+        from scipy.signal import lfilter
+
+        rho = math.exp(-1.0 / (o.rate * o.drift_time))
+        e = rng.normal(0.0, o.drift, n + 1)
+        # stationary Ornstein-Uhlenbeck: d_0 ~ N(0, drift^2), d_j = rho d_j-1 + sqrt(1 - rho^2) e_j
+        d = lfilter([math.sqrt(1 - rho * rho)], [1.0, -rho], e[1:], zi=[rho * e[0]])[0]
+        out = out + d
+    if o.clock_jitter > 0:
+        vv = v[::k] if v is not None else np.gradient(x, 1.0 / o.rate)
+        # the signal at t_k + e_k: x + v e (the neglected x'' e^2 / 2 is below 1e-10 m for e <= 10 us)
+        out = out + vv * rng.normal(0.0, o.clock_jitter, n)
+    if o.quantum > 0:
+        out = o.quantum * np.round(out / o.quantum)
+    return out
 
 
 def surrogate_record(
@@ -109,7 +223,7 @@ def surrogate_record(
     """
     o = options or SurrogateOptions()
     p = mismatched_params(params, o.mismatch)
-    win = Window(float(transient), float(transient) + float(duration), 1.0 / o.rate)
+    win = Window(float(transient), float(transient) + float(duration), 1.0 / (o.rate * o.oversample))
     res = simulate(
         omega,
         transient,
@@ -123,7 +237,8 @@ def surrogate_record(
         record=("impacts", "penetrations", "poincare"),
     )
     rng = np.random.default_rng(o.seed)
-    rec = Record(res.trajectory["t"], _noisy(res.trajectory, o, rng), float(omega), _meta(o, p), "<surrogate>")
+    t = res.trajectory["t"][:: o.oversample]
+    rec = Record(t, _noisy(res.trajectory, o, rng), float(omega), _meta(o, p), "<surrogate>")
     return rec, res.events
 
 
@@ -323,6 +438,75 @@ def _train_numbers(times, t0, t1, omega, analysis):
     }
 
 
+def _extraction_row(rec, x_impact, truth, opts: ExtractOptions) -> tuple[dict, np.ndarray]:
+    """Extract the events of rec with the known x_impact and score them against the truth.
+
+    Returns (columns, extracted impact times).  Timing: rms error, largest |error| / stated
+    sigma_t, the median |error| against the median Cramer-Rao bound of the matched impacts and
+    ``timing_crb_ratio`` = median(|error| / bound) / 0.6745 (1 when every impact is timed with
+    the bound's precision: |error| / bound is then half-normal, median 0.6745).  Penetration:
+    median error and median |error| of the depths of the matched impacts.
+    """
+    T, Ht = truth["impacts"]["t"], truth["penetrations"]["h"]
+    ev, at = extract_events(rec, x_impact, opts)
+    E, s, crb = ev["impacts"]["t"], ev["impacts"]["sigma_t"], ev["impacts"]["crb_t"]
+    fi, ti = _match(T, E)
+    err = E[fi] - T[ti]
+    nan = float("nan")
+    row = {
+        "n_true": T.size,
+        "n_found": E.size,
+        "missed": T.size - ti.size,
+        "extra": E.size - fi.size,
+        "timing_rms_s": float(np.sqrt(np.mean(err**2))) if err.size else nan,
+        "timing_bias_s": float(np.median(err)) if err.size else nan,
+        "timing_max_z": float(np.max(np.abs(err) / s[fi])) if err.size else nan,
+        "frac_beyond_5sigma": float(np.mean(np.abs(err) > 5 * s[fi])) if err.size else nan,
+        "sigma_t_median_s": at["timing_sigma_median"],
+        "noise_estimate_m": at["noise_sigma"],
+    }
+    c = crb[fi]
+    ok = np.isfinite(c) & (c > 0)
+    if ok.any():
+        row.update(
+            timing_err_median_s=float(np.median(np.abs(err[ok]))),
+            timing_crb_median_s=float(np.median(c[ok])),
+            timing_crb_ratio=float(np.median(np.abs(err[ok]) / c[ok]) / 0.6745),
+        )
+    if Ht.size == T.size and ti.size:
+        dh = ev["penetrations"]["h"][fi] - Ht[ti]
+        row.update(penetration_bias_m=float(np.median(dh)), penetration_err_median_m=float(np.median(np.abs(dh))))
+    return row, E
+
+
+def _x_impact_columns(rec, span, x_true) -> dict:
+    """Error and stated sigma of estimate_x_impact on the first ``span`` s of rec (nothing if span is 0)."""
+    if not span:
+        return {}
+    n = int(np.searchsorted(rec.t, rec.t[0] + span, side="right"))
+    part = Record(rec.t[:n], rec.x[:n], rec.omega, {}, rec.path)
+    try:
+        est, det = estimate_x_impact(part)
+    except ValueError as exc:
+        return {"x_impact_note": str(exc)}
+    return {"x_impact_err_m": est - x_true, "x_impact_sigma_m": det["sigma"]}
+
+
+def _realism_name(case: dict) -> str:
+    """Method label of a realism row, e.g. 'realism: low-pass 500 Hz order 4, delay corrected'."""
+    parts = []
+    if case.get("quantum"):
+        parts.append(f"ADC step {case['quantum'] * 1e6:g} um")
+    if case.get("lowpass_hz"):
+        how = "delay corrected" if case.get("declare_delay", True) else "delay not declared"
+        parts.append(f"low-pass {case['lowpass_hz']:g} Hz order {case.get('lowpass_order', 4)}, {how}")
+    if case.get("drift"):
+        parts.append(f"zero drift {case['drift'] * 1e6:g} um over {case.get('drift_time', 10.0):g} s")
+    if case.get("clock_jitter"):
+        parts.append(f"clock jitter {case['clock_jitter'] * 1e6:g} us")
+    return "realism: " + ("; ".join(parts) or "none")
+
+
 def noise_study(
     omega,
     transient,
@@ -336,22 +520,38 @@ def noise_study(
     params=None,
     rtol=1e-10,
     atol=1e-12,
+    x_impact_span=0.0,
+    realism=None,
+    realism_noise=5e-6,
+    realism_rate=None,
 ):
-    """How sampling rate and sensor noise change the extracted train and its statistics.
+    """How sampling rate, sensor noise and sensor imperfections change the extracted train.
 
     For each rate one simulation is sampled; for each noise level white noise is added,
     events are extracted twice (with hysteresis, and naive threshold crossing for
     comparison) and matched to the exact events.  Returns a list of row dicts (one per
     rate x noise x method, plus the exact train per rate) with the counts (true, found,
-    missed, extra), the timing error (rms, max |error| / stated sigma_t), the median stated
-    sigma_t, and C_V^2 (paper and dimensionless), ISI modes / valley depth and significant
-    ACF-spectrum peaks; the ISI kernel densities are returned under ``kde`` per row.
+    missed, extra), the timing error (rms, median = bias, max |error| / stated sigma_t), the
+    median stated sigma_t, the timing error against the Cramer-Rao bound
+    (:func:`_extraction_row`), the penetration-depth error, and C_V^2 (paper and
+    dimensionless), ISI modes / valley depth and significant ACF-spectrum peaks; the ISI
+    kernel densities are returned under ``kde`` per row.
+
+    x_impact_span : s; when > 0, the hysteresis row of every rate x noise also gets the error
+        and stated sigma of :func:`estimate_x_impact` on the first x_impact_span s of the record.
+    realism : list of dicts of :class:`SurrogateOptions` realism fields (lowpass_hz,
+        lowpass_order, drift, drift_time, clock_jitter, quantum), one extra row each at
+        ``realism_noise`` and ``realism_rate`` (default: the first rate), method
+        ``"realism: ..."``, plus a ``"realism: none"`` row with the same noise draws.  A case
+        with ``declare_delay: false`` drops the filter's sensor_delay from the record's metadata
+        (the delay is then not corrected: its timing bias shows).
     """
     out = []
     for rate in rates:
         base = SurrogateOptions(rate=float(rate), noise=0.0, mismatch=mismatch or {}, seed=seed)
         rec0, truth = surrogate_record(omega, transient, duration, base, params=params, rtol=rtol, atol=atol)
         T = truth["impacts"]["t"]
+        x_true = rec0.meta["x_impact"]
         t0, t1 = float(rec0.t[0]), float(rec0.t[-1])
         exact = _train_numbers(T, t0, t1, omega, analysis)
         out.append(
@@ -377,29 +577,70 @@ def noise_study(
                 ("hysteresis", ExtractOptions(noise=sigma)),
                 ("naive threshold", ExtractOptions(noise=sigma, hysteresis=0.0, confirm_sigmas=0.0)),
             ):
-                ev, at = extract_events(rec, rec0.meta["x_impact"], opts)
-                E, s = ev["impacts"]["t"], ev["impacts"]["sigma_t"]
-                fi, ti = _match(T, E)
-                err = E[fi] - T[ti]
-                row = {
-                    "rate_hz": rate,
-                    "noise_m": noise,
-                    "method": method,
-                    "n_true": T.size,
-                    "n_found": E.size,
-                    "missed": T.size - ti.size,
-                    "extra": E.size - fi.size,
-                    "timing_rms_s": float(np.sqrt(np.mean(err**2))) if err.size else float("nan"),
-                    "timing_max_z": float(np.max(np.abs(err) / s[fi])) if err.size else float("nan"),
-                    "frac_beyond_5sigma": float(np.mean(np.abs(err) > 5 * s[fi])) if err.size else float("nan"),
-                    "sigma_t_median_s": at["timing_sigma_median"],
-                    "noise_estimate_m": sigma,
-                }
+                cols, E = _extraction_row(rec, x_true, truth, opts)
+                row = {"rate_hz": rate, "noise_m": noise, "method": method, **cols}
+                if method == "hysteresis":
+                    row.update(_x_impact_columns(Record(rec0.t, x, omega, {}, rec0.path), x_impact_span, x_true))
                 try:
                     row.update(_train_numbers(E, t0, t1, omega, analysis))
                 except ValueError as exc:  # e.g. too few impacts left: say so in the table
                     row["note"] = str(exc)
                 out.append(row)
+    if realism:
+        out.extend(
+            _realism_rows(
+                omega,
+                transient,
+                duration,
+                float(realism_rate or rates[0]),
+                realism_noise,
+                realism,
+                mismatch=mismatch,
+                seed=seed,
+                params=params,
+                rtol=rtol,
+                atol=atol,
+                x_impact_span=x_impact_span,
+            )
+        )
+    return out
+
+
+_REALISM_FIELDS = ("lowpass_hz", "lowpass_order", "drift", "drift_time", "clock_jitter", "quantum")
+
+
+def _realism_rows(omega, transient, duration, rate, noise, cases, *, mismatch, seed, params, rtol, atol, x_impact_span):
+    """Rows of :func:`noise_study` for the sensor-realism cases (one simulation on the fine grid)."""
+    for case in cases:
+        unknown = set(case) - set(_REALISM_FIELDS) - {"declare_delay"}
+        if unknown:
+            raise ValueError(f"unknown realism option(s) {sorted(unknown)}; known: {list(_REALISM_FIELDS)}")
+    p = mismatched_params(params, mismatch or {})
+    # the fine grid of the anti-aliasing filter when a case has one
+    k = SurrogateOptions(rate=rate, lowpass_hz=0.25 * rate).oversample if any(c.get("lowpass_hz") for c in cases) else 1
+    win = Window(float(transient), float(transient) + float(duration), 1.0 / (rate * k))
+    res = simulate(
+        omega, transient, duration, params=p, rtol=rtol, atol=atol, window=win, record=("impacts", "penetrations")
+    )
+    truth, traj = res.events, res.trajectory
+    coarse = {name: traj[name][::k] for name in ("t", "x", "v")}
+    t = coarse["t"]
+    out = []
+    for case in [{}, *cases]:
+        fields = {f: case[f] for f in _REALISM_FIELDS if f in case}
+        o = SurrogateOptions(rate=rate, noise=noise, mismatch=mismatch or {}, seed=seed, **fields)
+        x = _noisy(traj if o.oversample > 1 else coarse, o, np.random.default_rng(seed))
+        meta = _meta(o, p)
+        if not case.get("declare_delay", True):
+            meta.pop("sensor_delay", None)
+        rec = Record(t, x, None, meta, "<surrogate>")
+        cols, _ = _extraction_row(rec, p.xI, truth, ExtractOptions(noise=estimate_noise(x)))
+        row = {"rate_hz": rate, "noise_m": noise, "method": _realism_name(case), **cols}
+        if o.lowpass_hz > 0:  # the filter's delay, corrected or not (see the method)
+            row["sensor_delay_s"] = o.sensor_delay
+        xrec = Record(t - meta.get("sensor_delay", 0.0), x, omega, {}, "<surrogate>")
+        row.update(_x_impact_columns(xrec, x_impact_span, p.xI))
+        out.append(row)
     return out
 
 

@@ -1,0 +1,106 @@
+"""The obstacle position estimated from a record (contact-law fit) against the surrogate's truth."""
+
+import numpy as np
+import pytest
+
+from impactosc.integration.model import ModelParams
+from impactosc.measured.extract import estimate_x_impact, extract_events
+from impactosc.measured.obstacle import model_window
+from impactosc.measured.records import Record
+from impactosc.measured.surrogate import SurrogateOptions, surrogate_record
+
+# 60 s of the chaotic attractor (w = 40.86) after a 100 s transient at 2 kHz, ~430 impacts;
+# the noisy records are the clean one plus the surrogate's own noise draw (seed s), as
+# surrogate_record(..., SurrogateOptions(noise=n, seed=s)) would make them.
+OMEGA, TRANSIENT, DURATION, RATE = 40.86, 100.0, 60.0, 2000.0
+X_TRUE = ModelParams().xI
+
+
+@pytest.fixture(scope="module")
+def clean():
+    rec, _ = surrogate_record(OMEGA, TRANSIENT, DURATION, SurrogateOptions(rate=RATE, noise=0.0))
+    return rec
+
+
+def _noisy(rec, noise, seed):
+    x = rec.x + np.random.default_rng(seed).normal(0.0, noise, rec.x.size)
+    return Record(rec.t, x, rec.omega, {}, "<test>")
+
+
+@pytest.mark.parametrize(
+    "noise, seed",
+    [
+        # measured (error, stated sigma): 5 um: (-0.38, 0.65) um; 10 um: (+0.49, 1.21) um.  Seeds 1-5 of the
+        # same record at 10 um gave +2.75 (1.05), +0.42, +0.27, +1.34, +2.31 um: the estimate
+        # is within 3 um but its noise-induced bias (+0.3 to +1.3 um at 10 um, README) can put a
+        # single draw beyond 2 sigma; the coverage over draws is the slow test below
+        (5e-6, 0),
+        (1e-5, 0),
+    ],
+)
+def test_x_impact_unbiased_and_covered(clean, noise, seed):
+    est, det = estimate_x_impact(_noisy(clean, noise, seed))
+    err = est - X_TRUE
+    # the curvature estimate it starts from is 8-16 um low; the contact fit: |error| < 3 um
+    assert abs(err) < 3e-6, (err, det["sigma"])
+    assert abs(err) < 2 * det["sigma"], (err, det["sigma"])
+    assert det["method"] == "contact" and det["n_contacts"] > 300
+    # kI/m of model BC within 3 %, damping exponent of the right size
+    assert det["K"] == pytest.approx(ModelParams().kI / ModelParams().m, rel=0.03)
+    assert 0.1 < det["n3"] < 0.4
+
+
+def test_curvature_method_kept_and_low(clean):
+    est, det = estimate_x_impact(_noisy(clean, 5e-6, 0), method="curvature")
+    assert det["method"] == "curvature" and np.isnan(det["sigma"])
+    assert -20e-6 < est - X_TRUE < -3e-6  # the old estimate's bias (README: 8-16 um low)
+
+
+def test_extract_events_uses_and_reports_it(clean):
+    rec = _noisy(clean, 5e-6, 0)
+    ev, attrs = extract_events(rec)
+    assert attrs["x_impact_method"] == "contact" and attrs["x_impact_sigma"] > 0
+    assert "contact law" in attrs["x_impact_source"]
+    assert abs(attrs["x_impact"] - X_TRUE) < 3e-6
+    assert ev["impacts"]["t"].size > 300
+
+
+def test_omega_estimated_when_missing(clean):
+    rec = _noisy(clean, 5e-6, 0)
+    est, det = estimate_x_impact(Record(rec.t, rec.x, None, {}, "<test>"))
+    assert det["omega_estimated"] and det["omega"] == pytest.approx(OMEGA, abs=1e-3)
+    assert abs(est - X_TRUE) < 3e-6
+
+
+def test_local_model_matches_the_simulation(clean):
+    # the local model with model BC's constants and the free-flight acceleration at the vertex
+    # reproduces the clean samples around a deep contact to well below a micrometre
+    p = ModelParams()
+    t, x = clean.t, clean.x
+    j = int(np.argmax(x))
+    half = 5
+    seg = x[j - half : j + half + 1]
+    a = (-p.k * x[j] + p.m0e * OMEGA**2 * np.sin(OMEGA * t[j])) / p.m
+    best = min(
+        (np.max(np.abs(model_window(H, tau, a, p.kI / p.m, p.xI, p.b, p.n3, half, 1 / RATE) - seg)), H, tau)
+        for tau in np.linspace(-2.5e-4, 2.5e-4, 51)
+        for H in x[j] + np.linspace(-2e-6, 2e-6, 41)
+    )
+    assert best[0] < 0.5e-6, best
+
+
+@pytest.mark.slow
+def test_x_impact_coverage_over_segments_and_seeds():
+    """12 draws per noise level (6 x 60 s segments of a 400 s record x 2 seeds), README numbers."""
+    rec, _ = surrogate_record(OMEGA, TRANSIENT, 360.0, SurrogateOptions(rate=RATE, noise=0.0, mismatch={"c": 0.01}))
+    n = int(60 * RATE)
+    for noise in (5e-6, 1e-5):
+        errs, inside = [], 0
+        for seg in range(6):
+            part = Record(rec.t[seg * n : (seg + 1) * n], rec.x[seg * n : (seg + 1) * n], OMEGA, {}, "<test>")
+            for s in range(2):
+                est, det = estimate_x_impact(_noisy(part, noise, 1000 * seg + s))
+                errs.append(est - X_TRUE)
+                inside += abs(est - X_TRUE) < 2 * det["sigma"]
+        assert abs(np.mean(errs)) < 1.5e-6 and np.max(np.abs(errs)) < 3.5e-6
+        assert inside >= 10  # >= 90 % rounded down over 12 draws
