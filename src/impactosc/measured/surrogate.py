@@ -320,7 +320,8 @@ def surrogate_driven(
         raise ValueError("omegas must be a non-empty list of forcing frequencies > 0 rad/s, one per period")
     if encoder_counts is not None and not encoder_counts >= 4:
         raise ValueError(f"encoder_counts must be >= 4 counts per revolution, got {encoder_counts}")
-    dt = 1.0 / o.rate
+    k_over = o.oversample
+    dt = 1.0 / (o.rate * k_over)  # the simulation grid (finer than the samples under the filter)
     solver = dict(params=p, rtol=rtol, atol=atol)
     T = 0.0
     if n_initial > 0:
@@ -333,7 +334,7 @@ def surrogate_driven(
     def first_sample(t):  # index of the first grid sample t_first + j dt at or after t
         return math.ceil((t - t_first) / dt - 1e-9)
 
-    xs, pt, px, pv, it, iv, lens = [], [], [], [], [], [], []
+    xs, vs, pt, px, pv, it, iv, lens = [], [], [], [], [], [], [], []
     for w in omegas.tolist():
         P = 2 * math.pi / w
         js, je = first_sample(T), first_sample(T + P)
@@ -345,28 +346,30 @@ def surrogate_driven(
         pt.append(T), px.append(x0), pv.append(v0)
         if win is not None:
             xs.append(res.trajectory["x"][: je - js])
+            vs.append(res.trajectory["v"][: je - js])
             lens.append(je - js)
         it.append(T + res.events["impacts"]["t"]), iv.append(res.events["impacts"]["v"])
         x0, v0 = float(res.final_state[1]), float(res.final_state[2])
         T += P
-    x = np.concatenate(xs)
-    t = t_first + np.arange(x.size) * dt
+    fine = {"x": np.concatenate(xs), "v": np.concatenate(vs)}
+    fine["t"] = t_first + np.arange(fine["x"].size) * dt
+    x = _noisy(fine, o, np.random.default_rng(o.seed))  # the samples, every k_over-th grid point
+    t = fine["t"][::k_over]
     # exact forcing phase at the samples: 2 pi (n_initial + k) + w_k (t - T_k) in period k
-    k = np.repeat(np.arange(len(lens)), lens)
+    k = np.repeat(np.arange(len(lens)), lens)[::k_over]
     starts = np.asarray(pt)
     true_phase = 2 * math.pi * (n_initial + k) + omegas[k] * (t - starts[k])
     phase = true_phase
     if encoder_counts is not None:
         c = encoder_counts / (2 * math.pi)
         phase = (np.floor(true_phase * c) + 0.5) / c
-    rng = np.random.default_rng(o.seed)
     extra = {
         "surrogate_omega_first": float(omegas[0]),
         "surrogate_omega_last": float(omegas[-1]),
         "surrogate_n_periods": int(omegas.size),
         "surrogate_encoder_counts": int(encoder_counts) if encoder_counts is not None else "exact",
     }
-    rec = Record(t, _noisy({"x": x}, o, rng), float(np.mean(omegas)), _meta(o, p, extra), "<surrogate driven>", phase)
+    rec = Record(t, x, float(np.mean(omegas)), _meta(o, p, extra), "<surrogate driven>", phase)
     truth = {
         "poincare": {"t": starts, "x": np.asarray(px), "v": np.asarray(pv), "omega": omegas.copy()},
         "impacts": {"t": np.concatenate(it), "v": np.concatenate(iv)},
