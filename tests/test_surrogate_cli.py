@@ -11,6 +11,7 @@ from impactosc.measured.records import read_record, read_record_set, write_recor
 from impactosc.measured.surrogate import (
     LABEL,
     SurrogateOptions,
+    butterworth_delay,
     mismatched_params,
     panel_hooked,
     surrogate_record,
@@ -149,6 +150,41 @@ def test_cli_reports_estimated_x_impact(tmp_path, capsys):
     # noise (the curvature estimate it replaced: -8 to -16 um); 3 um bound
     assert abs(attrs["x_impact"] - (-2.086e-3)) < 3e-6
     assert attrs["x_impact_method"] == "contact" and 0 < attrs["x_impact_sigma"] < 1e-6
+    # the older estimate on request: the same record, biased low (measured -8 to -16 um)
+    argv = ["extract", str(tmp_path / "r.h5"), "--x-impact-method", "curvature", "--output", str(tmp_path / "c.h5")]
+    assert main(argv) == 0
+    _, attrs_c, _ = read_run(tmp_path / "c.h5")
+    assert attrs_c["x_impact_method"] == "curvature" and "curvature" in attrs_c["x_impact_source"]
+    assert -25e-6 < attrs_c["x_impact"] - (-2.086e-3) < -3e-6
+
+
+def test_cli_surrogate_sensor_chain(tmp_path, capsys):
+    # the realism options reach the record: the filter's delay is declared in its metadata and
+    # extraction subtracts it (events within the timing noise of the unfiltered record's)
+    common = ["surrogate", "--omega", "30", "--transient", "50", "--duration", "10", "--noise", "0"]
+    assert main([*common, "--output", str(tmp_path / "plain.h5")]) == 0
+    filt = ["--lowpass", "300", "--quantum", "1e-7", "--drift", "1e-7", "--clock-jitter", "1e-6"]
+    assert main([*common, *filt, "--output", str(tmp_path / "filt.h5")]) == 0
+    rec = read_record(tmp_path / "filt.h5")
+    assert rec.meta["sensor_delay"] == pytest.approx(butterworth_delay(4, 300.0, 16000.0))
+    assert rec.meta["surrogate_quantum_m"] == 1e-7
+    for name in ("plain", "filt"):
+        assert (
+            main(
+                ["extract", str(tmp_path / f"{name}.h5"), "--noise", "1e-6", "--output", str(tmp_path / f"{name}_e.h5")]
+            )
+            == 0
+        )
+    plain, _, _ = read_run(tmp_path / "plain_e.h5")
+    filt_ev, attrs, _ = read_run(tmp_path / "filt_e.h5")
+    assert attrs["sensor_delay"] == pytest.approx(rec.meta["sensor_delay"])
+    assert filt_ev["impacts"]["t"].size == plain["impacts"]["t"].size > 40  # period 1: 47 in 10 s
+    # undelayed, every impact would be 1.39 ms late; corrected, measured within 6.6 us (the
+    # filter's shape distorts the fast contact pulse beyond a pure delay); bound 3x that
+    assert np.max(np.abs(filt_ev["impacts"]["t"] - plain["impacts"]["t"])) < 2e-5
+    capsys.readouterr()
+    assert main([*common, "--lowpass", "1500", "--output", str(tmp_path / "bad.h5")]) == 2
+    assert "lowpass_hz must be below half" in capsys.readouterr().err
 
 
 def test_h5_record_names_the_sample(tmp_path):
