@@ -118,8 +118,13 @@ def test_noise_study_and_rows():
     from impactosc.paper.rows import measured_rows
 
     o = AnalysisOptions(acf_surrogates=20, ks_bootstrap=0, mixture_restarts=1, fano_windows=(0.5, 1.0, 2.0))
-    rows = noise_study(40.86, 100.0, 30.0, [2000.0], [0.0, 2e-5], analysis=o)
+    rows = noise_study(40.86, 100.0, 30.0, [2000.0], [0.0, 2e-5], analysis=o, x_impact_span=30.0, x_impact_noise=[2e-5])
     by = {(r["noise_m"], r["method"]): r for r in rows}
+    # the obstacle estimated only at the listed level (measured -3.05 um, sigma 3.21 um: 30 s at 20 um)
+    assert "x_impact_err_m" not in by[(0.0, "hysteresis")]
+    assert abs(by[(2e-5, "hysteresis")]["x_impact_err_m"]) < 3 * by[(2e-5, "hysteresis")]["x_impact_sigma_m"]
+    with pytest.raises(ValueError, match=r"x_impact_noise \[3e-06\] not among"):
+        noise_study(40.86, 100.0, 1.0, [2000.0], [0.0], analysis=o, x_impact_noise=[3e-6])
     assert by[(0.0, "hysteresis")]["missed"] == by[(0.0, "hysteresis")]["extra"] == 0
     assert by[(2e-5, "naive threshold")]["extra"] > 0  # noise chatter without hysteresis
     # timing error against the Cramer-Rao bound of the crossing fit (README: 0.65 at 20 um, 2 kHz)

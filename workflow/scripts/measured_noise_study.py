@@ -32,6 +32,7 @@ rows = noise_study(
     seed=p.surrogate["seed"],
     params=ModelParams(**p.model),
     x_impact_span=p.study.get("x_impact_span", 0.0),
+    x_impact_noise=p.study.get("x_impact_noise", []),
     realism=p.study.get("realism", {}).get("cases"),
     realism_noise=p.study.get("realism", {}).get("noise", 5e-6),
     realism_rate=p.study["density_rate"],

@@ -524,6 +524,7 @@ def noise_study(
     rtol=1e-10,
     atol=1e-12,
     x_impact_span=0.0,
+    x_impact_noise=(),
     realism=None,
     realism_noise=5e-6,
     realism_rate=None,
@@ -541,7 +542,8 @@ def noise_study(
     kernel densities are returned under ``kde`` per row.
 
     x_impact_span : s; when > 0, the hysteresis row of every rate x noise also gets the error
-        and stated sigma of :func:`estimate_x_impact` on the first x_impact_span s of the record.
+        and stated sigma of :func:`estimate_x_impact` on the first x_impact_span s of the record
+        (only at the noise levels in ``x_impact_noise`` when it is not empty).
     realism : list of dicts of :class:`SurrogateOptions` realism fields (lowpass_hz,
         lowpass_order, drift, drift_time, clock_jitter, quantum), one extra row each at
         ``realism_noise`` and ``realism_rate`` (default: the first rate), method
@@ -549,6 +551,9 @@ def noise_study(
         with ``declare_delay: false`` drops the filter's sensor_delay from the record's metadata
         (the delay is then not corrected: its timing bias shows).
     """
+    stray = sorted(set(x_impact_noise) - set(noises))
+    if stray:
+        raise ValueError(f"x_impact_noise {stray} not among the study's noise levels {list(noises)}")
     out = []
     for rate in rates:
         base = SurrogateOptions(rate=float(rate), noise=0.0, mismatch=mismatch or {}, seed=seed)
@@ -582,7 +587,7 @@ def noise_study(
             ):
                 cols, E = _extraction_row(rec, x_true, truth, opts)
                 row = {"rate_hz": rate, "noise_m": noise, "method": method, **cols}
-                if method == "hysteresis":
+                if method == "hysteresis" and (not x_impact_noise or noise in x_impact_noise):
                     row.update(_x_impact_columns(Record(rec0.t, x, omega, {}, rec0.path), x_impact_span, x_true))
                 try:
                     row.update(_train_numbers(E, t0, t1, omega, analysis))

@@ -1,5 +1,6 @@
 """Supplementary figure of the measured-records group: sensor noise and sampling against
-the extracted impact train (timing error, C_V^2, ISI bimodality).
+the extracted impact train (timing error and its Cramer-Rao bound, C_V^2, ISI bimodality,
+the obstacle estimate, the sensor-realism cases).
 
 Reads the rows of :func:`impactosc.measured.surrogate.noise_study` (as stored in its JSON).
 """
@@ -19,10 +20,13 @@ def _um(rows):
 
 
 def noise_study_figure(rows: list[dict], density_rate: float):
-    """(a) timing error vs noise, (b) C_V^2 vs noise, (c) ISI densities at one rate."""
+    """(a) timing error vs noise, (b) C_V^2 vs noise, (c) ISI densities at one rate,
+    (d) timing error against its Cramer-Rao bound, (e) the obstacle estimate's error with its
+    stated 2 sigma, (f) the sensor-realism cases."""
     apply_style()
-    fig, ax = plt.subplots(1, 3, figsize=(DOUBLE, 0.36 * DOUBLE))
-    rates = sorted({r["rate_hz"] for r in rows})
+    fig, axes = plt.subplots(2, 3, figsize=(DOUBLE, 0.72 * DOUBLE))
+    ax = axes.ravel()
+    rates = sorted({r["rate_hz"] for r in rows if not r["method"].startswith("realism")})
     colors = dict(zip(rates, plt.cm.viridis(np.linspace(0, 0.8, len(rates)))))
     for rate in rates:
         c = colors[rate]
@@ -47,7 +51,9 @@ def noise_study_figure(rows: list[dict], density_rate: float):
         )
         if ex:
             ax[1].axhline(ex[0]["cv2_paper"], color=c, lw=0.5, alpha=0.6)
-    for a in ax[:2]:
+        _crb_panel(ax[3], hy, c, rate)
+        _x_impact_panel(ax[4], hy, c, rate, rates.index(rate) - (len(rates) - 1) / 2)
+    for a in (ax[0], ax[1], ax[3], ax[4]):
         a.set_xscale("symlog", linthresh=1.0)
         a.set_xlim(left=-0.2)
         a.set_xlabel("sensor noise std (um)")
@@ -81,4 +87,63 @@ def noise_study_figure(rows: list[dict], density_rate: float):
     ax[2].set_ylabel("kernel density (1/s)")
     ax[2].set_title(f"(c) ISI density at {density_rate / 1e3:g} kHz")
     ax[2].legend(fontsize=5)
+    ax[3].axhline(1.0, color="k", lw=0.6)
+    ax[3].set_ylabel("timing error / bound (robust ratio)")
+    ax[3].set_title("(d) timing error / Cramer-Rao bound")
+    ax[3].legend(fontsize=5)
+    ax[4].axhspan(-3, 3, color="0.9", zorder=0, label="+-3 um")
+    ax[4].axhline(0.0, color="k", lw=0.6)
+    ax[4].set_ylabel(r"estimated - true $x_I$ (um)")
+    ax[4].set_title(r"(e) $x_I$ estimate (bars: 2$\sigma$)")
+    ax[4].legend(fontsize=5)
+    _realism_panel(ax[5], [r for r in rows if r["method"].startswith("realism")])
     return fig
+
+
+def _crb_panel(ax, hy, color, rate):
+    """timing_crb_ratio of the hysteresis rows (noise > 0) against noise."""
+    ok = [r for r in hy if np.isfinite(r.get("timing_crb_ratio", np.nan))]
+    ax.plot(_um(ok), [r["timing_crb_ratio"] for r in ok], "o-", color=color, ms=3, label=f"{rate / 1e3:g} kHz")
+
+
+def _x_impact_panel(ax, hy, color, rate, shift):
+    """x_impact error +- 2 stated sigma against noise (points shifted by rate for legibility)."""
+    ok = [r for r in hy if np.isfinite(r.get("x_impact_err_m", np.nan))]
+    if not ok:
+        return
+    x = _um(ok) * (1.0 + 0.06 * shift)
+    err = [1e6 * r["x_impact_err_m"] for r in ok]
+    bar = [2e6 * r["x_impact_sigma_m"] for r in ok]
+    ax.errorbar(x, err, yerr=bar, fmt="o", color=color, ms=3, capsize=1.5, lw=0.8, label=f"{rate / 1e3:g} kHz")
+
+
+def _realism_panel(ax, rows):
+    """Per sensor-realism case: |timing bias| and rms timing error (symlog, us)."""
+    if not rows:
+        ax.set_axis_off()
+        return
+    names = [r["method"].removeprefix("realism: ") for r in rows]
+    y = np.arange(len(rows))
+    bias = [1e6 * abs(r["timing_bias_s"]) for r in rows]
+    rms = [1e6 * r["timing_rms_s"] for r in rows]
+    ax.barh(y - 0.2, bias, height=0.4, color="C3", label="|timing bias|")
+    ax.barh(y + 0.2, rms, height=0.4, color="C0", label="rms timing error")
+    ax.set_yticks(y, ["\n".join(_wrap(n)) for n in names], fontsize=5)
+    ax.invert_yaxis()
+    ax.set_xscale("symlog", linthresh=10.0)
+    ax.set_xlabel("us")
+    ax.set_xlim(0, 10 ** np.ceil(np.log10(max(*bias, *rms)) + 1))  # room for the legend
+    ax.set_title("(f) sensor realism")
+    ax.legend(fontsize=5, loc="lower right")
+
+
+def _wrap(text, width=28):
+    """Split a case name at '; ' and ', ' into lines of about ``width`` characters."""
+    lines, line = [], ""
+    for word in text.replace("; ", ", ").split(", "):
+        if line and len(line) + len(word) > width:
+            lines.append(line)
+            line = word
+        else:
+            line = f"{line}, {word}" if line else word
+    return [*lines, line]
