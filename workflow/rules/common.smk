@@ -159,6 +159,9 @@ MEAS_CHAOS_EVENTS = "results/runs/measured/chaos_events.h5"
 MEAS_FIG02_POINTS = "results/runs/measured/fig02_experimental.h5"
 MEAS_NOISE_STATS = "results/stats/measured/measured_noise_study.json"
 MEAS_NOISE_TABLE = "results/tables/measured/measured_noise_study.csv"
+MEAS_XI_COVERAGE_PART = "results/stats/measured/x_impact_coverage/level{level}.json"
+MEAS_XI_COVERAGE_TABLE = "results/tables/measured/x_impact_coverage.csv"
+MEAS_XI_COVERAGE_DRAWS = "results/tables/measured/x_impact_coverage_draws.csv"
 
 # work_precision group (and the hard cases)
 # per scene, two jobs: the compiled contestants (the core, CyRK, heyoka's floor: a timing

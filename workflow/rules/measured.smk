@@ -125,6 +125,41 @@ rule measured_noise_figure:
 
 ALL_TARGETS.extend(rules.measured_noise_figure.output + [rules.measured_noise_study.output.csv])
 
+
+# Opt-in (about 6 min of CPU at the defaults): snakemake -j2 measured_x_impact_coverage.
+# Bias and coverage of the obstacle estimate's stated sigma over segments x noise seeds.
+rule measured_x_impact_coverage_part:
+    input:
+        cache=NUMBA_CACHE,
+    output:
+        json=MEAS_XI_COVERAGE_PART,
+    log:
+        logfile("measured", "x_impact_coverage_{level}"),
+    benchmark:
+        benchmark_file("measured", "x_impact_coverage_{level}")
+    wildcard_constraints:
+        level=r"\d+",
+    params:
+        coverage=MEAS["x_impact_coverage"],
+        surrogate=MEAS["surrogate"],
+        model=config["model"],
+        solver=config["solver"],
+    script:
+        "../scripts/measured_x_impact_coverage_part.py"
+
+
+rule measured_x_impact_coverage:
+    input:
+        parts=expand(MEAS_XI_COVERAGE_PART, level=range(len(MEAS["x_impact_coverage"]["noise"]))),
+    output:
+        csv=MEAS_XI_COVERAGE_TABLE,
+        draws=MEAS_XI_COVERAGE_DRAWS,
+    log:
+        logfile("measured", "x_impact_coverage"),
+    script:
+        "../scripts/measured_x_impact_coverage.py"
+
+
 if MEAS_HOOK_CHAOS:
 
     rule measured_rows:

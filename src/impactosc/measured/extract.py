@@ -155,13 +155,13 @@ def estimate_x_impact(
     point near the obstacle, the free-flight acceleration (forcing, spring, damping, friction)
     measured on the rest of the record (:func:`impactosc.measured.obstacle.fit_contact_law`,
     whose docstring gives the method).  The curvature estimate below is its starting point.
-    On the model's chaotic attractor (w = 40.86, 2 kHz, c + 1 %; 6 segments of 60 s x 2 noise
-    seeds) the error is measured -0.06 um without noise, +0.01 +- 0.28 um at 2 um noise,
-    +0.14 +- 0.61 um at 5 um and +0.30 +- 1.07 um at 10 um (mean +- sd; the curvature estimate:
-    -8.7 to -10.7 um, sd 2.3-3.0 um); the stated sigma, from the fit covariance, is 0.26, 0.64 and
-    1.21 um and holds the truth within 2 sigma in 12/12, 12/12 and 11/12 draws.  On 400 s
-    records: +0.31, +0.13, -0.10 um (sigma 0.24 um) at 5 um, +0.66, +0.56, +0.10 um (sigma
-    0.47 um) at 10 um.  About 5 s per 60 s of record at 2 kHz (README, tests/test_obstacle.py).
+    On the model's chaotic attractor (w = 40.86, 2 kHz, c + 1 %; 6 segments of 60 s x 5 noise
+    seeds, :mod:`impactosc.measured.coverage`, target measured_x_impact_coverage) the error is
+    +0.00 +- 0.11 um at 5 um noise and +0.17 +- 0.22 um at 10 um (mean +- its standard error; sd
+    0.62 and 1.22 um against a median stated sigma of 0.64 and 1.22 um); the stated sigma, from
+    the fit covariance, holds the truth within 1 sigma in 22/30 and 20/30 draws, within 2 sigma
+    in 30/30 and 29/30.  The curvature estimate: -8.7 to -10.7 um.  About 5 s per 60 s of record
+    at 2 kHz (README, tests/test_obstacle.py).
 
     ``method="curvature"``: the earlier estimate.  At a turning point in free flight the
     curvature |x''| is the spring and forcing acceleration (a few m/s^2 here); at a turning point

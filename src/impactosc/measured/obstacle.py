@@ -298,8 +298,6 @@ def fit_contact_law(
     margin=30e-6,
     n3=None,
     step=0.25e-3,
-    bootstrap=0,
-    seed=0,
 ) -> dict:
     """Steps 1-5 of the module docstring.  Returns x_impact (m), its 1-sigma uncertainty and the fit.
 
@@ -310,9 +308,9 @@ def fit_contact_law(
     n3 : damping exponent; None fits it (the default), a number fixes it.
     step : longest RK4 step of the local model between samples, s (0.25 ms: 6 nm from the
         converged trajectory on model BC's contacts).
-    bootstrap : refits of the parametric bootstrap that removes the fit's noise-induced bias
-        (:func:`_bootstrap_bias`); 0 returns the plain fit.  seed: its noise draws.
     """
+    from scipy.optimize import least_squares
+
     t = np.asarray(t, dtype=float)
     x = np.asarray(x, dtype=float)
     dt = float(t[1] - t[0])
@@ -340,58 +338,21 @@ def fit_contact_law(
     a = a0 + F * np.sin(w * tj) + G * np.cos(w * tj) + cx * H0
     gam, mu = -gam, -mu
     K0 = float(K0 or 2.7e7)
-    local = dict(a=a, gam=gam, mu=mu, half=half, dt=dt, nsub=nsub, tau_max=tau_max, sigma=sigma, n3=n3)
-    u0 = np.array([0.0, 0.0, 0.5] + ([0.3] if n3 is None else []))
-    fit = _fit_shared(Y, guess, math.log(K0), u0, H0, tau0, local)
-    xi, K, b, nn = fit["constants"]
-    boot = _bootstrap_bias(Y - fit["residuals"], guess, math.log(K0), fit, local, bootstrap, seed)
-    Hf = fit["H"]
-    sigma_fit = fit["sigma"]
-    return {
-        "x_impact": float(xi - boot["bias"]),
-        "sigma": float(math.hypot(sigma_fit, boot["bias_sigma"])),
-        "x_impact_uncorrected": float(xi),
-        "sigma_fit": float(sigma_fit),
-        **boot,
-        "K": float(K),
-        "K_rel_sigma": fit["K_rel_sigma"],
-        "b": float(b),
-        "n3": float(nn),
-        "n3_fitted": n3 is None,
-        "n_windows": int(Y.shape[0]),
-        "n_contacts": int(np.sum(Hf > xi)),
-        "window_samples": int(2 * half + 1),
-        "at_tau_limit": int(np.sum(np.abs(fit["tau"]) >= tau_max * (1 - 1e-9))),
-        "chi2_dof": fit["chi2_dof"],
-        "nfev": fit["nfev"],
-        "free_flight": ff,
-    }
-
-
-def _fit_shared(Y, guess, lk0, u0, H0, tau0, local) -> dict:
-    """Step 4: the shared constants (x_impact, kI/m, b[, n3]) by least squares over all windows,
-    each window's vertex (H, tau) projected out; step 5: the covariance of x_impact and K.
-
-    u (scaled): x_impact = guess + 1e-5 u0, K = exp(lk0 + u1), b = u2, n3 = u3 (fitted when
-    local["n3"] is None).  Returns the constants, u, the per-window H and tau and residuals (m)
-    at the fit, sigma(x_impact), K's relative sigma, chi2/dof and the evaluations used.
-    """
-    from scipy.optimize import least_squares
-
-    fit_n3 = local["n3"] is None
-    a, gam, mu, half, dt, nsub, tau_max = (local[k] for k in ("a", "gam", "mu", "half", "dt", "nsub", "tau_max"))
+    lk0 = math.log(K0)
+    fit_n3 = n3 is None
     out = np.empty_like(Y)
     H, tau = H0.copy(), tau0.copy()
 
     def unpack(u):
-        return guess + 1e-5 * u[0], math.exp(lk0 + u[1]), u[2], (u[3] if fit_n3 else float(local["n3"]))
+        return guess + 1e-5 * u[0], math.exp(lk0 + u[1]), u[2], (u[3] if fit_n3 else float(n3))
 
     def residuals(u):
         xi, K, b, nn = unpack(u)
         Hj, tj_ = H.copy(), tau.copy()
         _project(Y, a, gam, mu, K, xi, b, nn, half, dt, nsub, Hj, tj_, tau_max, 50, out)
-        return out.ravel() / local["sigma"]
+        return out.ravel() / sigma
 
+    u0 = np.array([0.0, 0.0, 0.5] + ([0.3] if fit_n3 else []))
     lo = [-np.inf, -np.inf, 0.0] + ([0.02] if fit_n3 else [])
     hi = [np.inf, np.inf, 20.0] + ([3.0] if fit_n3 else [])
     # warm start of the per-window unknowns at the starting constants (every evaluation
@@ -400,52 +361,26 @@ def _fit_shared(Y, guess, lk0, u0, H0, tau0, local) -> dict:
     _project(Y, a, gam, mu, K, xi, b, nn, half, dt, nsub, H, tau, tau_max, 50, out)
     # diff_step 1e-2 (0.1 um in x_impact, 1 % in K): well above the objective's rounding
     r = least_squares(residuals, u0, bounds=(lo, hi), diff_step=1e-2, xtol=1e-10, ftol=1e-10, gtol=1e-10)
-    constants = unpack(r.x)
-    dof = max(r.fun.size - r.x.size - 2 * Y.shape[0], 1)
+    xi, K, b, nn = unpack(r.x)
+    n_par = r.x.size
+    dof = max(r.fun.size - n_par - 2 * Y.shape[0], 1)
     s2 = float(r.fun @ r.fun) / dof
     cov = np.linalg.pinv(r.jac.T @ r.jac) * s2
-    xi, K, b, nn = constants
     Hf, tf = H.copy(), tau.copy()
     _project(Y, a, gam, mu, K, xi, b, nn, half, dt, nsub, Hf, tf, tau_max, 50, out)
     return {
-        "constants": constants,
-        "u": r.x,
-        "H": Hf,
-        "tau": tf,
-        "residuals": out.copy(),
+        "x_impact": float(xi),
         "sigma": float(1e-5 * math.sqrt(cov[0, 0])),
+        "K": float(K),
         "K_rel_sigma": float(math.sqrt(cov[1, 1])),
+        "b": float(b),
+        "n3": float(nn),
+        "n3_fitted": fit_n3,
+        "n_windows": int(Y.shape[0]),
+        "n_contacts": int(np.sum(Hf > xi)),
+        "window_samples": int(2 * half + 1),
+        "at_tau_limit": int(np.sum(np.abs(tf) >= tau_max * (1 - 1e-9))),
         "chi2_dof": s2,
         "nfev": int(r.nfev),
-    }
-
-
-def _bootstrap_bias(fitted, guess, lk0, fit, local, n_boot, seed) -> dict:
-    """Parametric bootstrap of the fit's bias (the incidental-parameter bias of step 4).
-
-    Why: every window brings its own H and tau, so the shared constants are fitted with a
-    nuisance pair per window; least squares is then biased at order noise^2 in every window
-    alike, and the bias does not average out over windows (Neyman and Scott 1948): measured
-    +0.1 to +0.4 um at 5 um noise, +0.3 to +1.4 um at 10 um, about 1 sigma at 10 um.  The
-    fitted windows plus fresh noise of the residuals' std are refitted ``n_boot`` times from
-    the fit; bias = mean refit - fit, its standard error std / sqrt(n_boot).
-    """
-    nan = float("nan")
-    if n_boot <= 0:
-        return {"bias": 0.0, "bias_sigma": 0.0, "n_bootstrap": 0, "bootstrap_sd": nan}
-    rng = np.random.default_rng(seed)
-    noise = local["sigma"] * math.sqrt(fit["chi2_dof"])
-    xi = fit["constants"][0]
-    refits = []
-    for _ in range(n_boot):
-        Yb = fitted + rng.normal(0.0, noise, fitted.shape)
-        rb = _fit_shared(Yb, guess, lk0, fit["u"], fit["H"], fit["tau"], local)
-        refits.append(rb["constants"][0])
-    refits = np.asarray(refits)
-    sd = float(np.std(refits, ddof=1)) if n_boot > 1 else nan
-    return {
-        "bias": float(np.mean(refits) - xi),
-        "bias_sigma": sd / math.sqrt(n_boot) if n_boot > 1 else nan,
-        "n_bootstrap": int(n_boot),
-        "bootstrap_sd": sd,
+        "free_flight": ff,
     }

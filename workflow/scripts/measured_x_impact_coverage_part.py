@@ -1,0 +1,44 @@
+"""One noise level of the obstacle-estimate coverage study (rule measured_x_impact_coverage_part).
+
+Reads snakemake.params (coverage: noise levels, duration, segment, seeds; surrogate: chaos
+scene, rate, mismatch); writes snakemake.output.json with the draws of
+impactosc.measured.coverage.x_impact_draws at noise level number wildcards.level.
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)
+
+import logging
+
+from impactosc.files import write_json
+from impactosc.integration.model import ModelParams
+from impactosc.measured.coverage import coverage_summary, x_impact_draws
+
+p = snakemake.params
+cov, sur = p.coverage, p.surrogate
+noise = cov["noise"][int(snakemake.wildcards.level)]
+
+
+def progress(i, n, row):
+    logging.info(
+        f"draw {i}/{n}: segment {row['segment']} seed {row['seed']}: error {row['error_m'] * 1e6:+.2f} um, "
+        f"sigma {row['sigma_m'] * 1e6:.2f} um"
+    )
+
+
+rows = x_impact_draws(
+    noise,
+    omega=sur["chaos"]["omega"],
+    transient=sur["chaos"]["transient"],
+    duration=cov["duration"],
+    segment=cov["segment"],
+    seeds=cov["seeds"],
+    rate=sur["rate"],
+    mismatch=sur["mismatch"],
+    params=ModelParams(**p.model),
+    progress=progress,
+    **p.solver,
+)
+write_json(snakemake.output.json, {"draws": rows})
+logging.info("summary: %s", coverage_summary(rows))
