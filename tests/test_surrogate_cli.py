@@ -139,6 +139,10 @@ def test_noise_study_and_rows():
     out = measured_rows(stats, stats, rows, is_surrogate=True, command="x")
     assert len(out) == 4 and all(r["agrees"] == "n.a." for r in out)
     assert all("surrogate" in r["replication"] for r in out[:3])
+    # the noise row's finding follows the modes counted, not a fixed sentence
+    modes = [by[(n, "hysteresis")]["isi_n_modes"] for n in (0.0, 2e-5)]
+    assert ("Unimodal from" in out[3]["replication"]) == (min(modes) < 2)
+    assert ("Bimodal at every level up to 20 um" in out[3]["replication"]) == (min(modes) >= 2)
 
 
 def test_cli_reports_estimated_x_impact(tmp_path, capsys):
