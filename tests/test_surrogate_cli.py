@@ -191,6 +191,12 @@ def test_cli_surrogate_sensor_chain(tmp_path, capsys):
     # undelayed, every impact would be 1.39 ms late; corrected, measured within 6.6 us (the
     # filter's shape distorts the fast contact pulse beyond a pure delay); bound 3x that
     assert np.max(np.abs(filt_ev["impacts"]["t"] - plain["impacts"]["t"])) < 2e-5
+    # --sensor-delay overrides the record's: 0 leaves every impact late by the filter's delay
+    argv = ["extract", str(tmp_path / "filt.h5"), "--noise", "1e-6", "--sensor-delay", "0", "--output"]
+    assert main([*argv, str(tmp_path / "late.h5")]) == 0
+    late, _, _ = read_run(tmp_path / "late.h5")
+    lag = late["impacts"]["t"] - plain["impacts"]["t"]
+    assert np.median(lag) == pytest.approx(rec.meta["sensor_delay"], abs=2e-5)
     capsys.readouterr()
     assert main([*common, "--lowpass", "1500", "--output", str(tmp_path / "bad.h5")]) == 2
     assert "lowpass_hz must be below half" in capsys.readouterr().err

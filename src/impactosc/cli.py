@@ -181,6 +181,13 @@ def build_parser() -> argparse.ArgumentParser:
     ext.add_argument("--output", required=True, help="HDF5 events file to write (atomically)")
     ext.add_argument("--omega", type=_finite, help="nominal forcing frequency, rad/s (overrides the record's)")
     ext.add_argument("--noise", type=_finite, help="sensor-noise std, m (default: estimated from the record)")
+    ext.add_argument(
+        "--sensor-delay",
+        type=_finite,
+        metavar="S",
+        help="delay of the sensor chain, s (an anti-aliasing filter's group delay), subtracted from the sample "
+        "times (default: the record's sensor_delay metadata, else 0)",
+    )
     swe = sub.add_parser(
         "sweep-extract",
         help="cut a slow-sweep record (w drifting, one file) into the Poincare points of the Fig 2 panel",
@@ -312,7 +319,7 @@ def _extract(args) -> int:
 
     check_writable(args.output)
     rec = _read(args, omega=args.omega)
-    options = ExtractOptions(noise=args.noise, x_impact_method=args.x_impact_method)
+    options = ExtractOptions(noise=args.noise, x_impact_method=args.x_impact_method, delay=args.sensor_delay)
     events, attrs = extract_events(rec, args.x_impact, options)
     write_run(args.output, events, attrs, sources=[args.record])
     section = ""
