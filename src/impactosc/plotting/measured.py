@@ -132,9 +132,9 @@ def _realism_panel(ax, rows):
     ax.invert_yaxis()
     ax.set_xscale("symlog", linthresh=10.0)
     ax.set_xlabel("us")
-    ax.set_xlim(0, 10 ** np.ceil(np.log10(max(*bias, *rms)) + 1))  # room for the legend
+    ax.set_xlim(0, 10 ** np.ceil(np.log10(max(*bias, *rms))))
     ax.set_title("(f) sensor realism")
-    ax.legend(fontsize=5, loc="lower right")
+    ax.legend(fontsize=5, loc="upper center", bbox_to_anchor=(0.5, -0.25), ncol=2)
 
 
 def _wrap(text, width=28):
