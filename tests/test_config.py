@@ -151,3 +151,9 @@ def test_orbit_segment_needs_exactly_one_start(config):
     }
     with pytest.raises(ConfigError, match=r"periodic_orbits\.segments\.both"):
         validate_config(config, SCHEMA)
+
+
+def test_x_impact_noise_must_be_a_study_level(config):
+    config["measured"]["noise_study"]["x_impact_noise"] = [3e-6]
+    with pytest.raises(ConfigError, match=r"measured.noise_study.x_impact_noise: \[3e-06\] not among"):
+        validate_config(config, SCHEMA)

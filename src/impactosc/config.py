@@ -126,6 +126,13 @@ def validate_config(config: dict, schema_path) -> dict:
                 f"start <= stop <= transient + duration = {end}"
             )
     _check_orbit_segments(config.get("periodic_orbits", {}).get("segments", {}))
+    study = config.get("measured", {}).get("noise_study", {})
+    stray = sorted(set(study.get("x_impact_noise", [])) - set(study.get("noise", [])))
+    if stray:
+        raise ConfigError(
+            f"invalid configuration:\n  measured.noise_study.x_impact_noise: {stray} not among "
+            f"measured.noise_study.noise {study['noise']}"
+        )
     return config
 
 
