@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from impactosc.measured.extract import ExtractOptions, extract_events
-from impactosc.measured.surrogate import SurrogateOptions, _match, _noisy, butterworth_delay, surrogate_record
+from impactosc.measured.noise_study import _match
+from impactosc.measured.surrogate import SurrogateOptions, butterworth_delay, sensor_samples, surrogate_record
 
 RATE = 2000.0
 
@@ -21,15 +22,15 @@ def test_defaults_change_nothing():
     assert (o.lowpass_hz, o.drift, o.clock_jitter, o.quantum) == (0.0, 0.0, 0.0, 0.0) and o.oversample == 1
     x = np.sin(np.arange(1000) * 0.01)
     before = x + np.random.default_rng(3).normal(0.0, o.noise, x.size)  # the noise model before the options
-    np.testing.assert_array_equal(_noisy(_traj(x, np.cos(x), RATE), o, np.random.default_rng(3)), before)
+    np.testing.assert_array_equal(sensor_samples(_traj(x, np.cos(x), RATE), o, np.random.default_rng(3)), before)
 
 
 def test_quantum_rounds_every_sample():
     q = 1e-6
     x = np.random.default_rng(0).uniform(-3e-3, -1e-3, 20000)
     o = SurrogateOptions(noise=2e-6, quantum=q)
-    out = _noisy(_traj(x, 0 * x, RATE), o, np.random.default_rng(1))
-    raw = _noisy(_traj(x, 0 * x, RATE), SurrogateOptions(noise=2e-6), np.random.default_rng(1))
+    out = sensor_samples(_traj(x, 0 * x, RATE), o, np.random.default_rng(1))
+    raw = sensor_samples(_traj(x, 0 * x, RATE), SurrogateOptions(noise=2e-6), np.random.default_rng(1))
     np.testing.assert_allclose(out / q, np.round(out / q), atol=1e-9)  # multiples of the step
     assert np.max(np.abs(out - raw)) <= q / 2 * (1 + 1e-9)
     assert np.std(out - raw) == pytest.approx(q / math.sqrt(12), rel=0.03)  # uniform rounding error
@@ -45,7 +46,7 @@ def test_lowpass_delays_by_its_group_delay():
     t = np.arange(int(20 * RATE * k)) / (RATE * k)
     f = 5.0  # a slow signal comes out delayed by the low-frequency group delay
     x, v = 1e-3 * np.sin(2 * np.pi * f * t), 2e-3 * np.pi * f * np.cos(2 * np.pi * f * t)
-    out = _noisy({"t": t, "x": x, "v": v}, o, np.random.default_rng(0))
+    out = sensor_samples({"t": t, "x": x, "v": v}, o, np.random.default_rng(0))
     ts = t[::k]
     good = ts > 1.0
     B = np.column_stack([np.sin(2 * np.pi * f * ts), np.cos(2 * np.pi * f * ts)])[good]
@@ -58,7 +59,7 @@ def test_lowpass_delays_by_its_group_delay():
 def test_drift_amplitude_and_time_scale():
     o = SurrogateOptions(noise=0.0, drift=5e-6, drift_time=1.0)
     n = int(1000 * RATE)
-    d = _noisy(_traj(np.zeros(n), np.zeros(n), RATE), o, np.random.default_rng(0))
+    d = sensor_samples(_traj(np.zeros(n), np.zeros(n), RATE), o, np.random.default_rng(0))
     # 1000 correlation times: the std is known to ~sqrt(1/1000)-ish, 10 % tolerance
     assert np.std(d) == pytest.approx(5e-6, rel=0.1)
     lag = int(RATE * o.drift_time)
@@ -70,7 +71,7 @@ def test_clock_jitter_std():
     o = SurrogateOptions(noise=0.0, clock_jitter=1e-5)
     n, V = 200000, 0.05
     t = np.arange(n) / RATE
-    out = _noisy({"t": t, "x": V * t, "v": np.full(n, V)}, o, np.random.default_rng(0))
+    out = sensor_samples({"t": t, "x": V * t, "v": np.full(n, V)}, o, np.random.default_rng(0))
     assert np.std((out - V * t) / V) == pytest.approx(1e-5, rel=0.02)  # a ramp sampled at t + e reads V (t + e)
 
 
@@ -109,7 +110,7 @@ def test_declared_filter_delay_is_corrected(filtered):
 
 
 def test_noise_study_realism_rows():
-    from impactosc.measured.surrogate import noise_study
+    from impactosc.measured.noise_study import noise_study
 
     cases = [{"quantum": 1e-6}, {"lowpass_hz": 500.0}, {"lowpass_hz": 500.0, "declare_delay": False}]
     rows = noise_study(40.86, 100.0, 10.0, [RATE], [], realism=cases, realism_noise=5e-6)

@@ -114,7 +114,7 @@ def test_panel_label_guard():
 def test_noise_study_and_rows():
     from impactosc.analysis.chaotic import analyse_train
     from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain
-    from impactosc.measured.surrogate import noise_study
+    from impactosc.measured.noise_study import noise_study
     from impactosc.paper.rows import measured_rows
 
     o = AnalysisOptions(acf_surrogates=20, ks_bootstrap=0, mixture_restarts=1, fano_windows=(0.5, 1.0, 2.0))

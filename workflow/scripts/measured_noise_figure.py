@@ -1,6 +1,6 @@
 """Draw the noise-study figure.
 
-Reads snakemake.input.json (rows of impactosc.measured.surrogate.noise_study); writes
+Reads snakemake.input.json (rows of impactosc.measured.noise_study.noise_study); writes
 snakemake.output.png and .pdf (drawing in impactosc.plotting.measured).
 """
 

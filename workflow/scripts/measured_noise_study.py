@@ -16,7 +16,7 @@ import time
 from impactosc.analysis.impact_train import AnalysisOptions
 from impactosc.files import write_csv, write_json
 from impactosc.integration.model import ModelParams
-from impactosc.measured.surrogate import noise_study
+from impactosc.measured.noise_study import noise_study
 
 p = snakemake.params
 c = p.surrogate["chaos"]

@@ -20,21 +20,19 @@ import math
 
 import numpy as np
 
-from ..analysis.chaotic import analyse_train
-from ..analysis.impact_train import ImpactTrain
 from ..integration.model import ModelParams
 from ..integration.simulate import Window, simulate
-from .extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
 from .records import Record
 
 __all__ = [
     "LABEL",
     "panel_hooked",
-    "noise_study",
     "SurrogateOptions",
     "butterworth_delay",
     "mismatched_params",
     "surrogate_record",
+    "surrogate_meta",
+    "sensor_samples",
     "surrogate_sweep",
     "surrogate_driven",
     "ramp_omegas",
@@ -139,7 +137,8 @@ def mismatched_params(params: ModelParams | None, mismatch: dict) -> ModelParams
     return dataclasses.replace(params, **{k: getattr(params, k) * (1 + r) for k, r in mismatch.items()})
 
 
-def _meta(o: SurrogateOptions, params: ModelParams, extra=None) -> dict:
+def surrogate_meta(o: SurrogateOptions, params: ModelParams, extra=None) -> dict:
+    """The metadata a surrogate record carries: its label, settings, x_impact and sensor_delay."""
     meta = {
         "label": LABEL,
         "source": "surrogate",
@@ -164,7 +163,7 @@ def _meta(o: SurrogateOptions, params: ModelParams, extra=None) -> dict:
     return meta
 
 
-def _noisy(traj, o: SurrogateOptions, rng):
+def sensor_samples(traj, o: SurrogateOptions, rng):
     """The recorded samples of a trajectory (t, x, v on a grid of 1 / (rate * k), k >= 1).
 
     Order of the sensor chain: anti-aliasing filter on the fine grid -> sampling every k-th
@@ -238,7 +237,7 @@ def surrogate_record(
     )
     rng = np.random.default_rng(o.seed)
     t = res.trajectory["t"][:: o.oversample]
-    rec = Record(t, _noisy(res.trajectory, o, rng), float(omega), _meta(o, p), "<surrogate>")
+    rec = Record(t, sensor_samples(res.trajectory, o, rng), float(omega), surrogate_meta(o, p), "<surrogate>")
     return rec, res.events
 
 
@@ -273,7 +272,13 @@ def surrogate_sweep(
         res = simulate(w, tr, du, x0=x0, v0=v0, params=p, rtol=rtol, atol=atol, window=win, record=("impacts",))
         x0, v0 = float(res.final_state[1]), float(res.final_state[2])
         out.append(
-            Record(res.trajectory["t"], _noisy(res.trajectory, o, rng), float(w), _meta(o, p), f"<surrogate w={w:g}>")
+            Record(
+                res.trajectory["t"],
+                sensor_samples(res.trajectory, o, rng),
+                float(w),
+                surrogate_meta(o, p),
+                f"<surrogate w={w:g}>",
+            )
         )
     return out
 
@@ -353,7 +358,7 @@ def surrogate_driven(
         T += P
     fine = {"x": np.concatenate(xs), "v": np.concatenate(vs)}
     fine["t"] = t_first + np.arange(fine["x"].size) * dt
-    x = _noisy(fine, o, np.random.default_rng(o.seed))  # the samples, every k_over-th grid point
+    x = sensor_samples(fine, o, np.random.default_rng(o.seed))  # the samples, every k_over-th grid point
     t = fine["t"][::k_over]
     # exact forcing phase at the samples: 2 pi (n_initial + k) + w_k (t - T_k) in period k
     k = np.repeat(np.arange(len(lens)), lens)[::k_over]
@@ -369,7 +374,7 @@ def surrogate_driven(
         "surrogate_n_periods": int(omegas.size),
         "surrogate_encoder_counts": int(encoder_counts) if encoder_counts is not None else "exact",
     }
-    rec = Record(t, x, float(np.mean(omegas)), _meta(o, p, extra), "<surrogate driven>", phase)
+    rec = Record(t, x, float(np.mean(omegas)), surrogate_meta(o, p, extra), "<surrogate driven>", phase)
     truth = {
         "poincare": {"t": starts, "x": np.asarray(px), "v": np.asarray(pv), "omega": omegas.copy()},
         "impacts": {"t": np.concatenate(it), "v": np.concatenate(iv)},
@@ -404,252 +409,6 @@ def surrogate_ramp(start, stop, duration, options: SurrogateOptions | None = Non
     rec, truth = surrogate_driven(ramp_omegas(start, stop, duration), options, n_initial=n_initial, **kwargs)
     meta = dict(rec.meta, surrogate_ramp=f"{float(start):g} -> {float(stop):g} rad/s in {float(duration):g} s")
     return dataclasses.replace(rec, meta=meta, path="<surrogate ramp>"), truth
-
-
-def _match(true_t, found_t):
-    """Nearest-neighbour one-to-one matching of found to true impact times."""
-    if found_t.size == 0 or true_t.size == 0:
-        return np.empty(0, int), np.empty(0, int)
-    j = np.clip(np.searchsorted(true_t, found_t), 1, true_t.size - 1)
-    near = np.where(np.abs(true_t[j] - found_t) < np.abs(true_t[j - 1] - found_t), j, j - 1)
-    half = np.minimum(np.diff(true_t, prepend=-np.inf), np.diff(true_t, append=np.inf))[near] / 2
-    ok = np.abs(found_t - true_t[near]) < half
-    found, true = np.flatnonzero(ok), near[ok]
-    _, first = np.unique(true, return_index=True)  # a true impact claimed twice counts once
-    return found[first], true[first]
-
-
-def _train_numbers(times, t0, t1, omega, analysis):
-    """Scalars of the noise study from :func:`impactosc.analysis.chaotic.analyse_train`."""
-    a = analyse_train(ImpactTrain(times, t0, t1, omega=omega), analysis, ("variability", "isi_density", "acf"))
-    d = a["isi_density"]
-    g, dens, mx = np.asarray(d["kde_grid"]), np.asarray(d["kde_density"]), np.asarray(d["maxima"])
-    valley = float("nan")
-    if mx.size >= 2:
-        # depth of the bimodality: density minimum between the outer maxima / lower maximum
-        inside = (g > mx[0]) & (g < mx[-1])
-        valley = float(dens[inside].min() / min(np.interp(mx[0], g, dens), np.interp(mx[-1], g, dens)))
-    return {
-        "cv2_paper": a["variability"]["cv2_paper"],
-        "cv2": a["variability"]["cv2"],
-        "isi_n_modes": int(d["n_modes"]),
-        "isi_maxima": " ".join(f"{m:.4f}" for m in mx),
-        "isi_valley_ratio": valley,
-        "acf_n_significant": int(a["acf"]["n_significant"]),
-        "kde_grid": g,
-        "kde_density": dens,
-    }
-
-
-def _extraction_row(rec, x_impact, truth, opts: ExtractOptions) -> tuple[dict, np.ndarray]:
-    """Extract the events of rec with the known x_impact and score them against the truth.
-
-    Returns (columns, extracted impact times).  Timing: rms error, largest |error| / stated
-    sigma_t, the median |error| against the median Cramer-Rao bound of the matched impacts and
-    ``timing_crb_ratio`` = median(|error| / bound) / 0.6745 (1 when every impact is timed with
-    the bound's precision: |error| / bound is then half-normal, median 0.6745).  Penetration:
-    median error and median |error| of the depths of the matched impacts.
-    """
-    T, Ht = truth["impacts"]["t"], truth["penetrations"]["h"]
-    ev, at = extract_events(rec, x_impact, opts)
-    E, s, crb = ev["impacts"]["t"], ev["impacts"]["sigma_t"], ev["impacts"]["crb_t"]
-    fi, ti = _match(T, E)
-    err = E[fi] - T[ti]
-    nan = float("nan")
-    row = {
-        "n_true": T.size,
-        "n_found": E.size,
-        "missed": T.size - ti.size,
-        "extra": E.size - fi.size,
-        "timing_rms_s": float(np.sqrt(np.mean(err**2))) if err.size else nan,
-        "timing_bias_s": float(np.median(err)) if err.size else nan,
-        "timing_max_z": float(np.max(np.abs(err) / s[fi])) if err.size else nan,
-        "frac_beyond_5sigma": float(np.mean(np.abs(err) > 5 * s[fi])) if err.size else nan,
-        "sigma_t_median_s": at["timing_sigma_median"],
-        "noise_estimate_m": at["noise_sigma"],
-    }
-    c = crb[fi]
-    ok = np.isfinite(c) & (c > 0)
-    if ok.any():
-        row.update(
-            timing_err_median_s=float(np.median(np.abs(err[ok]))),
-            timing_crb_median_s=float(np.median(c[ok])),
-            timing_crb_ratio=float(np.median(np.abs(err[ok]) / c[ok]) / 0.6745),
-        )
-    if Ht.size == T.size and ti.size:
-        dh = ev["penetrations"]["h"][fi] - Ht[ti]
-        row.update(penetration_bias_m=float(np.median(dh)), penetration_err_median_m=float(np.median(np.abs(dh))))
-    return row, E
-
-
-def _x_impact_columns(rec, span, x_true) -> dict:
-    """Error and stated sigma of estimate_x_impact on the first ``span`` s of rec (nothing if span is 0)."""
-    if not span:
-        return {}
-    n = int(np.searchsorted(rec.t, rec.t[0] + span, side="right"))
-    part = Record(rec.t[:n], rec.x[:n], rec.omega, {}, rec.path)
-    try:
-        est, det = estimate_x_impact(part)
-    except ValueError as exc:
-        return {"x_impact_note": str(exc)}
-    return {"x_impact_err_m": est - x_true, "x_impact_sigma_m": det["sigma"]}
-
-
-def _realism_name(case: dict) -> str:
-    """Method label of a realism row, e.g. 'realism: low-pass 500 Hz order 4, delay corrected'."""
-    parts = []
-    if case.get("quantum"):
-        parts.append(f"ADC step {case['quantum'] * 1e6:g} um")
-    if case.get("lowpass_hz"):
-        how = "delay corrected" if case.get("declare_delay", True) else "delay not declared"
-        parts.append(f"low-pass {case['lowpass_hz']:g} Hz order {case.get('lowpass_order', 4)}, {how}")
-    if case.get("drift"):
-        parts.append(f"zero drift {case['drift'] * 1e6:g} um over {case.get('drift_time', 10.0):g} s")
-    if case.get("clock_jitter"):
-        parts.append(f"clock jitter {case['clock_jitter'] * 1e6:g} us")
-    return "realism: " + ("; ".join(parts) or "none")
-
-
-def noise_study(
-    omega,
-    transient,
-    duration,
-    rates,
-    noises,
-    *,
-    analysis=None,
-    mismatch=None,
-    seed=0,
-    params=None,
-    rtol=1e-10,
-    atol=1e-12,
-    x_impact_span=0.0,
-    x_impact_noise=(),
-    realism=None,
-    realism_noise=5e-6,
-    realism_rate=None,
-):
-    """How sampling rate, sensor noise and sensor imperfections change the extracted train.
-
-    For each rate one simulation is sampled; for each noise level white noise is added,
-    events are extracted twice (with hysteresis, and naive threshold crossing for
-    comparison) and matched to the exact events.  Returns a list of row dicts (one per
-    rate x noise x method, plus the exact train per rate) with the counts (true, found,
-    missed, extra), the timing error (rms, median = bias, max |error| / stated sigma_t), the
-    median stated sigma_t, the timing error against the Cramer-Rao bound
-    (:func:`_extraction_row`), the penetration-depth error, and C_V^2 (paper and
-    dimensionless), ISI modes / valley depth and significant ACF-spectrum peaks; the ISI
-    kernel densities are returned under ``kde`` per row.
-
-    x_impact_span : s; when > 0, the hysteresis row of every rate x noise also gets the error
-        and stated sigma of :func:`estimate_x_impact` on the first x_impact_span s of the record
-        (only at the noise levels in ``x_impact_noise`` when it is not empty).
-    realism : list of dicts of :class:`SurrogateOptions` realism fields (lowpass_hz,
-        lowpass_order, drift, drift_time, clock_jitter, quantum), one extra row each at
-        ``realism_noise`` and ``realism_rate`` (default: the first rate), method
-        ``"realism: ..."``, plus a ``"realism: none"`` row with the same noise draws.  A case
-        with ``declare_delay: false`` drops the filter's sensor_delay from the record's metadata
-        (the delay is then not corrected: its timing bias shows).
-    """
-    stray = sorted(set(x_impact_noise) - set(noises))
-    if stray:
-        raise ValueError(f"x_impact_noise {stray} not among the study's noise levels {list(noises)}")
-    out = []
-    for rate in rates:
-        base = SurrogateOptions(rate=float(rate), noise=0.0, mismatch=mismatch or {}, seed=seed)
-        rec0, truth = surrogate_record(omega, transient, duration, base, params=params, rtol=rtol, atol=atol)
-        T = truth["impacts"]["t"]
-        x_true = rec0.meta["x_impact"]
-        t0, t1 = float(rec0.t[0]), float(rec0.t[-1])
-        exact = _train_numbers(T, t0, t1, omega, analysis)
-        out.append(
-            {
-                "rate_hz": rate,
-                "noise_m": 0.0,
-                "method": "exact events",
-                "n_true": T.size,
-                "n_found": T.size,
-                "missed": 0,
-                "extra": 0,
-                **exact,
-            }
-        )
-        rng = np.random.default_rng(seed)
-        for noise in noises:
-            # no omega: the study needs the impacts, not the Poincare points (the costliest
-            # part of extraction left); the noise is estimated once for both methods
-            x = rec0.x + (rng.normal(0, noise, rec0.x.size) if noise > 0 else 0.0)
-            rec = Record(rec0.t, x, None, rec0.meta, rec0.path)
-            sigma = estimate_noise(x)
-            for method, opts in (
-                ("hysteresis", ExtractOptions(noise=sigma)),
-                ("naive threshold", ExtractOptions(noise=sigma, hysteresis=0.0, confirm_sigmas=0.0)),
-            ):
-                cols, E = _extraction_row(rec, x_true, truth, opts)
-                row = {"rate_hz": rate, "noise_m": noise, "method": method, **cols}
-                if method == "hysteresis" and (not x_impact_noise or noise in x_impact_noise):
-                    row.update(_x_impact_columns(Record(rec0.t, x, omega, {}, rec0.path), x_impact_span, x_true))
-                try:
-                    row.update(_train_numbers(E, t0, t1, omega, analysis))
-                except ValueError as exc:  # e.g. too few impacts left: say so in the table
-                    row["note"] = str(exc)
-                out.append(row)
-    if realism:
-        out.extend(
-            _realism_rows(
-                omega,
-                transient,
-                duration,
-                float(realism_rate or rates[0]),
-                realism_noise,
-                realism,
-                mismatch=mismatch,
-                seed=seed,
-                params=params,
-                rtol=rtol,
-                atol=atol,
-                x_impact_span=x_impact_span,
-            )
-        )
-    return out
-
-
-_REALISM_FIELDS = ("lowpass_hz", "lowpass_order", "drift", "drift_time", "clock_jitter", "quantum")
-
-
-def _realism_rows(omega, transient, duration, rate, noise, cases, *, mismatch, seed, params, rtol, atol, x_impact_span):
-    """Rows of :func:`noise_study` for the sensor-realism cases (one simulation on the fine grid)."""
-    for case in cases:
-        unknown = set(case) - set(_REALISM_FIELDS) - {"declare_delay"}
-        if unknown:
-            raise ValueError(f"unknown realism option(s) {sorted(unknown)}; known: {list(_REALISM_FIELDS)}")
-    p = mismatched_params(params, mismatch or {})
-    # the fine grid of the anti-aliasing filter when a case has one
-    k = SurrogateOptions(rate=rate, lowpass_hz=0.25 * rate).oversample if any(c.get("lowpass_hz") for c in cases) else 1
-    win = Window(float(transient), float(transient) + float(duration), 1.0 / (rate * k))
-    res = simulate(
-        omega, transient, duration, params=p, rtol=rtol, atol=atol, window=win, record=("impacts", "penetrations")
-    )
-    truth, traj = res.events, res.trajectory
-    coarse = {name: traj[name][::k] for name in ("t", "x", "v")}
-    t = coarse["t"]
-    out = []
-    for case in [{}, *cases]:
-        fields = {f: case[f] for f in _REALISM_FIELDS if f in case}
-        o = SurrogateOptions(rate=rate, noise=noise, mismatch=mismatch or {}, seed=seed, **fields)
-        x = _noisy(traj if o.oversample > 1 else coarse, o, np.random.default_rng(seed))
-        meta = _meta(o, p)
-        if not case.get("declare_delay", True):
-            meta.pop("sensor_delay", None)
-        rec = Record(t, x, None, meta, "<surrogate>")
-        cols, _ = _extraction_row(rec, p.xI, truth, ExtractOptions(noise=estimate_noise(x)))
-        row = {"rate_hz": rate, "noise_m": noise, "method": _realism_name(case), **cols}
-        if o.lowpass_hz > 0:  # the filter's delay, corrected or not (see the method)
-            row["sensor_delay_s"] = o.sensor_delay
-        xrec = Record(t - meta.get("sensor_delay", 0.0), x, omega, {}, "<surrogate>")
-        row.update(_x_impact_columns(xrec, x_impact_span, p.xI))
-        out.append(row)
-    return out
 
 
 def panel_hooked(name: str, entry: dict | None, path_key: str, path: str, is_surrogate: bool) -> bool:

@@ -2,7 +2,7 @@
 the extracted impact train (timing error and its Cramer-Rao bound, C_V^2, ISI bimodality,
 the obstacle estimate, the sensor-realism cases).
 
-Reads the rows of :func:`impactosc.measured.surrogate.noise_study` (as stored in its JSON).
+Reads the rows of :func:`impactosc.measured.noise_study.noise_study` (as stored in its JSON).
 """
 
 from __future__ import annotations
