@@ -137,7 +137,9 @@ def test_noise_study_and_rows():
         ("variability", "isi_density", "acf"),
     )
     out = measured_rows(stats, stats, rows, is_surrogate=True, command="x")
-    assert len(out) == 4 and all(r["agrees"] == "n.a." for r in out)
+    assert len(out) == 5 and all(r["agrees"] == "n.a." for r in out)
+    # the obstacle row reports the one level estimated, and no 5-10 um verdict without such a level
+    assert "20 um: " in out[4]["replication"] and "At 5-10 um" not in out[4]["replication"]
     assert all("surrogate" in r["replication"] for r in out[:3])
     # the noise row's finding follows the modes counted, not a fixed sentence
     modes = [by[(n, "hysteresis")]["isi_n_modes"] for n in (0.0, 2e-5)]
