@@ -16,13 +16,16 @@ import numpy as np
 
 from impactosc.integration.model import ModelParams
 from impactosc.measured.records import write_record, write_record_set
-from impactosc.measured.surrogate import SurrogateOptions, surrogate_record, surrogate_sweep
+from impactosc.measured.surrogate import REALISM_FIELDS, SurrogateOptions, surrogate_record, surrogate_sweep
 
 p = snakemake.params
 s = p.surrogate
-realism = ("lowpass_hz", "lowpass_order", "drift", "drift_time", "clock_jitter", "quantum")
 opts = SurrogateOptions(
-    rate=s["rate"], noise=s["noise"], mismatch=s["mismatch"], seed=s["seed"], **{k: s[k] for k in realism if k in s}
+    rate=s["rate"],
+    noise=s["noise"],
+    mismatch=s["mismatch"],
+    seed=s["seed"],
+    **{k: s[k] for k in REALISM_FIELDS if k in s},
 )
 params = ModelParams(**p.model)
 t0 = time.perf_counter()

@@ -16,7 +16,14 @@ from ..analysis.impact_train import ImpactTrain
 from ..integration.simulate import Window, simulate
 from .extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
 from .records import Record
-from .surrogate import SurrogateOptions, mismatched_params, sensor_samples, surrogate_meta, surrogate_record
+from .surrogate import (
+    REALISM_FIELDS,
+    SurrogateOptions,
+    mismatched_params,
+    sensor_samples,
+    surrogate_meta,
+    surrogate_record,
+)
 
 __all__ = ["noise_study"]
 
@@ -229,15 +236,12 @@ def noise_study(
     return out
 
 
-_REALISM_FIELDS = ("lowpass_hz", "lowpass_order", "drift", "drift_time", "clock_jitter", "quantum")
-
-
 def _realism_rows(omega, transient, duration, rate, noise, cases, *, mismatch, seed, params, rtol, atol, x_impact_span):
     """Rows of :func:`noise_study` for the sensor-realism cases (one simulation on the fine grid)."""
     for case in cases:
-        unknown = set(case) - set(_REALISM_FIELDS) - {"declare_delay"}
+        unknown = set(case) - set(REALISM_FIELDS) - {"declare_delay"}
         if unknown:
-            raise ValueError(f"unknown realism option(s) {sorted(unknown)}; known: {list(_REALISM_FIELDS)}")
+            raise ValueError(f"unknown realism option(s) {sorted(unknown)}; known: {list(REALISM_FIELDS)}")
     p = mismatched_params(params, mismatch or {})
     # the fine grid of the anti-aliasing filter when a case has one
     k = SurrogateOptions(rate=rate, lowpass_hz=0.25 * rate).oversample if any(c.get("lowpass_hz") for c in cases) else 1
@@ -250,7 +254,7 @@ def _realism_rows(omega, transient, duration, rate, noise, cases, *, mismatch, s
     t = coarse["t"]
     out = []
     for case in [{}, *cases]:
-        fields = {f: case[f] for f in _REALISM_FIELDS if f in case}
+        fields = {f: case[f] for f in REALISM_FIELDS if f in case}
         o = SurrogateOptions(rate=rate, noise=noise, mismatch=mismatch or {}, seed=seed, **fields)
         x = sensor_samples(traj if o.oversample > 1 else coarse, o, np.random.default_rng(seed))
         meta = surrogate_meta(o, p)

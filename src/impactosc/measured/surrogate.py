@@ -26,6 +26,7 @@ from .records import Record
 
 __all__ = [
     "LABEL",
+    "REALISM_FIELDS",
     "panel_hooked",
     "SurrogateOptions",
     "butterworth_delay",
@@ -40,6 +41,8 @@ __all__ = [
 ]
 
 LABEL = "surrogate (model + noise)"
+# the sensor-realism fields of SurrogateOptions (config measured.surrogate, noise-study cases)
+REALISM_FIELDS = ("lowpass_hz", "lowpass_order", "drift", "drift_time", "clock_jitter", "quantum")
 
 
 @dataclasses.dataclass(frozen=True)
