@@ -320,6 +320,13 @@ def _extract(args) -> int:
     check_writable(args.output)
     rec = _read(args, omega=args.omega)
     options = ExtractOptions(noise=args.noise, x_impact_method=args.x_impact_method, delay=args.sensor_delay)
+    if args.x_impact is None and "x_impact" not in rec.meta and args.x_impact_method == "contact":
+        minutes = (rec.t[-1] - rec.t[0]) / 60.0
+        print(
+            f"{args.record}: no x_impact given; fitting the contact law to the record's turning points "
+            f"(about {5 * minutes * (rec.t.size / (rec.t[-1] - rec.t[0])) / 2000:.0f} s for {minutes:.1g} min of record)",
+            file=sys.stderr,
+        )
     events, attrs = extract_events(rec, args.x_impact, options)
     write_run(args.output, events, attrs, sources=[args.record])
     section = ""
