@@ -6,7 +6,7 @@ import pytest
 from impactosc.integration.model import ModelParams
 from impactosc.measured.coverage import coverage_summary, x_impact_draws
 from impactosc.measured.extract import estimate_x_impact, extract_events
-from impactosc.measured.noise_study import _match
+from impactosc.measured.noise_study import match_impacts
 from impactosc.measured.obstacle import model_window
 from impactosc.measured.records import Record
 from impactosc.measured.surrogate import SurrogateOptions, surrogate_record
@@ -78,7 +78,7 @@ def test_penetration_depths_with_the_estimated_obstacle():
     rec = Record(rec.t, rec.x, rec.omega, {}, "<test>")  # the obstacle position not given
     T, H = truth["impacts"]["t"], truth["penetrations"]["h"]
     ev, _ = extract_events(rec)
-    fi, ti = _match(T, ev["impacts"]["t"])
+    fi, ti = match_impacts(T, ev["impacts"]["t"])
     dh = ev["penetrations"]["h"][fi] - H[ti]
     shallow = H[ti] < np.quantile(H[ti], 0.25)
     assert ti.size > 0.99 * T.size

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from impactosc.measured.extract import ExtractOptions, extract_events
-from impactosc.measured.noise_study import _match
+from impactosc.measured.noise_study import match_impacts
 from impactosc.measured.surrogate import SurrogateOptions, butterworth_delay, sensor_samples, surrogate_record
 
 RATE = 2000.0
@@ -97,7 +97,7 @@ def test_declared_filter_delay_is_corrected(filtered):
     T = truth["impacts"]["t"]
     ev, attrs = extract_events(rec)
     assert attrs["sensor_delay"] == rec.meta["sensor_delay"]
-    fi, ti = _match(T, ev["impacts"]["t"])
+    fi, ti = match_impacts(T, ev["impacts"]["t"])
     err = ev["impacts"]["t"][fi] - T[ti]
     assert ti.size >= 0.99 * T.size
     # corrected: median timing error +1.7 us measured (rms 27 us at 1 um noise), 20 us tolerance
@@ -105,7 +105,7 @@ def test_declared_filter_delay_is_corrected(filtered):
     assert abs(np.median(err)) < 20e-6, np.median(err)
     # not declared: the impacts come out late by the delay
     late, _ = extract_events(rec, options=ExtractOptions(delay=0.0))
-    fi, ti = _match(T, late["impacts"]["t"])
+    fi, ti = match_impacts(T, late["impacts"]["t"])
     assert np.median(late["impacts"]["t"][fi] - T[ti]) == pytest.approx(rec.meta["sensor_delay"], abs=20e-6)
 
 

@@ -25,10 +25,10 @@ from .surrogate import (
     surrogate_record,
 )
 
-__all__ = ["noise_study"]
+__all__ = ["match_impacts", "noise_study"]
 
 
-def _match(true_t, found_t):
+def match_impacts(true_t, found_t):
     """Nearest-neighbour one-to-one matching of found to true impact times."""
     if found_t.size == 0 or true_t.size == 0:
         return np.empty(0, int), np.empty(0, int)
@@ -75,7 +75,7 @@ def _extraction_row(rec, x_impact, truth, opts: ExtractOptions) -> tuple[dict, n
     T, Ht = truth["impacts"]["t"], truth["penetrations"]["h"]
     ev, at = extract_events(rec, x_impact, opts)
     E, s, crb = ev["impacts"]["t"], ev["impacts"]["sigma_t"], ev["impacts"]["crb_t"]
-    fi, ti = _match(T, E)
+    fi, ti = match_impacts(T, E)
     err = E[fi] - T[ti]
     nan = float("nan")
     row = {
