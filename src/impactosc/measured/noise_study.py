@@ -29,7 +29,12 @@ __all__ = ["match_impacts", "noise_study"]
 
 
 def match_impacts(true_t, found_t):
-    """Nearest-neighbour one-to-one matching of found to true impact times."""
+    """Nearest-neighbour one-to-one matching of found to true impact times (both sorted).
+
+    A found time is matched to its nearest true one if it lies within half the gap to that
+    one's neighbours; a true time claimed twice keeps its first claimant.  Returns (indices into
+    found_t, indices into true_t) of the pairs: the rest of found_t are extra, of true_t missed.
+    """
     if found_t.size == 0 or true_t.size == 0:
         return np.empty(0, int), np.empty(0, int)
     j = np.clip(np.searchsorted(true_t, found_t), 1, true_t.size - 1)
