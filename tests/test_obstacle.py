@@ -5,7 +5,7 @@ import pytest
 
 from impactosc.integration.model import ModelParams
 from impactosc.measured.coverage import coverage_summary, x_impact_draws
-from impactosc.measured.extract import estimate_x_impact, extract_events
+from impactosc.measured.extract import ExtractOptions, estimate_x_impact, extract_events
 from impactosc.measured.noise_study import match_impacts
 from impactosc.measured.obstacle import model_window
 from impactosc.measured.records import Record
@@ -118,3 +118,33 @@ def test_x_impact_coverage_over_segments_and_seeds():
         # no bias beyond 3 standard errors, every draw within 3.5 um, >= 10 of 12 within 2 sigma
         assert abs(s["mean_error_m"]) < 3 * s["mean_error_se_m"], s
         assert s["max_abs_error_m"] < 3.5e-6 and s["within_2_sigma"] >= 10, s
+
+
+def test_contact_exponent_path_is_continuous_at_hertz():
+    # the fitted-exponent branch (K h0^1.5 (h/h0)^n1) equals the Hertz branch at n1 -> 1.5
+    p = ModelParams()
+    args = (p.xI + 50e-6, 1e-5, -2.0, p.kI / p.m, p.xI, p.b, p.n3, 5, 1 / RATE)
+    hertz = model_window(*args)
+    near = model_window(*args, n1=1.5 + 1e-9)
+    np.testing.assert_allclose(near, hertz, rtol=0, atol=1e-12)
+    assert np.max(np.abs(model_window(*args, n1=1.8) - hertz)) > 1e-7  # and the exponent matters
+
+
+def test_unknown_contact_law_fitted_exponent_covers_the_truth(clean):
+    # a contact of another law, emulated by warping the penetration: h -> h^0.8 h0^0.2
+    # (h0 = 100 um) above the obstacle, 5 um noise, 30 s.  Measured: Hertz fit +3.68 um
+    # (sigma 1.02: 3.6 sigma off), exponent fitted -0.01 um (sigma 6.48)
+    n = int(30 * RATE)
+    h = np.clip(clean.x[:n] - X_TRUE, 0.0, None)
+    x = np.where(h > 0, X_TRUE + h**0.8 * 1e-4**0.2, clean.x[:n])
+    rec = _noisy(Record(clean.t[:n], x, OMEGA, {}, "<warped>"), 5e-6, 0)
+    est, det = estimate_x_impact(rec)
+    assert abs(est - X_TRUE) > 2 * det["sigma"]  # the fixed law's precision is not its accuracy here
+    est_free, det_free = estimate_x_impact(rec, exponent=None)
+    assert det_free["exponent_fitted"] and det_free["sigma"] > 3 * det["sigma"]
+    assert abs(est_free - X_TRUE) < 2 * det_free["sigma"]
+
+
+def test_contact_exponent_option_is_checked():
+    with pytest.raises(ValueError, match="contact_exponent must be in"):
+        ExtractOptions(contact_exponent=3.0)

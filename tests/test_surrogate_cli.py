@@ -213,3 +213,12 @@ def test_h5_record_names_the_sample(tmp_path):
         f.attrs["units"] = "m"
     with pytest.raises(ValueError, match="sample 123: displacement is nan"):
         read_record(tmp_path / "r.h5")
+
+
+def test_cli_contact_exponent_is_a_number_in_range_or_free(tmp_path, capsys):
+    from impactosc.cli import _exponent
+
+    assert _exponent("free") is None and _exponent("1.7") == 1.7
+    with pytest.raises(SystemExit):
+        main(["extract", "r.h5", "--contact-exponent", "3", "--output", str(tmp_path / "e.h5")])
+    assert "a contact exponent lies in [1, 2.5]" in capsys.readouterr().err

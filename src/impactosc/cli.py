@@ -27,6 +27,16 @@ def _finite(text: str) -> float:
     return value
 
 
+def _exponent(text: str) -> float | None:
+    """A contact exponent: a number in [1, 2.5], or 'free' (None: fitted)."""
+    if text.strip().lower() == "free":
+        return None
+    value = _finite(text)
+    if not 1.0 <= value <= 2.5:
+        raise argparse.ArgumentTypeError(f"{text!r}: a contact exponent lies in [1, 2.5] (or write 'free')")
+    return value
+
+
 RECORD_FORMATS = """\
 Record formats (impactosc.measured.records):
   .csv   '# key: value' metadata block (units, omega, x_impact ...), then a header; columns
@@ -178,6 +188,14 @@ def build_parser() -> argparse.ArgumentParser:
         "every turning point (unbiased within 1.5 um at 5-10 um noise, with a stated sigma; default), "
         "'curvature' is the older estimate from the turning points' curvature (8-16 um too low, no sigma)",
     )
+    ext.add_argument(
+        "--contact-exponent",
+        type=_exponent,
+        default=1.5,
+        metavar="E",
+        help="exponent of the contact force in that fit: a number (default 1.5, Hertz, model BC's law) or "
+        "'free' to fit it too when the rig's law is not known (a wider, honest sigma: 4-8 um per 30 s at 5 um noise)",
+    )
     ext.add_argument("--output", required=True, help="HDF5 events file to write (atomically)")
     ext.add_argument("--omega", type=_finite, help="nominal forcing frequency, rad/s (overrides the record's)")
     ext.add_argument("--noise", type=_finite, help="sensor-noise std, m (default: estimated from the record)")
@@ -319,7 +337,12 @@ def _extract(args) -> int:
 
     check_writable(args.output)
     rec = _read(args, omega=args.omega)
-    options = ExtractOptions(noise=args.noise, x_impact_method=args.x_impact_method, delay=args.sensor_delay)
+    options = ExtractOptions(
+        noise=args.noise,
+        x_impact_method=args.x_impact_method,
+        contact_exponent=args.contact_exponent,
+        delay=args.sensor_delay,
+    )
     if args.x_impact is None and "x_impact" not in rec.meta and args.x_impact_method == "contact":
         minutes = (rec.t[-1] - rec.t[0]) / 60.0
         print(

@@ -150,7 +150,10 @@ rule measured_x_impact_coverage_part:
 
 rule measured_x_impact_coverage:
     input:
-        parts=expand(MEAS_XI_COVERAGE_PART, level=range(len(MEAS["x_impact_coverage"]["noise"]))),
+        parts=expand(
+            MEAS_XI_COVERAGE_PART,
+            level=range(len(MEAS["x_impact_coverage"]["noise"]) * len(MEAS["x_impact_coverage"]["exponents"])),
+        ),
     output:
         csv=MEAS_XI_COVERAGE_TABLE,
         draws=MEAS_XI_COVERAGE_DRAWS,

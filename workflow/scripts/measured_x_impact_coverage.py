@@ -19,7 +19,7 @@ write_csv(snakemake.output.csv, summaries, sources=snakemake.input.parts)
 write_csv(snakemake.output.draws, [r for rows in levels for r in rows], sources=snakemake.input.parts)
 for s in summaries:
     logging.info(
-        f"{s['noise_m'] * 1e6:g} um: mean error {s['mean_error_m'] * 1e6:+.2f} +- {s['mean_error_se_m'] * 1e6:.2f} um, "
+        f"{s['noise_m'] * 1e6:g} um, exponent {s['exponent']}: mean error {s['mean_error_m'] * 1e6:+.2f} +- {s['mean_error_se_m'] * 1e6:.2f} um, "
         f"sd {s['sd_error_m'] * 1e6:.2f} um vs median sigma {s['median_sigma_m'] * 1e6:.2f} um, "
         f"within 1 / 2 sigma {s['within_1_sigma']} / {s['within_2_sigma']} of {s['n_draws']}"
     )

@@ -1,8 +1,8 @@
 """One noise level of the obstacle-estimate coverage study (rule measured_x_impact_coverage_part).
 
-Reads snakemake.params (coverage: noise levels, duration, segment, seeds; surrogate: chaos
-scene, rate, mismatch); writes snakemake.output.json with the draws of
-impactosc.measured.coverage.x_impact_draws at noise level number wildcards.level.
+Reads snakemake.params (coverage: noise levels, contact exponents, duration, segment, seeds;
+surrogate: chaos scene, rate, mismatch); writes snakemake.output.json with the draws of
+impactosc.measured.coverage.x_impact_draws for (exponent, noise) pair number wildcards.level.
 """
 
 from _logging import configure_logging
@@ -17,7 +17,9 @@ from impactosc.measured.coverage import coverage_summary, x_impact_draws
 
 p = snakemake.params
 cov, sur = p.coverage, p.surrogate
-noise = cov["noise"][int(snakemake.wildcards.level)]
+# job number level = (exponent index) x (number of noise levels) + noise index
+exponent, noise = [(e, n) for e in cov["exponents"] for n in cov["noise"]][int(snakemake.wildcards.level)]
+exponent = None if exponent == "free" else float(exponent)
 
 
 def progress(i, n, row):
@@ -37,6 +39,7 @@ rows = x_impact_draws(
     rate=sur["rate"],
     mismatch=sur["mismatch"],
     params=ModelParams(**p.model),
+    exponent=exponent,
     progress=progress,
     **p.solver,
 )

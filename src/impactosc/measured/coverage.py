@@ -36,6 +36,7 @@ def x_impact_draws(
     mismatch=None,
     params: ModelParams | None = None,
     seed_base=7000,
+    exponent=1.5,
     rtol=1e-10,
     atol=1e-12,
     progress=None,
@@ -43,7 +44,8 @@ def x_impact_draws(
     """One draw per (segment, seed): the estimate's error against the surrogate's x_impact and
     its stated sigma.  The record is simulated once without noise (``duration`` s after
     ``transient``, cut into ``segment`` s pieces); draw (k, s) adds noise of std ``noise`` from
-    seed ``seed_base + 100 k + s``.  ``progress(i, n, row)``, if given, is called after each."""
+    seed ``seed_base + 100 k + s``.  ``exponent``: the contact exponent of the fit (1.5, or None:
+    fitted).  ``progress(i, n, row)``, if given, is called after each."""
     if not (noise > 0 and segment > 0 and duration >= segment and seeds >= 1):
         raise ValueError(
             f"need noise > 0 m, 0 < segment <= duration s and seeds >= 1; got {noise}, {segment}, {duration}, {seeds}"
@@ -59,10 +61,11 @@ def x_impact_draws(
         for s in range(int(seeds)):
             rng = np.random.default_rng(seed_base + 100 * k + s)
             part = Record(t, x + rng.normal(0.0, noise, x.size), float(omega), {}, f"<segment {k}, seed {s}>")
-            est, det = estimate_x_impact(part)
+            est, det = estimate_x_impact(part, exponent=exponent)
             rows.append(
                 {
                     "noise_m": float(noise),
+                    "exponent": "free" if exponent is None else float(exponent),
                     "segment": k,
                     "seed": s,
                     "t_start": float(t[0]),
@@ -90,6 +93,7 @@ def coverage_summary(rows: list[dict]) -> dict:
     per_seg = n / means.size
     return {
         "noise_m": float(rows[0]["noise_m"]),
+        "exponent": rows[0].get("exponent", 1.5),
         "n_draws": n,
         "n_segments": int(means.size),
         "mean_error_m": float(e.mean()),

@@ -48,11 +48,13 @@ __all__ = ["fit_contact_law", "forcing_frequency", "free_flight_law", "model_win
 
 # graded first legs: NGRADE steps growing by RATIO (first step span / 54)
 _NGRADE = 8
+_H0 = 1e-4  # m, reference penetration of the contact law with a fitted exponent
+_H0_15 = _H0 * math.sqrt(_H0)
 _RATIO = 1.6
 
 
 @njit(cache=True, inline="always")
-def _acc(x, v, a, gam, mu, K, xi, b, n3):
+def _acc(x, v, a, gam, mu, K, xi, b, n1, n3):
     acc = a - gam * v
     if v > 0.0:
         acc -= mu
@@ -61,7 +63,9 @@ def _acc(x, v, a, gam, mu, K, xi, b, n3):
     h = x - xi
     if h <= 0.0:
         return acc
-    br = h * math.sqrt(h)
+    # K h^n1 written K h0^1.5 (h / h0)^n1, h0 = 100 um: K keeps its meaning (kI/m of the Hertz
+    # law at 100 um) whatever n1, so the fitted K and n1 are not tied by units
+    br = h * math.sqrt(h) if n1 == 1.5 else _H0_15 * (h / _H0) ** n1
     if v != 0.0 and b != 0.0:
         d = b * br * abs(v) ** n3
         br = br + d if v > 0.0 else br - d
@@ -71,15 +75,15 @@ def _acc(x, v, a, gam, mu, K, xi, b, n3):
 
 
 @njit(cache=True, inline="always")
-def _rk4(x, v, hh, a, gam, mu, K, xi, b, n3):
+def _rk4(x, v, hh, a, gam, mu, K, xi, b, n1, n3):
     k1x = v
-    k1v = _acc(x, v, a, gam, mu, K, xi, b, n3)
+    k1v = _acc(x, v, a, gam, mu, K, xi, b, n1, n3)
     k2x = v + 0.5 * hh * k1v
-    k2v = _acc(x + 0.5 * hh * k1x, k2x, a, gam, mu, K, xi, b, n3)
+    k2v = _acc(x + 0.5 * hh * k1x, k2x, a, gam, mu, K, xi, b, n1, n3)
     k3x = v + 0.5 * hh * k2v
-    k3v = _acc(x + 0.5 * hh * k2x, k3x, a, gam, mu, K, xi, b, n3)
+    k3v = _acc(x + 0.5 * hh * k2x, k3x, a, gam, mu, K, xi, b, n1, n3)
     k4x = v + hh * k3v
-    k4v = _acc(x + hh * k3x, k4x, a, gam, mu, K, xi, b, n3)
+    k4v = _acc(x + hh * k3x, k4x, a, gam, mu, K, xi, b, n1, n3)
     return (
         x + hh / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x),
         v + hh / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v),
@@ -87,7 +91,7 @@ def _rk4(x, v, hh, a, gam, mu, K, xi, b, n3):
 
 
 @njit(cache=True)
-def _window(H, tau, a, gam, mu, K, xi, b, n3, half, dt, nsub, out):
+def _window(H, tau, a, gam, mu, K, xi, b, n1, n3, half, dt, nsub, out):
     """Samples at k dt (k = -half..half) of the local model with its vertex (H, v = 0) at tau.
 
     Integrated outward from the vertex in both directions, so no RK4 step straddles v = 0
@@ -112,13 +116,13 @@ def _window(H, tau, a, gam, mu, K, xi, b, n3, half, dt, nsub, out):
             if graded > 0:
                 w = span / tot
                 for _ in range(_NGRADE):
-                    x, v = _rk4(x, v, w, a, gam, mu, K, xi, b, n3)
+                    x, v = _rk4(x, v, w, a, gam, mu, K, xi, b, n1, n3)
                     w *= _RATIO
                 graded -= 1
             else:
                 hh = span / nsub
                 for _ in range(nsub):
-                    x, v = _rk4(x, v, hh, a, gam, mu, K, xi, b, n3)
+                    x, v = _rk4(x, v, hh, a, gam, mu, K, xi, b, n1, n3)
             pos = target
             out[k + half] = x
             k += sign
@@ -134,7 +138,7 @@ def _ssr(Y, j, f):
 
 
 @njit(cache=True)
-def _project(Y, a, gam, mu, K, xi, b, n3, half, dt, nsub, H, tau, tau_max, max_iter, out):
+def _project(Y, a, gam, mu, K, xi, b, n1, n3, half, dt, nsub, H, tau, tau_max, max_iter, out):
     """Per window, fit H and tau (Levenberg-Marquardt, finite-difference Jacobian); residuals to out.
 
     H and tau hold the starting values on entry and the fitted ones on return; tau is kept
@@ -149,12 +153,12 @@ def _project(Y, a, gam, mu, K, xi, b, n3, half, dt, nsub, H, tau, tau_max, max_i
     for j in range(M):
         h_ = H[j]
         t_ = tau[j]
-        _window(h_, t_, a[j], gam, mu, K, xi, b, n3, half, dt, nsub, f)
+        _window(h_, t_, a[j], gam, mu, K, xi, b, n1, n3, half, dt, nsub, f)
         s0 = _ssr(Y, j, f)
         lam = 1e-3
         for _ in range(max_iter):
-            _window(h_ + eh, t_, a[j], gam, mu, K, xi, b, n3, half, dt, nsub, fH)
-            _window(h_, t_ + et, a[j], gam, mu, K, xi, b, n3, half, dt, nsub, ft)
+            _window(h_ + eh, t_, a[j], gam, mu, K, xi, b, n1, n3, half, dt, nsub, fH)
+            _window(h_, t_ + et, a[j], gam, mu, K, xi, b, n1, n3, half, dt, nsub, ft)
             a11 = a12 = a22 = g1 = g2 = 0.0
             for k in range(L):
                 jh = (fH[k] - f[k]) / eh
@@ -175,7 +179,7 @@ def _project(Y, a, gam, mu, K, xi, b, n3, half, dt, nsub, H, tau, tau_max, max_i
                     continue
                 hc = h_ + (b22 * g1 - a12 * g2) / det
                 tc = min(max(t_ + (b11 * g2 - a12 * g1) / det, -tau_max), tau_max)
-                _window(hc, tc, a[j], gam, mu, K, xi, b, n3, half, dt, nsub, fc)
+                _window(hc, tc, a[j], gam, mu, K, xi, b, n1, n3, half, dt, nsub, fc)
                 s1 = _ssr(Y, j, fc)
                 if s1 <= s0:
                     done = s0 - s1 <= 1e-12 * s0 + 1e-300
@@ -192,12 +196,11 @@ def _project(Y, a, gam, mu, K, xi, b, n3, half, dt, nsub, H, tau, tau_max, max_i
             out[j, k] = Y[j, k] - f[k]
 
 
-def model_window(H, tau, a, K, x_impact, b, n3, half, dt, *, gamma=0.0, mu=0.0, nsub=2):
+def model_window(H, tau, a, K, x_impact, b, n3, half, dt, *, gamma=0.0, mu=0.0, nsub=2, n1=1.5):
     """The local model's samples at k dt, k = -half..half (vertex (H, v = 0) at tau); for tests."""
     out = np.empty(2 * half + 1)
-    _window(
-        float(H), float(tau), float(a), gamma, mu, float(K), float(x_impact), float(b), float(n3), half, dt, nsub, out
-    )
+    args = (float(a), gamma, mu, float(K), float(x_impact), float(b), float(n1), float(n3))
+    _window(float(H), float(tau), *args, half, dt, nsub, out)
     return out
 
 
@@ -297,6 +300,7 @@ def fit_contact_law(
     band=150e-6,
     margin=30e-6,
     n3=None,
+    exponent=1.5,
     step=0.25e-3,
 ) -> dict:
     """Steps 1-5 of the module docstring.  Returns x_impact (m), its 1-sigma uncertainty and the fit.
@@ -306,6 +310,8 @@ def fit_contact_law(
     sigma : sensor-noise std (m), the scale of the residuals.
     K0 : starting value of kI/m (m^-1/2 s^-2); None: 2.7e7 (model BC).
     n3 : damping exponent; None fits it (the default), a number fixes it.
+    exponent : contact-force exponent n1 (1.5: Hertz, model BC's, the default); None fits it too
+        (for a rig whose contact law is not known: the estimate then carries that uncertainty).
     step : longest RK4 step of the local model between samples, s (0.25 ms: 6 nm from the
         converged trajectory on model BC's contacts).
     """
@@ -339,35 +345,38 @@ def fit_contact_law(
     gam, mu = -gam, -mu
     K0 = float(K0 or 2.7e7)
     lk0 = math.log(K0)
-    fit_n3 = n3 is None
+    fit_n3, fit_n1 = n3 is None, exponent is None
     out = np.empty_like(Y)
     H, tau = H0.copy(), tau0.copy()
 
     def unpack(u):
-        return guess + 1e-5 * u[0], math.exp(lk0 + u[1]), u[2], (u[3] if fit_n3 else float(n3))
+        rest = list(u[3:])
+        nn = rest.pop(0) if fit_n3 else float(n3)
+        e = rest.pop(0) if fit_n1 else float(exponent)
+        return guess + 1e-5 * u[0], math.exp(lk0 + u[1]), u[2], e, nn
 
     def residuals(u):
-        xi, K, b, nn = unpack(u)
+        xi, K, b, e, nn = unpack(u)
         Hj, tj_ = H.copy(), tau.copy()
-        _project(Y, a, gam, mu, K, xi, b, nn, half, dt, nsub, Hj, tj_, tau_max, 50, out)
+        _project(Y, a, gam, mu, K, xi, b, e, nn, half, dt, nsub, Hj, tj_, tau_max, 50, out)
         return out.ravel() / sigma
 
-    u0 = np.array([0.0, 0.0, 0.5] + ([0.3] if fit_n3 else []))
-    lo = [-np.inf, -np.inf, 0.0] + ([0.02] if fit_n3 else [])
-    hi = [np.inf, np.inf, 20.0] + ([3.0] if fit_n3 else [])
+    u0 = np.array([0.0, 0.0, 0.5] + ([0.3] if fit_n3 else []) + ([1.5] if fit_n1 else []))
+    lo = [-np.inf, -np.inf, 0.0] + ([0.02] if fit_n3 else []) + ([1.0] if fit_n1 else [])
+    hi = [np.inf, np.inf, 20.0] + ([3.0] if fit_n3 else []) + ([2.5] if fit_n1 else [])
     # warm start of the per-window unknowns at the starting constants (every evaluation
     # starts from these, so the objective is a deterministic, smooth function of u)
-    xi, K, b, nn = unpack(u0)
-    _project(Y, a, gam, mu, K, xi, b, nn, half, dt, nsub, H, tau, tau_max, 50, out)
+    xi, K, b, e, nn = unpack(u0)
+    _project(Y, a, gam, mu, K, xi, b, e, nn, half, dt, nsub, H, tau, tau_max, 50, out)
     # diff_step 1e-2 (0.1 um in x_impact, 1 % in K): well above the objective's rounding
     r = least_squares(residuals, u0, bounds=(lo, hi), diff_step=1e-2, xtol=1e-10, ftol=1e-10, gtol=1e-10)
-    xi, K, b, nn = unpack(r.x)
+    xi, K, b, e, nn = unpack(r.x)
     n_par = r.x.size
     dof = max(r.fun.size - n_par - 2 * Y.shape[0], 1)
     s2 = float(r.fun @ r.fun) / dof
     cov = np.linalg.pinv(r.jac.T @ r.jac) * s2
     Hf, tf = H.copy(), tau.copy()
-    _project(Y, a, gam, mu, K, xi, b, nn, half, dt, nsub, Hf, tf, tau_max, 50, out)
+    _project(Y, a, gam, mu, K, xi, b, e, nn, half, dt, nsub, Hf, tf, tau_max, 50, out)
     return {
         "x_impact": float(xi),
         "sigma": float(1e-5 * math.sqrt(cov[0, 0])),
@@ -376,6 +385,9 @@ def fit_contact_law(
         "b": float(b),
         "n3": float(nn),
         "n3_fitted": fit_n3,
+        "exponent": float(e),
+        "exponent_fitted": fit_n1,
+        "exponent_sigma": float(math.sqrt(cov[-1, -1])) if fit_n1 else 0.0,
         "n_windows": int(Y.shape[0]),
         "n_contacts": int(np.sum(Hf > xi)),
         "window_samples": int(2 * half + 1),
