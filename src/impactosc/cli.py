@@ -31,9 +31,12 @@ def _exponent(text: str) -> float | None:
     """A contact exponent: a number in [1, 2.5], or 'free' (None: fitted)."""
     if text.strip().lower() == "free":
         return None
+    from .measured.extract import CONTACT_EXPONENT_RANGE
+
     value = _finite(text)
-    if not 1.0 <= value <= 2.5:
-        raise argparse.ArgumentTypeError(f"{text!r}: a contact exponent lies in [1, 2.5] (or write 'free')")
+    lo, hi = CONTACT_EXPONENT_RANGE
+    if not lo <= value <= hi:
+        raise argparse.ArgumentTypeError(f"{text!r}: a contact exponent lies in [{lo:g}, {hi:g}] (or write 'free')")
     return value
 
 
@@ -279,6 +282,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     real.add_argument(
         "--lowpass",
+        dest="lowpass_hz",
         type=_finite,
         default=0.0,
         metavar="HZ",
@@ -400,7 +404,7 @@ def _parse_mismatch(text):
 def _surrogate(args) -> int:
     from .files import check_writable
     from .measured.records import write_record
-    from .measured.surrogate import SurrogateOptions, surrogate_ramp, surrogate_record
+    from .measured.surrogate import REALISM_FIELDS, SurrogateOptions, surrogate_ramp, surrogate_record
 
     check_writable(args.output)
     opts = SurrogateOptions(
@@ -408,12 +412,7 @@ def _surrogate(args) -> int:
         noise=args.noise,
         mismatch=_parse_mismatch(args.mismatch),
         seed=args.seed,
-        lowpass_hz=args.lowpass,
-        lowpass_order=args.lowpass_order,
-        drift=args.drift,
-        drift_time=args.drift_time,
-        clock_jitter=args.clock_jitter,
-        quantum=args.quantum,
+        **{name: getattr(args, name) for name in REALISM_FIELDS},  # the options' dests are the field names
     )
     if args.ramp is None:
         if args.encoder_counts is not None:

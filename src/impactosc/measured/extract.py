@@ -64,6 +64,9 @@ __all__ = [
 #: samples, while w changes by less than 1e-4 of itself in those 10 ms at 2 kHz.
 PHASE_FIT_HALF = 10
 
+#: Contact-force exponents the obstacle fit allows, given or fitted (soft to stiff contacts).
+CONTACT_EXPONENT_RANGE = (1.0, 2.5)
+
 
 @dataclass(frozen=True)
 class ExtractOptions:
@@ -113,8 +116,11 @@ class ExtractOptions:
             raise ValueError(f"delay must be >= 0 s, got {self.delay}")
         if self.x_impact_method not in ("contact", "curvature"):
             raise ValueError(f"x_impact_method must be 'contact' or 'curvature', got {self.x_impact_method!r}")
-        if self.contact_exponent is not None and not 1.0 <= self.contact_exponent <= 2.5:
-            raise ValueError(f"contact_exponent must be in [1, 2.5] or None (fitted), got {self.contact_exponent}")
+        lo, hi = CONTACT_EXPONENT_RANGE
+        if self.contact_exponent is not None and not lo <= self.contact_exponent <= hi:
+            raise ValueError(
+                f"contact_exponent must be in [{lo:g}, {hi:g}] or None (fitted), got {self.contact_exponent}"
+            )
         if self.fit_points < 3:
             raise ValueError(f"fit_points must be >= 3, got {self.fit_points}")
         if self.peak_half_width < 1:

@@ -362,6 +362,7 @@ def fit_contact_law(
         return out.ravel() / sigma
 
     u0 = np.array([0.0, 0.0, 0.5] + ([0.3] if fit_n3 else []) + ([1.5] if fit_n1 else []))
+    # the exponent's box is extract.CONTACT_EXPONENT_RANGE (not imported: extract loads this module lazily)
     lo = [-np.inf, -np.inf, 0.0] + ([0.02] if fit_n3 else []) + ([1.0] if fit_n1 else [])
     hi = [np.inf, np.inf, 20.0] + ([3.0] if fit_n3 else []) + ([2.5] if fit_n1 else [])
     # warm start of the per-window unknowns at the starting constants (every evaluation
