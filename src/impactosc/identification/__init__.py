@@ -1,0 +1,15 @@
+"""A rig's own model: model BC's parameters identified from displacement records.
+
+Where each piece lives: :mod:`.parameters` (what is fitted, per unit mass), :mod:`.windows`
+(records cut into the windows of multiple shooting, the forcing's phase of each),
+:mod:`.shooting` (the core's prediction of every window and its sensitivities),
+:mod:`.least_squares` (Levenberg-Marquardt with each window's state eliminated),
+:mod:`.start` (start values from the contact fit and the free flight), :mod:`.identify` (the
+driver), :mod:`.choice` (which contact law and friction the records support) and
+:mod:`.coverage` (the standard errors checked on surrogates of known truth).
+"""
+
+from .identify import Identification, identify
+from .parameters import NAMES
+
+__all__ = ["Identification", "identify", "NAMES"]

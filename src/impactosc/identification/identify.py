@@ -1,0 +1,185 @@
+"""Identify model BC's parameters from records: the driver of the multiple-shooting fit.
+
+Why in stages of growing windows: the start values (:mod:`.start`) are a few per cent off, and
+over two forcing periods a few per cent in k/m or kI/m move the impacts far enough that a
+window's fit can settle on another trajectory.  Over half a period the same error is small; each
+stage (``STAGES`` forcing periods per window) starts from the previous stage's parameters,
+and the last, longest windows give the estimate and its covariance (the longer the window, the
+fewer start states the samples pay for).
+
+After the fit, a free parameter the records hardly constrain (a standard error beyond
+``UNPINNED``, e.g. n3 when the fitted damping b is near 0, or kI/m with a handful of contacts)
+is fixed at its stated value and the fit repeated: a number with an error bar wider than its
+range is noise, not an estimate.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..integration.model import ModelParams
+from ..measured.extract import estimate_noise
+from .least_squares import FitResult, fit, fit_states
+from .parameters import LOWER, NAMES, UNITS, UPPER, params_of, theta_of
+from .shooting import Predictor
+from .start import start_values
+from .windows import WindowSet, cut_windows
+
+__all__ = ["Identification", "identify", "STAGES", "UNPINNED"]
+
+#: Window lengths of the stages, forcing periods.
+STAGES = (0.5, 1.0, 2.0)
+#: A standard error beyond this (relative to the value for the ratios, absolute for b, n3, xI)
+#: means the records do not pin the parameter.
+UNPINNED = {"k/m": 0.5, "c/m": 1.0, "T/m": 1.0, "m0e/m": 0.5, "kI/m": 0.5, "b": 1.0, "n3": 0.5, "xI": 1e-3}
+
+
+@dataclass
+class Identification:
+    """The identified model and how well the records pin it."""
+
+    params: ModelParams
+    theta: np.ndarray
+    stderr: np.ndarray  # 0 for fixed entries
+    free: np.ndarray
+    correlation: np.ndarray  # of the free entries, in NAMES order
+    fixed: dict  # name -> why it is fixed
+    noise: float  # residual std, m
+    fit: FitResult
+    windows: WindowSet
+    start: np.ndarray
+    seconds: float
+    records: list = field(default_factory=list)
+
+    @property
+    def free_names(self) -> list:
+        return [nm for nm, f in zip(NAMES, self.free) if f]
+
+    def table(self) -> list[dict]:
+        """One row per fitted quantity: value, standard error, unit, free or why fixed."""
+        return [
+            {
+                "name": nm,
+                "value": float(self.theta[i]),
+                "stderr": float(self.stderr[i]) if self.free[i] else None,
+                "unit": UNITS[i],
+                "fixed": self.fixed.get(nm, ""),
+            }
+            for i, nm in enumerate(NAMES)
+        ]
+
+
+def _unpinned(theta, se, free):
+    """Free names whose standard error is beyond UNPINNED."""
+    out = {}
+    for i, nm in enumerate(NAMES):
+        if not free[i]:
+            continue
+        scale = abs(theta[i]) if nm in ("k/m", "c/m", "T/m", "m0e/m", "kI/m") else 1.0
+        if not se[i] <= UNPINNED[nm] * max(scale, 1e-300):
+            out[nm] = f"standard error {se[i]:.3g} beyond {UNPINNED[nm]:g}{' x value' if scale != 1.0 else ''}"
+    return out
+
+
+def _stage(records, theta, free, base_p, m, periods, level, rtol, keep=None):
+    windows = cut_windows(records, periods=periods, level=level)
+    if keep is not None:
+        windows = windows.subset(keep(windows))
+    pred = Predictor(windows, base_p, m, rtol=rtol)
+    states, _ = fit_states(pred, theta, np.column_stack([windows.x0, windows.v0]))
+    return pred, states
+
+
+def identify(
+    records,
+    *,
+    base: ModelParams | None = None,
+    fixed: dict | None = None,
+    stages=STAGES,
+    select: Callable[[WindowSet], np.ndarray] | None = None,
+    rtol: float = 1e-10,
+    start: dict | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> Identification:
+    """Fit theta (parameters.NAMES) to the records by multiple shooting.
+
+    base : the stated model: m, eps, n1, n2 and every fixed value (default model BC).
+    fixed : name -> value (None: base's) of the quantities not fitted (a nested contact law:
+        {"b": 0.0}; no dry friction: {"T/m": 0.0}).
+    select : windows -> mask of the windows to fit (default all; model choice holds some out).
+    start : start values from an earlier call (skips the start-value fits).
+    """
+    t_start = time.perf_counter()
+    say = progress or (lambda msg: None)
+    base = base or ModelParams()
+    records = list(records)
+    if not records:
+        raise ValueError("identification needs at least one record")
+    sigma = float(np.median([estimate_noise(r.x) for r in records]))
+    if start is None:
+        say(f"start values: contact fit and free-flight fit on {len(records)} record(s)")
+        start = start_values(records, base, sigma=sigma)
+    theta = start["theta"].copy()
+    free = np.ones(len(NAMES), dtype=bool)
+    why_fixed = {}
+    for nm, why in start["unpinned"].items():
+        free[NAMES.index(nm)] = False
+        theta[NAMES.index(nm)] = theta_of(base)[NAMES.index(nm)]
+        why_fixed[nm] = f"not identifiable: {why}; fixed at the stated value"
+    for nm, value in (fixed or {}).items():
+        if nm not in NAMES:
+            raise ValueError(f"unknown parameter {nm!r} to fix; choose from {', '.join(NAMES)}")
+        i = NAMES.index(nm)
+        free[i] = False
+        theta[i] = theta_of(base)[i] if value is None else float(value)
+        why_fixed[nm] = "fixed by the model's definition"
+    if theta[NAMES.index("b")] == 0.0:  # no damping: n3 does nothing
+        i = NAMES.index("n3")
+        if free[i]:
+            free[i] = False
+            why_fixed["n3"] = "no effect without damping (b = 0)"
+    m = base.m
+    base_p = base.as_array(1.0)
+    level = theta[NAMES.index("xI")]
+    res = pred = None
+    for k, periods in enumerate(stages):
+        for attempt in range(2):
+            pred, states = _stage(records, theta, free, base_p, m, periods, level, rtol, select)
+            say(f"stage {k + 1}/{len(stages)}: {pred.w.size} windows of {periods:g} forcing periods")
+            res = fit(pred, theta, states, free, NAMES, lower=LOWER, upper=UPPER)
+            if k < len(stages) - 1 or attempt == 1:
+                break
+            loose = _unpinned(res.theta, res.stderr, free)
+            if not loose:
+                break
+            for nm, why in loose.items():  # fix what the records do not pin, then refit
+                i = NAMES.index(nm)
+                free[i] = False
+                theta[i] = theta_of(base)[i]
+                why_fixed[nm] = f"not identifiable from these records ({why}); fixed at the stated value"
+                say(f"{nm}: {why_fixed[nm]}")
+            theta = np.where(free, res.theta, theta)
+        theta = res.theta.copy()
+        say(f"  rms residual {math.sqrt(res.s2) * 1e6:.3f} um after {res.iterations} iterations")
+    se = res.stderr
+    return Identification(
+        params=params_of(theta, base),
+        theta=theta,
+        stderr=se,
+        free=free.copy(),
+        correlation=res.correlation,
+        fixed=why_fixed,
+        noise=math.sqrt(res.s2),
+        fit=res,
+        windows=pred.w,
+        start=start["theta"].copy(),
+        seconds=time.perf_counter() - t_start,
+        records=[
+            {"label": r.label, "path": r.path, "omega": r.omega, "duration": float(r.t[-1] - r.t[0])} for r in records
+        ],
+    )
