@@ -199,3 +199,17 @@ def wp_benchmark_input(wildcards):
     if wildcards.contestants == "compiled" and wildcards.wp_scene in pc["scenes"] and pc["attractor_check"]:
         return {"benchmark": BENCHMARK_CORE_CSV}
     return {}
+
+# identification group (a rig's own model: identification.smk)
+IDENT_SURROGATE = "results/runs/identification/surrogate_records.h5"
+IDENT_MODEL = "results/models/identified.yaml"
+IDENT_WINDOWS = "results/runs/identification/fit_windows.h5"
+IDENT_TABLE_CSV = "results/tables/identification/parameters.csv"
+IDENT_TABLE_MD = "results/tables/identification/parameters.md"
+IDENT_CHOICE_PART = "results/runs/identification/choice/candidate{candidate}.json"
+IDENT_CHOICE_CSV = "results/tables/identification/model_choice.csv"
+IDENT_CHOICE_MD = "results/tables/identification/model_choice.md"
+IDENT_COVERAGE_PART = "results/runs/identification/coverage/part{part}.json"
+IDENT_COVERAGE_CSV = "results/tables/identification/coverage.csv"
+IDENT_COVERAGE_MD = "results/tables/identification/coverage.md"
+IDENT_COVERAGE_DRAWS = "results/tables/identification/coverage_draws.csv"

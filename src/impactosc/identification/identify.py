@@ -34,6 +34,9 @@ __all__ = ["Identification", "identify", "STAGES", "UNPINNED"]
 
 #: Window lengths of the stages, forcing periods.
 STAGES = (0.5, 1.0, 2.0)
+#: Convergence: no parameter moves by more than this fraction of its standard error (the
+#: stages before the last only bring the start values closer: a loose test there).
+FINAL_TOL, STAGE_TOL = 0.05, 0.3
 #: A standard error beyond this (relative to the value for the ratios, absolute for b, n3, xI)
 #: means the records do not pin the parameter.
 UNPINNED = {"k/m": 0.5, "c/m": 1.0, "T/m": 1.0, "m0e/m": 0.5, "kI/m": 0.5, "b": 1.0, "n3": 0.5, "xI": 1e-3}
@@ -54,11 +57,17 @@ class Identification:
     windows: WindowSet
     start: np.ndarray
     seconds: float
+    periods: float  # window length of the last stage, forcing periods
     records: list = field(default_factory=list)
 
     @property
     def free_names(self) -> list:
         return [nm for nm, f in zip(NAMES, self.free) if f]
+
+    def prediction(self, rtol: float = 1e-10) -> np.ndarray:
+        """The fitted model's samples of every window (like windows.y)."""
+        pred = Predictor(self.windows, self.params.as_array(1.0), self.params.m, rtol=rtol)
+        return pred.predict(self.theta, self.fit.states)
 
     def table(self) -> list[dict]:
         """One row per fitted quantity: value, standard error, unit, free or why fixed."""
@@ -151,7 +160,17 @@ def identify(
         for attempt in range(2):
             pred, states = _stage(records, theta, free, base_p, m, periods, level, rtol, select)
             say(f"stage {k + 1}/{len(stages)}: {pred.w.size} windows of {periods:g} forcing periods")
-            res = fit(pred, theta, states, free, NAMES, lower=LOWER, upper=UPPER)
+            last = k == len(stages) - 1
+            res = fit(
+                pred,
+                theta,
+                states,
+                free,
+                NAMES,
+                lower=LOWER,
+                upper=UPPER,
+                rel_step_tol=FINAL_TOL if last else STAGE_TOL,
+            )
             if k < len(stages) - 1 or attempt == 1:
                 break
             loose = _unpinned(res.theta, res.stderr, free)
@@ -179,6 +198,7 @@ def identify(
         windows=pred.w,
         start=start["theta"].copy(),
         seconds=time.perf_counter() - t_start,
+        periods=float(stages[-1]),
         records=[
             {"label": r.label, "path": r.path, "omega": r.omega, "duration": float(r.t[-1] - r.t[0])} for r in records
         ],

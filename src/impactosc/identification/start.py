@@ -3,9 +3,10 @@
 Why these: both are cheap and need no trajectory.  The obstacle's contact fit
 (:func:`impactosc.measured.extract.estimate_x_impact`, method "contact") already estimates xI,
 kI/m, b and n3 from the samples around the turning points; the free flight is linear in k/m,
-c/m, T/m and m0e/m once the acceleration is estimated from the samples
-(:func:`impactosc.measured.obstacle.free_flight_law`: a = F sin(phi) + G cos(phi) - (k/m) x
-- (c/m) v - (T/m) sgn(v) + a0, least squares over every sample well below the obstacle).
+c/m, T/m and m0e/m once the acceleration is estimated from the samples (as
+:func:`impactosc.measured.obstacle.free_flight_law` does for one record: a = (m0e/m) w^2 sin(phi)
+- (k/m) x - (c/m) v - (T/m) sgn(v) + a0, least squares over every sample well below the obstacle,
+here over all records at once).
 Multiple shooting then starts within a few per cent of its answer.
 
 What the records cannot pin is said here, not discovered as noise later: with fewer than
@@ -20,10 +21,9 @@ import warnings
 
 import numpy as np
 
-from ..measured.records import Record
 from .parameters import NAMES, theta_of
 
-__all__ = ["StartValues", "start_values", "model_time"]
+__all__ = ["StartValues", "start_values"]
 
 CONTACT_NAMES = ("kI/m", "b", "n3")
 
@@ -31,14 +31,6 @@ CONTACT_NAMES = ("kI/m", "b", "n3")
 class StartValues(dict):
     """theta0 (``theta``), the names the records cannot pin (``unpinned``: name -> reason) and
     the details of the two fits (``contact``, ``free_flight``)."""
-
-
-def model_time(rec: Record) -> np.ndarray:
-    """The record's time as the forcing sees it: phase / w with an encoder, else t."""
-    if rec.phase is None:
-        return rec.t
-    w = float(np.polyfit(rec.t, rec.phase, 1)[0])
-    return rec.phase / w
 
 
 def _contact(records, sigma):
@@ -56,7 +48,7 @@ def _contact(records, sigma):
             continue
         fits.append((xi, det))
     if not fits:
-        return None, "; ".join(reasons)
+        return None, reasons[0] + (f" (and {len(reasons) - 1} more records alike)" if len(reasons) > 1 else "")
     wts = np.array([1.0 / max(d["sigma"], 1e-9) ** 2 for _, d in fits])
     xi = float(np.sum(wts * [f[0] for f in fits]) / wts.sum())
     best = max(fits, key=lambda f: f[1]["n_contacts"])[1]
@@ -70,23 +62,42 @@ def _contact(records, sigma):
     }, ""
 
 
-def _free_flight(records, level):
-    from ..measured.obstacle import free_flight_law
+def _free_flight(records, level, half_t=10e-3):
+    """k/m, c/m, T/m, m0e/m from one regression over every record's free flight, or None.
 
-    rows, weights = [], []
-    for rec in records:
-        t = model_time(rec)
-        w = rec.omega if rec.phase is None else float(np.polyfit(rec.t, rec.phase, 1)[0])
-        try:
-            ff = free_flight_law(t, rec.x, level, w)
-        except ValueError:
+    Why one regression over all records (the obstacle module fits one record at a time): at a
+    single w a steady motion is nearly a sinusoid, and x, sin(w t), cos(w t) are then nearly
+    collinear, so k/m and m0e/m trade off; the forcing's amplitude grows like w^2, the spring's
+    does not, so records at several w separate them.  Columns: w^2 sin(phi), w^2 cos(phi)
+    (shared: m0e/m and the phase's error), x, v, sgn(v) (shared), one offset per record.
+    """
+    from scipy.ndimage import maximum_filter1d
+    from scipy.signal import savgol_filter
+
+    rows, rhs = [], []
+    for r, rec in enumerate(records):
+        dt = float(np.median(np.diff(rec.t)))
+        hw = max(3, int(round(half_t / dt)))
+        if rec.x.size < 2 * hw + 2:
             continue
-        _, F, G, cx, cv, cs = ff["coef"]
-        rows.append([-cx, -cv, -cs, math.hypot(F, G) / w**2])
-        weights.append(ff["n"])
+        a = savgol_filter(rec.x, 2 * hw + 1, 4, deriv=2, delta=dt)
+        v = savgol_filter(rec.x, 2 * hw + 1, 4, deriv=1, delta=dt)
+        ok = maximum_filter1d(rec.x, 2 * hw + 1, mode="nearest") < level
+        ok[:hw] = ok[rec.x.size - hw :] = False
+        if ok.sum() < 200:
+            continue
+        phi = rec.phase if rec.phase is not None else rec.omega * rec.t
+        w = rec.omega if rec.phase is None else float(np.polyfit(rec.t, rec.phase, 1)[0])
+        offsets = np.zeros((int(ok.sum()), len(records)))
+        offsets[:, r] = 1.0
+        cols = [w * w * np.sin(phi[ok]), w * w * np.cos(phi[ok]), rec.x[ok], v[ok], np.sign(v[ok])]
+        rows.append(np.column_stack([*cols, offsets]))
+        rhs.append(a[ok])
     if not rows:
         return None
-    return np.average(np.array(rows), axis=0, weights=weights)
+    coef = np.linalg.lstsq(np.vstack(rows), np.concatenate(rhs), rcond=None)[0]
+    F, G, cx, cv, cs = coef[:5]
+    return np.array([-cx, -cv, -cs, math.hypot(F, G)])
 
 
 def start_values(records, base, *, sigma) -> StartValues:

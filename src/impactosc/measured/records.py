@@ -77,6 +77,8 @@ __all__ = [
     "write_record",
     "read_record_set",
     "write_record_set",
+    "is_record_set",
+    "read_records",
     "validate_samples",
     "phase_factor",
     "UNITS",
@@ -728,4 +730,27 @@ def read_record_set(path) -> list[Record]:
                     raise ValueError(f"{path}:records/{name}: no omega attribute")
     if not out:
         raise ValueError(f"{path}: the record set is empty")
+    return out
+
+
+def is_record_set(path) -> bool:
+    """A record set (HDF5 with a 'records' group, or a CSV manifest 'omega,file') rather than one record."""
+    path = Path(path)
+    if not path.is_file():
+        return False
+    if path.suffix.lower() in (".h5", ".hdf5"):
+        with h5py.File(path, "r") as f:
+            return "records" in f
+    if path.suffix.lower() == ".csv":
+        with open(path, newline="") as f:
+            first = f.readline().strip().replace(" ", "")
+        return first == "omega,file"
+    return False
+
+
+def read_records(paths, **options) -> list[Record]:
+    """Records of several files, each a record (read with ``options``, as read_record) or a record set."""
+    out = []
+    for path in paths:
+        out += read_record_set(path) if is_record_set(path) else [read_record(path, **options)]
     return out

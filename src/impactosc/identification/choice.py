@@ -1,0 +1,154 @@
+"""Which contact law and friction the records support: nested models compared out of sample.
+
+Why nested models: model BC's contact (Hertz stiffness with Hunt-Crossley damping b |v|^n3, n3
+fitted) contains the plain Hertz contact (b = 0) and the classical Hunt-Crossley law (n3 = 1);
+its dry friction T may be absent from another rig.  Each of the six combinations is fitted to
+the same windows; two yardsticks say which the data support:
+
+* prediction error on held-out windows (every ``every``-th block of the records, never fitted:
+  only their start states are, with the candidate's parameters), the direct test of a model;
+* AIC and BIC of the fit, N ln(RSS / N) + penalty x (free parameters + 2 per window).  The
+  window states are the same for every candidate, so only the free parameters differ.
+
+The supported model is the one with the smallest BIC: a larger model whose extra parameter the
+records do not need pays ln N per parameter, so the true nested law wins when it is the simpler
+one, and the held-out errors say whether the winner also predicts best.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..integration.model import ModelParams
+from .identify import STAGES, identify
+from .least_squares import fit_states
+from .parameters import NAMES
+from .shooting import Predictor
+from .start import start_values
+from .windows import cut_windows, split_held_out
+
+__all__ = ["CONTACT_LAWS", "FRICTION", "candidates", "fit_candidate", "rank", "choose_model", "choice_markdown"]
+
+#: Contact laws: name -> fixed values (model BC fits both b and n3).
+CONTACT_LAWS = {
+    "Hertz (b = 0)": {"b": 0.0},
+    "Hunt-Crossley (n3 = 1)": {"n3": 1.0},
+    "model BC (n3 free)": {},
+}
+#: Friction: with the dry friction T fitted, or without it.
+FRICTION = {"dry friction": {}, "no dry friction": {"T/m": 0.0}}
+_B, _N3, _XI = (NAMES.index(nm) for nm in ("b", "n3", "xI"))
+
+
+def _held_out_error(records, ident, every, rtol):
+    """RMS of the held-out windows' residuals with only their start states fitted."""
+    windows = cut_windows(records, periods=ident.periods, level=ident.theta[_XI])
+    held = windows.subset(split_held_out(windows, every=every))
+    if held.size == 0:
+        return math.nan, 0
+    pred = Predictor(held, ident.params.as_array(1.0), ident.params.m, rtol=rtol)
+    _, rss = fit_states(pred, ident.theta, np.column_stack([held.x0, held.v0]))
+    return math.sqrt(float(np.sum(rss)) / held.y.size), int(held.y.size)
+
+
+def candidates() -> list[tuple[str, str]]:
+    """Every (contact law, friction) pair, in a fixed order (the workflow's job numbers)."""
+    return [(law, fr) for law in CONTACT_LAWS for fr in FRICTION]
+
+
+def fit_candidate(records, law, friction, *, base=None, start=None, every=4, stages=STAGES, rtol=1e-10, progress=None):
+    """One candidate fitted on the records' windows outside the held-out blocks: its row."""
+    from ..measured.extract import estimate_noise
+
+    base = base or ModelParams()
+    if start is None:
+        sigma = float(np.median([estimate_noise(r.x) for r in records]))
+        start = start_values(records, base, sigma=sigma)
+    fixed = {**CONTACT_LAWS[law], **FRICTION[friction]}
+    st = dict(start, theta=start["theta"].copy())
+    if "n3" in fixed:  # keep b |v|^n3 at a typical impact speed (0.2 m/s)
+        st["theta"][_B] *= 0.2 ** (st["theta"][_N3] - fixed["n3"])
+    ident = identify(
+        records,
+        base=base,
+        fixed=fixed,
+        start=st,
+        stages=stages,
+        select=lambda w: ~split_held_out(w, every=every),
+        rtol=rtol,
+        progress=progress,
+    )
+    res = ident.fit
+    n = res.n_samples
+    k = int(ident.free.sum()) + 2 * ident.windows.size
+    err, n_held = _held_out_error(records, ident, every, rtol)
+    return {
+        "law": law,
+        "friction": friction,
+        "free": " ".join(ident.free_names),
+        "n_free": int(ident.free.sum()),
+        "rss_m2": res.rss,
+        "n": n,
+        "rms_m": math.sqrt(res.rss / n),
+        "held_out_rms_m": err,
+        "n_held_out": n_held,
+        "aic": n * math.log(res.rss / n) + 2 * k,
+        "bic": n * math.log(res.rss / n) + k * math.log(n),
+        "seconds": ident.seconds,
+        **{f"{nm}": float(v) for nm, v in zip(NAMES, ident.theta)},
+    }
+
+
+def rank(rows: list[dict]) -> list[dict]:
+    """Rows sorted by BIC, with their differences to the best and the supported one marked."""
+    rows = sorted(rows, key=lambda r: r["bic"])
+    best_aic = min(r["aic"] for r in rows)
+    best_held = min(r["held_out_rms_m"] for r in rows)
+    for i, r in enumerate(rows):
+        r["delta_aic"] = r["aic"] - best_aic
+        r["delta_bic"] = r["bic"] - rows[0]["bic"]
+        r["best_held_out"] = r["held_out_rms_m"] == best_held
+        r["supported"] = i == 0
+    return rows
+
+
+def choose_model(records, *, base: ModelParams | None = None, every: int = 4, rtol: float = 1e-10, progress=None):
+    """Fit every (contact law, friction) candidate; one row each, best BIC first (:func:`rank`)."""
+    from ..measured.extract import estimate_noise
+
+    records = list(records)
+    say = progress or (lambda msg: None)
+    base = base or ModelParams()
+    sigma = float(np.median([estimate_noise(r.x) for r in records]))
+    start = start_values(records, base, sigma=sigma)
+    rows = []
+    for law, fr in candidates():
+        say(f"candidate {law}, {fr}")
+        rows.append(fit_candidate(records, law, fr, base=base, start=start, every=every, rtol=rtol))
+        r = rows[-1]
+        say(f"  rms {r['rms_m'] * 1e6:.3f} um, held out {r['held_out_rms_m'] * 1e6:.3f} um, BIC {r['bic']:.1f}")
+    return rank(rows)
+
+
+def choice_markdown(rows: list[dict]) -> str:
+    """The ranked candidates as Markdown: which model the records support, and by how much."""
+    best = rows[0]
+    lines = [
+        "# Model choice: which contact law and friction the records support",
+        "",
+        f"Supported (smallest BIC): **{best['law']}, {best['friction']}**. Fits on the windows outside the "
+        "held-out blocks; held-out error: rms residual of the held-out windows with only their start states "
+        "fitted. AIC and BIC count the free parameters and two start-state entries per window.",
+        "",
+        "| contact law | friction | free | rms fit (um) | rms held out (um) | dAIC | dBIC |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        held = f"{r['held_out_rms_m'] * 1e6:.3f}" + (" (best)" if r["best_held_out"] else "")
+        lines.append(
+            f"| {r['law']} | {r['friction']} | {r['free']} | {r['rms_m'] * 1e6:.3f} | {held} | "
+            f"{r['delta_aic']:.1f} | {r['delta_bic']:.1f} |"
+        )
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,151 @@
+"""What an identification leaves behind: the model file, the parameter table, the fit's windows.
+
+Why here and not in the driver: the fit works in theta (per unit mass); a user reads ModelParams
+fields with their units, and the model file is how the model travels to every command and the
+workflow (:mod:`impactosc.model_file`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+from ..files import atomic_write, stamp_h5
+from ..model_file import PARAM_UNITS, write_model_file
+from .identify import Identification
+from .parameters import FIELDS, NAMES, PER_MASS
+
+__all__ = ["markdown_table", "parameter_rows", "write_identified_model", "write_fit_windows", "read_fit_windows"]
+
+_NOT_FITTED = {
+    "m": "given: the mass is not identifiable from displacement",
+    "eps": "fixed: the friction regularisation is a numerical device, far below any measured velocity",
+    "n1": "fixed: Hertz contact exponent",
+    "n2": "fixed: Hertz contact exponent",
+}
+
+
+def _sha256(path) -> str | None:
+    p = Path(str(path))
+    if not p.is_file():
+        return None
+    return hashlib.sha256(p.read_bytes()).hexdigest()
+
+
+def parameter_rows(ident: Identification, truth=None) -> list[dict]:
+    """One row per fitted quantity: per unit mass and as a ModelParams field, with errors."""
+    m = ident.params.m
+    rows = []
+    for i, nm in enumerate(NAMES):
+        scale = m if PER_MASS[i] else 1.0
+        se = float(ident.stderr[i]) if ident.free[i] else math.nan
+        row = {
+            "quantity": nm,
+            "value": float(ident.theta[i]),
+            "stderr": se,
+            "relative_stderr": se / abs(ident.theta[i]) if ident.theta[i] != 0 else math.nan,
+            "field": FIELDS[i],
+            "field_value": float(ident.theta[i]) * scale,
+            "field_stderr": se * scale,
+            "unit": PARAM_UNITS[FIELDS[i]],
+            "start": float(ident.start[i]) * scale,
+            "status": "fitted" if ident.free[i] else ident.fixed.get(nm, "fixed"),
+        }
+        if truth is not None:
+            row["truth"] = float(getattr(truth, FIELDS[i]))
+        rows.append(row)
+    return rows
+
+
+def write_identified_model(path, ident: Identification, *, name: str | None = None) -> Path:
+    """The model file of an identification: parameters, standard errors, correlation, records."""
+    m = ident.params.m
+    stderr, fixed = {}, dict(_NOT_FITTED)
+    for i, nm in enumerate(NAMES):
+        if ident.free[i]:
+            stderr[FIELDS[i]] = float(ident.stderr[i]) * (m if PER_MASS[i] else 1.0)
+        else:
+            fixed[FIELDS[i]] = ident.fixed.get(nm, "fixed")
+    records = [{**r, "sha256": _sha256(r["path"])} for r in ident.records]
+    res = ident.fit
+    return write_model_file(
+        path,
+        ident.params,
+        stderr=stderr,
+        fixed=fixed,
+        correlation=(ident.free_names, ident.correlation),
+        records=records,
+        fit={
+            "method": "multiple shooting (one start state per window), Levenberg-Marquardt",
+            "window_periods": ident.periods,
+            "n_windows": int(ident.windows.size),
+            "n_samples": int(res.n_samples),
+            "residual_rms_m": ident.noise,
+            "iterations": int(res.iterations),
+            "converged": bool(res.converged),
+            "seconds": round(ident.seconds, 2),
+            "stderr_note": "standard errors from the Jacobian, scaled by the residual variance",
+        },
+        name=name or "identified from " + ", ".join(r["label"] for r in ident.records),
+    )
+
+
+def write_fit_windows(path, ident: Identification, prediction: np.ndarray, *, sources=None) -> Path:
+    """The fitted windows (samples, model, record of each) for the identification figure."""
+    w = ident.windows
+    with atomic_write(path) as tmp, h5py.File(tmp, "w") as f:
+        g = f.create_group("windows")
+        g.create_dataset("x", data=w.y, compression="gzip")
+        g.create_dataset("x_model", data=prediction, compression="gzip")
+        for k in ("record", "start", "n", "offset"):
+            g.create_dataset(k, data=getattr(w, k))
+        g.create_dataset("t_start", data=w.tau0)
+        g.create_dataset("dt", data=w.dt)
+        g.create_dataset("omega", data=w.omega)
+        f.attrs["labels"] = list(w.labels)
+        f.attrs["residual_rms_m"] = ident.noise
+        stamp_h5(
+            f,
+            sources=sources,
+            units={"x_model": "m", "record": "1", "start": "1", "n": "1", "offset": "1", "t_start": "s", "dt": "s"},
+        )
+    return Path(path)
+
+
+def read_fit_windows(path) -> dict:
+    with h5py.File(path, "r") as f:
+        out = {k: f["windows"][k][()] for k in f["windows"]}
+        out["labels"] = [str(s) for s in f.attrs["labels"]]
+        out["residual_rms_m"] = float(f.attrs["residual_rms_m"])
+    return out
+
+
+def _value(v, se):
+    if not math.isfinite(se) or se <= 0:
+        return f"{v:.6g}"
+    return f"{v:.6g} +- {se:.2g}"
+
+
+def markdown_table(rows: list[dict], ident: Identification) -> str:
+    """The parameter table as Markdown, with the fit's residual and window counts."""
+    lines = [
+        f"# Identified model ({', '.join(r['label'] for r in ident.records)})",
+        "",
+        f"Multiple shooting on {ident.windows.size} windows of {ident.periods:g} forcing periods, "
+        f"{ident.fit.n_samples} samples; residual rms {ident.noise * 1e6:.3f} um; "
+        f"{ident.fit.iterations} iterations of the last stage, {'converged' if ident.fit.converged else 'NOT converged'}; "
+        f"{ident.seconds:.1f} s. Standard errors from the Jacobian, scaled by the residual variance.",
+        "",
+        "| parameter | value +- standard error | relative | unit | status |",
+        "|---|---|---|---|---|",
+    ]
+    for r in rows:
+        rel = f"{r['relative_stderr']:.2e}" if math.isfinite(r["relative_stderr"]) else ""
+        lines.append(
+            f"| {r['field']} | {_value(r['field_value'], r['field_stderr'])} | {rel} | {r['unit']} | {r['status']} |"
+        )
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,136 @@
+# A rig's own model: model BC's parameters identified from records (the configured ones, or
+# surrogate records of the configured model at a few w), by multiple shooting on windows of
+# the records (impactosc.identification). The model file it writes, results/models/identified.yaml,
+# rebuilds any figure for that rig: snakemake -j2 fig02 --config model.file=results/models/identified.yaml
+# Targets: identify (model file, parameter table, figure), identify_choice (which contact law and
+# friction the records support; 6 fits, one job each), identify_coverage (opt-in: are the stated
+# standard errors honest? random truths, one job per part).
+from impactosc.identification.choice import candidates
+
+IDENT = config["identification"]
+IDENT_REPORT = "Identification (a rig's own model)"
+IDENT_RECORDS = IDENT["records"] or [IDENT_SURROGATE]
+IDENT_COMMON = {"identification": IDENT, "model": config["model"], "solver": config["solver"]}
+
+
+rule identify_surrogate:
+    input:
+        cache=NUMBA_CACHE,
+    output:
+        records=IDENT_SURROGATE,
+    log:
+        logfile("identification", "identify_surrogate"),
+    benchmark:
+        benchmark_file("identification", "identify_surrogate")
+    params:
+        **IDENT_COMMON,
+        surrogate=config["measured"]["surrogate"],
+    script:
+        "../scripts/identify_surrogate.py"
+
+
+rule identify_model:
+    input:
+        cache=NUMBA_CACHE,
+        records=IDENT_RECORDS,
+    output:
+        model=IDENT_MODEL,
+        windows=IDENT_WINDOWS,
+        csv=IDENT_TABLE_CSV,
+        md=IDENT_TABLE_MD,
+    log:
+        logfile("identification", "identify_model"),
+    benchmark:
+        benchmark_file("identification", "identify_model")
+    priority: 6
+    params:
+        **IDENT_COMMON,
+    script:
+        "../scripts/identify_model.py"
+
+
+rule identify_figure:
+    input:
+        windows=IDENT_WINDOWS,
+        csv=IDENT_TABLE_CSV,
+    output:
+        png=report(
+            supplementary("identification", "identify")[0],
+            caption="../report/identify.rst",
+            category=IDENT_REPORT,
+        ),
+        pdf=supplementary("identification", "identify")[1],
+    log:
+        logfile("identification", "identify_figure"),
+    script:
+        "../scripts/identify_figure.py"
+
+
+rule identify:
+    input:
+        rules.identify_model.output,
+        rules.identify_figure.output,
+
+
+ALL_TARGETS.extend(rules.identify.input)
+
+
+rule identify_choice_candidate:
+    input:
+        cache=NUMBA_CACHE,
+        records=IDENT_RECORDS,
+    output:
+        json=IDENT_CHOICE_PART,
+    log:
+        logfile("identification", "identify_choice_{candidate}"),
+    benchmark:
+        benchmark_file("identification", "identify_choice_{candidate}")
+    wildcard_constraints:
+        candidate=r"\d+",
+    params:
+        **IDENT_COMMON,
+    script:
+        "../scripts/identify_choice_candidate.py"
+
+
+rule identify_choice:
+    input:
+        parts=expand(IDENT_CHOICE_PART, candidate=range(len(candidates()))),
+    output:
+        csv=IDENT_CHOICE_CSV,
+        md=IDENT_CHOICE_MD,
+    log:
+        logfile("identification", "identify_choice"),
+    script:
+        "../scripts/identify_choice.py"
+
+
+# Opt-in (about 2 min of CPU per draw): snakemake -j2 identify_coverage
+rule identify_coverage_part:
+    input:
+        cache=NUMBA_CACHE,
+    output:
+        json=IDENT_COVERAGE_PART,
+    log:
+        logfile("identification", "identify_coverage_{part}"),
+    benchmark:
+        benchmark_file("identification", "identify_coverage_{part}")
+    wildcard_constraints:
+        part=r"\d+",
+    params:
+        coverage=IDENT["coverage"],
+    script:
+        "../scripts/identify_coverage_part.py"
+
+
+rule identify_coverage:
+    input:
+        parts=expand(IDENT_COVERAGE_PART, part=range(IDENT["coverage"]["parts"])),
+    output:
+        csv=IDENT_COVERAGE_CSV,
+        md=IDENT_COVERAGE_MD,
+        draws=IDENT_COVERAGE_DRAWS,
+    log:
+        logfile("identification", "identify_coverage"),
+    script:
+        "../scripts/identify_coverage.py"

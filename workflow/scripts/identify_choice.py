@@ -1,0 +1,19 @@
+"""Merge the model-choice candidates into the table of which model the records support.
+
+Reads snakemake.input.parts (one row per candidate); writes snakemake.output.csv and .md
+(ranked by BIC: impactosc.identification.choice.rank).
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)
+
+import logging
+
+from impactosc.files import read_json, write_table, write_text
+from impactosc.identification.choice import choice_markdown, rank
+
+rows = rank([read_json(path)["row"] for path in snakemake.input.parts])
+write_table(snakemake.output.csv, rows, sources=list(snakemake.input.parts))
+write_text(snakemake.output.md, choice_markdown(rows))
+logging.info(f"supported: {rows[0]['law']}, {rows[0]['friction']}")

@@ -1,0 +1,22 @@
+"""Merge the coverage draws: per parameter, how often the truth lies within 1 and 2 standard errors.
+
+Reads snakemake.input.parts; writes snakemake.output.csv (the per-parameter table), .md (with the
+branch comparison) and .draws (every draw).
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)
+
+import logging
+
+from impactosc.files import read_json, write_table, write_text
+from impactosc.identification.coverage import coverage_markdown, coverage_table
+
+draws = [row for path in snakemake.input.parts for row in read_json(path)["draws"]]
+table = coverage_table(draws)
+write_table(snakemake.output.csv, table, sources=list(snakemake.input.parts))
+write_table(snakemake.output.draws, draws, sources=list(snakemake.input.parts))
+write_text(snakemake.output.md, coverage_markdown(table, draws))
+for r in table:
+    logging.info(f"{r['parameter']}: {r['within_2se']}/{r['draws']} within 2 se")

@@ -1,0 +1,38 @@
+"""One part of the identification coverage study: draws part, part + parts, ... of the seeds.
+
+Reads snakemake.params.coverage (identification.coverage) and wildcards.part; writes
+snakemake.output.json with one row per draw (impactosc.identification.coverage.identification_draw).
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)
+
+import logging
+
+import numpy as np
+
+from impactosc.files import write_json
+from impactosc.identification.coverage import identification_draw
+
+c = snakemake.params.coverage
+part = int(snakemake.wildcards.part)
+b = c["branch"]
+branch = np.arange(b["start"], b["stop"] + b["step"] / 2, b["step"])
+rows = []
+for seed in range(part, c["draws"], c["parts"]):
+    row = identification_draw(
+        seed,
+        omegas=tuple(c["omegas"]),
+        duration=c["duration"],
+        rate=c["rate"],
+        noise=c["noise"],
+        spread=c["spread"],
+        branch_omegas=branch,
+    )
+    rows.append(row)
+    logging.info(
+        f"draw {seed}: {row['seconds']:.0f} s, all within 2 se: {row['all_within_2se']}, "
+        f"branch within {row['branch_max_m'] * 1e6:.2f} um at {row['branch_periodic_w']} periodic w"
+    )
+write_json(snakemake.output.json, {"draws": rows})

@@ -1,0 +1,25 @@
+"""Draw the identification figure: measured against simulated windows, residuals, parameters.
+
+Reads snakemake.input.windows (impactosc.identification.report.write_fit_windows) and
+snakemake.input.csv (the parameter table); writes snakemake.output.png and .pdf (drawing in
+impactosc.plotting.identification).
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)
+
+import math
+
+from impactosc.files import read_table
+from impactosc.identification.report import read_fit_windows
+from impactosc.plotting import save_figure
+from impactosc.plotting.identification import identification_figure
+
+win = read_fit_windows(snakemake.input.windows)
+rows = read_table(snakemake.input.csv)
+for r in rows:
+    for k in ("field_value", "field_stderr"):
+        r[k] = float(r[k]) if r[k] not in ("", None) else math.nan
+fig = identification_figure(win, rows, "Identified model BC (multiple shooting): " + ", ".join(win["labels"]))
+save_figure(fig, snakemake.output.png, snakemake.output.pdf)

@@ -1,0 +1,43 @@
+"""Identify the model from the configured records (or the surrogate record set).
+
+Reads snakemake.input.records (record files or record sets; read as params.identification.read
+says), params.identification (mass, stages), params.model (the stated model: start of nothing but
+the fixed values and m), params.solver; writes snakemake.output.model (the model file,
+impactosc.model_file), .windows (fitted windows for the figure), .csv and .md (parameter table).
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)
+
+import dataclasses
+import logging
+
+from impactosc.files import write_table, write_text
+from impactosc.identification import identify
+from impactosc.identification.report import (
+    markdown_table,
+    parameter_rows,
+    write_fit_windows,
+    write_identified_model,
+)
+from impactosc.integration.model import ModelParams
+from impactosc.measured.records import read_records
+
+p = snakemake.params
+g = p.identification
+base = ModelParams(**p.model)
+if g["mass"] is not None:
+    base = dataclasses.replace(base, m=float(g["mass"]))
+read = {k: v for k, v in g["read"].items() if v is not None}
+records = read_records(list(snakemake.input.records), **read)
+ident = identify(records, base=base, stages=tuple(g["stages"]), rtol=p.solver["rtol"], progress=logging.info)
+write_identified_model(snakemake.output.model, ident)
+prediction = ident.prediction()
+write_fit_windows(snakemake.output.windows, ident, prediction, sources=list(snakemake.input.records))
+rows = parameter_rows(ident)
+write_table(snakemake.output.csv, rows, sources=list(snakemake.input.records))
+write_text(snakemake.output.md, markdown_table(rows, ident))
+for nm, why in ident.fixed.items():
+    logging.info(f"{nm}: {why}")
+logging.info(f"identified in {ident.seconds:.1f} s: residual rms {ident.noise * 1e6:.3f} um")

@@ -1,0 +1,29 @@
+"""Write the surrogate records identification uses while no rig records are configured.
+
+Reads snakemake.params (identification.surrogate: w values, transient, duration; surrogate:
+measured.surrogate's rate, noise, mismatch, seed; model; solver); writes snakemake.output.records,
+a record set (one record per w, impactosc.measured.records.write_record_set), each labelled
+"surrogate (model + noise)". The sensor-realism options are left out: the identified model has
+no sensor chain, so a filter's delay would only bias it.
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)
+
+import logging
+
+from impactosc.integration.model import ModelParams
+from impactosc.measured.records import write_record_set
+from impactosc.measured.surrogate import SurrogateOptions, surrogate_record
+
+p = snakemake.params
+g, s = p.identification["surrogate"], p.surrogate
+params = ModelParams(**p.model)
+records = []
+for i, w in enumerate(g["omegas"]):
+    opts = SurrogateOptions(rate=s["rate"], noise=s["noise"], mismatch=s["mismatch"], seed=s["seed"] + i)
+    rec, _ = surrogate_record(w, g["transient"], g["duration"], opts, params=params, **p.solver)
+    records.append(rec)
+    logging.info(f"w = {w:g} rad/s: {rec.t.size} samples at {opts.rate:g} Hz, noise {opts.noise:g} m")
+write_record_set(snakemake.output.records, records)
