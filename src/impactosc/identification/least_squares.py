@@ -149,6 +149,18 @@ def _inverse_scaled(M):
     return np.linalg.pinv(M * np.outer(d, d), rcond=1e-13) * np.outer(d, d)
 
 
+def _newton_gap(A, B, r, w, theta, idx, lower, upper, dof):
+    """(cov, gap): the covariance of theta[idx] at the current point and the undamped
+    Gauss-Newton step (projected onto the bounds) in units of the standard errors."""
+    M0, rhs0, _ = _schur(A, B, r, w, 0.0)
+    if not idx.size:
+        return np.zeros((0, 0)), 0.0
+    cov = _inverse_scaled(M0) * (float(r @ r) / max(dof, 1))
+    step = np.clip(theta[idx] + _solve_scaled(M0, rhs0), lower[idx], upper[idx]) - theta[idx]
+    se = np.sqrt(np.maximum(np.diag(cov), 1e-300))
+    return cov, float(np.max(np.abs(step) / se))
+
+
 def fit(
     pred: Predictor,
     theta0,
@@ -159,14 +171,15 @@ def fit(
     lower=None,
     upper=None,
     max_iter=60,
-    rel_step_tol=1e-2,
+    rel_step_tol=0.05,
     progress=None,
 ) -> FitResult:
     """Shared parameters theta[free] and every window's state by Levenberg-Marquardt.
 
-    Steps are projected onto [lower, upper].  Converged when no parameter moves by more than
-    ``rel_step_tol`` of its standard error in an accepted step.  ``progress(it, rss)`` is
-    called after each iteration.
+    Steps are projected onto [lower, upper].  Converged when the undamped Gauss-Newton step
+    from the current point moves no parameter by more than ``rel_step_tol`` of its standard
+    error: the distance still to go, not the last (damped) step, which can be small far from
+    the minimum.  ``progress(it, rss)`` is called after each iteration.
     """
     w = pred.w
     free = np.asarray(free, dtype=bool)
@@ -174,17 +187,21 @@ def fit(
     lower = np.full(theta.size, -np.inf) if lower is None else lower
     upper = np.full(theta.size, np.inf) if upper is None else upper
     idx = np.flatnonzero(free)
+    dof = int(w.y.size - idx.size - 2 * w.size)
     pr, A, B = pred.jacobian(theta, states, free, names)
     r = pr - w.y
     cost = float(r @ r)
     lam, converged, it = 1e-3, False, 0
     for it in range(1, max_iter + 1):
-        accepted = False
+        cov, gap = _newton_gap(A, B, r, w, theta, idx, lower, upper, dof)
+        if gap <= rel_step_tol:
+            converged = True
+            break
         for _ in range(10):
             M, rhs, blocks = _schur(A, B, r, w, lam)
-            dth = _solve_scaled(M, rhs) if idx.size else np.zeros(0)
             th_new = theta.copy()
-            th_new[idx] = np.clip(theta[idx] + dth, lower[idx], upper[idx])
+            if idx.size:
+                th_new[idx] = np.clip(theta[idx] + _solve_scaled(M, rhs), lower[idx], upper[idx])
             dth = th_new[idx] - theta[idx]
             st_new = states.copy()
             for j, (Uinv, Wj, gA) in enumerate(blocks):
@@ -192,26 +209,16 @@ def fit(
             r_new = pred.residuals(th_new, st_new)
             c_new = float(r_new @ r_new) if np.all(np.isfinite(r_new)) else np.inf
             if c_new < cost:
-                accepted = True
                 break
             lam *= 6
-        if not accepted:  # no step lowers the cost: at the minimum to the precision of the runs
-            converged = True
+        else:  # no step lowers the cost: the minimum to the precision of the runs
             break
-        M0, _, _ = _schur(A, B, r, w, 0.0)
-        s2 = c_new / max(w.y.size - idx.size - 2 * w.size, 1)
-        se = np.sqrt(np.maximum(np.diag(_inverse_scaled(M0)) * s2, 1e-300)) if idx.size else np.zeros(0)
-        small = bool(np.all(np.abs(dth) <= rel_step_tol * se))
         theta, states, cost = th_new, st_new, c_new
         lam = max(lam / 4, 1e-9)
         if progress is not None:
             progress(it, cost)
         pr, A, B = pred.jacobian(theta, states, free, names)
         r = pr - w.y
-        if small:
-            converged = True
-            break
-    M0, _, _ = _schur(A, B, r, w, 0.0)
-    dof = int(w.y.size - idx.size - 2 * w.size)
-    cov = _inverse_scaled(M0) * (cost / max(dof, 1)) if idx.size else np.zeros((0, 0))
+    cov, gap = _newton_gap(A, B, r, w, theta, idx, lower, upper, dof)
+    converged = converged or gap <= rel_step_tol
     return FitResult(theta, states, free, cov, cost, int(w.y.size), dof, it, converged, _window_rss(r, w))

@@ -12,8 +12,9 @@ guess from a local polynomial is good.
 
 The forcing's phase: with an encoder channel, each window's phase is a straight line fitted to
 the encoder samples of the window, phase = w_j (t - t_start) + a_j, and the window is integrated
-in the model's time tau = t - t_start + a_j / w_j at the constant w_j (the rig's speed drifts
-slowly; a window's line follows it).  Without one, tau = t and w is the record's omega.
+in the model's time tau = t - t_start + a_j / w_j at the constant w_j (the core's forcing has a
+constant w).  Where the motor's speed varies within a window so that its phase bends away from
+the line by more than PHASE_TOL, the window is halved (its halves keep their own lines).  Without one, tau = t and w is the record's omega.
 """
 
 from __future__ import annotations
@@ -25,6 +26,13 @@ import numpy as np
 
 __all__ = ["WindowSet", "cut_windows", "split_held_out"]
 
+#: Largest deviation (rad) of a window's encoder phase from its straight line: a window whose
+#: phase bends more (the motor's speed varies within it) is halved until it does not.  A phase
+#: error d phi moves the forcing by (m0e/m) w^2 d phi, about 3.5e-4 m/s^2 at 1e-4 rad on model BC,
+#: a displacement of some 0.2 um over a forcing period: below the noise of a sample.
+PHASE_TOL = 1e-4
+#: Windows are not halved below this many samples.
+_MIN_SAMPLES = 16
 #: Local polynomial for the first guess of a window's state: degree and half width (s).
 _GUESS_DEGREE = 3
 _GUESS_HALF = 4e-3
@@ -108,6 +116,21 @@ def _boundaries(t, x, length, level, half):
     return starts
 
 
+def _straight_phase(t, phase, a, b):
+    """[a, b) halved until each piece's phase is a straight line within PHASE_TOL.
+
+    The bend is measured between a fitted parabola and the fitted line, not sample by sample:
+    an encoder's counts are steps of 2 pi / N (1.5e-3 rad at 4096 counts per revolution) that
+    the line averages out, but a varying speed is a curvature the parabola sees.
+    """
+    s = t[a:b] - t[a]
+    bend = np.max(np.abs(np.polyval(np.polyfit(s, phase[a:b], 2), s) - np.polyval(np.polyfit(s, phase[a:b], 1), s)))
+    if bend <= PHASE_TOL or b - a < 2 * _MIN_SAMPLES:
+        return [(a, b)]
+    mid = (a + b) // 2
+    return _straight_phase(t, phase, a, mid) + _straight_phase(t, phase, mid, b)
+
+
 def cut_windows(records, *, periods: float = 2.0, level: float, margin: float = 50e-6) -> WindowSet:
     """Windows of about ``periods`` forcing periods over every record.
 
@@ -131,9 +154,10 @@ def cut_windows(records, *, periods: float = 2.0, level: float, margin: float = 
         half = max(3, int(round(_GUESS_HALF / dt)))
         starts = _boundaries(t, x, length, level - margin, half)
         ends = [*starts[1:], min(x.size, starts[-1] + length)] if starts else []
-        for a, b in zip(starts, ends):
-            if b - a < length // 2:
-                continue
+        pieces = [(a, b) for a, b in zip(starts, ends) if b - a >= length // 2]
+        if rec.phase is not None:
+            pieces = [p for a, b in pieces for p in _straight_phase(t, rec.phase, a, b)]
+        for a, b in pieces:
             x0, v0 = _local_state(t, x, a, half)
             if rec.phase is not None:
                 w, c = np.polyfit(t[a:b] - t[a], rec.phase[a:b], 1)
