@@ -15,6 +15,7 @@ from impactosc.files import read_run
 from impactosc.integration.model import ModelParams
 from impactosc.measured.records import read_record
 from impactosc.model_file import (
+    BC_DESCRIPTION,
     FORMAT,
     PARAM_UNITS,
     apply_overrides,
@@ -170,7 +171,10 @@ def test_config_model_file_replaces_the_model(rig):
     cfg = validate_config(config, SCHEMA)
     assert ModelParams(**cfg["model"]) == RIG
     assert cfg["model_source"] == {"file": str(rig), "description": f"model file {rig}"}
-    assert validate_config(yaml.safe_load(CONFIG.read_text()), SCHEMA)["model_source"]["file"] is None
+    assert validate_config(yaml.safe_load(CONFIG.read_text()), SCHEMA)["model_source"] == {
+        "file": None,
+        "description": BC_DESCRIPTION,
+    }
 
 
 def test_config_model_file_errors_name_the_key(rig, tmp_path):
@@ -196,3 +200,20 @@ def test_dotted_top_level_keys_nest(rig):
     assert ModelParams(**validate_config(config, SCHEMA)["model"]) == RIG
     with pytest.raises(ConfigError, match=r"  solver\.rtol\.x: solver\.rtol is not a section"):
         validate_config({**config, "solver.rtol.x": 1}, SCHEMA)
+
+
+def test_figures_and_table_name_the_model(rig, tmp_path):
+    from impactosc.paper.table import COLUMNS, merge_tables, write_rows
+    from impactosc.plotting import model_label
+    from impactosc.plotting.bifurcation import fig02_poincare
+
+    source = {"file": str(rig), "description": f"model file {rig}"}
+    assert model_label(None) == model_label({"file": None}) == "model BC"
+    assert model_label(source) == "model rig.yaml"
+    fig = fig02_poincare(np.array([30.0, 31.0]), np.array([-3e-3, -2.5e-3]), RIG.xI, model=model_label(source))
+    assert fig.axes[1].get_title().startswith("model rig.yaml, increasing")
+    rows = tmp_path / "rows.csv"
+    write_rows(rows, [dict.fromkeys(COLUMNS, "1")])
+    out = [tmp_path / f"table.{ext}" for ext in ("csv", "md", "html")]
+    merge_tables([rows], *out, model=source["description"])
+    assert f"Model: model file {rig}." in out[1].read_text() and f"Model: model file {rig}." in out[2].read_text()

@@ -15,12 +15,13 @@ way ``config["model"]`` ends up holding exactly the ModelParams fields, and
 from __future__ import annotations
 
 import copy
-import difflib
 import re
 from pathlib import Path
 
 import jsonschema
 import yaml
+
+from .names import closest_name
 
 
 class ConfigError(ValueError):
@@ -29,17 +30,6 @@ class ConfigError(ValueError):
 
 def _path(error) -> str:
     return ".".join(str(p) for p in error.absolute_path) or "(top level)"
-
-
-def _suggest(key: str, names: list, absent: list):
-    """Closest property name; absent ones first, as a typo usually hides a key not given."""
-    for pool in (absent, names):
-        folded = {n.lower(): n for n in pool}
-        # cutoff 0.5, not difflib's 0.6: a one-letter slip in a two-letter key ('kl' for 'kI') scores 0.5
-        match = difflib.get_close_matches(key.lower(), list(folded), n=1, cutoff=0.5)
-        if match:
-            return folded[match[0]]
-    return None
 
 
 def _unknown_keys(error):
@@ -53,7 +43,7 @@ def _unknown_keys(error):
     for key in error.instance:
         if key in props or any(re.search(p, str(key)) for p in patterns):
             continue
-        guess = _suggest(str(key), names, absent)
+        guess = closest_name(str(key), names, absent)
         hint = f" (did you mean {guess!r}?)" if guess else f"; valid keys: {', '.join(names) or '(none)'}"
         out.append((f"{prefix}.{key}" if prefix else str(key), "unknown key" + hint, guess))
     return out
@@ -137,11 +127,11 @@ def nest_dotted_keys(config: dict) -> dict:
 def _model_from_file(model: dict) -> dict:
     """config["model_source"], and config["model"] replaced by the parameters of the model file
     `model["file"]` when one is named (other keys beside it must equal the file's values)."""
-    from .model_file import BC_DESCRIPTION, resolve_model  # here: model_file imports this module
-
     if model.get("file") is None:
         model.pop("file", None)
-        return {"file": None, "description": BC_DESCRIPTION}
+        return {"file": None, "description": "model BC (paper)"}  # model_file.BC_DESCRIPTION
+    from .model_file import resolve_model  # only here: it imports numba, which the plotting jobs do without
+
     path = model.pop("file")
     try:
         params, description = resolve_model(path)

@@ -33,9 +33,9 @@ import numpy as np
 import yaml
 
 from . import __version__
-from .config import _suggest
 from .files import atomic_write, git_commit
 from .integration.model import ModelParams
+from .names import closest_name
 
 FORMAT = "impactosc-model/1"
 
@@ -92,7 +92,7 @@ class ModelFile:
 
 def _unknown(key, names, what: str = "key", absent=()) -> str:
     """'unknown <what> (did you mean ...?)', or the known names when none is close."""
-    guess = _suggest(str(key), list(names), list(absent))
+    guess = closest_name(key, names, absent)
     return f"unknown {what}" + (f" (did you mean {guess!r}?)" if guess else f"; known: {', '.join(names)}")
 
 
