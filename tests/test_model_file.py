@@ -9,7 +9,7 @@ import pytest
 import yaml
 from test_config import CONFIG, SCHEMA  # tests/ is on sys.path (pytest's prepend import mode)
 
-from impactosc.cli import main
+from impactosc.cli import MODEL_NAMES, main
 from impactosc.config import ConfigError, nest_dotted_keys, validate_config
 from impactosc.files import read_run
 from impactosc.integration.model import ModelParams
@@ -63,6 +63,11 @@ def test_round_trip_keeps_values_errors_correlation_and_records(tmp_path):
     assert model.meta["fit"] == {"chi2_dof": 1.02, "n_windows": 40}
     assert model.meta["name"] == "rig 3" and model.meta["package_version"] and model.meta["created"]
     assert set(yaml.safe_load(text)["parameters"]) == set(PARAM_UNITS)
+
+
+def test_every_parameter_has_a_unit_and_a_cli_name():
+    fields = [f.name for f in dataclasses.fields(ModelParams)]
+    assert list(PARAM_UNITS) == fields and MODEL_NAMES.split() == fields
 
 
 def test_plain_numbers_and_missing_parameters_take_model_bc(tmp_path):

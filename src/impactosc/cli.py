@@ -285,8 +285,8 @@ def build_parser() -> argparse.ArgumentParser:
     sur = sub.add_parser(
         "surrogate",
         help="write a surrogate record: the model sampled like the rig, plus sensor noise",
-        description="Simulate the model (model BC, or --model / --param) at OMEGA, sample x at RATE Hz on [TRANSIENT, TRANSIENT + DURATION], "
-        "add white Gaussian noise of std NOISE and write it in the measured-record format (.csv or .h5), "
+        description="Simulate the model (model BC, or --model / --param) at OMEGA, sample x at RATE Hz on "
+        "[TRANSIENT, TRANSIENT + DURATION], add white Gaussian noise of std NOISE and write it in the measured-record format (.csv or .h5), "
         "labelled 'surrogate (model + noise)'. With --ramp instead of --omega: a slow sweep in one record, "
         "w ramped linearly from W_START to W_STOP over DURATION after TRANSIENT s at W_START, with the "
         "forcing phase (column/dataset 'phase', rad) as an encoder measures it. The core takes w as a "
