@@ -101,7 +101,9 @@ def test_bad_input_is_one_clear_line_and_writes_nothing(tmp_path, args, message)
     r = run_cli("simulate", *args, "--output", str(out))
     assert r.returncode == 2
     assert message in r.stderr
-    assert len(r.stderr.strip().splitlines()) <= 5  # argparse adds its usage lines
+    *usage, last = r.stderr.strip().splitlines()
+    assert last.startswith("impactosc simulate: error:")  # one line; argparse puts its usage before it
+    assert all(line.startswith(("usage:", " ")) for line in usage), usage
     assert not out.exists()
 
 

@@ -2,6 +2,7 @@
 config/README.md is the schema rendered."""
 
 import copy
+import dataclasses
 from pathlib import Path
 
 import pytest
@@ -30,9 +31,15 @@ def test_default_config_is_valid_and_is_model_bc():
 
 
 def test_schema_documents_every_model_key():
-    schema = yaml.safe_load(SCHEMA.read_text())
-    for key, sub in schema["properties"]["model"]["properties"].items():
-        assert "description" in sub and "default" in sub, key
+    model = yaml.safe_load(SCHEMA.read_text())["properties"]["model"]["properties"]
+    assert set(model) == {f.name for f in dataclasses.fields(ModelParams)} | {"file"}
+    for key, sub in model.items():
+        assert "description" in sub and ("default" in sub or key == "file"), key
+
+
+def test_model_keys_change_model_bc_one_by_one(config):
+    config["model"] = {"k": 1500.0}
+    assert ModelParams(**validate_config(config, SCHEMA)["model"]) == ModelParams(k=1500.0)
 
 
 @pytest.mark.parametrize(
@@ -68,6 +75,7 @@ def _errors(cfg) -> str:
 
 
 def test_typo_is_an_unknown_key_with_a_suggestion(config):
+    config["model"] = ModelParams().to_dict()  # every parameter listed, one misspelt
     config["model"]["kl"] = config["model"].pop("kI")
     config["periodic"] = {"branch": {"strat": 40.0}}
     config["chaotic"] = {"second_train": {"evnets": "a.h5", "label": "x"}}
@@ -85,11 +93,11 @@ def test_unknown_key_without_close_match_lists_the_valid_keys(config):
 
 
 def test_missing_required_key_is_reported(config):
-    del config["model"]["kI"]
-    assert "  model: 'kI' is a required property" in _errors(config)
-    config["model"]["mass"] = 1.0  # an unknown key not close to kI does not hide it
+    del config["scenes"]["chaos"]["omega"]
+    assert "  scenes.chaos: 'omega' is a required property" in _errors(config)
+    config["scenes"]["chaos"]["speed"] = 1.0  # an unknown key not close to omega does not hide it
     msg = _errors(config)
-    assert "  model: 'kI' is a required property" in msg and "  model.mass: unknown key" in msg, msg
+    assert "  scenes.chaos: 'omega' is a required property" in msg and "  scenes.chaos.speed: unknown key" in msg, msg
 
 
 def test_config_readme_is_the_schema_rendered():

@@ -11,10 +11,15 @@ from . import __version__
 
 EPILOG = """\
 Units: SI throughout (s, m, m/s, rad/s). Model parameters are model BC of the paper
-(m=8.735 kg, k=1418.9 N/m, xI=-2.086e-3 m, ...); see impactosc.integration.model.ModelParams.
-Example (the chaotic scene of the paper, ~2875 impacts):
+(m=8.735 kg, k=1418.9 N/m, xI=-2.086e-3 m, ...; see impactosc.integration.model.ModelParams)
+unless --model / --param change them; the run file's attributes record every parameter
+(param_*) and where they came from (model_source).
+Examples (the chaotic scene of the paper, ~2875 impacts; the same with a rig's model file):
   impactosc simulate --omega 40.86 --transient 100 --duration 400 --output chaos.h5
+  impactosc simulate --omega 40.86 --transient 100 --duration 400 --model rig.yaml --param k=1500 --output rig.h5
 """
+
+MODEL_NAMES = "m m0e k c T eps kI b n1 n2 n3 xI"
 
 
 def _finite(text: str) -> float:
@@ -91,6 +96,33 @@ def _add_record_options(p) -> None:
     )
 
 
+def add_model_options(parser, description: str) -> None:
+    """--model FILE and --param NAME=VALUE (repeatable): the model a command uses, read by
+    :func:`model_from_args`; `description` says what the model is for in this command."""
+    group = parser.add_argument_group("model", description)
+    group.add_argument(
+        "--model",
+        metavar="FILE",
+        help="model file (YAML, impactosc-model/1) whose parameters replace model BC's; parameters it leaves "
+        "out keep model BC's values",
+    )
+    group.add_argument(
+        "--param",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help=f"set one model parameter (SI units; NAME one of {MODEL_NAMES}), applied after --model; "
+        "repeatable, e.g. --param k=1500 --param xI=-2.1e-3",
+    )
+
+
+def model_from_args(args):
+    """(ModelParams, description of where they came from) of --model and --param."""
+    from .model_file import resolve_model
+
+    return resolve_model(args.model, args.param)
+
+
 def _read(args, omega=None):
     from .measured.records import read_record
 
@@ -120,8 +152,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     sim = sub.add_parser(
         "simulate",
-        help="integrate model BC and write its events to an HDF5 run file",
-        description="Integrate model BC from (x0, v0) at t = 0 up to TRANSIENT + DURATION and write "
+        help="integrate the model (model BC, or a model file) and write its events to an HDF5 run file",
+        description="Integrate the model from (x0, v0) at t = 0 up to TRANSIENT + DURATION and write "
         "the events with t >= TRANSIENT (impact onsets, deepest penetrations, near misses, Poincare "
         "points at t = 2 pi i / omega) and an optional trajectory window to an HDF5 file.",
         epilog=EPILOG,
@@ -161,6 +193,7 @@ def build_parser() -> argparse.ArgumentParser:
         "~10^4 times what the chaotic scene needs)",
     )
     sim.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    add_model_options(sim, "The parameters of the run: model BC's, or those of --model, then each --param.")
     ext = sub.add_parser(
         "extract",
         help="extract impact events from a measured (or surrogate) displacement record",
@@ -174,14 +207,16 @@ def build_parser() -> argparse.ArgumentParser:
         + "\nExamples:\n  impactosc extract examples/record_example.csv --x-impact=-2.086e-3 --output events.h5\n"
         "  impactosc extract examples/record_example.tdms --group rig --channel cart --phase-channel encoder "
         "--output events.h5\n"
-        "Without --x-impact (and no x_impact in the record) XI is estimated from the record's turning "
-        "points near the obstacle (--x-impact-method) and the estimate is printed with its sigma.",
+        "XI, in order of precedence: --x-impact; the model's xI when --model or --param states it (a model "
+        "file identified on the rig); the record's x_impact metadata; else estimated from the record's "
+        "turning points near the obstacle (--x-impact-method) and printed with its sigma.",
     )
     _add_record_options(ext)
     ext.add_argument(
         "--x-impact",
         type=_finite,
-        help="obstacle position XI, m (write --x-impact=-2.086e-3 for negative values; default: record metadata, else estimated)",
+        help="obstacle position XI, m (write --x-impact=-2.086e-3 for negative values; default: the model's xI "
+        "when --model or --param states it, else record metadata, else estimated)",
     )
     ext.add_argument(
         "--x-impact-method",
@@ -208,6 +243,11 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="S",
         help="delay of the sensor chain, s (an anti-aliasing filter's group delay), subtracted from the sample "
         "times (default: the record's sensor_delay metadata, else 0)",
+    )
+    add_model_options(
+        ext,
+        "The model's obstacle position xI is XI when --x-impact is not given and the model file states xI "
+        "(or --param xI=... sets it); no other parameter is used here.",
     )
     swe = sub.add_parser(
         "sweep-extract",
@@ -245,8 +285,8 @@ def build_parser() -> argparse.ArgumentParser:
     sur = sub.add_parser(
         "surrogate",
         help="write a surrogate record: the model sampled like the rig, plus sensor noise",
-        description="Simulate model BC at OMEGA, sample x at RATE Hz on [TRANSIENT, TRANSIENT + DURATION], "
-        "add white Gaussian noise of std NOISE and write it in the measured-record format (.csv or .h5), "
+        description="Simulate the model (model BC, or --model / --param) at OMEGA, sample x at RATE Hz on "
+        "[TRANSIENT, TRANSIENT + DURATION], add white Gaussian noise of std NOISE and write it in the measured-record format (.csv or .h5), "
         "labelled 'surrogate (model + noise)'. With --ramp instead of --omega: a slow sweep in one record, "
         "w ramped linearly from W_START to W_STOP over DURATION after TRANSIENT s at W_START, with the "
         "forcing phase (column/dataset 'phase', rad) as an encoder measures it. The core takes w as a "
@@ -275,7 +315,11 @@ def build_parser() -> argparse.ArgumentParser:
     sur.add_argument("--duration", type=_finite, required=True, help="sampled time, s")
     sur.add_argument("--rate", type=_finite, default=2000.0, help="sample rate, Hz (default 2000)")
     sur.add_argument("--noise", type=_finite, default=5e-6, help="sensor-noise std, m (default 5e-6)")
-    sur.add_argument("--mismatch", default="", help="relative parameter changes, e.g. 'c=0.02,T=-0.05' (default none)")
+    sur.add_argument(
+        "--mismatch",
+        default="",
+        help="relative parameter changes applied to the model, e.g. 'c=0.02,T=-0.05' (default none)",
+    )
     sur.add_argument("--seed", type=int, default=0, help="noise seed (default 0)")
     real = sur.add_argument_group(
         "sensor realism (all off by default; see impactosc.measured.surrogate.SurrogateOptions)"
@@ -298,6 +342,11 @@ def build_parser() -> argparse.ArgumentParser:
     real.add_argument("--quantum", type=_finite, default=0.0, metavar="M", help="ADC step, m (every sample rounded)")
     sur.add_argument("--units", choices=("m", "mm", "um"), default="m", help="CSV displacement units (default m)")
     sur.add_argument("--output", required=True, help="record file to write (.csv or .h5)")
+    add_model_options(
+        sur,
+        "The parameters the record is drawn from, before --mismatch: model BC's, or those of --model, then each "
+        "--param; the record's metadata names them (model_source).",
+    )
     doc = sub.add_parser(
         "config-docs",
         help="write config/README.md (every config key) from the config schema",
@@ -340,6 +389,7 @@ def _extract(args) -> int:
     from .measured.extract import ExtractOptions, extract_events
 
     check_writable(args.output)
+    x_impact, x_impact_source = _model_x_impact(args) if args.x_impact is None else (args.x_impact, None)
     rec = _read(args, omega=args.omega)
     options = ExtractOptions(
         noise=args.noise,
@@ -347,14 +397,16 @@ def _extract(args) -> int:
         contact_exponent=args.contact_exponent,
         delay=args.sensor_delay,
     )
-    if args.x_impact is None and "x_impact" not in rec.meta and args.x_impact_method == "contact":
+    if x_impact is None and "x_impact" not in rec.meta and args.x_impact_method == "contact":
         minutes = (rec.t[-1] - rec.t[0]) / 60.0
         print(
             f"{args.record}: no x_impact given; fitting the contact law to the record's turning points "
             f"(about {5 * minutes * (rec.t.size / (rec.t[-1] - rec.t[0])) / 2000:.0f} s for {minutes:.1g} min of record)",
             file=sys.stderr,
         )
-    events, attrs = extract_events(rec, args.x_impact, options)
+    events, attrs = extract_events(rec, x_impact, options)
+    if x_impact_source:
+        attrs["x_impact_source"] = x_impact_source
     write_run(args.output, events, attrs, sources=[args.record])
     section = ""
     if "poincare" in events:
@@ -369,6 +421,20 @@ def _extract(args) -> int:
         f"(sample interval {attrs['sample_interval']:.3g} s){section}"
     )
     return 0
+
+
+def _model_x_impact(args) -> tuple[float | None, str | None]:
+    """(xI, where from) of the model when --model or --param states xI (a model file's own xI,
+    not model BC's filling in for it), else (None, None): the record or the estimate decides."""
+    if args.model is None and not args.param:
+        return None, None
+    from .model_file import read_model_file
+
+    params, source = model_from_args(args)
+    by_param = any(item.partition("=")[0].strip() == "xI" for item in args.param)
+    if by_param or (args.model is not None and "xI" not in read_model_file(args.model).defaulted):
+        return params.xI, f"the model's xI, {source}"
+    return None, None
 
 
 def _sweep_extract(args) -> int:
@@ -407,6 +473,7 @@ def _surrogate(args) -> int:
     from .measured.surrogate import REALISM_FIELDS, SurrogateOptions, surrogate_ramp, surrogate_record
 
     check_writable(args.output)
+    params, source = model_from_args(args)
     opts = SurrogateOptions(
         rate=args.rate,
         noise=args.noise,
@@ -417,16 +484,20 @@ def _surrogate(args) -> int:
     if args.ramp is None:
         if args.encoder_counts is not None:
             raise ValueError("--encoder-counts goes with --ramp (a constant-w record has no phase channel)")
-        rec, _ = surrogate_record(args.omega, args.transient, args.duration, opts)
-        write_record(args.output, rec.t, rec.x, omega=rec.omega, meta=rec.meta, units=args.units)
+        rec, _ = surrogate_record(args.omega, args.transient, args.duration, opts, params=params)
+        meta = dict(rec.meta, model_source=source)
+        write_record(args.output, rec.t, rec.x, omega=rec.omega, meta=meta, units=args.units)
         print(f"{args.output}: surrogate record, {rec.t.size} samples at {args.rate:g} Hz, noise {args.noise:g} m")
         return 0
     w0, w1 = args.ramp
     if not (w0 > 0 and w1 > 0 and args.transient >= 0 and args.duration > 0):
         raise ValueError("--ramp needs W_START, W_STOP > 0 rad/s, --transient >= 0 s and --duration > 0 s")
     n_initial = round(args.transient * w0 / (2 * math.pi))  # whole periods: the ramp starts at phase 0
-    rec, _ = surrogate_ramp(w0, w1, args.duration, opts, n_initial=n_initial, encoder_counts=args.encoder_counts)
-    write_record(args.output, rec.t, rec.x, meta=rec.meta, units=args.units, phase=rec.phase)
+    rec, _ = surrogate_ramp(
+        w0, w1, args.duration, opts, n_initial=n_initial, encoder_counts=args.encoder_counts, params=params
+    )
+    meta = dict(rec.meta, model_source=source)
+    write_record(args.output, rec.t, rec.x, meta=meta, units=args.units, phase=rec.phase)
     print(
         f"{args.output}: surrogate sweep record, w {w0:g} -> {w1:g} rad/s in {args.duration:g} s "
         f"({abs(w1 - w0) / args.duration:.3g} rad/s^2), {rec.t.size} samples at {args.rate:g} Hz with phase, "
@@ -448,6 +519,7 @@ def _simulate(args) -> int:
     _validate(args.omega, args.transient, args.duration, args.x0, args.v0, args.rtol, args.atol, window)
     if args.step_budget < 100:
         raise ValueError(f"--step-budget must be >= 100 step attempts per forcing period, got {args.step_budget:g}")
+    params, source = model_from_args(args)
     jit = warm_up()
     last = [time.perf_counter()]
 
@@ -469,8 +541,10 @@ def _simulate(args) -> int:
         record=record,
         progress=progress,
         step_budget=args.step_budget,
+        params=params,
     )
     res.attrs["jit_and_load_time"] = jit
+    res.attrs["model_source"] = source
     write_run(args.output, res.events, res.attrs, res.trajectory)
     n_imp = len(res.events["impacts"]["t"]) if "impacts" in res.events else 0
     print(

@@ -5,17 +5,23 @@ the minimum of 0``) so a user sees at once what to fix; a misspelt key is named 
 with the closest valid key (``model.kl: unknown key (did you mean 'kI'?)``) rather than as
 the required key it hides. Defaults from the schema are filled in so scripts can rely on
 every key being present.
+
+The model section either sets parameters of model BC one by one or names a model file
+(``model: {file: rig.yaml}``, :mod:`impactosc.model_file`) whose parameters replace it; either
+way ``config["model"]`` ends up holding exactly the ModelParams fields, and
+``config["model_source"]`` says where they came from, for figures and tables to name.
 """
 
 from __future__ import annotations
 
 import copy
-import difflib
 import re
 from pathlib import Path
 
 import jsonschema
 import yaml
+
+from .names import closest_name
 
 
 class ConfigError(ValueError):
@@ -24,17 +30,6 @@ class ConfigError(ValueError):
 
 def _path(error) -> str:
     return ".".join(str(p) for p in error.absolute_path) or "(top level)"
-
-
-def _suggest(key: str, names: list, absent: list):
-    """Closest property name; absent ones first, as a typo usually hides a key not given."""
-    for pool in (absent, names):
-        folded = {n.lower(): n for n in pool}
-        # cutoff 0.5, not difflib's 0.6: a one-letter slip in a two-letter key ('kl' for 'kI') scores 0.5
-        match = difflib.get_close_matches(key.lower(), list(folded), n=1, cutoff=0.5)
-        if match:
-            return folded[match[0]]
-    return None
 
 
 def _unknown_keys(error):
@@ -48,7 +43,7 @@ def _unknown_keys(error):
     for key in error.instance:
         if key in props or any(re.search(p, str(key)) for p in patterns):
             continue
-        guess = _suggest(str(key), names, absent)
+        guess = closest_name(str(key), names, absent)
         hint = f" (did you mean {guess!r}?)" if guess else f"; valid keys: {', '.join(names) or '(none)'}"
         out.append((f"{prefix}.{key}" if prefix else str(key), "unknown key" + hint, guess))
     return out
@@ -107,15 +102,64 @@ def _fill_defaults(schema: dict, instance):
                 _fill_defaults(extra, instance[key])
 
 
+def nest_dotted_keys(config: dict) -> dict:
+    """A copy of `config` with each dotted top-level key nested (``{"a.b": 1}`` ->
+    ``{"a": {"b": 1}}``), as a config file or the Snakemake API may give an override; the
+    dotted key wins over a nested one of the same name."""
+    out = copy.deepcopy(config)
+    for key in [k for k in out if isinstance(k, str) and "." in k]:
+        value = out.pop(key)
+        *parents, last = key.split(".")
+        node = out
+        for i, part in enumerate(parents):
+            if not isinstance(node.get(part), dict):
+                if part in node:
+                    where = ".".join(parents[: i + 1])
+                    raise ConfigError(
+                        f"invalid configuration:\n  {key}: {where} is not a section (it is {node[part]!r})"
+                    )
+                node[part] = {}
+            node = node[part]
+        node[last] = value
+    return out
+
+
+def _model_from_file(model: dict) -> dict:
+    """config["model_source"], and config["model"] replaced by the parameters of the model file
+    `model["file"]` when one is named (other keys beside it must equal the file's values)."""
+    if model.get("file") is None:
+        model.pop("file", None)
+        return {"file": None, "description": "model BC (paper)"}  # model_file.BC_DESCRIPTION
+    from .model_file import resolve_model  # only here: it imports numba, which the plotting jobs do without
+
+    path = model.pop("file")
+    try:
+        params, description = resolve_model(path)
+    except (ValueError, FileNotFoundError) as exc:
+        raise ConfigError(f"invalid configuration:\n  model.file: {exc}") from None
+    values = params.to_dict()
+    clash = [f"{k} = {v!r} (the file: {values[k]!r})" for k, v in model.items() if v != values[k]]
+    if clash:
+        raise ConfigError(
+            f"invalid configuration:\n  model.file: the parameters of {path} replace model's, but model also sets "
+            f"{'; '.join(clash)}: it is ambiguous which should win; remove them, or change the file"
+        )
+    model.clear()
+    model.update(values)
+    return {"file": str(path), "description": description}
+
+
 def validate_config(config: dict, schema_path) -> dict:
-    """Return a validated copy of `config` with schema defaults filled in."""
+    """Return a validated copy of `config` with schema defaults filled in, dotted top-level
+    keys nested, and the model of ``model.file`` (if any) in place of the model section."""
     schema = yaml.safe_load(Path(schema_path).read_text())
+    config = nest_dotted_keys(config)
     validator = jsonschema.Draft202012Validator(schema)
     errors = [f for e in validator.iter_errors(config) for f in _flatten(e)]
     errors.sort(key=lambda e: list(e.absolute_path))
     if errors:
         raise ConfigError("invalid configuration:\n" + "\n".join(_messages(errors)))
-    config = copy.deepcopy(config)
+    config["model_source"] = _model_from_file(config.setdefault("model", {}))
     _fill_defaults(schema, config)
     for name, scene in config["scenes"].items():
         win = scene.get("window")

@@ -117,6 +117,7 @@ rule fig02:
         figure="fig02",
         names=[BIF["fig02"]["sweep"]],
         model=config["model"],
+        model_source=config["model_source"],
         experimental=BIF["fig02"]["experimental"],
     # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
     script:

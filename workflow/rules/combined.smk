@@ -32,6 +32,8 @@ rule paper_vs_replication:
         html=report(PAPER_TABLE_HTML, caption="../report/paper_vs_replication.rst", category="Paper vs replication"),
     log:
         logfile("combined", "paper_vs_replication"),
+    params:
+        model=config["model_source"],
     script:
         "../scripts/paper_vs_replication.py"
 

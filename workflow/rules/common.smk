@@ -11,6 +11,9 @@ import impactosc
 from snakemake.exceptions import WorkflowError
 from impactosc.config import validate_config
 
+# After validation config["model"] holds exactly the ModelParams fields (model BC's, or those of
+# the model file config model.file), and config["model_source"] says which, for figures and
+# tables to name; every rule passes config["model"] as a param, so a changed model reruns it.
 config = validate_config(config, workflow.source_path("../schemas/config.schema.yaml"))
 
 # The numba core's on-disk cache is keyed on a hash of the core sources (impactosc/__init__.py)

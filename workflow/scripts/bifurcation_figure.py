@@ -3,7 +3,8 @@ or the supplementary overlay of both directions.
 
 Reads snakemake.input.sweeps (sweep files named by snakemake.params.names), the diagram
 reading snakemake.input.stats (transitions to mark) and, for fig02, an optional measured
-diagram (snakemake.params.experimental); writes snakemake.output.png/.pdf and a log.
+diagram (snakemake.params.experimental) and the model's source to name
+(snakemake.params.model_source); writes snakemake.output.png/.pdf and a log.
 """
 
 from _logging import configure_logging
@@ -16,7 +17,7 @@ from pathlib import Path
 
 import h5py
 
-from impactosc.plotting import save_figure
+from impactosc.plotting import model_label, save_figure
 from impactosc.plotting.bifurcation import fig02_poincare, fig03b_arguments, fig03b_isi, marks_of, overlay_figure
 from impactosc.sweeps.continuation import load_sweep
 
@@ -35,7 +36,13 @@ def main(inp, params, out):
         w, x = res.poincare_points()
         summary = stats["sweeps"][name]
         fig = fig02_poincare(
-            w, x, x_obstacle, experimental=exp, marks=marks_of(summary), abandoned=summary["failed_omegas"]
+            w,
+            x,
+            x_obstacle,
+            experimental=exp,
+            marks=marks_of(summary),
+            abandoned=summary["failed_omegas"],
+            model=model_label(params.model_source),
         )
     elif params.figure == "fig03b":
         name = params.names[0]

@@ -45,31 +45,34 @@ def to_markdown(rows: list[dict], columns=COLUMNS) -> str:
     return "\n".join(lines) + "\n"
 
 
-def to_html(rows: list[dict]) -> str:
+def to_html(rows: list[dict], model: str | None = None) -> str:
     """A standalone HTML page of the table (every cell escaped); rows that do not agree are
-    marked, so that they stand out in the report."""
+    marked, so that they stand out in the report; `model` names the model the replication ran."""
     head = "".join(f"<th>{html.escape(c)}</th>" for c in COLUMNS)
     body = []
     for r in rows:
         cls = ' class="disagree"' if r["agrees"] == "no" else ""
         body.append(f"<tr{cls}>" + "".join(f"<td>{html.escape(str(r[c]))}</td>" for c in COLUMNS) + "</tr>")
     agree = sum(r["agrees"] == "yes" for r in rows)
+    model_line = f"<p>Model: {html.escape(model)}.</p>\n" if model else ""
     return (
         '<!DOCTYPE html>\n<html><head><meta charset="utf-8"><title>Paper vs replication</title>\n'
         "<style>body{font-family:sans-serif;font-size:13px} table{border-collapse:collapse}"
         " td,th{border:1px solid #bbb;padding:3px 6px;vertical-align:top;text-align:left}"
         " th{background:#eee} tr.disagree td{background:#fdd}</style></head><body>\n"
         f"<h1>Paper vs replication</h1>\n<p>{len(rows)} rows; {agree} agree within their stated tolerance "
-        "(the tolerance column gives the reason for each).</p>\n"
+        f"(the tolerance column gives the reason for each).</p>\n{model_line}"
         f"<table>\n<thead><tr>{head}</tr></thead>\n<tbody>\n" + "\n".join(body) + "\n</tbody></table>\n</body></html>\n"
     )
 
 
-def merge_tables(inputs, csv_out, md_out, html_out=None) -> list[dict]:
-    """Concatenate the groups' rows files into the table's CSV, Markdown (and HTML) files."""
+def merge_tables(inputs, csv_out, md_out, html_out=None, *, model: str | None = None) -> list[dict]:
+    """Concatenate the groups' rows files into the table's CSV, Markdown (and HTML) files; the
+    last two say which `model` the replication ran (config["model_source"]["description"])."""
     rows = [row for path in inputs for row in read_rows(path)]
     write_rows(csv_out, rows, sources=inputs)
-    write_text(md_out, "# Paper vs replication\n\n" + to_markdown(rows))
+    model_line = f"Model: {model}.\n\n" if model else ""
+    write_text(md_out, f"# Paper vs replication\n\n{model_line}" + to_markdown(rows))
     if html_out is not None:
-        write_text(html_out, to_html(rows))
+        write_text(html_out, to_html(rows, model))
     return rows

@@ -1,5 +1,5 @@
 """Plotting helpers shared by every figure script (style, saving)."""
 
-from .style import apply_style, save_figure
+from .style import apply_style, model_label, save_figure
 
-__all__ = ["apply_style", "save_figure"]
+__all__ = ["apply_style", "model_label", "save_figure"]

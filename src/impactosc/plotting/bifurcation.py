@@ -125,11 +125,12 @@ def _poincare_axes(ax, w, x, x_obstacle, title, marks=(), color="k", abandoned=(
     mark_transitions(ax, marks, loc="lower left", anchor=(0.42, 0.01))
 
 
-def fig02_poincare(w, x, x_obstacle, *, experimental=None, marks=(), abandoned=()):
+def fig02_poincare(w, x, x_obstacle, *, experimental=None, marks=(), abandoned=(), model="model BC"):
     """Fig 2: Poincare diagrams at increasing w, measured (left) and numerical (right).
 
     experimental: None or (w, x, label) of a measured (or clearly labelled surrogate)
-    diagram; without one the left panel says where to supply it.
+    diagram; without one the left panel says where to supply it. model: the numerical
+    panel's model, as :func:`impactosc.plotting.model_label` names it.
     """
     apply_style()
     fig, axes = plt.subplots(1, 2, figsize=(DOUBLE, 6.5 * CM), sharey=True)
@@ -157,7 +158,7 @@ def fig02_poincare(w, x, x_obstacle, *, experimental=None, marks=(), abandoned=(
         w,
         x,
         x_obstacle,
-        r"model BC, increasing $\omega$, $x_I = %.3f$ mm" % (x_obstacle * MM),
+        model + r", increasing $\omega$, $x_I = %.3f$ mm" % (x_obstacle * MM),
         marks,
         abandoned=abandoned,
     )

@@ -39,6 +39,12 @@ def apply_style() -> None:
     plt.rcParams.update(STYLE)
 
 
+def model_label(source: dict | None) -> str:
+    """How a figure names the model it was drawn for (config["model_source"]): "model BC", or
+    "model <file name>" when a model file gave the parameters."""
+    return f"model {Path(source['file']).name}" if source and source.get("file") else "model BC"
+
+
 def save_figure(fig, *paths) -> None:
     """Save `fig` to each path (format from the suffix), each atomically, then close it."""
     for path in paths:

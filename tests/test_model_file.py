@@ -1,0 +1,224 @@
+"""Model files: what is written is read back, every mistake in a file or an override is named
+with the file and the key, and the commands and the workflow config take their model from one."""
+
+import dataclasses
+
+import h5py
+import numpy as np
+import pytest
+import yaml
+from test_config import CONFIG, SCHEMA  # tests/ is on sys.path (pytest's prepend import mode)
+
+from impactosc.cli import MODEL_NAMES, main
+from impactosc.config import ConfigError, nest_dotted_keys, validate_config
+from impactosc.files import read_run
+from impactosc.integration.model import ModelParams
+from impactosc.measured.records import read_record
+from impactosc.model_file import (
+    BC_DESCRIPTION,
+    FORMAT,
+    PARAM_UNITS,
+    apply_overrides,
+    read_model_file,
+    resolve_model,
+    write_model_file,
+)
+
+RIG = ModelParams(k=1500.0, c=7.1, xI=-2.0e-3)
+
+
+@pytest.fixture()
+def rig(tmp_path):
+    return write_model_file(tmp_path / "rig.yaml", RIG, name="test rig")
+
+
+def _write(path, text: str):
+    path.write_text(text)
+    return path
+
+
+def test_round_trip_keeps_values_errors_correlation_and_records(tmp_path):
+    corr = (["k/m", "c/m"], np.array([[1.0, -0.25], [-0.25, 1.0]]))
+    records = [{"path": "run3.tdms", "sha256": "ab" * 32, "omega": np.float64(40.86)}]
+    path = write_model_file(
+        tmp_path / "sub" / "rig.yaml",
+        RIG,
+        stderr={"k": 3.1, "c": np.float64(0.02)},
+        fixed={"m": "given (mass is not identifiable from displacement)"},
+        correlation=corr,
+        records=records,
+        fit={"chi2_dof": np.float64(1.02), "n_windows": np.int64(40)},
+        name="rig 3",
+    )
+    text = path.read_text()
+    assert text.startswith(f"format: {FORMAT}\n") and "!!" not in text  # plain floats, no numpy tags
+    assert "k: {value: 1500.0, unit: N/m, stderr: 3.1}" in text
+    model = read_model_file(path)
+    assert model.params == RIG and model.defaulted == ()
+    assert model.stderr == {"k": 3.1, "c": 0.02}
+    assert model.fixed == {"m": "given (mass is not identifiable from displacement)"}
+    names, matrix = model.correlation
+    assert names == corr[0] and np.array_equal(matrix, corr[1])
+    assert model.meta["records"] == [{"path": "run3.tdms", "sha256": "ab" * 32, "omega": 40.86}]
+    assert model.meta["fit"] == {"chi2_dof": 1.02, "n_windows": 40}
+    assert model.meta["name"] == "rig 3" and model.meta["package_version"] and model.meta["created"]
+    assert set(yaml.safe_load(text)["parameters"]) == set(PARAM_UNITS)
+
+
+def test_every_parameter_has_a_unit_and_a_cli_name():
+    fields = [f.name for f in dataclasses.fields(ModelParams)]
+    assert list(PARAM_UNITS) == fields and MODEL_NAMES.split() == fields
+
+
+def test_plain_numbers_and_missing_parameters_take_model_bc(tmp_path):
+    path = _write(tmp_path / "m.yaml", f"format: {FORMAT}\nparameters:\n  k: 1500\n  eps: 1e-7\n")
+    model = read_model_file(path)
+    assert model.params == dataclasses.replace(ModelParams(), k=1500.0, eps=1e-7)  # '1e-7' is a string to YAML
+    assert "k" not in model.defaulted and set(model.defaulted) == set(PARAM_UNITS) - {"k", "eps"}
+    assert resolve_model(path)[1] == f"model file {path} (k, eps; the rest from model BC)"
+
+
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("k: [1, 2\n", "not YAML"),
+        ("- 1\n- 2\n", "not a model file"),
+        ("parameters: {k: 1500}\n", "format: missing"),
+        ("format: impactosc-model/2\nparameters: {}\n", "format: 'impactosc-model/2' is not"),
+        (f"format: {FORMAT}\nparamters: {{k: 1}}\n", "paramters: unknown key (did you mean 'parameters'?)"),
+        (f"format: {FORMAT}\nparameters: {{kk: 1}}\n", "parameters.kk: unknown parameter (did you mean 'k'?)"),
+        (f"format: {FORMAT}\nparameters: {{k: stiff}}\n", "parameters.k: 'stiff' is not a number"),
+        (f"format: {FORMAT}\nparameters: {{k: .inf}}\n", "parameters.k: inf is not a finite number"),
+        (f"format: {FORMAT}\nparameters: {{k: {{value: .nan}}}}\n", "parameters.k.value: nan is not a finite"),
+        (f"format: {FORMAT}\nparameters: {{k: {{unit: N/m}}}}\n", "parameters.k.value: missing"),
+        (f"format: {FORMAT}\nparameters: {{k: {{value: 1, stdev: 1}}}}\n", "parameters.k.stdev: unknown key"),
+        (f"format: {FORMAT}\nparameters: {{k: {{value: 1.5, unit: N/mm}}}}\n", "parameters.k.unit: 'N/mm'"),
+        (f"format: {FORMAT}\nparameters: {{m: -1}}\n", "parameters.m: model parameter m must be > 0"),
+    ],
+)
+def test_bad_file_is_named_with_its_key(tmp_path, text, expected):
+    path = _write(tmp_path / "bad.yaml", text)
+    with pytest.raises(ValueError) as err:
+        read_model_file(path)
+    assert str(path) in str(err.value) and expected in str(err.value), str(err.value)
+
+
+def test_missing_file_is_named(tmp_path):
+    with pytest.raises(FileNotFoundError, match=r"model file .*none\.yaml does not exist"):
+        read_model_file(tmp_path / "none.yaml")
+
+
+def test_overrides_set_parameters_and_name_the_bad_item():
+    assert apply_overrides(ModelParams(), ["k=1500", " xI = -2.1e-3", "k=1600"]) == dataclasses.replace(
+        ModelParams(), k=1600.0, xI=-2.1e-3
+    )
+    for item, expected in [
+        ("k", "'k': write NAME=VALUE"),
+        ("kk=1e3", "'kk=1e3': unknown parameter 'kk' (did you mean 'k'?)"),
+        ("stiffness=1e3", "'stiffness=1e3': unknown parameter 'stiffness'; known: m, m0e, k, c, T,"),
+        ("k=stiff", "'k=stiff': 'stiff' is not a number"),
+        ("k=inf", "'k=inf': 'inf' is not a finite number"),
+        ("m=-1", "'m=-1': model parameter m must be > 0"),
+    ]:
+        with pytest.raises(ValueError) as err:
+            apply_overrides(ModelParams(), ["c=7", item])
+        assert f"parameter override {expected}" in str(err.value), str(err.value)
+
+
+def test_resolve_model_says_where_the_parameters_came_from(rig):
+    assert resolve_model() == (ModelParams(), "model BC (paper)")
+    assert resolve_model(overrides=["k=1500"]) == (ModelParams(k=1500.0), "model BC (paper) + k=1500")
+    params, source = resolve_model(rig, ["k = 1400"])
+    assert params == dataclasses.replace(RIG, k=1400.0) and source == f"model file {rig} + k=1400"
+
+
+def test_simulate_runs_the_model_file_with_overrides(rig, tmp_path, capsys):
+    out = tmp_path / "run.h5"
+    argv = ["simulate", "--omega", "40.86", "--transient", "0", "--duration", "0.5", "--quiet"]
+    assert main([*argv, "--model", str(rig), "--param", "k=1600", "--output", str(out)]) == 0
+    _, attrs, _ = read_run(out)
+    assert attrs["param_k"] == 1600.0 and attrs["param_c"] == RIG.c and attrs["param_xI"] == RIG.xI
+    assert attrs["model_source"] == f"model file {rig} + k=1600"
+    assert main([*argv, "--model", str(tmp_path / "none.yaml"), "--output", str(tmp_path / "x.h5")]) == 2
+    assert main([*argv, "--param", "kk=1", "--output", str(tmp_path / "x.h5")]) == 2
+    err = capsys.readouterr().err
+    assert "none.yaml does not exist" in err and "did you mean 'k'?" in err
+    assert not (tmp_path / "x.h5").exists()
+
+
+def test_surrogate_and_extract_take_the_model_file(rig, tmp_path, capsys):
+    rec = tmp_path / "rec.csv"
+    argv = ["surrogate", "--omega", "40.86", "--transient", "5", "--duration", "3", "--noise", "0"]
+    assert main([*argv, "--model", str(rig), "--output", str(rec)]) == 0
+    record = read_record(rec)
+    assert record.meta["model_source"] == f"model file {rig}"
+    assert float(record.meta["x_impact"]) == pytest.approx(RIG.xI)  # drawn with the file's obstacle
+    assert record.x.max() > RIG.xI  # it hits the file's obstacle, 86 um before model BC's
+
+    def x_impact(*options):
+        out = tmp_path / "events.h5"
+        assert main(["extract", str(rec), *options, "--output", str(out)]) == 0
+        with h5py.File(out) as f:
+            return f.attrs["x_impact"], f.attrs["x_impact_source"]
+
+    no_xi = _write(tmp_path / "no_xi.yaml", f"format: {FORMAT}\nparameters: {{k: 1500}}\n")
+    assert x_impact("--x-impact=-1.9e-3", "--model", str(rig)) == (-1.9e-3, "given")
+    assert x_impact("--model", str(rig)) == (RIG.xI, f"the model's xI, model file {rig}")
+    assert x_impact("--model", str(rig), "--param", "xI=-2.01e-3")[0] == -2.01e-3
+    # a file without xI does not lend model BC's: the record's metadata decides
+    assert x_impact("--model", str(no_xi)) == (pytest.approx(RIG.xI), "record metadata")
+    capsys.readouterr()
+
+
+def test_config_model_file_replaces_the_model(rig):
+    config = yaml.safe_load(CONFIG.read_text())
+    config["model"] = {"file": str(rig), "k": 1500.0}  # equal to the file's: no ambiguity
+    cfg = validate_config(config, SCHEMA)
+    assert ModelParams(**cfg["model"]) == RIG
+    assert cfg["model_source"] == {"file": str(rig), "description": f"model file {rig}"}
+    assert validate_config(yaml.safe_load(CONFIG.read_text()), SCHEMA)["model_source"] == {
+        "file": None,
+        "description": BC_DESCRIPTION,
+    }
+
+
+def test_config_model_file_errors_name_the_key(rig, tmp_path):
+    config = yaml.safe_load(CONFIG.read_text())
+    config["model"] = {"file": str(rig), "k": 1418.9, "c": 7.1}
+    with pytest.raises(ConfigError) as err:
+        validate_config(config, SCHEMA)
+    msg = str(err.value)
+    assert "  model.file:" in msg and "k = 1418.9 (the file: 1500.0)" in msg and "ambiguous" in msg, msg
+    assert "c = " not in msg  # equal to the file's value
+    config["model"] = {"file": str(tmp_path / "none.yaml")}
+    with pytest.raises(ConfigError, match=r"  model\.file: model file .*none\.yaml does not exist"):
+        validate_config(config, SCHEMA)
+    config["model"] = {"file": str(_write(tmp_path / "bad.yaml", f"format: {FORMAT}\nparameters: {{k: -1}}\n"))}
+    with pytest.raises(ConfigError, match=r"  model\.file: model file .*bad\.yaml: parameters\.k: "):
+        validate_config(config, SCHEMA)
+
+
+def test_dotted_top_level_keys_nest(rig):
+    assert nest_dotted_keys({"a.b.c": 1, "a": {"d": 2}}) == {"a": {"d": 2, "b": {"c": 1}}}
+    config = yaml.safe_load(CONFIG.read_text())
+    config["model.file"] = str(rig)
+    assert ModelParams(**validate_config(config, SCHEMA)["model"]) == RIG
+    with pytest.raises(ConfigError, match=r"  solver\.rtol\.x: solver\.rtol is not a section"):
+        validate_config({**config, "solver.rtol.x": 1}, SCHEMA)
+
+
+def test_figures_and_table_name_the_model(rig, tmp_path):
+    from impactosc.paper.table import COLUMNS, merge_tables, write_rows
+    from impactosc.plotting import model_label
+    from impactosc.plotting.bifurcation import fig02_poincare
+
+    source = {"file": str(rig), "description": f"model file {rig}"}
+    assert model_label(None) == model_label({"file": None}) == "model BC"
+    assert model_label(source) == "model rig.yaml"
+    fig = fig02_poincare(np.array([30.0, 31.0]), np.array([-3e-3, -2.5e-3]), RIG.xI, model=model_label(source))
+    assert fig.axes[1].get_title().startswith("model rig.yaml, increasing")
+    rows = tmp_path / "rows.csv"
+    write_rows(rows, [dict.fromkeys(COLUMNS, "1")])
+    out = [tmp_path / f"table.{ext}" for ext in ("csv", "md", "html")]
+    merge_tables([rows], *out, model=source["description"])
+    assert f"Model: model file {rig}." in out[1].read_text() and f"Model: model file {rig}." in out[2].read_text()
