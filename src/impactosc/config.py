@@ -154,6 +154,8 @@ def validate_config(config: dict, schema_path) -> dict:
     keys nested, and the model of ``model.file`` (if any) in place of the model section."""
     schema = yaml.safe_load(Path(schema_path).read_text())
     config = nest_dotted_keys(config)
+    if "model_file" in config:  # the command line's spelling: --config model_file=rig.yaml
+        config.setdefault("model", {})["file"] = config.pop("model_file")
     validator = jsonschema.Draft202012Validator(schema)
     errors = [f for e in validator.iter_errors(config) for f in _flatten(e)]
     errors.sort(key=lambda e: list(e.absolute_path))

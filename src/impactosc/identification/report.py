@@ -77,7 +77,7 @@ def write_identified_model(path, ident: Identification, *, name: str | None = No
         ident.params,
         stderr=stderr,
         fixed=fixed,
-        correlation=(ident.free_names, ident.correlation),
+        correlation=(ident.free_names, np.round(ident.correlation, 6)),
         records=records,
         fit={
             "method": "multiple shooting (one start state per window), Levenberg-Marquardt",
