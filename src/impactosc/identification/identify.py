@@ -24,6 +24,7 @@ import numpy as np
 
 from ..integration.model import ModelParams
 from ..measured.extract import estimate_noise
+from .continuity import fit_continuous, links
 from .least_squares import FitResult, fit, fit_states
 from .parameters import LOWER, NAMES, UNITS, UPPER, params_of, theta_of
 from .shooting import Predictor
@@ -132,6 +133,7 @@ def identify(
     start: dict | None = None,
     progress: Callable[[str], None] | None = None,
     graze_band: float = 0.0,
+    continuity: bool = True,
 ) -> Identification:
     """Fit theta (parameters.NAMES) to the records by multiple shooting.
 
@@ -203,6 +205,19 @@ def identify(
             theta = np.where(free, res.theta, theta)
         theta = res.theta.copy()
         say(f"  rms residual {math.sqrt(res.s2) * 1e6:.3f} um after {res.iterations} iterations")
+    if continuity:
+        say(f"continuity: {links(pred.w).size} joins between {pred.w.size} windows")
+        res = fit_continuous(
+            pred,
+            res.theta,
+            res.states,
+            free,
+            NAMES,
+            lower=LOWER,
+            upper=UPPER,
+            progress=lambda i, c, g: say(f"  step {i}: rms {math.sqrt(c / pred.w.y.size) * 1e6:.3f} um, gap {g:.2e} m"),
+        )
+        theta = res.theta.copy()
     se = res.stderr
     return Identification(
         params=params_of(theta, base),

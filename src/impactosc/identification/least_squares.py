@@ -188,7 +188,7 @@ def fit(
     upper = np.full(theta.size, np.inf) if upper is None else upper
     idx = np.flatnonzero(free)
     dof = int(w.y.size - idx.size - 2 * w.size)
-    pr, A, B = pred.jacobian(theta, states, free, names)
+    pr, _, A, _, B, _ = pred.jacobian(theta, states, free, names)
     r = pr - w.y
     cost = float(r @ r)
     lam, converged, it = 1e-3, False, 0
@@ -217,7 +217,7 @@ def fit(
         lam = max(lam / 4, 1e-9)
         if progress is not None:
             progress(it, cost)
-        pr, A, B = pred.jacobian(theta, states, free, names)
+        pr, _, A, _, B, _ = pred.jacobian(theta, states, free, names)
         r = pr - w.y
     cov, gap = _newton_gap(A, B, r, w, theta, idx, lower, upper, dof)
     converged = converged or gap <= rel_step_tol

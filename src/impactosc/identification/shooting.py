@@ -56,8 +56,9 @@ class Predictor:
         return p
 
     def window(self, p, j, x0, v0, out, n=None):
-        """The first n (default all) samples of window j from (x0, v0) into ``out`` (NaN where
-        the run failed)."""
+        """The first n (default all) samples of window j from (x0, v0) into ``out``; returns the
+        state (x, v) one sample interval after the last (where the next window starts).  NaN
+        where the run failed."""
         w = self.w
         n = int(w.n[j]) if n is None else int(n)
         dt, tau0 = float(w.dt[j]), float(w.tau0[j])
@@ -66,38 +67,42 @@ class Predictor:
         vcut = math.inf if p[P_B] <= 0.0 or p[P_N3] <= 0.0 else p[P_B] ** (-1.0 / p[P_N3])
         st = core.initial_state(p, tau0, float(x0), float(v0), period, vcut, self.step_budget)
         cnt = np.zeros(N_COUNT, dtype=np.int64)
-        rs = core.run_settings(
-            tau0 + (n - 1) * dt * (1 + 1e-12) + 1e-12, math.inf, self.rtol, self.atol, 0, period, tau0, dt
-        )
-        out = out[:n]
-        out[:] = np.nan
-        wv = np.empty(n)
-        core.run(p, st, cnt, rs, np.empty((4, 4)), 0, out, wv, 50_000_000)
+        rs = core.run_settings(tau0 + n * dt * (1 + 1e-12) + 1e-12, math.inf, self.rtol, self.atol, 0, period, tau0, dt)
+        wx = np.full(n + 1, np.nan)
+        wv = np.full(n + 1, np.nan)
+        core.run(p, st, cnt, rs, np.empty((4, 4)), 0, wx, wv, 50_000_000)
         self.runs += 1
         if st[S_STATUS] != RUNNING:
-            out[:] = np.nan
+            wx[:] = wv[:] = np.nan
+        out[:n] = wx[:n]
+        return wx[n], wv[n]
 
-    def predict(self, theta, states, which=None) -> np.ndarray:
-        """Model samples of the windows ``which`` (default all), concatenated like WindowSet.y."""
+    def predict(self, theta, states, ends=False):
+        """Model samples of every window, concatenated like WindowSet.y; with ``ends`` also the
+        end states (windows x 2, see :meth:`window`)."""
         p = self._p(theta)
         w = self.w
         out = np.empty(w.y.size)
-        for j in range(w.size) if which is None else which:
-            self.window(p, j, states[j, 0], states[j, 1], out[w.offset[j] : w.offset[j] + w.n[j]])
-        return out
+        E = np.empty((w.size, 2))
+        for j in range(w.size):
+            E[j] = self.window(p, j, states[j, 0], states[j, 1], out[w.offset[j] : w.offset[j] + w.n[j]])
+        return (out, E) if ends else out
 
     def residuals(self, theta, states) -> np.ndarray:
         return self.predict(theta, states) - self.w.y
 
-    def jacobian(self, theta, states, free, names, base_pred=None):
-        """(pred, A, B): predictions, d pred / d state (N x 2) and d pred / d theta[free] (N x P).
+    def jacobian(self, theta, states, free, names):
+        """(pred, E, A, Phi, B, G): predictions and end states, and their forward differences
+        with respect to each window's start state (A: N x 2, Phi: windows x 2 x 2) and to
+        theta[free] (B: N x P, G: windows x 2 x P).
 
         Forward differences (the steps of STATE_STEPS and relative_steps); each window's rows
         of A are its own start state's columns (the block structure of multiple shooting).
         """
         w = self.w
-        pred = self.predict(theta, states) if base_pred is None else base_pred
+        pred, E = self.predict(theta, states, ends=True)
         A = np.empty((w.y.size, 2))
+        Phi = np.empty((w.size, 2, 2))
         p = self._p(theta)
         col = np.empty(w.y.size)
         for j in range(w.size):
@@ -105,13 +110,17 @@ class Predictor:
             for c, h in enumerate(STATE_STEPS):
                 s = states[j].copy()
                 s[c] += h
-                self.window(p, j, s[0], s[1], col[sl])
+                e = self.window(p, j, s[0], s[1], col[sl])
                 A[sl, c] = (col[sl] - pred[sl]) / h
+                Phi[j, :, c] = (np.array(e) - E[j]) / h
         idx = np.flatnonzero(free)
         steps = relative_steps([names[i] for i in idx], theta[idx])
         B = np.empty((w.y.size, idx.size))
+        G = np.empty((w.size, 2, idx.size))
         for k, (i, h) in enumerate(zip(idx, steps)):
             th = theta.copy()
             th[i] += h
-            B[:, k] = (self.predict(th, states) - pred) / h
-        return pred, A, B
+            pk, Ek = self.predict(th, states, ends=True)
+            B[:, k] = (pk - pred) / h
+            G[:, :, k] = (Ek - E) / h
+        return pred, E, A, Phi, B, G

@@ -1,0 +1,157 @@
+"""Multiple shooting with continuity: consecutive windows joined into one trajectory.
+
+Why: with free start states every window costs two parameters, and a few hundred windows of
+a few hundred noisy samples each bias the shared parameters (the incidental-parameter problem
+of maximum likelihood: each window's state estimate is noisy, the model is nonlinear in it,
+and the small bias each window lends to theta adds up while theta's standard error shrinks).
+Measured on a chaotic record (w = 40.86, 60 s, 5 um noise, six noise draws): free windows of
+2 forcing periods put k/m 1.9 standard errors low on average, of 4 periods 0.7.  Bock's
+multiple shooting removes it: the end state of window j must equal the start state of window
+j + 1 (where they are contiguous in a record), so a chain of windows is one trajectory of
+the model with two free start entries, while each window is still integrated only from its
+own start (the expanding directions of a chaotic attractor never act over more than a window).
+
+Each Gauss-Newton step solves the equality-constrained linear least-squares problem
+
+    min |r + A ds + B dtheta|^2   s.t.   e_j + Phi_j ds_j + G_j dtheta - s_{j+1} - ds_{j+1} = 0
+
+through its sparse KKT system (scipy.sparse LU), with the unknowns scaled by the diagonal of
+J^T J.  The covariance of theta is the theta block of the inverse KKT matrix times s^2 =
+RSS / (N - P - 2 (windows - links)).  It starts from the free-window fit, where the
+continuity gaps are already small (micrometres, mm/s), so full steps converge in a few.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import splu
+
+from .least_squares import FitResult, _window_rss
+from .shooting import Predictor
+from .windows import WindowSet
+
+__all__ = ["links", "fit_continuous"]
+
+
+def links(w: WindowSet) -> np.ndarray:
+    """Indices j whose window j + 1 continues window j (same record, next sample)."""
+    j = np.arange(w.size - 1)
+    return j[(w.record[1:] == w.record[:-1]) & (w.start[1:] == w.start[:-1] + w.n[:-1])]
+
+
+def _kkt(A, Phi, B, G, r, gaps, w, lk, lam):
+    """The scaled KKT matrix (as an LU), its right-hand side and the column scale."""
+    W, P, L = w.size, B.shape[1], lk.size
+    nz = 2 * W + P
+    rows, cols, vals = [], [], []
+
+    def put(r0, c0, block):
+        rr, cc = np.nonzero(np.ones_like(block, dtype=bool))
+        rows.append(rr + r0)
+        cols.append(cc + c0)
+        vals.append(block.ravel())
+
+    g = np.empty(nz)
+    for j in range(W):
+        sl = slice(w.offset[j], w.offset[j] + w.n[j])
+        Aj, Bj = A[sl], B[sl]
+        put(2 * j, 2 * j, Aj.T @ Aj)
+        if P:
+            cpl = Aj.T @ Bj
+            put(2 * j, 2 * W, cpl)
+            put(2 * W, 2 * j, cpl.T)
+        g[2 * j : 2 * j + 2] = Aj.T @ r[sl]
+    if P:
+        put(2 * W, 2 * W, B.T @ B)
+        g[2 * W :] = B.T @ r
+    H = sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nz, nz)).tocsr()
+    d = 1.0 / np.sqrt(np.maximum(H.diagonal(), 1e-300))
+    Dm = sp.diags(d)
+    Hs = Dm @ H @ Dm + lam * sp.identity(nz)
+    crow, ccol, cval = [], [], []
+    for k, j in enumerate(lk):
+        for a in range(2):
+            row = 2 * k + a
+            crow += [row, row, row]
+            ccol += [2 * j, 2 * j + 1, 2 * (j + 1) + a]
+            cval += [Phi[j, a, 0], Phi[j, a, 1], -1.0]
+            for q in range(P):
+                crow.append(row)
+                ccol.append(2 * W + q)
+                cval.append(G[j, a, q])
+    C = sp.coo_matrix((cval, (crow, ccol)), shape=(2 * L, nz)).tocsr() @ Dm
+    rs = 1.0 / np.maximum(abs(C).max(axis=1).toarray().ravel(), 1e-300)
+    Cs = sp.diags(rs) @ C
+    K = sp.bmat([[Hs, Cs.T], [Cs, None]], format="csc")
+    rhs = np.concatenate([-d * g, -rs * gaps.ravel()])
+    return splu(K), rhs, d
+
+
+def fit_continuous(
+    pred: Predictor,
+    theta0,
+    states0,
+    free,
+    names,
+    *,
+    lower=None,
+    upper=None,
+    max_iter=15,
+    rel_step_tol=0.05,
+    progress=None,
+) -> FitResult:
+    """Theta and the window states with the continuity conditions of :func:`links` (see the
+    module docstring).  Converged when a full step moves no parameter by more than
+    ``rel_step_tol`` standard errors and the gaps are below a thousandth of the noise."""
+    w = pred.w
+    free = np.asarray(free, dtype=bool)
+    idx = np.flatnonzero(free)
+    theta, states = np.array(theta0, dtype=float), np.array(states0, dtype=float)
+    lower = np.full(theta.size, -np.inf) if lower is None else lower
+    upper = np.full(theta.size, np.inf) if upper is None else upper
+    lk = links(w)
+    W, P = w.size, idx.size
+    dof = int(w.y.size - P - 2 * (W - lk.size))
+    converged, it, cost = False, 0, np.inf
+    for it in range(1, max_iter + 1):
+        pr, E, A, Phi, B, G = pred.jacobian(theta, states, free, names)
+        r = pr - w.y
+        cost = float(r @ r)
+        gaps = E[lk] - states[lk + 1]
+        lu, rhs, d = _kkt(A, Phi, B, G, r, gaps, w, lk, 0.0)
+        z = d * lu.solve(rhs)[: 2 * W + P]
+        s2 = cost / max(dof, 1)
+        se = _stderr(lu, d, W, P, s2)
+        dth = z[2 * W :]
+        noise = np.sqrt(s2)
+        small_gaps = np.all(np.abs(gaps[:, 0]) < 1e-3 * noise)
+        if progress is not None:
+            progress(it, cost, float(np.max(np.abs(gaps[:, 0]), initial=0.0)))
+        if np.all(np.abs(dth) <= rel_step_tol * se) and small_gaps:
+            converged = True
+            break
+        theta[idx] = np.clip(theta[idx] + dth, lower[idx], upper[idx])
+        states = states + z[: 2 * W].reshape(W, 2)
+    pr, E, A, Phi, B, G = pred.jacobian(theta, states, free, names)
+    r = pr - w.y
+    cost = float(r @ r)
+    lu, _, d = _kkt(A, Phi, B, G, r, E[lk] - states[lk + 1], w, lk, 0.0)
+    cov = _covariance(lu, d, W, P) * (cost / max(dof, 1))
+    return FitResult(theta, states, free, cov, cost, int(w.y.size), dof, it, converged, _window_rss(r, w))
+
+
+def _covariance(lu, d, W, P):
+    """The theta block of the inverse (unscaled) KKT matrix."""
+    if not P:
+        return np.zeros((0, 0))
+    n = lu.shape[0]
+    E = np.zeros((n, P))
+    E[2 * W + np.arange(P), np.arange(P)] = 1.0
+    X = lu.solve(E)[2 * W : 2 * W + P]
+    dt = d[2 * W :]
+    return X * np.outer(dt, dt)
+
+
+def _stderr(lu, d, W, P, s2):
+    return np.sqrt(np.maximum(np.diag(_covariance(lu, d, W, P)) * s2, 1e-300))
