@@ -31,49 +31,61 @@ def _format_value(v, se):
 
 
 def identification_figure(win: dict, rows: list[dict], title: str):
-    """Top: one window per record, samples and the fitted model; middle: its residuals;
-    bottom left: histogram of all residuals against the fitted noise; bottom right: the table."""
+    """Top: for each record the window with the highest turning point, samples and the fitted
+    model; below it a zoom on that contact (+-6 ms, height above the fitted obstacle); bottom
+    left: histogram of every residual against the fitted noise; bottom right: the parameters."""
     apply_style()
     labels = win["labels"]
     n_rec = len(labels)
+    xi = next((r["field_value"] for r in rows if r["field"] == "xI"), math.nan)
     fig = plt.figure(figsize=(DOUBLE, 0.95 * DOUBLE))
-    grid = fig.add_gridspec(3, max(n_rec, 2), height_ratios=[1.3, 0.7, 1.4])
-    resid_all = win["x"] - win["x_model"]
+    top, bottom = fig.subfigures(2, 1, height_ratios=[1.6, 1.0])
+    axes = top.subplots(2, n_rec, squeeze=False, height_ratios=[1.2, 1.0])
     for r in range(n_rec):
+        ax, az = axes[0, r], axes[1, r]
         j = _window_with_contact(win, r)
-        ax = fig.add_subplot(grid[0, r])
-        axr = fig.add_subplot(grid[1, r], sharex=ax)
         if j is None:
             continue
         sl = slice(win["offset"][j], win["offset"][j] + win["n"][j])
         t = win["t_start"][j] + win["dt"][j] * np.arange(win["n"][j])
-        ax.plot(t, 1e3 * win["x"][sl], ".", ms=1.5, color="0.4", label="record")
-        ax.plot(t, 1e3 * win["x_model"][sl], "-", color="C3", lw=0.8, label="identified model")
-        axr.plot(t, 1e6 * (win["x"][sl] - win["x_model"][sl]), ".", ms=1.2, color="C0")
-        axr.axhline(0, color="k", lw=0.5)
+        x, xm = win["x"][sl], win["x_model"][sl]
+        ax.plot(t, 1e3 * x, ".", ms=1.5, color="0.4", label="record")
+        ax.plot(t, 1e3 * xm, "-", color="C3", lw=0.8, label="identified model")
         ax.set_title(f"{labels[r]}, w = {win['omega'][j]:.4g} rad/s", fontsize=7)
-        axr.set_xlabel("t (s, forcing phase / w)")
+        ax.set_xlabel("t (s; with an encoder, phase / w)")
+        k = int(np.argmax(xm))
+        near = np.abs(t - t[k]) <= 6e-3
+        az.plot(1e3 * (t[near] - t[k]), 1e6 * (x[near] - xi), ".", ms=3, color="0.4")
+        az.plot(1e3 * (t[near] - t[k]), 1e6 * (xm[near] - xi), "-", color="C3", lw=0.8)
+        az.axhline(0, color="k", lw=0.5, ls="--")
+        az.set_xlabel("t - t(top) (ms)")
         if r == 0:
             ax.set_ylabel("x (mm)")
-            axr.set_ylabel("residual (um)")
+            az.set_ylabel("x - xI (um)")
             ax.legend(loc="lower left", frameon=False)
-    ax = fig.add_subplot(grid[2, 0])
+    ax, axt = bottom.subplots(1, 2, width_ratios=[1.0, 1.3])
     s = win["residual_rms_m"]
-    ok = np.isfinite(resid_all)
-    ax.hist(1e6 * resid_all[ok], bins=80, density=True, color="0.6")
+    resid = win["x"] - win["x_model"]
+    ok = np.isfinite(resid)
+    ax.hist(1e6 * resid[ok], bins=80, density=True, color="0.6")
     u = np.linspace(-5 * s, 5 * s, 200)
     ax.plot(1e6 * u, np.exp(-0.5 * (u / s) ** 2) / (s * 1e6 * math.sqrt(2 * math.pi)), color="C3")
     ax.set_xlabel("residual (um)")
     ax.set_ylabel("density")
     ax.set_title(f"all {ok.sum()} samples; Gaussian of the fitted rms {1e6 * s:.2f} um", fontsize=7)
-    axt = fig.add_subplot(grid[2, 1:])
     axt.axis("off")
     cells = [
-        [r["field"], _format_value(r["field_value"], r["field_stderr"]), r["unit"], r["status"][:40]] for r in rows
+        [r["field"], _format_value(r["field_value"], r["field_stderr"]), r["unit"], r["status"][:28]] for r in rows
     ]
-    table = axt.table(cellText=cells, colLabels=["parameter", "value +- standard error", "unit", ""], loc="center")
+    table = axt.table(
+        cellText=cells,
+        colLabels=["parameter", "value +- standard error", "unit", "status"],
+        colWidths=[0.14, 0.44, 0.17, 0.25],
+        loc="center",
+        cellLoc="left",
+    )
     table.auto_set_font_size(False)
     table.set_fontsize(6.5)
-    table.scale(1.0, 1.15)
+    table.scale(1.0, 1.2)
     fig.suptitle(title, fontsize=8)
     return fig
