@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import sys
 import time
+import warnings
 
 from . import __version__
 
@@ -661,7 +663,28 @@ def _identify_summary(args, ident, rows, source: str, choice) -> str:
     return "\n".join(lines)
 
 
+@contextlib.contextmanager
+def _warning_lines(command: str):
+    """Each warning once, on one line of stderr ('impactosc COMMAND: warning: ...'), not with the
+    library's source line."""
+    seen = set()
+
+    def show(message, *_):
+        if str(message) not in seen:
+            seen.add(str(message))
+            print(f"impactosc {command}: warning: {message}", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        warnings.showwarning = show
+        yield
+
+
 def _identify(args) -> int:
+    with _warning_lines("identify"):
+        return _identify_run(args)
+
+
+def _identify_run(args) -> int:
     from .identification import identify
     from .identification.choice import candidates, choice_markdown, choose_model
     from .identification.report import markdown_table, parameter_rows, write_identified_model
@@ -685,7 +708,15 @@ def _identify(args) -> int:
             f"model choice: {len(candidates())} candidate fits (contact law x dry friction), each about as long "
             f"as the identification ({ident.seconds:.0f} s)"
         )
-        choice = choose_model(records, base=base, stages=stages, progress=say)
+        with warnings.catch_warnings():  # candidates the records reject stray far out: their fit says so
+            warnings.simplefilter("ignore")
+            choice = choose_model(records, base=base, stages=stages, progress=say)
+        if not any(row["n_held_out"] for row in choice):
+            print(
+                "impactosc identify: warning: the records are too short to hold blocks of windows out of the fits; "
+                "the model choice rests on AIC and BIC alone",
+                file=sys.stderr,
+            )
     # written only now: an error or an interrupt above leaves no output behind
     write_identified_model(args.output, ident)
     rows = parameter_rows(ident)
