@@ -145,3 +145,25 @@ def test_choose_model_ranks_the_candidates(tmp_path):
     assert len(rows) == 6 and rows[0]["law"] == "model BC (n3 free)" and rows[0]["friction"] == "dry friction"
     assert "candidate Hertz (b = 0), dry friction" in run.stderr and "too short to hold blocks" in run.stderr
     assert "the records support model BC (n3 free), dry friction" in run.stdout
+
+
+def test_the_model_file_rebuilds_fig02(example, tmp_path, capsys):
+    """The workflow route on the tiny config: --config model_file=m.yaml, Fig 2 drawn with its parameters."""
+    out, _, _ = example
+    model = read_model_file(out / "m.yaml")
+    t0 = time.perf_counter()
+    run = subprocess.run(
+        [sys.executable, "-m", "snakemake", "-s", REPO / "Snakefile", "-d", tmp_path, "-j2", "fig02",
+         "--configfile", REPO / "config" / "config.yaml", REPO / "config" / "tiny.yaml",
+         "--config", f"model_file={out / 'm.yaml'}"],
+        capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    with capsys.disabled():
+        print(
+            f"\n  snakemake fig02 on the tiny config with the identified model file: {time.perf_counter() - t0:.1f} s"
+        )
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    assert (tmp_path / "results" / "figures" / "fig02.png").is_file()
+    with h5py.File(tmp_path / "results" / "runs" / "bifurcation" / "increasing.h5") as f:
+        for field in FIELDS:
+            assert f.attrs[f"param_{field}"] == getattr(model.params, field), field
