@@ -114,7 +114,9 @@ def rank(rows: list[dict]) -> list[dict]:
     return rows
 
 
-def choose_model(records, *, base: ModelParams | None = None, every: int = 4, rtol: float = 1e-10, progress=None):
+def choose_model(
+    records, *, base: ModelParams | None = None, every: int = 4, stages=STAGES, rtol: float = 1e-10, progress=None
+):
     """Fit every (contact law, friction) candidate; one row each, best BIC first (:func:`rank`)."""
     from ..measured.extract import estimate_noise
 
@@ -126,7 +128,7 @@ def choose_model(records, *, base: ModelParams | None = None, every: int = 4, rt
     rows = []
     for law, fr in candidates():
         say(f"candidate {law}, {fr}")
-        rows.append(fit_candidate(records, law, fr, base=base, start=start, every=every, rtol=rtol))
+        rows.append(fit_candidate(records, law, fr, base=base, start=start, every=every, stages=stages, rtol=rtol))
         r = rows[-1]
         say(f"  rms {r['rms_m'] * 1e6:.3f} um, held out {r['held_out_rms_m'] * 1e6:.3f} um, BIC {r['bic']:.1f}")
     return rank(rows)

@@ -1,0 +1,169 @@
+"""`impactosc identify`: records in, a model file out that every other command reads.
+
+The example TDMS record is a surrogate of model BC (5 um noise, encoder phase), so the identified
+parameters must come back within their stated standard errors of model BC; the same file then
+drives `impactosc simulate`. Bad input stops before any fitting with exit 2 and one line naming it.
+"""
+
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import h5py
+import pytest
+
+from impactosc.files import read_table
+from impactosc.identification.parameters import FIELDS
+from impactosc.integration.model import ModelParams
+from impactosc.model_file import read_model_file
+
+REPO = Path(__file__).resolve().parents[1]
+EXE = [sys.executable, "-m", "impactosc.cli"]
+TDMS = [str(REPO / "examples" / "record_example.tdms"), "--group", "rig", "--channel", "cart"]
+EXAMPLE = [*TDMS, "--phase-channel", "encoder"]
+
+
+def run_cli(*args):
+    return subprocess.run([*EXE, *map(str, args)], capture_output=True, text=True, timeout=300)
+
+
+def identify(*args):
+    """(completed process, wall time) of `impactosc identify ARGS`."""
+    t0 = time.perf_counter()
+    run = run_cli("identify", *args)
+    return run, time.perf_counter() - t0
+
+
+@pytest.fixture(scope="module")
+def example(tmp_path_factory):
+    """The example record identified with every quantity free, with its Markdown table."""
+    out = tmp_path_factory.mktemp("identify")
+    run, seconds = identify(*EXAMPLE, "--output", out / "m.yaml", "--table", out / "parameters.md")
+    assert run.returncode == 0, run.stderr
+    return out, run, seconds
+
+
+def test_identify_recovers_model_bc_from_the_example(example, capsys):
+    out, run, seconds = example
+    with capsys.disabled():
+        print(f"\n  impactosc identify on examples/record_example.tdms: {seconds:.1f} s wall (with the core's load)")
+    model = read_model_file(out / "m.yaml")
+    truth = ModelParams()
+    assert set(model.stderr) == set(FIELDS)  # all eight fitted
+    for field in FIELDS:
+        value, se = getattr(model.params, field), model.stderr[field]
+        assert se > 0 and abs(value - getattr(truth, field)) < 3 * se, (field, value, se, getattr(truth, field))
+    assert set(model.fixed) == {"m", "eps", "n1", "n2"}
+    assert model.params.m == truth.m and "not identifiable" in model.fixed["m"]
+    assert model.meta["records"][0]["path"].endswith("record_example.tdms") and model.meta["records"][0]["sha256"]
+    # the summary: file, residual, each parameter with its error, what is fixed and why
+    assert f"{out / 'm.yaml'}: model identified" in run.stdout and "residual rms" in run.stdout
+    for field in FIELDS:
+        assert f"  {field:<4} = " in run.stdout and "+-" in run.stdout
+    assert "the mass is not identifiable" in run.stdout
+    assert "stage 3/3" in run.stderr  # progress
+    table = (out / "parameters.md").read_text()
+    assert "| k |" in table and "| xI |" in table and "fitted" in table
+
+
+def test_the_model_file_drives_simulate(example, tmp_path):
+    out, _, _ = example
+    model = read_model_file(out / "m.yaml")
+    run = run_cli(
+        "simulate", "--omega", "40.86", "--transient", "0", "--duration", "1", "--model", out / "m.yaml",
+        "--output", tmp_path / "run.h5", "--quiet",
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    with h5py.File(tmp_path / "run.h5") as f:
+        for field in FIELDS:
+            assert f.attrs[f"param_{field}"] == getattr(model.params, field)
+        assert "m.yaml" in f.attrs["model_source"]
+
+
+def test_fix_keeps_a_value_and_the_table_as_csv(tmp_path):
+    out = tmp_path / "fixed.yaml"
+    run, _ = identify(
+        *EXAMPLE, "--fix", "b=0.8", "--fix", "T/m", "--mass", "9", "--stages", "1", "2",
+        "--table", tmp_path / "parameters.csv", "--output", out, "--quiet",
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    assert run.stderr == ""  # --quiet
+    model = read_model_file(out)
+    assert model.params.b == 0.8 and "b" not in model.stderr and "--fix b=0.8" in model.fixed["b"]
+    # T/m at the stated model's value: model BC's T (N) at the given mass
+    assert abs(model.params.T - ModelParams().T) < 1e-12 and "T" not in model.stderr and "T" in model.fixed
+    assert model.params.m == 9.0 and "k" in model.stderr
+    rows = {r["quantity"]: r for r in read_table(tmp_path / "parameters.csv")}
+    assert rows["b"]["value"] == 0.8 and rows["b"]["status"] == "held fixed (--fix b=0.8)"
+    assert rows["k/m"]["status"] == "fitted" and rows["k/m"]["stderr"] > 0
+    assert "fixed: held fixed (--fix T/m)" in run.stdout
+
+
+def _record_without_omega(path):
+    lines = (REPO / "examples" / "record_example.csv").read_text().splitlines(keepends=True)
+    path.write_text("".join(line for line in lines if not line.startswith("# omega:")))
+    return path
+
+
+@pytest.mark.parametrize(
+    ("case", "message"),
+    [
+        ("unknown fix", "--fix kz/m=3: unknown quantity 'kz/m' (did you mean 'k/m'?)"),
+        ("field name", "--fix k: unknown quantity 'k' (did you mean 'k/m'?)"),
+        ("no omega", "neither omega nor a forcing phase"),
+        ("missing file", "nothere.tdms does not exist"),
+        ("unwritable", "output directory"),
+        ("table format", "--table"),
+    ],
+)
+def test_bad_input_exits_2_naming_it(tmp_path, case, message):
+    out = tmp_path / "m.yaml"
+    args = {
+        "unknown fix": [*EXAMPLE, "--fix", "kz/m=3"],
+        "field name": [*EXAMPLE, "--fix", "k"],
+        "no omega": [_record_without_omega(tmp_path / "no_omega.csv")],
+        "missing file": [tmp_path / "nothere.tdms"],
+        "unwritable": [*EXAMPLE, "--output", tmp_path / "no" / "such" / "dir.yaml"],
+        "table format": [*EXAMPLE, "--table", tmp_path / "t.txt"],
+    }[case]
+    run = run_cli("identify", *args, *([] if "--output" in args else ["--output", out]))
+    assert run.returncode == 2, (run.stdout, run.stderr)
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("impactosc identify: error: ") and message in lines[0], lines
+    if case == "no omega":
+        assert "no_omega.csv" in lines[0]
+    assert not out.exists() and run.stdout == ""
+
+
+@pytest.mark.slow
+def test_choose_model_ranks_the_candidates(tmp_path):
+    """Six more fits (about 10 s warm): model BC's own law and friction win on its surrogate."""
+    run, _ = identify(*EXAMPLE, "--output", tmp_path / "m.yaml", "--choose-model", tmp_path / "choice.csv")
+    assert run.returncode == 0, run.stderr
+    rows = read_table(tmp_path / "choice.csv")
+    assert len(rows) == 6 and rows[0]["law"] == "model BC (n3 free)" and rows[0]["friction"] == "dry friction"
+    assert "candidate Hertz (b = 0), dry friction" in run.stderr and "too short to hold blocks" in run.stderr
+    assert "the records support model BC (n3 free), dry friction" in run.stdout
+
+
+def test_the_model_file_rebuilds_fig02(example, tmp_path, capsys):
+    """The workflow route on the tiny config: --config model_file=m.yaml, Fig 2 drawn with its parameters."""
+    out, _, _ = example
+    model = read_model_file(out / "m.yaml")
+    t0 = time.perf_counter()
+    run = subprocess.run(
+        [sys.executable, "-m", "snakemake", "-s", REPO / "Snakefile", "-d", tmp_path, "-j2", "fig02",
+         "--configfile", REPO / "config" / "config.yaml", REPO / "config" / "tiny.yaml",
+         "--config", f"model_file={out / 'm.yaml'}"],
+        capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    with capsys.disabled():
+        print(
+            f"\n  snakemake fig02 on the tiny config with the identified model file: {time.perf_counter() - t0:.1f} s"
+        )
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    assert (tmp_path / "results" / "figures" / "fig02.png").is_file()
+    with h5py.File(tmp_path / "results" / "runs" / "bifurcation" / "increasing.h5") as f:
+        for field in FIELDS:
+            assert f.attrs[f"param_{field}"] == getattr(model.params, field), field
