@@ -687,7 +687,7 @@ def _identify(args) -> int:
 def _identify_run(args) -> int:
     from .identification import identify
     from .identification.choice import candidates, choice_markdown, choose_model
-    from .identification.report import markdown_table, parameter_rows, write_identified_model
+    from .identification.report import parameter_markdown, parameter_table, write_identified_model
     from .measured.records import read_records
 
     _check_identify_outputs(args)
@@ -719,9 +719,9 @@ def _identify_run(args) -> int:
             )
     # written only now: an error or an interrupt above leaves no output behind
     write_identified_model(args.output, ident)
-    rows = parameter_rows(ident)
+    rows = parameter_table(ident)
     if args.table:
-        _write_rows(args.table, rows, markdown_table(rows, ident), args.record)
+        _write_rows(args.table, rows, parameter_markdown(rows, ident), args.record)
     if choice:
         _write_rows(args.choose_model, choice, choice_markdown(choice), args.record)
     print(_identify_summary(args, ident, rows, source, choice))

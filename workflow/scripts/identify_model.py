@@ -16,8 +16,8 @@ import logging
 from impactosc.files import write_table, write_text
 from impactosc.identification import identify
 from impactosc.identification.report import (
-    markdown_table,
-    parameter_rows,
+    parameter_markdown,
+    parameter_table,
     write_fit_windows,
     write_identified_model,
 )
@@ -35,9 +35,9 @@ ident = identify(records, base=base, stages=tuple(g["stages"]), rtol=p.solver["r
 write_identified_model(snakemake.output.model, ident)
 prediction = ident.prediction()
 write_fit_windows(snakemake.output.windows, ident, prediction, sources=list(snakemake.input.records))
-rows = parameter_rows(ident)
+rows = parameter_table(ident)
 write_table(snakemake.output.csv, rows, sources=list(snakemake.input.records))
-write_text(snakemake.output.md, markdown_table(rows, ident))
+write_text(snakemake.output.md, parameter_markdown(rows, ident))
 for nm, why in ident.fixed.items():
     logging.info(f"{nm}: {why}")
 logging.info(f"identified in {ident.seconds:.1f} s: residual rms {ident.noise * 1e6:.3f} um")

@@ -29,7 +29,7 @@ from .least_squares import FitResult, fit, fit_states
 from .parameters import LOWER, NAMES, UNITS, UPPER, params_of, theta_of
 from .shooting import Predictor
 from .start import start_values
-from .windows import WindowSet, cut_windows
+from .windows import WindowSet, check_forcing_phase, cut_windows
 
 __all__ = ["Identification", "identify", "STAGES", "UNPINNED"]
 
@@ -149,6 +149,7 @@ def identify(
     records = list(records)
     if not records:
         raise ValueError("identification needs at least one record")
+    check_forcing_phase(records)
     sigma = float(np.median([estimate_noise(r.x) for r in records]))
     if start is None:
         say(f"start values: contact fit and free-flight fit on {len(records)} record(s)")

@@ -50,8 +50,9 @@ class FitResult:
 
     @property
     def correlation(self) -> np.ndarray:
-        d = np.sqrt(np.maximum(np.diag(self.cov), 1e-300))
-        return self.cov / np.outer(d, d)
+        d = np.sqrt(np.maximum(np.diag(self.cov), 0.0))
+        d = np.where(d > 0, d, 1.0)
+        return (self.cov / d[:, None]) / d[None, :]
 
 
 def _window_rss(r, w):

@@ -19,7 +19,7 @@ from ..model_file import PARAM_UNITS, write_model_file
 from .identify import Identification
 from .parameters import FIELDS, NAMES, PER_MASS
 
-__all__ = ["markdown_table", "parameter_rows", "write_identified_model", "write_fit_windows", "read_fit_windows"]
+__all__ = ["parameter_markdown", "parameter_table", "write_identified_model", "write_fit_windows", "read_fit_windows"]
 
 _NOT_FITTED = {
     "m": "given: the mass is not identifiable from displacement",
@@ -36,7 +36,7 @@ def _sha256(path) -> str | None:
     return hashlib.sha256(p.read_bytes()).hexdigest()
 
 
-def parameter_rows(ident: Identification, truth=None) -> list[dict]:
+def parameter_table(ident: Identification, truth=None) -> list[dict]:
     """One row per fitted quantity: per unit mass and as a ModelParams field, with errors."""
     m = ident.params.m
     rows = []
@@ -130,7 +130,7 @@ def _value(v, se):
     return f"{v:.6g} +- {se:.2g}"
 
 
-def markdown_table(rows: list[dict], ident: Identification) -> str:
+def parameter_markdown(rows: list[dict], ident: Identification) -> str:
     """The parameter table as Markdown, with the fit's residual and window counts."""
     lines = [
         f"# Identified model ({', '.join(r['label'] for r in ident.records)})",

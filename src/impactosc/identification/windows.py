@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["WindowSet", "cut_windows", "split_held_out"]
+__all__ = ["WindowSet", "check_forcing_phase", "cut_windows", "split_held_out"]
 
 #: Largest deviation (rad) of a window's encoder phase from its straight line: a window whose
 #: phase bends more (the motor's speed varies within it) is halved until it does not.  A phase
@@ -131,6 +131,16 @@ def _straight_phase(t, phase, a, b):
     return _straight_phase(t, phase, a, mid) + _straight_phase(t, phase, mid, b)
 
 
+def check_forcing_phase(records) -> None:
+    """Every record needs the forcing's phase: an encoder channel, or omega with t = 0 at phase 0."""
+    for rec in records:
+        if rec.omega is None and rec.phase is None:
+            raise ValueError(
+                f"{rec.path}: neither omega nor an encoder phase; identification needs the forcing's phase "
+                "(declare omega, with t = 0 at the forcing's phase 0, or give the phase channel)"
+            )
+
+
 def cut_windows(records, *, periods: float = 2.0, level: float, margin: float = 50e-6) -> WindowSet:
     """Windows of about ``periods`` forcing periods over every record.
 
@@ -141,12 +151,8 @@ def cut_windows(records, *, periods: float = 2.0, level: float, margin: float = 
         raise ValueError(f"window length must be > 0 forcing periods, got {periods}")
     cols = {k: [] for k in ("record", "start", "n", "tau0", "dt", "omega", "x0", "v0")}
     ys = []
+    check_forcing_phase(records)
     for r, rec in enumerate(records):
-        if rec.omega is None and rec.phase is None:
-            raise ValueError(
-                f"{rec.path}: neither omega nor an encoder phase; identification needs the forcing's phase "
-                "(declare omega, with t = 0 at the forcing's phase 0, or give the phase channel)"
-            )
         t, x = rec.t, rec.x
         dt = float(np.median(np.diff(t)))
         w_nominal = rec.omega if rec.omega is not None else float(np.polyfit(t, rec.phase, 1)[0])
