@@ -111,7 +111,7 @@ def _record_without_omega(path):
     [
         ("unknown fix", "--fix kz/m=3: unknown quantity 'kz/m' (did you mean 'k/m'?)"),
         ("field name", "--fix k: unknown quantity 'k' (did you mean 'k/m'?)"),
-        ("no omega", "neither omega nor a forcing phase"),
+        ("no omega", "neither omega nor an encoder phase"),
         ("missing file", "nothere.tdms does not exist"),
         ("unwritable", "output directory"),
         ("table format", "--table"),

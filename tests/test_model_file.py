@@ -9,7 +9,8 @@ import pytest
 import yaml
 from test_config import CONFIG, SCHEMA  # tests/ is on sys.path (pytest's prepend import mode)
 
-from impactosc.cli import MODEL_NAMES, main
+from impactosc.cli import main
+from impactosc.cli_options import MODEL_NAMES
 from impactosc.config import ConfigError, nest_dotted_keys, validate_config
 from impactosc.files import read_run
 from impactosc.integration.model import ModelParams

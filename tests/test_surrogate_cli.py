@@ -216,9 +216,9 @@ def test_h5_record_names_the_sample(tmp_path):
 
 
 def test_cli_contact_exponent_is_a_number_in_range_or_free(tmp_path, capsys):
-    from impactosc.cli import _exponent
+    from impactosc.cli_options import contact_exponent
 
-    assert _exponent("free") is None and _exponent("1.7") == 1.7
+    assert contact_exponent("free") is None and contact_exponent("1.7") == 1.7
     with pytest.raises(SystemExit):
         main(["extract", "r.h5", "--contact-exponent", "3", "--output", str(tmp_path / "e.h5")])
     assert "a contact exponent lies in [1, 2.5]" in capsys.readouterr().err

@@ -3,11 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import contextlib
 import math
 import sys
 import time
-import warnings
 
 from . import __version__
 
@@ -21,137 +19,16 @@ Examples (the chaotic scene of the paper, ~2875 impacts; the same with a rig's m
   impactosc simulate --omega 40.86 --transient 100 --duration 400 --model rig.yaml --param k=1500 --output rig.h5
 """
 
-MODEL_NAMES = "m m0e k c T eps kI b n1 n2 n3 xI"
-
-
-def _finite(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"{text!r} is not finite")
-    return value
-
-
-def _exponent(text: str) -> float | None:
-    """A contact exponent: a number in [1, 2.5], or 'free' (None: fitted)."""
-    if text.strip().lower() == "free":
-        return None
-    from .measured.extract import CONTACT_EXPONENT_RANGE
-
-    value = _finite(text)
-    lo, hi = CONTACT_EXPONENT_RANGE
-    if not lo <= value <= hi:
-        raise argparse.ArgumentTypeError(f"{text!r}: a contact exponent lies in [{lo:g}, {hi:g}] (or write 'free')")
-    return value
-
-
-RECORD_FORMATS = """\
-Record formats (impactosc.measured.records):
-  .csv   '# key: value' metadata block (units, omega, x_impact ...), then a header; columns
-         chosen with --column; a column named 'phase' (or --phase-channel) is the phase
-  .h5    record/t, record/x (m), optional record/phase (rad), metadata as attributes
-  .tdms  National Instruments TDMS (LabVIEW, DAQmx): --group and --channel name the
-         displacement (either may be left out when there is only one); time from the
-         channel's wf_increment / wf_start_offset properties, or from --time-channel;
-         units from the channel's unit_string (m, mm, um) or --units
-Phase (optional): the unbalance's angle from an encoder (--phase-channel), 2 pi i at the
-forcing's phase 0; units from its unit_string or --phase-units: rad, deg, rev, or counts:N
-(N counts per revolution; counts reset each revolution are fine). With a phase, Poincare
-points are taken where it crosses 2 pi i and w is measured from it (attribute
-poincare_phase_source = encoder); without, at t = 2 pi i / omega (nominal omega).
-"""
-
-
-def _add_record_options(p, many: bool = False) -> None:
-    """Options that say how to read a record (extract, sweep-extract); with `many`, several
-    records or record sets (identify), the options applying to every file."""
-    if many:
-        p.add_argument(
-            "record",
-            nargs="+",
-            help="record files (.csv, .h5 or .tdms) or record sets (HDF5, or a CSV manifest omega,file); "
-            "the read options below apply to every file",
-        )
-    else:
-        p.add_argument("record", help="record file (.csv, .h5 or .tdms)")
-    p.add_argument(
-        "--column",
-        nargs=2,
-        metavar=("TIME", "X"),
-        default=("t", "x"),
-        help="CSV column names of time (s) and displacement (default: t x)",
-    )
-    p.add_argument("--group", help="TDMS group holding the channels (default: the only group)")
-    p.add_argument("--channel", help="TDMS displacement channel (default: the only channel besides phase and time)")
-    p.add_argument(
-        "--phase-channel",
-        metavar="NAME",
-        help="TDMS channel (or CSV column) of the measured forcing phase, e.g. the unbalance's encoder",
-    )
-    p.add_argument(
-        "--time-channel",
-        metavar="NAME",
-        help="TDMS time channel (s, ms, or timestamps); default: the waveform properties wf_increment, wf_start_offset",
-    )
-    p.add_argument(
-        "--units",
-        choices=("m", "mm", "um"),
-        help="displacement units when the record does not declare them (if it does, they must agree)",
-    )
-    p.add_argument(
-        "--phase-units",
-        metavar="U",
-        help="phase units when the channel does not declare them: rad, deg, rev or counts:N (N per revolution)",
-    )
-
-
-def add_model_options(parser, description: str) -> None:
-    """--model FILE and --param NAME=VALUE (repeatable): the model a command uses, read by
-    :func:`model_from_args`; `description` says what the model is for in this command."""
-    group = parser.add_argument_group("model", description)
-    group.add_argument(
-        "--model",
-        metavar="FILE",
-        help="model file (YAML, impactosc-model/1) whose parameters replace model BC's; parameters it leaves "
-        "out keep model BC's values",
-    )
-    group.add_argument(
-        "--param",
-        action="append",
-        default=[],
-        metavar="NAME=VALUE",
-        help=f"set one model parameter (SI units; NAME one of {MODEL_NAMES}), applied after --model; "
-        "repeatable, e.g. --param k=1500 --param xI=-2.1e-3",
-    )
-
-
-def model_from_args(args):
-    """(ModelParams, description of where they came from) of --model and --param."""
-    from .model_file import resolve_model
-
-    return resolve_model(args.model, args.param)
-
-
-def _read_options(args) -> dict:
-    """The read_record keywords of the options of :func:`_add_record_options`."""
-    return {
-        "time_column": args.column[0],
-        "x_column": args.column[1],
-        "units": args.units,
-        "group": args.group,
-        "channel": args.channel,
-        "phase_channel": args.phase_channel,
-        "time_channel": args.time_channel,
-        "phase_units": args.phase_units,
-    }
-
-
-def _read(args, omega=None):
-    from .measured.records import read_record
-
-    return read_record(args.record, omega=omega, **_read_options(args))
+from .cli_identify import _add_identify_parser, _identify
+from .cli_options import (
+    RECORD_FORMATS,
+    add_model_options,
+    add_record_options,
+    contact_exponent,
+    finite_number,
+    model_from_args,
+    read_record_args,
+)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -173,20 +50,23 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    sim.add_argument("--omega", type=_finite, required=True, help="forcing frequency w in rad/s (> 0)")
-    sim.add_argument("--transient", type=_finite, required=True, help="time discarded before recording, s (>= 0)")
-    sim.add_argument("--duration", type=_finite, required=True, help="recorded time after the transient, s (> 0)")
-    sim.add_argument("--x0", type=_finite, default=0.0, help="initial displacement at t = 0, m (default 0)")
-    sim.add_argument("--v0", type=_finite, default=0.0, help="initial velocity at t = 0, m/s (default 0)")
+    sim.add_argument("--omega", type=finite_number, required=True, help="forcing frequency w in rad/s (> 0)")
+    sim.add_argument("--transient", type=finite_number, required=True, help="time discarded before recording, s (>= 0)")
+    sim.add_argument("--duration", type=finite_number, required=True, help="recorded time after the transient, s (> 0)")
+    sim.add_argument("--x0", type=finite_number, default=0.0, help="initial displacement at t = 0, m (default 0)")
+    sim.add_argument("--v0", type=finite_number, default=0.0, help="initial velocity at t = 0, m/s (default 0)")
     sim.add_argument(
-        "--rtol", type=_finite, default=DEFAULT_RTOL, help=f"relative tolerance (default {DEFAULT_RTOL:g})"
+        "--rtol", type=finite_number, default=DEFAULT_RTOL, help=f"relative tolerance (default {DEFAULT_RTOL:g})"
     )
     sim.add_argument(
-        "--atol", type=_finite, default=DEFAULT_ATOL, help=f"absolute tolerance, m and m/s (default {DEFAULT_ATOL:g})"
+        "--atol",
+        type=finite_number,
+        default=DEFAULT_ATOL,
+        help=f"absolute tolerance, m and m/s (default {DEFAULT_ATOL:g})",
     )
     sim.add_argument(
         "--window",
-        type=_finite,
+        type=finite_number,
         nargs=3,
         metavar=("T1", "T2", "DT"),
         help="also store x, v sampled at t = T1, T1+DT, ... <= T2 (absolute times, s)",
@@ -199,7 +79,7 @@ def build_parser() -> argparse.ArgumentParser:
     sim.add_argument("--output", required=True, help="HDF5 file to write (written atomically)")
     sim.add_argument(
         "--step-budget",
-        type=_finite,
+        type=finite_number,
         default=DEFAULT_STEP_BUDGET,
         metavar="N",
         help="watchdog: step attempts allowed per forcing period of progress; a run that spends "
@@ -225,10 +105,10 @@ def build_parser() -> argparse.ArgumentParser:
         "file identified on the rig); the record's x_impact metadata; else estimated from the record's "
         "turning points near the obstacle (--x-impact-method) and printed with its sigma.",
     )
-    _add_record_options(ext)
+    add_record_options(ext)
     ext.add_argument(
         "--x-impact",
-        type=_finite,
+        type=finite_number,
         help="obstacle position XI, m (write --x-impact=-2.086e-3 for negative values; default: the model's xI "
         "when --model or --param states it, else record metadata, else estimated)",
     )
@@ -242,18 +122,18 @@ def build_parser() -> argparse.ArgumentParser:
     )
     ext.add_argument(
         "--contact-exponent",
-        type=_exponent,
+        type=contact_exponent,
         default=1.5,
         metavar="E",
         help="exponent of the contact force in that fit: a number (default 1.5, Hertz, model BC's law) or "
         "'free' to fit it too when the rig's law is not known (a wider, honest sigma: 4-8 um per 30 s at 5 um noise)",
     )
     ext.add_argument("--output", required=True, help="HDF5 events file to write (atomically)")
-    ext.add_argument("--omega", type=_finite, help="nominal forcing frequency, rad/s (overrides the record's)")
-    ext.add_argument("--noise", type=_finite, help="sensor-noise std, m (default: estimated from the record)")
+    ext.add_argument("--omega", type=finite_number, help="nominal forcing frequency, rad/s (overrides the record's)")
+    ext.add_argument("--noise", type=finite_number, help="sensor-noise std, m (default: estimated from the record)")
     ext.add_argument(
         "--sensor-delay",
-        type=_finite,
+        type=finite_number,
         metavar="S",
         help="delay of the sensor chain, s (an anti-aliasing filter's group delay), subtracted from the sample "
         "times (default: the record's sensor_delay metadata, else 0)",
@@ -280,16 +160,16 @@ def build_parser() -> argparse.ArgumentParser:
         "Choose SETTLE a few relaxation times of the rig (model BC: 2.6 s from its damping alone) and "
         "BIN_WIDTH so that each segment keeps at least MIN_POINTS forcing periods after it.",
     )
-    _add_record_options(swe)
+    add_record_options(swe)
     swe.add_argument(
         "--bin-width",
-        type=_finite,
+        type=finite_number,
         default=0.25,
         help="width of the w bins, rad/s (default 0.25, the stepped sweep's step)",
     )
     swe.add_argument(
         "--settle",
-        type=_finite,
+        type=finite_number,
         default=10.0,
         help="time discarded at the start of each segment, s (default 10: about 4 relaxation times of model BC)",
     )
@@ -311,10 +191,10 @@ def build_parser() -> argparse.ArgumentParser:
         "  impactosc surrogate --ramp 20 45 --transient 200 --duration 2500 --encoder-counts 4096 --output sweep.h5",
     )
     what = sur.add_mutually_exclusive_group(required=True)
-    what.add_argument("--omega", type=_finite, help="forcing frequency w in rad/s (> 0)")
+    what.add_argument("--omega", type=finite_number, help="forcing frequency w in rad/s (> 0)")
     what.add_argument(
         "--ramp",
-        type=_finite,
+        type=finite_number,
         nargs=2,
         metavar=("W_START", "W_STOP"),
         help="sweep w linearly from W_START to W_STOP rad/s over DURATION (0.01 rad/s^2 is quasi-stationary)",
@@ -325,10 +205,10 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="N",
         help="with --ramp: phase read by an encoder of N counts per revolution (default: exact phase)",
     )
-    sur.add_argument("--transient", type=_finite, required=True, help="time discarded before sampling, s")
-    sur.add_argument("--duration", type=_finite, required=True, help="sampled time, s")
-    sur.add_argument("--rate", type=_finite, default=2000.0, help="sample rate, Hz (default 2000)")
-    sur.add_argument("--noise", type=_finite, default=5e-6, help="sensor-noise std, m (default 5e-6)")
+    sur.add_argument("--transient", type=finite_number, required=True, help="time discarded before sampling, s")
+    sur.add_argument("--duration", type=finite_number, required=True, help="sampled time, s")
+    sur.add_argument("--rate", type=finite_number, default=2000.0, help="sample rate, Hz (default 2000)")
+    sur.add_argument("--noise", type=finite_number, default=5e-6, help="sensor-noise std, m (default 5e-6)")
     sur.add_argument(
         "--mismatch",
         default="",
@@ -341,19 +221,27 @@ def build_parser() -> argparse.ArgumentParser:
     real.add_argument(
         "--lowpass",
         dest="lowpass_hz",
-        type=_finite,
+        type=finite_number,
         default=0.0,
         metavar="HZ",
         help="causal Butterworth anti-aliasing filter with this cutoff; its delay is written to the record's "
         "metadata as sensor_delay and extraction subtracts it",
     )
     real.add_argument("--lowpass-order", type=int, default=4, help="order of that filter (default 4)")
-    real.add_argument("--drift", type=_finite, default=0.0, metavar="M", help="std of a slow zero drift, m")
+    real.add_argument("--drift", type=finite_number, default=0.0, metavar="M", help="std of a slow zero drift, m")
     real.add_argument(
-        "--drift-time", type=_finite, default=10.0, metavar="S", help="correlation time of the drift, s (default 10)"
+        "--drift-time",
+        type=finite_number,
+        default=10.0,
+        metavar="S",
+        help="correlation time of the drift, s (default 10)",
     )
-    real.add_argument("--clock-jitter", type=_finite, default=0.0, metavar="S", help="std of sample-time errors, s")
-    real.add_argument("--quantum", type=_finite, default=0.0, metavar="M", help="ADC step, m (every sample rounded)")
+    real.add_argument(
+        "--clock-jitter", type=finite_number, default=0.0, metavar="S", help="std of sample-time errors, s"
+    )
+    real.add_argument(
+        "--quantum", type=finite_number, default=0.0, metavar="M", help="ADC step, m (every sample rounded)"
+    )
     sur.add_argument("--units", choices=("m", "mm", "um"), default="m", help="CSV displacement units (default m)")
     sur.add_argument("--output", required=True, help="record file to write (.csv or .h5)")
     add_model_options(
@@ -382,83 +270,6 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-IDENTIFY_EPILOG = """
-What is fitted: k/m, c/m, T/m, m0e/m, kI/m, b, n3 and xI, per unit mass because a displacement
-record sees only forces over m. Not identifiable: the mass (--mass, else the stated model's m,
-scales the ratios into N/m, N s/m, ...); eps (friction regularisation) and the Hertz exponents
-n1 = n2 keep the stated model's values. A quantity the records do not pin (no impacts: kI/m, b,
-n3) is fixed at the stated value, and the summary says why.
-The model file (impactosc-model/1, YAML) holds every parameter with its unit and standard error,
-the fixed ones and why, the correlation of the fitted ones, the records (with sha256), the fit's
-residual and the package version; --model FILE gives it to every command, and the workflow takes
-it with --config model_file=FILE.
-Examples:
-  impactosc identify examples/record_example.tdms --group rig --channel cart --phase-channel encoder --output rig.yaml
-  impactosc identify run1.h5 run2.h5 --mass 9.1 --fix T/m=0 --table rig.md --output rig.yaml
-  impactosc simulate --omega 40.86 --transient 100 --duration 400 --model rig.yaml --output rig_chaos.h5
-"""
-
-
-def _add_identify_parser(sub) -> None:
-    """The identify command's options (records, stated model, what is fixed, outputs)."""
-    from .identification.identify import STAGES
-    from .identification.parameters import NAMES, UNITS
-
-    idp = sub.add_parser(
-        "identify",
-        help="identify the model's parameters from displacement records and write a model file",
-        description="Fit model BC's parameters per unit mass to displacement records by multiple shooting: "
-        "the records are cut into windows of a few forcing periods, each window's start state is fitted with "
-        "the parameters and the core integrates every window; standard errors come from the Jacobian of the "
-        "residuals. Each record needs the forcing's phase: an encoder channel (--phase-channel) or omega in "
-        "its metadata (t = 0 at the forcing's phase 0).",
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog=RECORD_FORMATS + IDENTIFY_EPILOG,
-    )
-    _add_record_options(idp, many=True)
-    idp.add_argument("--output", required=True, metavar="MODEL.yaml", help="model file to write (atomically)")
-    idp.add_argument(
-        "--mass",
-        type=_finite,
-        metavar="KG",
-        help="the cart's mass, kg (default: the stated model's m); not identifiable from displacement, it "
-        "turns the fitted ratios into the model's parameters",
-    )
-    idp.add_argument(
-        "--fix",
-        action="append",
-        default=[],
-        metavar="NAME[=VALUE]",
-        help="keep a fitted quantity fixed at VALUE (per unit mass, in "
-        + ", ".join(f"{nm} {u}" for nm, u in zip(NAMES, UNITS))
-        + ") or, without VALUE, at the stated model's value; repeatable, e.g. --fix b=0 (Hertz contact) "
-        "--fix T/m=0 (no dry friction)",
-    )
-    idp.add_argument(
-        "--stages",
-        type=_finite,
-        nargs="+",
-        default=STAGES,
-        metavar="P",
-        help="window lengths of the successive fits, forcing periods; each starts from the one before, the "
-        f"last gives the estimate and its errors (default {' '.join(f'{p:g}' for p in STAGES)})",
-    )
-    idp.add_argument("--table", metavar="FILE", help="also write the parameter table (.csv or .md)")
-    idp.add_argument(
-        "--choose-model",
-        metavar="FILE",
-        help="also compare the contact laws (Hertz b = 0, Hunt-Crossley n3 = 1, model BC) with and without "
-        "dry friction on held-out windows and write the ranked table (.md or .csv); six more fits, about six "
-        "times as long",
-    )
-    idp.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
-    add_model_options(
-        idp,
-        "The stated model: m (unless --mass), eps, n1, n2 and the value of every quantity fixed (--fix) or not "
-        "identifiable from the records; model BC's, or those of --model, then each --param.",
-    )
-
-
 def _config_docs(args) -> int:
     from .config_docs import write
 
@@ -482,7 +293,7 @@ def _extract(args) -> int:
 
     check_writable(args.output)
     x_impact, x_impact_source = _model_x_impact(args) if args.x_impact is None else (args.x_impact, None)
-    rec = _read(args, omega=args.omega)
+    rec = read_record_args(args, omega=args.omega)
     options = ExtractOptions(
         noise=args.noise,
         x_impact_method=args.x_impact_method,
@@ -534,7 +345,7 @@ def _sweep_extract(args) -> int:
     from .measured.sweep import sweep_segments, write_sweep_points
 
     check_writable(args.output)
-    rec = _read(args)
+    rec = read_record_args(args)
     points, info = sweep_segments(rec, args.bin_width, args.settle, min_points=args.min_points)
     write_sweep_points(args.output, points, info, label=args.label or rec.label, sources=[args.record])
     print(
@@ -543,195 +354,6 @@ def _sweep_extract(args) -> int:
         f"(of {info['n_points_total']}; {info['n_points_settling']} discarded while settling, "
         f"{info['n_segments_dropped']} segments with fewer than {info['min_points']} points dropped)"
     )
-    return 0
-
-
-def _progress(args, command: str):
-    """A progress callback printing to stderr, or a silent one with --quiet."""
-    if args.quiet:
-        return lambda msg: None
-    return lambda msg: print(f"impactosc {command}: {msg}", file=sys.stderr, flush=True)
-
-
-def _stated_model(args):
-    """(ModelParams, description) of --model / --param, with the mass of --mass."""
-    import dataclasses
-
-    params, source = model_from_args(args)
-    if args.mass is not None:
-        try:
-            params = dataclasses.replace(params, m=args.mass)
-        except ValueError as exc:
-            raise ValueError(f"--mass {args.mass:g}: {exc}") from None
-        source += f", m = {args.mass:g} kg (--mass)"
-    return params, source
-
-
-def _fixed_quantities(items, base) -> dict:
-    """name -> value (None: the stated model's) of the --fix items; errors name the item."""
-    import dataclasses
-
-    from .identification.parameters import FIELDS, NAMES, PER_MASS
-    from .names import closest_name
-
-    fixed = {}
-    for item in items:
-        name, eq, text = (part.strip() for part in item.partition("="))
-        if name not in NAMES:
-            guess = NAMES[FIELDS.index(name)] if name in FIELDS else closest_name(name, NAMES)
-            hint = f"did you mean {guess!r}?" if guess else f"choose from {' '.join(NAMES)}"
-            raise ValueError(f"--fix {item}: unknown quantity {name!r} ({hint})")
-        value = None
-        if eq:
-            try:
-                value = _finite(text)
-            except argparse.ArgumentTypeError as exc:
-                raise ValueError(f"--fix {item}: {exc}") from None
-            field = FIELDS[NAMES.index(name)]
-            scaled = value * (base.m if PER_MASS[NAMES.index(name)] else 1.0)
-            try:
-                dataclasses.replace(base, **{field: scaled})
-            except ValueError as exc:
-                raise ValueError(f"--fix {item} ({field} = {scaled:.6g} at m = {base.m:g} kg): {exc}") from None
-        fixed[name] = value
-    return fixed
-
-
-def _check_identify_outputs(args) -> None:
-    """Refuse unknown table formats, clashing or unwritable outputs before any fitting."""
-    from pathlib import Path
-
-    from .files import check_writable
-
-    paths = [args.output]
-    for option, path in (("--table", args.table), ("--choose-model", args.choose_model)):
-        if path is not None:
-            if Path(path).suffix.lower() not in (".csv", ".md"):
-                raise ValueError(f"{option} {path}: the table is written as .csv or .md")
-            paths.append(path)
-    if len({Path(path).resolve() for path in paths}) < len(paths):
-        raise ValueError("--output, --table and --choose-model name the same file")
-    for path in paths:
-        check_writable(path)
-
-
-def _check_forcing_phase(records) -> None:
-    """Every record states omega or carries a phase: the fit needs the forcing's phase."""
-    for rec in records:
-        if rec.omega is None and rec.phase is None:
-            raise ValueError(
-                f"{rec.path}: neither omega nor a forcing phase; identification needs the forcing's phase "
-                "(declare omega in the record's metadata, with t = 0 at the forcing's phase 0, or give "
-                "--phase-channel)"
-            )
-
-
-def _write_rows(path, rows, markdown: str, sources) -> None:
-    """A table as Markdown (.md) or CSV."""
-    from .files import write_table, write_text
-
-    if str(path).lower().endswith(".md"):
-        write_text(path, markdown)
-    else:
-        write_table(path, rows, sources=sources)
-
-
-def _identify_summary(args, ident, rows, source: str, choice) -> str:
-    """What was written and identified: residual, every parameter with its error, what was fixed and why."""
-    p = ident.params
-    lines = [
-        f"{args.output}: model identified from {len(ident.records)} record(s) in {ident.seconds:.1f} s; "
-        f"residual rms {ident.noise * 1e6:.3f} um ({ident.windows.size} windows of {ident.periods:g} forcing "
-        f"periods, {'converged' if ident.fit.converged else 'NOT converged'})"
-    ]
-    for r in rows:
-        value = f"{r['field']:<4} = {r['field_value']:.6g}"
-        unit = "" if r["unit"] == "-" else f" {r['unit']}"
-        if r["status"] == "fitted":
-            lines.append(f"  {value} +- {r['field_stderr']:.2g}{unit}")
-        else:
-            lines.append(f"  {value}{unit}, fixed: {r['status']}")
-    lines.append(f"  m    = {p.m:.6g} kg, given ({source}): the mass is not identifiable from displacement")
-    lines.append(f"  eps = {p.eps:g} m/s, n1 = {p.n1:g}, n2 = {p.n2:g}: fixed at the stated model's values")
-    if args.table:
-        lines.append(f"{args.table}: parameter table")
-    if choice:
-        lines.append(
-            f"{args.choose_model}: the records support {choice[0]['law']}, {choice[0]['friction']} "
-            f"(smallest BIC of {len(choice)} candidates)"
-        )
-    return "\n".join(lines)
-
-
-@contextlib.contextmanager
-def _warning_lines(command: str):
-    """Each warning once, on one line of stderr ('impactosc COMMAND: warning: ...'), not with the
-    library's source line."""
-    seen = set()
-
-    def show(message, *_):
-        if str(message) not in seen:
-            seen.add(str(message))
-            print(f"impactosc {command}: warning: {message}", file=sys.stderr)
-
-    with warnings.catch_warnings():
-        warnings.showwarning = show
-        yield
-
-
-def _identify(args) -> int:
-    with _warning_lines("identify"):
-        return _identify_run(args)
-
-
-def _identify_run(args) -> int:
-    from .identification import identify
-    from .identification.choice import candidates, choice_markdown, choose_model
-    from .identification.report import parameter_markdown, parameter_table, write_identified_model
-    from .measured.records import read_records
-
-    _check_identify_outputs(args)
-    if not all(periods > 0 for periods in args.stages):
-        raise ValueError(f"--stages: window lengths must be > 0 forcing periods, got {args.stages}")
-    base, source = _stated_model(args)
-    fixed = _fixed_quantities(args.fix, base)
-    records = read_records(args.record, **_read_options(args))
-    _check_forcing_phase(records)
-    say = _progress(args, "identify")
-    stages = tuple(args.stages)
-    ident = identify(records, base=base, fixed=fixed, stages=stages, progress=say)
-    for item in args.fix:
-        ident.fixed[item.partition("=")[0].strip()] = f"held fixed (--fix {item})"
-    choice = None
-    if args.choose_model:
-        say(
-            f"model choice: {len(candidates())} candidate fits (contact law x dry friction), each about as long "
-            f"as the identification ({ident.seconds:.0f} s)"
-        )
-        with warnings.catch_warnings():  # candidates the records reject stray far out: their fit says so
-            warnings.simplefilter("ignore")
-            choice = choose_model(records, base=base, stages=stages, progress=say)
-        if not any(row["n_held_out"] for row in choice):
-            print(
-                "impactosc identify: warning: the records are too short to hold blocks of windows out of the fits; "
-                "the model choice rests on AIC and BIC alone",
-                file=sys.stderr,
-            )
-    # written only now: an error or an interrupt above leaves no output behind
-    write_identified_model(args.output, ident)
-    rows = parameter_table(ident)
-    if args.table:
-        _write_rows(args.table, rows, parameter_markdown(rows, ident), args.record)
-    if choice:
-        _write_rows(args.choose_model, choice, choice_markdown(choice), args.record)
-    print(_identify_summary(args, ident, rows, source, choice))
-    if not ident.fit.converged:
-        print(
-            "impactosc identify: warning: the last stage did not converge; the model file is written but its "
-            "values and errors are not an estimate (is the forcing's phase right? try an encoder channel, "
-            "shorter --stages or longer records)",
-            file=sys.stderr,
-        )
     return 0
 
 
