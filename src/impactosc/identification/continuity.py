@@ -66,9 +66,11 @@ def _kkt(A, Phi, B, G, r, gaps, w, lk, lam):
         put(2 * W, 2 * W, B.T @ B)
         g[2 * W :] = B.T @ r
     H = sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nz, nz)).tocsr()
-    d = 1.0 / np.sqrt(np.maximum(H.diagonal(), 1e-300))
+    diag = H.diagonal()
+    d = 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0))
     Dm = sp.diags(d)
-    Hs = Dm @ H @ Dm + lam * sp.identity(nz)
+    # + 1e-10: a column the data do not see at all (a parameter without effect) stays solvable
+    Hs = Dm @ H @ Dm + (lam + 1e-10) * sp.identity(nz)
     crow, ccol, cval = [], [], []
     for k, j in enumerate(lk):
         for a in range(2):
