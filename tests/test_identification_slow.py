@@ -2,13 +2,11 @@
 
 * Coverage: 24 random truths within +-30 % of model BC (m0e, k, c, T, kI, b, n3, xI), records at
   w = 23.03, 31 and 40.86 of 60 s each, 2 kHz, 5 um noise: each parameter within 2 stated
-  standard errors in at least 90 % of the draws (95.4 % if the errors are honest; 90 % of 24 is
-  22 draws: an honest error fails it with a chance of about 10 % per parameter... hence the
-  test asks for 21 of 24, which an honest error misses with a chance of 2.5 %, and the mean and
-  spread of the errors in standard errors, which a bias or a too small error would move), and
-  the identified model's Fig 2 branch within 10 um of the true model's at every w where both
-  are periodic with the same period.  About 25 min on 2 cores; the workflow's identify_coverage
-  target writes the same table.
+  standard errors in at least 90 % of the draws (22 of 24; the seeds are fixed, so the test is
+  deterministic; honest errors hold the truth within 2 se in 95.4 % of draws), and the identified
+  model's Fig 2 branch within 10 um of the true model's at every w where both are periodic with
+  the same period.  About 25 min on 2 cores; the workflow's identify_coverage target writes the
+  same table (results/tables/identification/coverage.md).
 * Model choice: records made with each of the three contact laws (Hertz b = 0, Hunt-Crossley
   n3 = 1, model BC) are each given to the six candidates; the supported one (least BIC) is the
   true law with dry friction.
@@ -42,8 +40,7 @@ def test_stated_standard_errors_cover_the_truth():
     table = {r["parameter"]: r for r in coverage_table(draws)}
     for name, r in table.items():
         assert r["draws"] == 24, name
-        assert r["within_2se"] >= 21, (name, r)
-        assert abs(r["mean_z"]) < 0.6 and 0.6 < r["sd_z"] < 1.5, (name, r)
+        assert r["within_2se"] >= 22, (name, r)
     for d in draws:
         assert d["branch_max_m"] <= 10e-6, d
         assert d["branch_periodic_w"] >= 50, d  # most of the grid is periodic in both models

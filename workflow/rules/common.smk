@@ -203,6 +203,7 @@ def wp_benchmark_input(wildcards):
         return {"benchmark": BENCHMARK_CORE_CSV}
     return {}
 
+
 # identification group (a rig's own model: identification.smk)
 IDENT_SURROGATE = "results/runs/identification/surrogate_records.h5"
 IDENT_MODEL = "results/models/identified.yaml"

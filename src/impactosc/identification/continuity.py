@@ -31,7 +31,10 @@ from .least_squares import FitResult, _window_rss
 from .shooting import Predictor
 from .windows import WindowSet
 
-__all__ = ["links", "fit_continuous"]
+__all__ = ["links", "fit_continuous", "GAP_LIMIT"]
+
+#: Windows whose ends miss by more than this many noise stds at the start are not joined.
+GAP_LIMIT = 20.0
 
 
 def links(w: WindowSet) -> np.ndarray:
@@ -115,31 +118,48 @@ def fit_continuous(
     lk = links(w)
     W, P = w.size, idx.size
     dof = int(w.y.size - P - 2 * (W - lk.size))
-    converged, it, cost = False, 0, np.inf
+    converged, it = False, 0
+    pr, E, A, Phi, B, G = pred.jacobian(theta, states, free, names)
+    r = pr - w.y
+    cost0 = cost = float(r @ r)
+    noise = np.sqrt(cost / max(dof, 1))
+    # a join whose gap is far beyond the noise is a window that found another trajectory: no link
+    lk = lk[np.abs(E[lk, 0] - states[lk + 1, 0]) < GAP_LIMIT * noise]
+    dof = int(w.y.size - P - 2 * (W - lk.size))
     for it in range(1, max_iter + 1):
-        pr, E, A, Phi, B, G = pred.jacobian(theta, states, free, names)
-        r = pr - w.y
-        cost = float(r @ r)
         gaps = E[lk] - states[lk + 1]
         lu, rhs, d = _kkt(A, Phi, B, G, r, gaps, w, lk, 0.0)
         z = d * lu.solve(rhs)[: 2 * W + P]
-        s2 = cost / max(dof, 1)
-        se = _stderr(lu, d, W, P, s2)
-        dth = z[2 * W :]
-        noise = np.sqrt(s2)
-        small_gaps = np.all(np.abs(gaps[:, 0]) < 1e-3 * noise)
+        se = _stderr(lu, d, W, P, cost / max(dof, 1))
+        gap = float(np.max(np.abs(gaps[:, 0]), initial=0.0))
         if progress is not None:
-            progress(it, cost, float(np.max(np.abs(gaps[:, 0]), initial=0.0)))
-        if np.all(np.abs(dth) <= rel_step_tol * se) and small_gaps:
+            progress(it, cost, gap)
+        if np.all(np.abs(z[2 * W :]) <= rel_step_tol * se) and gap < 1e-3 * noise:
             converged = True
             break
-        theta[idx] = np.clip(theta[idx] + dth, lower[idx], upper[idx])
-        states = states + z[: 2 * W].reshape(W, 2)
+        for _ in range(6):  # full step, else halved: the gaps may not open, the fit may not collapse
+            th_new = theta.copy()
+            th_new[idx] = np.clip(theta[idx] + z[2 * W :], lower[idx], upper[idx])
+            st_new = states + z[: 2 * W].reshape(W, 2)
+            pr_new, E_new = pred.predict(th_new, st_new, ends=True)
+            r_new = pr_new - w.y
+            c_new = float(r_new @ r_new) if np.all(np.isfinite(r_new)) else np.inf
+            g_new = float(np.max(np.abs(E_new[lk, 0] - st_new[lk + 1, 0]), initial=0.0))
+            if c_new < 1.5 * cost0 and g_new <= max(gap, 10 * noise):
+                break
+            z = z / 2
+        else:
+            break
+        theta, states = th_new, st_new
+        pr, E, A, Phi, B, G = pred.jacobian(theta, states, free, names)
+        r = pr - w.y
+        cost = float(r @ r)
     pr, E, A, Phi, B, G = pred.jacobian(theta, states, free, names)
     r = pr - w.y
     cost = float(r @ r)
     lu, _, d = _kkt(A, Phi, B, G, r, E[lk] - states[lk + 1], w, lk, 0.0)
     cov = _covariance(lu, d, W, P) * (cost / max(dof, 1))
+    converged = converged and bool(np.max(np.abs(E[lk, 0] - states[lk + 1, 0]), initial=0.0) < 1e-2 * noise)
     return FitResult(theta, states, free, cov, cost, int(w.y.size), dof, it, converged, _window_rss(r, w))
 
 

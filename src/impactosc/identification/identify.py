@@ -15,6 +15,7 @@ range is noise, not an estimate.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Callable
@@ -38,6 +39,8 @@ STAGES = (0.5, 1.0, 2.0)
 #: Convergence: no parameter moves by more than this fraction of its standard error (the
 #: stages before the last only bring the start values closer: a loose test there).
 FINAL_TOL, STAGE_TOL = 0.05, 0.3
+#: A window whose rms residual exceeds this multiple of the median window's is left out.
+OUTLIER = 1.5
 #: A standard error beyond this (relative to the value for the ratios, absolute for b, n3, xI)
 #: means the records do not pin the parameter.
 UNPINNED = {"k/m": 0.5, "c/m": 1.0, "T/m": 1.0, "m0e/m": 0.5, "kI/m": 0.5, "b": 1.0, "n3": 0.5, "xI": 1e-3}
@@ -207,6 +210,14 @@ def identify(
         theta = res.theta.copy()
         say(f"  rms residual {math.sqrt(res.s2) * 1e6:.3f} um after {res.iterations} iterations")
     if continuity:
+        # a window fitted far worse than the rest settled on another trajectory (a local minimum
+        # of its start state): it would pull the parameters, so it leaves the fit (and is counted)
+        rms = np.sqrt(res.window_rss / pred.w.n)
+        keep = rms <= OUTLIER * np.median(rms)
+        if not keep.all():
+            say(f"  {int((~keep).sum())} of {keep.size} windows left out: rms above {OUTLIER:g} x the median")
+            pred = Predictor(pred.w.subset(keep), pred.base, pred.m, rtol=rtol)
+            res = dataclasses.replace(res, states=res.states[keep])
         say(f"continuity: {links(pred.w).size} joins between {pred.w.size} windows")
         res = fit_continuous(
             pred,
