@@ -35,6 +35,15 @@ def relative_steps(names, theta) -> np.ndarray:
     return np.array([_ABS_STEP.get(nm, _REL_STEP * max(abs(th), 1e-12)) for nm, th in zip(names, theta)])
 
 
+def _cut_velocity(b, n3) -> float:
+    """b^(-1/n3), the speed beyond which the Hunt-Crossley bracket turns negative; inf when it
+    does not exist or lies beyond any speed (a small b with a small n3 overflows the power)."""
+    if b <= 0.0 or n3 <= 0.0:
+        return math.inf
+    e = -math.log(b) / n3
+    return math.exp(e) if e < 700.0 else math.inf
+
+
 class Predictor:
     """Runs the core over a WindowSet for given parameters and start states.
 
@@ -64,7 +73,7 @@ class Predictor:
         dt, tau0 = float(w.dt[j]), float(w.tau0[j])
         p[P_OMEGA] = w.omega[j]
         period = 2.0 * math.pi / w.omega[j]
-        vcut = math.inf if p[P_B] <= 0.0 or p[P_N3] <= 0.0 else p[P_B] ** (-1.0 / p[P_N3])
+        vcut = _cut_velocity(p[P_B], p[P_N3])
         st = core.initial_state(p, tau0, float(x0), float(v0), period, vcut, self.step_budget)
         cnt = np.zeros(N_COUNT, dtype=np.int64)
         rs = core.run_settings(tau0 + n * dt * (1 + 1e-12) + 1e-12, math.inf, self.rtol, self.atol, 0, period, tau0, dt)
