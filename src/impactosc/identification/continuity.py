@@ -103,12 +103,12 @@ def fit_continuous(
     lower=None,
     upper=None,
     max_iter=15,
-    rel_step_tol=0.05,
+    rel_step_tol=0.25,
     progress=None,
 ) -> FitResult:
     """Theta and the window states with the continuity conditions of :func:`links` (see the
     module docstring).  Converged when a full step moves no parameter by more than
-    ``rel_step_tol`` standard errors and the gaps are below a thousandth of the noise."""
+    ``rel_step_tol`` standard errors and the gaps are below a hundredth of the noise."""
     w = pred.w
     free = np.asarray(free, dtype=bool)
     idx = np.flatnonzero(free)
@@ -134,7 +134,7 @@ def fit_continuous(
         gap = float(np.max(np.abs(gaps[:, 0]), initial=0.0))
         if progress is not None:
             progress(it, cost, gap)
-        if np.all(np.abs(z[2 * W :]) <= rel_step_tol * se) and gap < 1e-3 * noise:
+        if np.all(np.abs(z[2 * W :]) <= rel_step_tol * se) and gap < 1e-2 * noise:
             converged = True
             break
         for _ in range(6):  # full step, else halved: the gaps may not open, the fit may not collapse
