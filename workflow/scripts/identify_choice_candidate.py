@@ -9,21 +9,15 @@ from _logging import configure_logging
 
 configure_logging(snakemake)
 
-import dataclasses
 import logging
 
 from impactosc.files import write_json
 from impactosc.identification.choice import candidates, fit_candidate
-from impactosc.integration.model import ModelParams
-from impactosc.measured.records import read_records
+from impactosc.identification.report import configured_inputs
 
 p = snakemake.params
 g = p.identification
-base = ModelParams(**p.model)
-if g["mass"] is not None:
-    base = dataclasses.replace(base, m=float(g["mass"]))
-read = {k: v for k, v in g["read"].items() if v is not None}
-records = read_records(list(snakemake.input.records), **read)
+base, records = configured_inputs(g, p.model, snakemake.input.records)
 law, friction = candidates()[int(snakemake.wildcards.candidate)]
 logging.info(f"candidate: {law}, {friction}")
 row = fit_candidate(

@@ -10,27 +10,21 @@ from _logging import configure_logging
 
 configure_logging(snakemake)
 
-import dataclasses
 import logging
 
 from impactosc.files import write_table, write_text
 from impactosc.identification import identify
 from impactosc.identification.report import (
+    configured_inputs,
     parameter_markdown,
     parameter_table,
     write_fit_windows,
     write_identified_model,
 )
-from impactosc.integration.model import ModelParams
-from impactosc.measured.records import read_records
 
 p = snakemake.params
 g = p.identification
-base = ModelParams(**p.model)
-if g["mass"] is not None:
-    base = dataclasses.replace(base, m=float(g["mass"]))
-read = {k: v for k, v in g["read"].items() if v is not None}
-records = read_records(list(snakemake.input.records), **read)
+base, records = configured_inputs(g, p.model, snakemake.input.records)
 ident = identify(records, base=base, stages=tuple(g["stages"]), rtol=p.solver["rtol"], progress=logging.info)
 write_identified_model(snakemake.output.model, ident)
 prediction = ident.prediction()

@@ -19,7 +19,14 @@ from ..model_file import PARAM_UNITS, write_model_file
 from .identify import Identification
 from .parameters import FIELDS, NAMES, PER_MASS
 
-__all__ = ["parameter_markdown", "parameter_table", "write_identified_model", "write_fit_windows", "read_fit_windows"]
+__all__ = [
+    "configured_inputs",
+    "parameter_markdown",
+    "parameter_table",
+    "write_identified_model",
+    "write_fit_windows",
+    "read_fit_windows",
+]
 
 _NOT_FITTED = {
     "m": "given: the mass is not identifiable from displacement",
@@ -149,3 +156,18 @@ def parameter_markdown(rows: list[dict], ident: Identification) -> str:
             f"| {r['field']} | {_value(r['field_value'], r['field_stderr'])} | {rel} | {r['unit']} | {r['status']} |"
         )
     return "\n".join(lines) + "\n"
+
+
+def configured_inputs(section: dict, model: dict, paths) -> tuple:
+    """(stated model, records) of the workflow's identification config: model with the
+    configured mass, and the record files read as ``section["read"]`` says."""
+    import dataclasses
+
+    from ..integration.model import ModelParams
+    from ..measured.records import read_records
+
+    base = ModelParams(**model)
+    if section["mass"] is not None:
+        base = dataclasses.replace(base, m=float(section["mass"]))
+    read = {k: v for k, v in section["read"].items() if v is not None}
+    return base, read_records(list(paths), **read)
