@@ -154,9 +154,7 @@ def fit_continuous(
         pr, E, A, Phi, B, G = pred.jacobian(theta, states, free, names)
         r = pr - w.y
         cost = float(r @ r)
-    pr, E, A, Phi, B, G = pred.jacobian(theta, states, free, names)
-    r = pr - w.y
-    cost = float(r @ r)
+    # the Jacobian in hand is at (theta, states) on every way out of the loop
     lu, _, d = _kkt(A, Phi, B, G, r, E[lk] - states[lk + 1], w, lk, 0.0)
     cov = _covariance(lu, d, W, P) * (cost / max(dof, 1))
     converged = converged and bool(np.max(np.abs(E[lk, 0] - states[lk + 1, 0]), initial=0.0) < 1e-2 * noise)

@@ -99,29 +99,12 @@ def _unpinned(theta, se, free):
     return out
 
 
-def _grazing(pred, theta, states, band):
-    """Mask of the windows whose model trajectory turns within ``band`` of the obstacle."""
-    x = pred.predict(theta, states)
-    xi = theta[NAMES.index("xI")]
-    w = pred.w
-    out = np.zeros(w.size, dtype=bool)
-    for j in range(w.size):
-        xs = x[w.offset[j] : w.offset[j] + w.n[j]]
-        top = (xs[1:-1] >= xs[:-2]) & (xs[1:-1] > xs[2:])
-        out[j] = bool(np.any(np.abs(xs[1:-1][top] - xi) < band))
-    return out
-
-
-def _stage(records, theta, free, base_p, m, periods, level, rtol, keep=None, graze_band=0.0):
+def _stage(records, theta, free, base_p, m, periods, level, rtol, keep=None):
     windows = cut_windows(records, periods=periods, level=level)
     if keep is not None:
         windows = windows.subset(keep(windows))
     pred = Predictor(windows, base_p, m, rtol=rtol)
     states, _ = fit_states(pred, theta, np.column_stack([windows.x0, windows.v0]))
-    if graze_band > 0:
-        far = ~_grazing(pred, theta, states, graze_band)
-        windows = windows.subset(far)
-        pred, states = Predictor(windows, base_p, m, rtol=rtol), states[far]
     return pred, states
 
 
@@ -135,7 +118,6 @@ def identify(
     rtol: float = 1e-10,
     start: dict | None = None,
     progress: Callable[[str], None] | None = None,
-    graze_band: float = 0.0,
     continuity: bool = True,
 ) -> Identification:
     """Fit theta (parameters.NAMES) to the records by multiple shooting.
@@ -182,7 +164,7 @@ def identify(
     res = pred = None
     for k, periods in enumerate(stages):
         for attempt in range(2):
-            pred, states = _stage(records, theta, free, base_p, m, periods, level, rtol, select, graze_band)
+            pred, states = _stage(records, theta, free, base_p, m, periods, level, rtol, select)
             say(f"stage {k + 1}/{len(stages)}: {pred.w.size} windows of {periods:g} forcing periods")
             last = k == len(stages) - 1
             res = fit(
