@@ -75,7 +75,7 @@ def branch_distance(truth: ModelParams, model: ModelParams, omegas, *, n_transie
             xb = np.sort(sweeps[1].poincare_x[i, -pb:])
             dist = float(np.max(np.abs(xa - xb)))
             worst = max(worst, dist)
-            far += dist > BRANCH_TOL
+            far += int(dist > BRANCH_TOL)
             same += 1
         elif pa == 0 and pb == 0:
             chaotic += 1
@@ -84,6 +84,7 @@ def branch_distance(truth: ModelParams, model: ModelParams, omegas, *, n_transie
     return {
         "branch_max_m": worst,
         "branch_periodic_w": same,
+        "branch_w_beyond_tol": far,
         "branch_nonperiodic_w": chaotic,
         "branch_differ_w": differ,
     }
@@ -169,7 +170,7 @@ def coverage_markdown(table: list[dict], draws: list[dict]) -> str:
     br = [d for d in draws if "branch_max_m" in d]
     if br:
         n_w = sum(d["branch_periodic_w"] for d in br)
-        beyond = sum(d.get("branch_w_beyond_tol", 0) for d in br)
+        beyond = sum(d["branch_w_beyond_tol"] for d in br)
         med = sorted(d["branch_max_m"] for d in br)[len(br) // 2]
         lines += [
             "",
