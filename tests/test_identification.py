@@ -151,3 +151,20 @@ def test_bad_input_is_named():
         identify([rec], fixed={"kl": 1.0})
     with pytest.raises(ValueError, match="at least one record"):
         identify([])
+
+
+def test_branch_comparison_follows_one_of_two_coexisting_orbits():
+    """A random truth of the coverage study (seed 18) has two period-3 orbits at w = 20.25, about
+    160 um apart; the section states below lie on them (taken from its continuation and from the
+    identified model's). Started from each state the model stays on that orbit, and a model 0.1 %
+    off in kI, started from the same state, reaches the same orbit within the branch tolerance:
+    the comparison the coverage makes where two continuations took different orbits."""
+    from impactosc.identification.coverage import BRANCH_TOL, _orbit_from, random_truth
+
+    truth = random_truth(18)
+    near = dataclasses.replace(truth, kI=1.001 * truth.kI)
+    states = [(-0.0032104749668557023, -0.0023799031725474633), (-0.0033445760322028777, -7.619462366503389e-05)]
+    orbits = [_orbit_from(truth, 20.25, x0, v0, 3, 400) for x0, v0 in states]
+    assert np.max(np.abs(orbits[0] - orbits[1])) > 100e-6  # two orbits, not one
+    for (x0, v0), orbit in zip(states, orbits):
+        assert np.max(np.abs(_orbit_from(near, 20.25, x0, v0, 3, 400) - orbit)) < BRANCH_TOL

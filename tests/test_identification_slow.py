@@ -5,7 +5,8 @@
   standard errors in at least 90 % of the draws (22 of 24; the seeds are fixed, so the test is
   deterministic; honest errors hold the truth within 2 se in 95.4 % of draws), and the identified
   model's Fig 2 branch within 10 um of the true model's at every w where both are periodic with
-  the same period.  About 25 min on 2 cores; the workflow's identify_coverage target writes the
+  the same period, on the same orbit (where the two continuations took two coexisting orbits,
+  as in two of the draws, the identified model is followed from the true model's state).  About 25 min on 2 cores; the workflow's identify_coverage target writes the
   same table (results/tables/identification/coverage.md).
 * Model choice: records made with each of the three contact laws (Hertz b = 0, Hunt-Crossley
   n3 = 1, model BC) are each given to the six candidates; the supported one (least BIC) is the
