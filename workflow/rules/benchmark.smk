@@ -39,6 +39,24 @@ rule benchmark_core:
 ALL_TARGETS.extend(rules.benchmark_core.output)
 
 
+# Opt-in (about a minute): snakemake -j1 benchmark_taylor. Taylor steps against the core's
+# DOP853 steps and heyoka on three pieces, and the core's time per period projected from them.
+rule benchmark_taylor:
+    input:
+        cache=NUMBA_CACHE,
+        headline=BENCHMARK_CORE_HEADLINE,
+    output:
+        csv=BENCHMARK_TAYLOR_CSV,
+        md=BENCHMARK_TAYLOR_MD,
+    log:
+        logfile("benchmark", "benchmark_taylor"),
+    threads: timing_threads
+    params:
+        bt=config["benchmark_taylor"],
+    script:
+        "../scripts/benchmark_taylor.py"
+
+
 # Randomized differential testing (issue 16): scenes drawn from a box wider than model BC,
 # the core against SciPy LSODA at two tolerances over the horizon where those agree.
 # Opt-in (about 15 min of CPU for 200 scenes): snakemake -j2 random_scenes.

@@ -183,6 +183,8 @@ HARD_CASES_TABLE = "results/tables/work_precision/hard_cases.csv"
 BENCHMARK_CORE_CSV = "results/tables/benchmark/benchmark_core.csv"
 BENCHMARK_CORE_MD = "results/tables/benchmark/benchmark_core.md"
 BENCHMARK_CORE_HEADLINE = "results/tables/benchmark/benchmark_core_headline.csv"
+BENCHMARK_TAYLOR_CSV = "results/tables/benchmark/benchmark_taylor.csv"
+BENCHMARK_TAYLOR_MD = "results/tables/benchmark/benchmark_taylor.md"
 
 # combined: the table of every number the paper states (named in README: kept at the top)
 PAPER_TABLE_CSV = "results/tables/paper_vs_replication.csv"

@@ -1,0 +1,35 @@
+"""Taylor steps against the core's DOP853 steps and heyoka, piece by piece (rule benchmark_taylor).
+
+Reads params.bt (config benchmark_taylor: rtols, orders, projection_rtol, repeats, inner) and
+input.headline (benchmark_core's headline: the lead over the fastest compiled peer today);
+writes output.csv (one row per piece x method x rtol; impactosc.benchmarks.taylor_pieces.measure)
+and output.md (the table, the core's time per period projected from the pieces, and a Taylor
+method in time through the friction band).
+"""
+
+from _logging import configure_logging
+
+configure_logging(snakemake)
+
+import logging
+import math
+
+from impactosc.benchmarks.taylor_pieces import core_per_period, markdown, measure, projection, taylor_through_the_band
+from impactosc.files import read_table, write_table, write_text
+
+bt = snakemake.params.bt
+if bt["projection_rtol"] not in bt["rtols"]:
+    raise ValueError(f"benchmark_taylor.projection_rtol {bt['projection_rtol']:g} is not one of rtols {bt['rtols']}")
+rows = measure(bt["rtols"], bt["orders"], repeats=bt["repeats"], inner=bt["inner"])
+core = core_per_period(bt["projection_rtol"])
+projected = projection(rows, core)
+peer = [r for r in read_table(snakemake.input.headline) if r["role"] == "fastest compiled peer"]
+lead = float(peer[0]["time_over_core"]) if peer else math.nan
+try:
+    band = taylor_through_the_band()
+except ImportError:
+    band = None
+for r in projected:
+    logging.info(f"{r['method']}: core {r['core_us_per_period']:.1f} -> {r['projected_us_per_period']:.1f} us/period")
+write_table(snakemake.output.csv, rows)
+write_text(snakemake.output.md, markdown(rows, core, projected, lead, band))
