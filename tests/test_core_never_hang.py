@@ -1,4 +1,4 @@
-"""The core never hangs (issue 16): the stiff creep that stalled it, the watchdog, and
+"""The core never hangs: the stiff creep that stalled it, the watchdog, and
 randomized differential testing against an independent SciPy reference.
 
 The stall: inside the contact the Hunt-Crossley damping ~ |v|^n3 with n3 << 1 balances the
@@ -198,7 +198,7 @@ def test_random_scenes_large():
     rows = run_scenes(2026, 200, horizon=1.5, log=lambda *a: None)
     s = summary(rows)
     assert s["stalls"] == 0 and s["failures"] == 0  # each impact within 1e-8 s, or 1e-9 m for slow ones
-    assert s["worst_dt_s"] < 1e-7  # measured 5.3e-9 s (2.4e-8 s on a 7 mm/s impact before issue 11)
+    assert s["worst_dt_s"] < 1e-7  # measured 5.3e-9 s (2.4e-8 s before the step controller was reworked)
     assert s["no_reference"] <= 0.1 * s["scenes"]  # measured 11 of 200
 
 
@@ -207,7 +207,7 @@ def test_a_slow_impact_is_judged_by_its_position_error():
     # 1.7e-10 m in position, which the position bound accepts; the same time error on a
     # 0.1 m/s impact (2.4e-9 m) it does not.
     assert impacts_agree([2.4e-8, 2.4e-8, 5e-9], [0.007, 0.1, 1.0]).tolist() == [True, False, True]
-    # the scene itself (1.3e-9 s since the core's step controller was reworked, issue 11)
+    # the scene itself (1.3e-9 s since the core's step controller was reworked)
     row = compare_scene(draw_scene(2026, 112), horizon=1.5)
     assert row["status"] == "ok" and row["worst_dx"] < 1e-9
 

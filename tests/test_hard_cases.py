@@ -1,4 +1,4 @@
-"""Hard cases for the core (issue 7), at reduced size; rule hard_cases runs them in full.
+"""Hard cases for the core, at reduced size; rule hard_cases runs them in full.
 
 Each case function of impactosc.benchmarks.hardcases measures a figure against an
 independent reference and states its bound (the reasons are in the function docstrings);

@@ -1,4 +1,4 @@
-"""Provenance of every output (issue 12): file modes from the umask, units on every HDF5
+"""Provenance of every output: file modes from the umask, units on every HDF5
 dataset, format and library versions, JSON provenance entry, CSV sidecar; old files read."""
 
 import json

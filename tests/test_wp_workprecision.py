@@ -1,4 +1,4 @@
-"""Work-precision measurement code (issue 7): error metrics, SciPy contestants, timing,
+"""Work-precision measurement code: error metrics, SciPy contestants, timing,
 speed ratio at equal error, statistics against an ensemble, tables and the figure."""
 
 import math

@@ -1,7 +1,7 @@
 """Randomized differential testing of the core against an independent SciPy reference.
 
 Why: hand-picked hard cases cannot cover the parameter space. A core that stalls or misses
-an event on some plausible rig is found by drawing rigs at random (issue 16 found a stall
+an event on some plausible rig is found by drawing rigs at random (a stiff creep stall was found
 this way). Each scene draws model parameters, forcing frequency and initial state from
 :data:`BOX` (wider than model BC); the reference is SciPy ``solve_ivp`` split at contact
 onset / exit (:func:`impactosc.integration.reference.solve_reference`) at two tolerances,

@@ -1,4 +1,4 @@
-"""Work-precision: wall time against the errors that matter for this study (issue 7).
+"""Work-precision: wall time against the errors that matter for this study.
 
 Why: a speed only means something at a stated accuracy. Errors are measured on what the
 paper extracts - impact times, penetration depths, Poincare points - against a reference

@@ -17,7 +17,7 @@ When v = 0 falls where the net force cannot overcome dry friction (sticking) or 
 friction band again. So is any piece whose explicit steps are held by stability rather
 than accuracy (h |da/dv| > STIFF_ENTER): the creep inside the contact where the
 Hunt-Crossley damping ~ |v|^n3 balances the other forces (found by randomized testing,
-issue 16); it returns to explicit steps once h |da/dv| < STIFF_EXIT. Any transformed
+found by randomized testing); it returns to explicit steps once h |da/dv| < STIFF_EXIT. Any transformed
 piece that would become invalid (a vanishing acceleration or velocity) falls back to plain
 time stepping, which is always correct.
 

@@ -135,7 +135,7 @@ def stiff(p, phase, x, v, h):
     The Hunt-Crossley damping ~ |v|^n3 (n3 << 1) acts inside the contact like a very stiff
     dry friction: where the elastic and external forces nearly balance, the cart creeps at
     a tiny velocity and da/dv ~ |v|^(n3 - 1) grows without bound, so an explicit method is
-    pinned to steps ~ 6 / |da/dv| (1e-9 s and shrinking: the stall of issue 16).
+    pinned to steps ~ 6 / |da/dv| (1e-9 s and shrinking: a stall the randomized scenes found).
     """
     return damping_rate(p, phase, x, v) * h > STIFF_ENTER
 

@@ -431,7 +431,7 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
         # Creeping towards v = 0 where dry friction can hold the cart: hand the band to
         # the implicit solver, as time stepping does. (Without this the explicit
         # asinh piece crept along the stick manifold with steps ~ m eps / T until v
-        # crossed 0: the cost of each stick grew like 1/eps - issue 7, sticking.)
+        # crossed 0: the cost of each stick grew like 1/eps.)
         enter_slow(p, st, cnt, tref + t1, x1, v1, sign(v1))
         start_piece(p, st, cnt, d0, tref + t1, x1, v1, 0.0)
     elif mode == SQRTH and sgn > 0.0 and v1 < st[S_V1]:  # slower: |v|^n3 on to v = 0

@@ -1,5 +1,5 @@
 """Periodic orbits of model BC, stable or not: shooting on the stroboscopic map and Floquet
-multipliers (issue 13; continuation and bifurcation points build on it)."""
+multipliers (continuation and bifurcation points build on it)."""
 
 from .shooting import PeriodicOrbit, ShootingError, monodromy, shoot, stroboscopic_map
 from .variational import variational_monodromy

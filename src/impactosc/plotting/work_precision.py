@@ -1,5 +1,5 @@
 """Work-precision figure: wall time against error per solver, and the chaotic statistics
-against tolerance (issue 7).
+against tolerance.
 
 Top rows (DiffEqBenchmarks style): one panel per scene and error metric, log-log, one line
 per solver through its tolerance sweep; each point is the minimum wall time of several

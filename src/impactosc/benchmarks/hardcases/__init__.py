@@ -1,4 +1,4 @@
-"""Hard cases for the core: each says what it checks, what it measured and the bound (issue 7).
+"""Hard cases for the core: each says what it checks, what it measured and the bound.
 
 Every case function returns rows ``{case, check, measured, bound, unit, passed, detail}``;
 the tests (tests/test_hard_*.py) call them at reduced size and assert ``passed``; the
