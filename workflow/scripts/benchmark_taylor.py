@@ -14,13 +14,19 @@ configure_logging(snakemake)
 import logging
 import math
 
-from impactosc.benchmarks.taylor_pieces import core_per_period, markdown, measure, projection, taylor_through_the_band
+from impactosc.benchmarks.taylor_pieces import (
+    core_per_period,
+    markdown,
+    measure_pieces,
+    projection,
+    taylor_through_the_band,
+)
 from impactosc.files import read_table, write_table, write_text
 
 bt = snakemake.params.bt
 if bt["projection_rtol"] not in bt["rtols"]:
     raise ValueError(f"benchmark_taylor.projection_rtol {bt['projection_rtol']:g} is not one of rtols {bt['rtols']}")
-rows = measure(bt["rtols"], bt["orders"], repeats=bt["repeats"], inner=bt["inner"])
+rows = measure_pieces(bt["rtols"], bt["orders"], repeats=bt["repeats"], inner=bt["inner"])
 core = core_per_period(bt["projection_rtol"])
 projected = projection(rows, core)
 peer = [r for r in read_table(snakemake.input.headline) if r["role"] == "fastest compiled peer"]

@@ -173,7 +173,7 @@ def _median_seconds(run, repeats: int, inner: int) -> tuple:
     return float(np.median(times)), out
 
 
-def measure(rtols=(1e-9, 1e-10, 1e-11), orders=(12, 16, 20), repeats=5, inner=200, heyoka=True) -> list[dict]:
+def measure_pieces(rtols=(1e-9, 1e-10, 1e-11), orders=(12, 16, 20), repeats=5, inner=200, heyoka=True) -> list[dict]:
     """One row per piece x method x rtol (atol = rtol / 100): steps, time, errors at the end."""
     rows = []
     for name, pc in pieces().items():
