@@ -181,12 +181,21 @@ def _condition(problem: CurveProblem, y, w, p, M, phase) -> float:
     return TEST_FUNCTIONS[problem.kind](M)
 
 
-def _condition_at(problem: CurveProblem, z, phase) -> float:
+def _steps(problem: CurveProblem, y) -> tuple[float, float]:
+    """Difference steps (scaled) of the monodromy and of the gradient of c at state y: the usual
+    ones, but within a twentieth of |v| of the state. Where the orbit's phase-0 state nears a
+    reversal (v -> 0), a stencil reaching v = 0 would start inside the friction band (slope
+    T/eps), where the map's derivative changes by O(1) within eps = 1e-6 m/s."""
+    room = abs(float(y[1])) / SCALE[1] / 20
+    return min(problem.step, room), min(C_STEP, room)
+
+
+def _condition_at(problem: CurveProblem, z, phase, step) -> float:
     """c at scaled z, M computed there (the gradient of c needs it away from the orbit)."""
     y, w, p = problem.unscaled(z)
     M = None
     if problem.kind != "grazing":
-        M = shooting_monodromy(y, w, problem.n_periods, problem.model(p), step=problem.step)[1]
+        M = shooting_monodromy(y, w, problem.n_periods, problem.model(p), step=step)[1]
     return _condition(problem, y, w, p, M, phase)
 
 
@@ -194,7 +203,8 @@ def _system(problem: CurveProblem, z, phase):
     """Residual G(z) (3,) of the scaled extended system, its Jacobian (3 x 4), and M."""
     y, w, p = problem.unscaled(z)
     n, model = problem.n_periods, problem.model(p)
-    image, M = shooting_monodromy(y, w, n, model, step=problem.step)
+    step, c_step = _steps(problem, y)
+    image, M = shooting_monodromy(y, w, n, model, step=step)
     J = np.empty((3, 4))
     J[:2, :2] = (M - np.eye(2)) * SCALE[None, :] / SCALE[:, None]
     J[:2, 2] = central_difference(lambda s: stroboscopic_map(y, w + s, n, model), W_STEP) / SCALE
@@ -204,7 +214,7 @@ def _system(problem: CurveProblem, z, phase):
     )
     for k in range(4):
         unit = np.eye(4)[k]
-        J[2, k] = central_difference(lambda s, unit=unit: _condition_at(problem, z + s * unit, phase), C_STEP)
+        J[2, k] = central_difference(lambda s, unit=unit: _condition_at(problem, z + s * unit, phase, step), c_step)
     G = np.concatenate([(image - y) / SCALE, [_condition(problem, y, w, p, M, phase)]])
     return G, J, M
 
@@ -293,6 +303,15 @@ def _inside(problem, point: CurvePoint, value_range, w_range) -> bool:
     return value_range[0] <= point.value <= value_range[1] and w_range[0] <= point.orbit.omega <= w_range[1]
 
 
+def _stuck(problem, point: CurvePoint, ds_min) -> str:
+    """Why the corrector failed, as far as the last point tells."""
+    why = f"corrector failed at w = {point.orbit.omega:.6f}, {problem.parameter} = {point.value:.6g} (ds < {ds_min:g})"
+    if abs(point.orbit.v0) < 1e-4:
+        why += (f"; the orbit's phase-0 state is {abs(point.orbit.v0):.2g} m/s from a velocity reversal, where the "
+                "difference stencils meet the friction band")  # fmt: skip
+    return why
+
+
 def _walk(problem, start: CurvePoint, *, ds, ds_min, value_range, w_range, max_points):
     """Points from `start` (excluded) along its tangent until the curve leaves the box, after
     `max_points`, or where the corrector fails at steps below ds_min; and why it stopped. The
@@ -303,10 +322,7 @@ def _walk(problem, start: CurvePoint, *, ds, ds_min, value_range, w_range, max_p
         if nxt is None:
             h /= 2
             if h < ds_min:
-                return (
-                    points,
-                    f"corrector failed at w = {point.orbit.omega:.6f}, {problem.parameter} = {point.value:.6g} (ds < {ds_min:g})",
-                )
+                return points, _stuck(problem, point, ds_min)
             continue
         point = nxt
         points.append(point)
