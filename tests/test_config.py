@@ -165,3 +165,28 @@ def test_x_impact_noise_must_be_a_study_level(config):
     config["measured"]["noise_study"]["x_impact_noise"] = [3e-6]
     with pytest.raises(ConfigError, match=r"measured.noise_study.x_impact_noise: \[3e-06\] not among"):
         validate_config(config, SCHEMA)
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        ({"values": [-1.0e-3, -3.0e-3]}, r"two_parameter\.values: must be \[lo, hi\] with lo < hi"),
+        ({"values": [-3.0e-3, -2.5e-3]}, r"two_parameter\.values: .* must contain the model's xI = -0.002086"),
+        ({"w_range": [45.0, 17.0]}, r"two_parameter\.w_range: must be \[lo, hi\]"),
+        ({"ds": 1.0e-5}, r"two_parameter\.ds: must exceed ds_min"),
+        ({"parameter": "m0e", "values": [0.01, 0.03]}, r"two_parameter\.parameter: m0e differs from bifurcation\.map2d"),
+        ({"curves": {"c": {"segment": "nowhere", "kind": "fold", "near": 19.5}}},
+         r"two_parameter\.curves\.c\.segment: no segment named 'nowhere'"),
+        ({"curves": {"c": {"segment": "period1", "kind": "flip", "near": 19.5}}}, r"two_parameter\.curves\.c\.kind"),
+    ],
+)  # fmt: skip
+def test_bad_two_parameter_section_is_named(config, change, message):
+    config.setdefault("two_parameter", {}).update(change)
+    with pytest.raises(ConfigError, match=message):
+        validate_config(config, SCHEMA)
+
+
+def test_two_parameter_in_m0e_with_its_map(config):
+    config["two_parameter"].update(parameter="m0e", values=[0.012, 0.024])
+    config["bifurcation"]["map2d"]["parameter"] = "m0e"
+    assert validate_config(config, SCHEMA)["two_parameter"]["parameter"] == "m0e"

@@ -1,5 +1,6 @@
-"""The workflow end to end: every rule of `snakemake all` and map2d on config/tiny.yaml (short
-scenes, a few sweep points, a 2 x 2 map, a short surrogate) in a temporary directory.
+"""The workflow end to end: every rule of `snakemake all`, map2d and map2d_curves on config/tiny.yaml
+(short scenes, a few sweep points, a 2 x 2 map and a short curve over it, a short surrogate) in a
+temporary directory.
 
 What it guards: the DAG is complete (every rule runs, no input is missing, every script
 writes what its rule declares), and a finished build is up to date (a second dry run has
@@ -17,13 +18,14 @@ import pytest
 REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = [sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile")]
 CONFIGS = ["--configfile", str(REPO / "config" / "config.yaml"), str(REPO / "config" / "tiny.yaml")]
-TARGETS = ["all", "map2d"]
+TARGETS = ["all", "map2d", "map2d_curves"]
 
 PAPER_FIGURES = [f"fig{nn:02d}" for nn in range(1, 12)] + ["fig03a", "fig03b"]
 SUPPLEMENTARY = [
     "periodic/grazing",
     "bifurcation/bifurcation_overlay",
     "bifurcation/map2d",
+    "two_parameter/map2d_curves",
     "basins/basins",
     "orbits/fig02_orbits",
     "orbits/fig03b_orbits",

@@ -172,6 +172,7 @@ def validate_config(config: dict, schema_path) -> dict:
                 f"start <= stop <= transient + duration = {end}"
             )
     _check_orbit_segments(config.get("periodic_orbits", {}).get("segments", {}))
+    _check_two_parameter(config)
     study = config.get("measured", {}).get("noise_study", {})
     stray = sorted(set(study.get("x_impact_noise", [])) - set(study.get("noise", [])))
     if stray:
@@ -201,6 +202,38 @@ def _check_orbit_segments(segments: dict) -> None:
                 raise ConfigError(f"{where}.doubling_of: the chain of parents comes back to {parent!r}")
             seen.add(parent)
             parent = segments[parent].get("doubling_of", {}).get("segment")
+
+
+def _check_two_parameter(config: dict) -> None:
+    """The curves start at the model's value of the parameter, inside an ordered range; they are
+    drawn over the 2-D map, so both use the same parameter; each names an existing segment."""
+    two = config.get("two_parameter", {})
+    where = "invalid configuration:\n  two_parameter"
+    name, (lo, hi) = two["parameter"], two["values"]
+    if not lo < hi:
+        raise ConfigError(f"{where}.values: must be [lo, hi] with lo < hi, got {two['values']}")
+    own = config["model"].get(name)
+    if own is not None and not lo <= own <= hi:
+        raise ConfigError(
+            f"{where}.values: {two['values']} must contain the model's {name} = {own} (where every curve starts)"
+        )
+    if not two["w_range"][0] < two["w_range"][1]:
+        raise ConfigError(f"{where}.w_range: must be [lo, hi] with lo < hi, got {two['w_range']}")
+    if not two["ds"] > two["ds_min"]:
+        raise ConfigError(f"{where}.ds: must exceed ds_min = {two['ds_min']}, got {two['ds']}")
+    drawn_over = config["bifurcation"]["map2d"]["parameter"]
+    if name != drawn_over:
+        raise ConfigError(
+            f"{where}.parameter: {name} differs from bifurcation.map2d.parameter {drawn_over} (the map the "
+            "curves are drawn over); set both to the same parameter"
+        )
+    segments = config.get("periodic_orbits", {}).get("segments", {})
+    for curve, spec in two["curves"].items():
+        if spec["segment"] not in segments:
+            raise ConfigError(
+                f"{where}.curves.{curve}.segment: no segment named {spec['segment']!r} in periodic_orbits.segments "
+                f"({', '.join(segments) or 'none'})"
+            )
 
 
 def load_config(path, schema_path) -> dict:

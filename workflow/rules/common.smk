@@ -53,7 +53,8 @@ def scene(name):
 #   tables/<group>/   numbers (CSV/MD), incl. the group's rows of the paper table
 #   figures/          the paper's figures figNN (and fig03a, fig03b); supplementary ones in figures/<group>/
 #   logs/<group>/, benchmarks/<group>/   one file per job: <rule>[_<wildcards>]
-# Groups: scenes (simulate.smk), periodic, bifurcation, orbits (periodic_orbits.smk), chaotic, measured, work_precision,
+# Groups: scenes (simulate.smk), periodic, bifurcation, orbits (periodic_orbits.smk), two_parameter, chaotic, measured,
+# work_precision,
 # benchmark (benchmark.smk), combined (combined.smk: products that join several groups).
 # ---------------------------------------------------------------------------------------
 NUMBA_CACHE = "results/.numba_cache_ready"  # marker: the core is compiled into the shared cache
@@ -137,6 +138,22 @@ def orbit_parent(wildcards):
     """The parent segment's file of a doubled orbit segment (its located doublings seed it)."""
     parent = config["periodic_orbits"]["segments"][wildcards.segment].get("doubling_of")
     return {"parent": ORBIT_SEGMENT.format(segment=parent["segment"])} if parent else {}
+
+
+# two_parameter group (the orbits group's located bifurcations continued in w and xI or m0e;
+# opt-in: two_parameter.smk)
+TWO_CURVE = "results/runs/two_parameter/{curve}.json"
+TWO_POINTS_CSV = "results/tables/two_parameter/curve_points.csv"
+TWO_POINTS_MD = "results/tables/two_parameter/curve_points.md"
+TWO_CODIM_CSV = "results/tables/two_parameter/codim_two.csv"
+TWO_SEPARATION_CSV = "results/tables/two_parameter/map_separation.csv"
+TWO_SEPARATION_MD = "results/tables/two_parameter/map_separation.md"
+
+
+def curve_segment(wildcards):
+    """The orbit segment whose located point starts a two-parameter curve."""
+    segment = config["two_parameter"]["curves"][wildcards.curve]["segment"]
+    return {"segment": ORBIT_SEGMENT.format(segment=segment)}
 
 
 # chaotic group

@@ -1,0 +1,71 @@
+# Two-parameter bifurcation curves (beyond the paper; opt-in): each located point of the orbits
+# group's table named in config two_parameter.curves continued in w and a second parameter (xI or
+# m0e) by pseudo-arclength, one job per curve; their table; and the curves drawn over the 2-D map of
+# bifurcation.smk with the map's cells checked against them. Targets: two_parameter, map2d_curves.
+
+TWO = config["two_parameter"]
+TWO_CURVES = list(TWO["curves"])
+
+
+rule two_parameter_curve:
+    input:
+        unpack(curve_segment),
+        cache=NUMBA_CACHE,
+    output:
+        curve=TWO_CURVE,
+    log:
+        logfile("two_parameter", "two_parameter_curve_{curve}"),
+    benchmark:
+        benchmark_file("two_parameter", "two_parameter_curve_{curve}")
+    wildcard_constraints:
+        curve="|".join(TWO_CURVES) or "none",
+    params:
+        spec=lambda wc: TWO["curves"][wc.curve],
+        parameter=TWO["parameter"],
+        values=TWO["values"],
+        w_range=TWO["w_range"],
+        ds=TWO["ds"],
+        ds_min=TWO["ds_min"],
+        max_points=TWO["max_points"],
+        model=config["model"],
+    script:
+        "../scripts/two_parameter_curve.py"
+
+
+rule two_parameter:
+    input:
+        curves=expand(TWO_CURVE, curve=TWO_CURVES),
+    output:
+        csv=TWO_POINTS_CSV,
+        codim=TWO_CODIM_CSV,
+        md=TWO_POINTS_MD,
+    log:
+        logfile("two_parameter", "two_parameter"),
+    params:
+        names=TWO_CURVES,
+    script:
+        "../scripts/two_parameter_table.py"
+
+
+rule map2d_curves:
+    input:
+        map=MAP2D,
+        curves=expand(TWO_CURVE, curve=TWO_CURVES),
+        table=rules.two_parameter.output.csv,  # map2d_curves builds the curves' table too
+    output:
+        png=report(
+            supplementary("two_parameter", "map2d_curves")[0],
+            caption="../report/map2d_curves.rst",
+            category="Bifurcation diagrams (paper Figs 2, 3b)",
+        ),
+        pdf=supplementary("two_parameter", "map2d_curves")[1],
+        separation=TWO_SEPARATION_CSV,
+        md=TWO_SEPARATION_MD,
+    log:
+        logfile("two_parameter", "map2d_curves"),
+    params:
+        names=TWO_CURVES,
+        model=config["model"],
+        marks=[s["omega"] for s in config["scenes"].values()],
+    script:
+        "../scripts/map2d_curves.py"
