@@ -85,6 +85,7 @@ def lock_files(directory) -> list[Path]:
 
 def unlock_stale(directory) -> str:
     """Remove the locks in directory unless a Snakemake process works there; say what was done."""
+    directory = os.path.realpath(directory)
     locks = lock_files(directory)
     if not locks:
         return ""

@@ -93,12 +93,7 @@ rule measured_fig02_points:
 # the study in one process, impactosc.measured.noise_study) and one for the sensor-realism rows,
 # merged into the table and the JSON the figure reads.
 MEAS_NOISE = MEAS["noise_study"]
-MEAS_NOISE_COMMON = {
-    "study": MEAS_NOISE,
-    "surrogate": MEAS["surrogate"],
-    "model": config["model"],
-    "solver": config["solver"],
-}
+MEAS_NOISE_COMMON = {"surrogate": MEAS["surrogate"], "model": config["model"], "solver": config["solver"]}
 MEAS_NOISE_LEVELS = range(len(MEAS_NOISE["noise"]))
 MEAS_NOISE_REALISM = bool(MEAS_NOISE.get("realism", {}).get("cases"))  # a realism job when cases are configured
 
@@ -117,6 +112,8 @@ rule measured_noise_level:
         level=r"\d+",
     params:
         **MEAS_NOISE_COMMON,
+        # every level: a level's noise is drawn after the levels before it
+        study={k: MEAS_NOISE[k] for k in ("rates", "noise", "x_impact_span", "x_impact_noise")},
         analysis=config["chaotic"]["analysis"],
     script:
         "../scripts/measured_noise_level.py"
@@ -134,6 +131,7 @@ rule measured_noise_realism:
         benchmark_file("measured", "measured_noise_realism")
     params:
         **MEAS_NOISE_COMMON,
+        study={k: MEAS_NOISE[k] for k in ("realism", "density_rate", "x_impact_span")},
     script:
         "../scripts/measured_noise_realism.py"
 

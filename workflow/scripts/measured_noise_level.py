@@ -34,8 +34,8 @@ rows = noise_level_rows(
     mismatch=p.surrogate["mismatch"],
     seed=p.surrogate["seed"],
     params=ModelParams(**p.model),
-    x_impact_span=p.study.get("x_impact_span", 0.0),
-    x_impact_noise=p.study.get("x_impact_noise", []),
+    x_impact_span=p.study["x_impact_span"],
+    x_impact_noise=p.study["x_impact_noise"],
     **p.solver,
 )
 write_json(snakemake.output.json, {"rows": rows})

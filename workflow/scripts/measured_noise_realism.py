@@ -29,7 +29,7 @@ rows = realism_rows(
     mismatch=p.surrogate["mismatch"],
     seed=p.surrogate["seed"],
     params=ModelParams(**p.model),
-    x_impact_span=p.study.get("x_impact_span", 0.0),
+    x_impact_span=p.study["x_impact_span"],
     **p.solver,
 )
 write_json(snakemake.output.json, {"rows": rows})

@@ -29,4 +29,4 @@ if len(json_rows) != len(csv_rows):
 sources = [*i.level_json, *i.realism_json]
 write_json(snakemake.output.json, {"rows": json_rows}, sources=sources)
 write_csv(snakemake.output.csv, csv_rows, TABLE_COLUMNS, sources=sources)
-logging.info(f"{len(json_rows)} rows from {len(i.level_json)} noise levels and {len(i.realism_json)} realism part")
+logging.info(f"{len(json_rows)} rows from {len(i.level_json)} noise level(s) and {len(i.realism_json)} realism part(s)")
