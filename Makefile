@@ -1,41 +1,62 @@
 # Two commands do everything on a fresh machine with Python 3.11:
 #   make        install into .venv and run the full workflow (snakemake -j2)
 #   make test   install into .venv and run the default (fast) tests, lint and format checks
-# Both install the exact versions of requirements.lock (hash-checked); `make lock` refreshes it.
+# Both install the exact versions of requirements.lock (hash-checked) with uv, itself pinned with
+# its hashes in requirements-uv.lock; `make lock` refreshes both locks.
 PYTHON ?= python3
 LOCK := requirements.lock
 VENV := .venv
 BIN := $(VENV)/bin
 JOBS ?= 2
+# uv lives in a venv of its own: `uv pip sync` removes from .venv whatever the lock does not list
+UV_VERSION := 0.13.8
+UV_LOCK := requirements-uv.lock
+UV_VENV := .tools/uv
+UV := $(UV_VENV)/bin/uv
+# extra arguments of the workflow run, e.g. make SNAKEMAKE_ARGS='fig05 --configfile my.yaml'
+SNAKEMAKE_ARGS ?=
 
-.PHONY: all install lock test test-slow report lint format check-cluster check-slurm clean
+.PHONY: all install lock test test-slow report lint docs format check-cluster check-slurm clean
 
+# A build killed part-way resumes with a plain `make`: a lock left by a dead Snakemake is removed
+# (never one a live Snakemake holds, workflow/unlock_stale.py) and incomplete outputs are redone.
 all: install
-	$(BIN)/snakemake -j$(JOBS)
+	$(BIN)/python workflow/unlock_stale.py
+	$(BIN)/snakemake -j$(JOBS) --rerun-incomplete $(SNAKEMAKE_ARGS)
 
-$(BIN)/python:
-	$(PYTHON) -m venv $(VENV)
+# uv, pinned and hash-checked, bootstrapped by the venv's own pip (no uv on the machine needed)
+$(UV): $(UV_LOCK)
+	rm -rf $(UV_VENV)
+	$(PYTHON) -m venv $(UV_VENV)
+	$(UV_VENV)/bin/python -m pip install --quiet --require-hashes --no-deps -r $(UV_LOCK)
+	touch $@
 
-# The tested environment: every package pinned with its hashes (extras test, peers and slurm),
-# then the package itself, built by the locked setuptools (no unpinned build environment).
-$(VENV)/.installed: $(BIN)/python $(LOCK) pyproject.toml
-	$(BIN)/python -m pip install --quiet --require-hashes --no-deps -r $(LOCK)
-	$(BIN)/python -m pip install --quiet --no-deps --no-build-isolation -e .
+# the interpreter of .venv is the one $(PYTHON) names; uv never downloads one
+$(BIN)/python: | $(UV)
+	$(UV) venv --quiet --clear --no-python-downloads --python "$$($(PYTHON) -c 'import sys; print(sys.executable)')" $(VENV)
+
+# The tested environment: every package pinned with its hashes (extras test, peers, slurm, docs),
+# exactly (sync removes what the lock does not list), then the package itself, built by the
+# locked setuptools (no unpinned build environment).
+$(VENV)/.installed: $(BIN)/python $(LOCK) pyproject.toml | $(UV)
+	$(UV) pip sync --quiet --python $(BIN)/python --require-hashes $(LOCK)
+	$(UV) pip install --quiet --python $(BIN)/python --no-deps --no-build-isolation -e .
 	touch $@
 
 install: $(VENV)/.installed
 
-# Refresh the lock after changing pyproject's dependencies (uv resolves for every platform
-# from PyPI; uv is only the locking tool, not a dependency of the package).
-lock: $(BIN)/python
-	$(BIN)/python -m pip install --quiet uv
-	$(BIN)/uv pip compile pyproject.toml --extra test --extra peers --extra slurm --universal \
-		--python-version 3.11 --generate-hashes --index-url https://pypi.org/simple --quiet -o $(LOCK)
+# Refresh the locks after changing pyproject's dependencies or UV_VERSION (uv resolves for every
+# platform from its configured index, PyPI unless the user's uv configuration says otherwise).
+lock: $(UV)
+	$(UV) pip compile pyproject.toml --extra test --extra peers --extra slurm --extra docs --universal \
+		--python-version 3.11 --generate-hashes --quiet -o $(LOCK)
+	echo "uv==$(UV_VERSION)" | $(UV) pip compile - --universal --python-version 3.11 --generate-hashes \
+		--quiet -o $(UV_LOCK)
 
 # The default checks (.ci/run): format and lint (ruff for the code, snakefmt for the rules,
 # snakemake --lint), a dry run of the whole workflow, then the tests (which include the tiny
 # end-to-end run of every rule, tests/test_workflow_tiny.py).
-test: lint
+test: lint docs
 	$(BIN)/python -m pytest
 
 # The checks make test runs before the tests: format, lint, a dry run of the whole workflow
@@ -45,6 +66,11 @@ lint: install
 	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/python .ci/snakemake_lint.py $(BIN)/snakemake
 	$(BIN)/snakemake -n all --quiet rules > /dev/null
+
+# The documentation site into site/, strict: a broken link or reference, or public API without a
+# docstring (docs/hooks.py), fails the build. make test builds it too.
+docs: install
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --quiet
 
 format: install
 	$(BIN)/ruff format .
@@ -70,4 +96,4 @@ check-slurm: $(VENV)/.installed
 	bash workflow/slurm/check_slurm.sh --install
 
 clean:
-	rm -rf results/runs results/stats results/tables results/figures results/logs results/benchmarks
+	rm -rf results/runs results/stats results/tables results/figures results/logs results/benchmarks site

@@ -2,9 +2,9 @@
 config/tiny.yaml plans the bifurcation sweeps with the file's parameters, and Snakemake's params
 trigger reruns every job whose model changed.
 
-How, without running a simulation: the outputs of fig02 are created empty and marked done with
-model BC (--touch records each job's params), so a dry run with the model file shows the jobs it
-would rerun and why. On the command line the file is given as --config 'model={file: ...}'
+How, without running a simulation: the outputs of fig02's jobs and their benchmark files (which
+Snakemake counts among a job's outputs) are created empty and marked done with model BC (--touch
+records each job's params), so a dry run with the model file shows the jobs it would rerun and why. On the command line the file is given as --config 'model={file: ...}'
 (Snakemake 9 refuses a dotted key such as model.file=... in --config).
 """
 
@@ -35,6 +35,10 @@ def test_model_file_reruns_the_sweeps_with_its_parameters(tmp_path):
             out = tmp_path / line.split("\t")[0]
             out.parent.mkdir(parents=True, exist_ok=True)
             out.touch()
+    plan = _snakemake(tmp_path, "fig02", "-n", "--forceall", *CONFIGS)
+    for path in re.findall(r"^    benchmark: (\S+)$", plan, re.MULTILINE):
+        (tmp_path / path).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / path).touch()
     _snakemake(tmp_path, "fig02", "--touch", "--forceall", *CONFIGS)  # done with model BC
     assert "Nothing to be done" in _snakemake(tmp_path, "fig02", "-n", *CONFIGS)
 

@@ -15,6 +15,8 @@ from pathlib import Path
 import h5py
 import pytest
 
+from impactosc.files import read_csv
+
 REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = [sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile")]
 CONFIGS = ["--configfile", str(REPO / "config" / "config.yaml"), str(REPO / "config" / "tiny.yaml")]
@@ -64,6 +66,17 @@ def test_paper_table_and_benchmarks_are_written(tiny_build):
     assert md.count("\n|") > 20  # one row per number of the paper
     assert (tables / "benchmark" / "benchmark_core.md").read_text().startswith("# Core speed")
     assert (tables / "work_precision" / "hard_cases.csv").stat().st_size > 0
+
+
+def test_build_time_table_counts_every_job(tiny_build):
+    tables = tiny_build / "results" / "tables"
+    groups = read_csv(tables / "build_times.csv", numbers=True)
+    total = groups[-1]
+    assert total["group"] == "total" and total["wall_s"] == pytest.approx(sum(g["wall_s"] for g in groups[:-1]))
+    # every job of `all` wrote a benchmark file and is counted (map2d, also built here, is opt-in)
+    benchmarks = [p for p in (tiny_build / "results" / "benchmarks").rglob("*.tsv") if not p.stem.startswith("map2d")]
+    assert total["jobs"] == len(benchmarks) > 50
+    assert "| **total** |" in (tables / "build_times.md").read_text()
 
 
 def test_run_files_carry_provenance(tiny_build):

@@ -45,6 +45,8 @@ rule basins:
         pdf=supplementary("basins", "basins")[1],
     log:
         logfile("basins", "basins"),
+    benchmark:
+        benchmark_file("basins", "basins")
     params:
         **BASINS_COMMON,
     # merges the parts, classifies rest (0, 0), writes the table and draws the figure
@@ -63,6 +65,10 @@ use rule basins as basins_fine with:
         pdf=supplementary("basins", "basins_fine")[1],
     log:
         logfile("basins", "basins_fine"),
+    benchmark:
+        benchmark_file("basins", "basins_fine")
 
 
 ALL_TARGETS.extend(rules.basins.output)
+build_jobs(rules.basins_part, grid=["coarse"], chunk=range(BASINS_GRIDS["coarse"]["chunks"]))
+build_jobs(rules.basins)

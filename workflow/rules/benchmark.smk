@@ -12,6 +12,8 @@ rule cyrk_shim:
         marker=CYRK_SHIM,
     log:
         logfile("benchmark", "cyrk_shim"),
+    benchmark:
+        benchmark_file("benchmark", "cyrk_shim")
     priority: 15
     script:
         "../scripts/cyrk_shim.py"
@@ -28,6 +30,8 @@ rule benchmark_core:
         md=BENCHMARK_CORE_MD,
     log:
         logfile("benchmark", "benchmark_core"),
+    benchmark:
+        benchmark_file("benchmark", "benchmark_core")
     priority: 5
     threads: timing_threads
     params:
@@ -37,6 +41,7 @@ rule benchmark_core:
 
 
 ALL_TARGETS.extend(rules.benchmark_core.output)
+build_jobs(rules.cyrk_shim, rules.benchmark_core)
 
 
 # Opt-in (about a minute): snakemake -j1 benchmark_taylor. Taylor steps against the core's
@@ -67,6 +72,8 @@ rule random_scenes_part:
         csv=RANDOM_SCENES_PART,
     log:
         logfile("benchmark", "random_scenes_part_{part}"),
+    benchmark:
+        benchmark_file("benchmark", "random_scenes_part_{part}")
     params:
         rs=config["random_scenes"],
     script:
@@ -81,6 +88,8 @@ rule random_scenes:
         md=RANDOM_SCENES_MD,
     log:
         logfile("benchmark", "random_scenes"),
+    benchmark:
+        benchmark_file("benchmark", "random_scenes")
     params:
         rs=config["random_scenes"],
     script:

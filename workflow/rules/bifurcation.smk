@@ -73,6 +73,8 @@ rule bifurcation_merge:
         sweep=BIF_SWEEP,
     log:
         logfile("bifurcation", "bifurcation_merge_{sweep}"),
+    benchmark:
+        benchmark_file("bifurcation", "bifurcation_merge_{sweep}")
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
     params:
@@ -93,6 +95,8 @@ rule bifurcation_tables:
         rows=rows_file("bifurcation"),
     log:
         logfile("bifurcation", "bifurcation_tables"),
+    benchmark:
+        benchmark_file("bifurcation", "bifurcation_tables")
     params:
         names=BIF_SWEEPS,
         reading=BIF["reading"],
@@ -113,6 +117,8 @@ rule fig02:
         pdf=figure(2)[1],
     log:
         logfile("bifurcation", "fig02"),
+    benchmark:
+        benchmark_file("bifurcation", "fig02")
     params:
         figure="fig02",
         names=[BIF["fig02"]["sweep"]],
@@ -133,6 +139,8 @@ rule fig03b:
         pdf=panel("fig03b")[1],
     log:
         logfile("bifurcation", "fig03b"),
+    benchmark:
+        benchmark_file("bifurcation", "fig03b")
     params:
         figure="fig03b",
         names=[BIF["fig03b"]["sweep"]],
@@ -157,6 +165,8 @@ rule bifurcation_overlay:
         pdf=supplementary("bifurcation", "bifurcation_overlay")[1],
     log:
         logfile("bifurcation", "bifurcation_overlay"),
+    benchmark:
+        benchmark_file("bifurcation", "bifurcation_overlay")
     params:
         figure="overlay",
         names=BIF["overlay"]["sweeps"],
@@ -173,6 +183,8 @@ rule bifurcation_benchmark:
         json=BIF_BENCHMARK,
     log:
         logfile("bifurcation", "bifurcation_benchmark"),
+    benchmark:
+        benchmark_file("bifurcation", "bifurcation_benchmark")
     params:
         names=BIF_SWEEPS,
     script:
@@ -208,6 +220,8 @@ rule map2d:
         pdf=supplementary("bifurcation", "map2d")[1],
     log:
         logfile("bifurcation", "map2d"),
+    benchmark:
+        benchmark_file("bifurcation", "map2d")
     params:
         model=config["model"],
     script:
@@ -224,3 +238,8 @@ ALL_TARGETS.extend(
     ]
 )
 TABLE_ROWS.append(rules.bifurcation_tables.output.rows)
+build_jobs(rules.bifurcation_chunk, sweep=BIF_SWEEPS, chunk=range(BIF["chunks"]))
+build_jobs(rules.bifurcation_merge, sweep=BIF_SWEEPS)
+if BIF["chunks"] > 1:  # the coarse pass seeds every chunk but the first
+    build_jobs(rules.bifurcation_coarse, sweep=BIF_SWEEPS)
+build_jobs(rules.bifurcation_tables, rules.fig02, rules.fig03b, rules.bifurcation_overlay, rules.bifurcation_benchmark)

@@ -52,6 +52,8 @@ rule chaotic_train_stats:
         json=CHAOTIC_TRAIN_STATS,
     log:
         logfile("chaotic", "chaotic_train_stats_{train}"),
+    benchmark:
+        benchmark_file("chaotic", "chaotic_train_stats_{train}")
     wildcard_constraints:
         train="|".join(CHAOTIC_TRAINS),
     params:
@@ -69,6 +71,8 @@ rule chaotic_ensemble:
         csv=CHAOTIC_ENSEMBLE_TABLE,
     log:
         logfile("chaotic", "chaotic_ensemble"),
+    benchmark:
+        benchmark_file("chaotic", "chaotic_ensemble")
     params:
         analysis=CHAOTIC["analysis"],
     script:
@@ -85,6 +89,8 @@ rule chaotic_stats:
         mixture=ISI_MIXTURE_TABLE,
     log:
         logfile("chaotic", "chaotic_stats"),
+    benchmark:
+        benchmark_file("chaotic", "chaotic_stats")
     params:
         command="snakemake -j1 chaotic_stats",
     script:
@@ -114,6 +120,8 @@ for _nn, _inputs in (
             pdf=figure(_nn)[1],
         log:
             logfile("chaotic", f"fig{_nn:02d}"),
+        benchmark:
+            benchmark_file("chaotic", f"fig{_nn:02d}")
         params:
             figure=_nn,
             portrait_span=CHAOTIC["portrait_span"] if _nn == 6 else None,
@@ -130,3 +138,6 @@ ALL_TARGETS.extend(
     ]
 )
 TABLE_ROWS.append(rules.chaotic_stats.output.rows)
+build_jobs(rules.chaotic_member, member=sorted(CHAOTIC_MEMBERS))
+build_jobs(rules.chaotic_train_stats, train=list(CHAOTIC_TRAINS))
+build_jobs(rules.chaotic_ensemble, rules.chaotic_stats, *(getattr(rules, f"fig{nn:02d}") for nn in range(6, 12)))

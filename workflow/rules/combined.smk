@@ -13,6 +13,8 @@ rule fig03:
         pdf=figure(3)[1],
     log:
         logfile("combined", "fig03"),
+    benchmark:
+        benchmark_file("combined", "fig03")
     params:
         sweep=config["bifurcation"]["fig03b"]["sweep"],
         start=config["periodic"]["fig03a"]["start"],
@@ -32,6 +34,8 @@ rule paper_vs_replication:
         html=report(PAPER_TABLE_HTML, caption="../report/paper_vs_replication.rst", category="Paper vs replication"),
     log:
         logfile("combined", "paper_vs_replication"),
+    benchmark:
+        benchmark_file("combined", "paper_vs_replication")
     params:
         model=config["model_source"],
     script:
@@ -39,3 +43,24 @@ rule paper_vs_replication:
 
 
 ALL_TARGETS.extend(rules.fig03.output)
+build_jobs(rules.fig03, rules.paper_vs_replication)
+
+
+# The job time of the default build per group, from the benchmark file of every job (each
+# rules file lists its jobs with build_jobs): as inputs they make it the build's last job, and
+# it reruns when a job does. It has no benchmark of its own (it could not be in its table).
+rule build_times:
+    input:
+        benchmarks=lambda wc: BUILD_BENCHMARKS,
+    output:
+        csv=BUILD_TIMES_CSV,
+        md=BUILD_TIMES_MD,
+    log:
+        logfile("combined", "build_times"),
+    params:
+        largest=10,
+    script:
+        "../scripts/build_times.py"
+
+
+ALL_TARGETS.extend(rules.build_times.output)

@@ -25,6 +25,20 @@ CORE_SOURCES = [str(Path(impactosc.__file__).parent / name) for name in impactos
 ALL_TARGETS = []
 # Each figure group appends the CSV of its rows of the paper-vs-replication table here.
 TABLE_ROWS = []
+# The benchmark file of every job of the default build (rule all); each rules file adds its
+# jobs' with build_jobs(). The build-time table (rule build_times) takes them all as inputs, so
+# it runs after every job of the build and again after any of them reruns, and reruns no job.
+BUILD_BENCHMARKS = []
+
+
+def build_jobs(*rules_, **wildcards):
+    """Count rules' jobs in the default build: each rule's benchmark file for every combination
+    of the wildcard values given as lists (as expand() makes them), or its one file without."""
+    for rule_ in rules_:
+        if not rule_.rule.benchmark:
+            raise WorkflowError(f"rule {rule_.rule.name} has no benchmark directive (benchmark_file(group, name))")
+        pattern = str(rule_.benchmark)
+        BUILD_BENCHMARKS.extend(expand(pattern, **wildcards) if wildcards else [pattern])
 
 
 def timing_threads(wildcards):
@@ -67,7 +81,8 @@ def logfile(group, name):
 
 
 def benchmark_file(group, name):
-    """Snakemake benchmark (wall time, memory) of one job of a rule."""
+    """Snakemake benchmark (wall time, CPU time, memory) of one job of a rule: every rule but
+    the aggregating targets has one, read by the build-time table (rule build_times)."""
     return f"results/benchmarks/{group}/{name}.tsv"
 
 
@@ -179,6 +194,11 @@ MEAS_CHAOS_EVENTS = "results/runs/measured/chaos_events.h5"
 MEAS_FIG02_POINTS = "results/runs/measured/fig02_experimental.h5"
 MEAS_NOISE_STATS = "results/stats/measured/measured_noise_study.json"
 MEAS_NOISE_TABLE = "results/tables/measured/measured_noise_study.csv"
+# the noise study's parts (one per noise level, one for the sensor-realism rows): slices of the two above
+MEAS_NOISE_LEVEL_JSON = "results/stats/measured/noise_study/level{level}.json"
+MEAS_NOISE_LEVEL_CSV = "results/stats/measured/noise_study/level{level}.csv"
+MEAS_NOISE_REALISM_JSON = "results/stats/measured/noise_study/realism.json"
+MEAS_NOISE_REALISM_CSV = "results/stats/measured/noise_study/realism.csv"
 MEAS_XI_COVERAGE_PART = "results/stats/measured/x_impact_coverage/level{level}.json"
 MEAS_XI_COVERAGE_TABLE = "results/tables/measured/x_impact_coverage.csv"
 MEAS_XI_COVERAGE_DRAWS = "results/tables/measured/x_impact_coverage_draws.csv"
@@ -202,6 +222,10 @@ BENCHMARK_CORE_MD = "results/tables/benchmark/benchmark_core.md"
 BENCHMARK_CORE_HEADLINE = "results/tables/benchmark/benchmark_core_headline.csv"
 BENCHMARK_TAYLOR_CSV = "results/tables/benchmark/benchmark_taylor.csv"
 BENCHMARK_TAYLOR_MD = "results/tables/benchmark/benchmark_taylor.md"
+
+# combined: the job time of the default build per group, from the benchmark files (rule build_times)
+BUILD_TIMES_CSV = "results/tables/build_times.csv"
+BUILD_TIMES_MD = "results/tables/build_times.md"
 
 # combined: the table of every number the paper states (named in README: kept at the top)
 PAPER_TABLE_CSV = "results/tables/paper_vs_replication.csv"

@@ -63,6 +63,8 @@ rule identify_figure:
         pdf=supplementary("identification", "identify")[1],
     log:
         logfile("identification", "identify_figure"),
+    benchmark:
+        benchmark_file("identification", "identify_figure")
     script:
         "../scripts/identify_figure.py"
 
@@ -70,6 +72,9 @@ rule identify_figure:
 # the default build has the model file, its table and figure; the model choice (six fits, some
 # 7 min of CPU at the defaults) comes with the target identify
 ALL_TARGETS.extend([*rules.identify_model.output, *rules.identify_figure.output])
+build_jobs(rules.identify_model, rules.identify_figure)
+if not IDENT["records"]:
+    build_jobs(rules.identify_surrogate)
 
 
 rule identify_choice_candidate:
@@ -98,6 +103,8 @@ rule identify_choice:
         md=IDENT_CHOICE_MD,
     log:
         logfile("identification", "identify_choice"),
+    benchmark:
+        benchmark_file("identification", "identify_choice")
     script:
         "../scripts/identify_choice.py"
 
@@ -136,5 +143,7 @@ rule identify_coverage:
         draws=IDENT_COVERAGE_DRAWS,
     log:
         logfile("identification", "identify_coverage"),
+    benchmark:
+        benchmark_file("identification", "identify_coverage")
     script:
         "../scripts/identify_coverage.py"

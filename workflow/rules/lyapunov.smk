@@ -60,6 +60,8 @@ rule lyapunov_chaos:
         pdf=supplementary("lyapunov", "lyapunov_chaos")[1],
     log:
         logfile("lyapunov", "lyapunov_chaos"),
+    benchmark:
+        benchmark_file("lyapunov", "lyapunov_chaos")
     script:
         "../scripts/lyapunov_chaos.py"
 
@@ -97,6 +99,8 @@ rule lyapunov_sweeps:
         signs=LYAP_SIGNS,
     log:
         logfile("lyapunov", "lyapunov_sweeps"),
+    benchmark:
+        benchmark_file("lyapunov", "lyapunov_sweeps")
     params:
         names=list(config["bifurcation"]["sweeps"]),
         chunks=LYA["sweeps"]["chunks"],
@@ -116,6 +120,8 @@ rule fig02_lyapunov:
         pdf=supplementary("lyapunov", "fig02_lyapunov")[1],
     log:
         logfile("lyapunov", "fig02_lyapunov"),
+    benchmark:
+        benchmark_file("lyapunov", "fig02_lyapunov")
     params:
         quantity="poincare",
         model=config["model"],
@@ -137,6 +143,8 @@ rule fig03b_lyapunov:
         pdf=supplementary("lyapunov", "fig03b_lyapunov")[1],
     log:
         logfile("lyapunov", "fig03b_lyapunov"),
+    benchmark:
+        benchmark_file("lyapunov", "fig03b_lyapunov")
     params:
         quantity="isi",
         model=config["model"],
@@ -147,3 +155,8 @@ rule fig03b_lyapunov:
 
 ALL_TARGETS.extend(rules.lyapunov_chaos.output + rules.fig02_lyapunov.output + rules.fig03b_lyapunov.output)
 ALL_TARGETS.append(rules.lyapunov_sweeps.output.signs)
+build_jobs(rules.lyapunov_member, member=LYA_MEMBERS)
+build_jobs(rules.lyapunov_sweep_part, sweep=list(config["bifurcation"]["sweeps"]), chunk=range(LYA["sweeps"]["chunks"]))
+build_jobs(
+    rules.lyapunov_checks, rules.lyapunov_chaos, rules.lyapunov_sweeps, rules.fig02_lyapunov, rules.fig03b_lyapunov
+)

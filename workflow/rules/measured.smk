@@ -63,6 +63,8 @@ rule measured_chaos_events:
         events=MEAS_CHAOS_EVENTS,
     log:
         logfile("measured", "measured_chaos_events"),
+    benchmark:
+        benchmark_file("measured", "measured_chaos_events")
     params:
         x_impact=MEAS["chaos"]["x_impact"],
         noise=MEAS["chaos"]["noise"],
@@ -78,6 +80,8 @@ rule measured_fig02_points:
         points=MEAS_FIG02_POINTS,
     log:
         logfile("measured", "measured_fig02_points"),
+    benchmark:
+        benchmark_file("measured", "measured_fig02_points")
     params:
         segments=MEAS["fig02"]["segments"] if MEAS_FIG02_SWEEP else None,
         reader=MEAS["fig02"]["read"],
@@ -85,9 +89,59 @@ rule measured_fig02_points:
         "../scripts/measured_fig02_points.py"
 
 
-rule measured_noise_study:
+# The noise study as parallel jobs: one per noise level (every rate; the same noise draws as
+# the study in one process, impactosc.measured.noise_study) and one for the sensor-realism rows,
+# merged into the table and the JSON the figure reads.
+MEAS_NOISE = MEAS["noise_study"]
+MEAS_NOISE_COMMON = {"surrogate": MEAS["surrogate"], "model": config["model"], "solver": config["solver"]}
+MEAS_NOISE_LEVELS = range(len(MEAS_NOISE["noise"]))
+MEAS_NOISE_REALISM = bool(MEAS_NOISE.get("realism", {}).get("cases"))  # a realism job when cases are configured
+
+
+rule measured_noise_level:
     input:
         cache=NUMBA_CACHE,
+    output:
+        json=MEAS_NOISE_LEVEL_JSON,
+        csv=MEAS_NOISE_LEVEL_CSV,
+    log:
+        logfile("measured", "measured_noise_level_{level}"),
+    benchmark:
+        benchmark_file("measured", "measured_noise_level_{level}")
+    wildcard_constraints:
+        level=r"\d+",
+    params:
+        **MEAS_NOISE_COMMON,
+        # every level: a level's noise is drawn after the levels before it
+        study={k: MEAS_NOISE[k] for k in ("rates", "noise", "x_impact_span", "x_impact_noise")},
+        analysis=config["chaotic"]["analysis"],
+    script:
+        "../scripts/measured_noise_level.py"
+
+
+rule measured_noise_realism:
+    input:
+        cache=NUMBA_CACHE,
+    output:
+        json=MEAS_NOISE_REALISM_JSON,
+        csv=MEAS_NOISE_REALISM_CSV,
+    log:
+        logfile("measured", "measured_noise_realism"),
+    benchmark:
+        benchmark_file("measured", "measured_noise_realism")
+    params:
+        **MEAS_NOISE_COMMON,
+        study={k: MEAS_NOISE[k] for k in ("realism", "density_rate", "x_impact_span")},
+    script:
+        "../scripts/measured_noise_realism.py"
+
+
+rule measured_noise_study:
+    input:
+        level_json=expand(MEAS_NOISE_LEVEL_JSON, level=MEAS_NOISE_LEVELS),
+        level_csv=expand(MEAS_NOISE_LEVEL_CSV, level=MEAS_NOISE_LEVELS),
+        realism_json=[MEAS_NOISE_REALISM_JSON] if MEAS_NOISE_REALISM else [],
+        realism_csv=[MEAS_NOISE_REALISM_CSV] if MEAS_NOISE_REALISM else [],
     output:
         csv=MEAS_NOISE_TABLE,
         json=MEAS_NOISE_STATS,
@@ -96,11 +150,7 @@ rule measured_noise_study:
     benchmark:
         benchmark_file("measured", "measured_noise_study")
     params:
-        study=MEAS["noise_study"],
-        surrogate=MEAS["surrogate"],
-        analysis=config["chaotic"]["analysis"],
-        model=config["model"],
-        solver=config["solver"],
+        rates=MEAS_NOISE["rates"],
     script:
         "../scripts/measured_noise_study.py"
 
@@ -117,13 +167,28 @@ rule measured_noise_figure:
         pdf=supplementary("measured", "measured_noise_study")[1],
     log:
         logfile("measured", "measured_noise_figure"),
+    benchmark:
+        benchmark_file("measured", "measured_noise_figure")
     params:
-        density_rate=MEAS["noise_study"]["density_rate"],
+        density_rate=MEAS_NOISE["density_rate"],
     script:
         "../scripts/measured_noise_figure.py"
 
 
 ALL_TARGETS.extend(rules.measured_noise_figure.output + [rules.measured_noise_study.output.csv])
+build_jobs(rules.measured_noise_level, level=MEAS_NOISE_LEVELS)
+build_jobs(rules.measured_noise_study, rules.measured_noise_figure)
+if MEAS_NOISE_REALISM:
+    build_jobs(rules.measured_noise_realism)
+# the surrogate's records and events, where a panel of another group is drawn from them
+if MEAS_HOOK_CHAOS:
+    build_jobs(rules.measured_chaos_events)
+    if MEAS["chaos"]["record"] is None:
+        build_jobs(rules.measured_surrogate, kind=["chaos"])
+if MEAS_HOOK_FIG02:
+    build_jobs(rules.measured_fig02_points)
+    if not (MEAS_FIG02_SWEEP or MEAS["fig02"]["records"]):
+        build_jobs(rules.measured_surrogate, kind=["sweep"])
 
 
 # Opt-in (about 6 min of CPU at the defaults): snakemake -j2 measured_x_impact_coverage.
@@ -159,6 +224,8 @@ rule measured_x_impact_coverage:
         draws=MEAS_XI_COVERAGE_DRAWS,
     log:
         logfile("measured", "x_impact_coverage"),
+    benchmark:
+        benchmark_file("measured", "x_impact_coverage")
     script:
         "../scripts/measured_x_impact_coverage.py"
 
@@ -174,6 +241,8 @@ if MEAS_HOOK_CHAOS:
             rows=rows_file("measured"),
         log:
             logfile("measured", "measured_rows"),
+        benchmark:
+            benchmark_file("measured", "measured_rows")
         params:
             is_surrogate=MEAS["chaos"]["record"] is None,
             command="snakemake -j1 measured_rows",
@@ -181,3 +250,4 @@ if MEAS_HOOK_CHAOS:
             "../scripts/measured_rows.py"
 
     TABLE_ROWS.append(rules.measured_rows.output.rows)
+    build_jobs(rules.measured_rows)

@@ -78,6 +78,8 @@ rule periodic_stats:
         spectrum=PERIOD4_SPECTRUM,
     log:
         logfile("periodic", "periodic_stats"),
+    benchmark:
+        benchmark_file("periodic", "periodic_stats")
     params:
         spectrum=PERIODIC["spectrum"],
         spectrum_of="after_grazing",
@@ -92,6 +94,8 @@ rule before_grazing_stats:
         stats=BEFORE_GRAZING_STATS,
     log:
         logfile("periodic", "before_grazing_stats"),
+    benchmark:
+        benchmark_file("periodic", "before_grazing_stats")
     params:
         spectrum=PERIODIC["spectrum"],
     # same statistics as rule periodic_stats, on the branch run: the script of that rule
@@ -108,6 +112,8 @@ rule grazing_stats:
         stats=GRAZING_STATS,
     log:
         logfile("periodic", "grazing_stats"),
+    benchmark:
+        benchmark_file("periodic", "grazing_stats")
     params:
         paper_omegas=PERIODIC["grazing"]["paper_omegas"],
         n_fit=PERIODIC["grazing"]["n_fit"],
@@ -124,6 +130,8 @@ rule periodic_rows:
         rows=rows_file("periodic"),
     log:
         logfile("periodic", "periodic_rows"),
+    benchmark:
+        benchmark_file("periodic", "periodic_rows")
     script:
         "../scripts/periodic_rows.py"
 
@@ -134,6 +142,8 @@ rule fig01:
         pdf=figure(1)[1],
     log:
         logfile("periodic", "fig01"),
+    benchmark:
+        benchmark_file("periodic", "fig01")
     script:
         "../scripts/fig01.py"
 
@@ -146,6 +156,8 @@ rule fig03a:
         pdf=panel("fig03a")[1],
     log:
         logfile("periodic", "fig03a"),
+    benchmark:
+        benchmark_file("periodic", "fig03a")
     params:
         start=PERIODIC["fig03a"]["start"],
         span=PERIODIC["fig03a"]["span"],
@@ -165,6 +177,8 @@ rule fig04:
         pdf=figure(4)[1],
     log:
         logfile("periodic", "fig04"),
+    benchmark:
+        benchmark_file("periodic", "fig04")
     params:
         inset=PERIODIC["fig04"]["inset"],
     script:
@@ -180,6 +194,8 @@ rule fig05:
         pdf=figure(5)[1],
     log:
         logfile("periodic", "fig05"),
+    benchmark:
+        benchmark_file("periodic", "fig05")
     script:
         "../scripts/fig05.py"
 
@@ -192,6 +208,8 @@ rule grazing:
         pdf=supplementary("periodic", "grazing")[1],
     log:
         logfile("periodic", "grazing"),
+    benchmark:
+        benchmark_file("periodic", "grazing")
     params:
         window=[PERIODIC["from_rest"]["start"], PERIODIC["from_rest"]["stop"]],
     script:
@@ -211,3 +229,17 @@ ALL_TARGETS.extend(
     ]
 )
 TABLE_ROWS.append(rules.periodic_rows.output.rows)
+build_jobs(
+    rules.periodic_branch,
+    rules.periodic_from_rest,
+    rules.periodic_before_grazing,
+    rules.periodic_stats,
+    rules.before_grazing_stats,
+    rules.grazing_stats,
+    rules.periodic_rows,
+    rules.fig01,
+    rules.fig03a,
+    rules.fig04,
+    rules.fig05,
+    rules.grazing,
+)

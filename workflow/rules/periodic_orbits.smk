@@ -43,6 +43,8 @@ rule orbits:
         rows=rows_file("orbits"),
     log:
         logfile("orbits", "orbits"),
+    benchmark:
+        benchmark_file("orbits", "orbits")
     params:
         names=ORB_SEGMENTS,
         command="snakemake -j2 orbits",
@@ -61,6 +63,8 @@ rule fig02_orbits:
         pdf=supplementary("orbits", "fig02_orbits")[1],
     log:
         logfile("orbits", "fig02_orbits"),
+    benchmark:
+        benchmark_file("orbits", "fig02_orbits")
     params:
         figure="fig02",
         names=ORB_SEGMENTS,
@@ -81,6 +85,8 @@ rule fig03b_orbits:
         pdf=supplementary("orbits", "fig03b_orbits")[1],
     log:
         logfile("orbits", "fig03b_orbits"),
+    benchmark:
+        benchmark_file("orbits", "fig03b_orbits")
     params:
         figure="fig03b",
         names=ORB_SEGMENTS,
@@ -93,3 +99,5 @@ rule fig03b_orbits:
 if ORB_SEGMENTS:
     ALL_TARGETS.extend(rules.fig02_orbits.output + rules.fig03b_orbits.output + [rules.orbits.output.csv])
     TABLE_ROWS.append(rules.orbits.output.rows)
+    build_jobs(rules.orbit_segment, segment=ORB_SEGMENTS)
+    build_jobs(rules.orbits, rules.fig02_orbits, rules.fig03b_orbits)

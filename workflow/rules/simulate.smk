@@ -9,6 +9,8 @@ rule numba_cache:
         marker=NUMBA_CACHE,
     log:
         logfile("scenes", "numba_cache"),
+    benchmark:
+        benchmark_file("scenes", "numba_cache")
     priority: 20
     script:
         "../scripts/numba_cache.py"
@@ -31,3 +33,7 @@ rule simulate_scene:
         scene=lambda wc: scene(wc.scene),
     script:
         "../scripts/simulate_scene.py"
+
+
+build_jobs(rules.numba_cache)
+build_jobs(rules.simulate_scene, scene=list(config["scenes"]))

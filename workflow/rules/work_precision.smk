@@ -49,6 +49,8 @@ rule wp_measure:
         csv=WP_MEASURE,
     log:
         logfile("work_precision", "wp_measure_{wp_scene}_{contestants}"),
+    benchmark:
+        benchmark_file("work_precision", "wp_measure_{wp_scene}_{contestants}")
     wildcard_constraints:
         wp_scene="|".join(WP["scenes"]),
         contestants="|".join(WP_CONTESTANTS),
@@ -69,6 +71,8 @@ rule wp_statistics:
         csv=WP_STATISTICS,
     log:
         logfile("work_precision", "wp_statistics"),
+    benchmark:
+        benchmark_file("work_precision", "wp_statistics")
     priority: 3
     params:
         model=config["model"],
@@ -89,6 +93,8 @@ rule wp_jit:
         json=WP_JIT,
     log:
         logfile("work_precision", "wp_jit"),
+    benchmark:
+        benchmark_file("work_precision", "wp_jit")
     params:
         cold=WP["jit_cold"],
     script:
@@ -112,6 +118,8 @@ rule work_precision:
         pdf=supplementary("work_precision", "work_precision")[1],
     log:
         logfile("work_precision", "work_precision"),
+    benchmark:
+        benchmark_file("work_precision", "work_precision")
     params:
         levels=WP["headline_errors"],
     script:
@@ -125,6 +133,8 @@ rule hard_cases:
         csv=HARD_CASES_TABLE,
     log:
         logfile("work_precision", "hard_cases"),
+    benchmark:
+        benchmark_file("work_precision", "hard_cases")
     priority: 3
     params:
         hc=HC,
@@ -141,6 +151,8 @@ rule wp_rows:
         rows=rows_file("work_precision"),
     log:
         logfile("work_precision", "wp_rows"),
+    benchmark:
+        benchmark_file("work_precision", "wp_rows")
     params:
         command="snakemake -j2 work_precision hard_cases",
     script:
@@ -150,3 +162,6 @@ rule wp_rows:
 ALL_TARGETS.extend(rules.work_precision.output)
 ALL_TARGETS.extend(rules.hard_cases.output)
 TABLE_ROWS.append(rules.wp_rows.output.rows)
+build_jobs(rules.wp_reference, wp_scene=list(WP["scenes"]))
+build_jobs(rules.wp_measure, wp_scene=list(WP["scenes"]), contestants=WP_CONTESTANTS)
+build_jobs(rules.wp_statistics, rules.wp_jit, rules.work_precision, rules.hard_cases, rules.wp_rows)

@@ -4,7 +4,7 @@
 # from Debian's slurm-wlm and munge packages. Not part of the default tests.
 #
 #   bash workflow/slurm/check_slurm.sh            # needs root, slurm-wlm, munge, the plugin
-#   bash workflow/slurm/check_slurm.sh --install  # first apt-get/pip install what is missing
+#   bash workflow/slurm/check_slurm.sh --install  # first install what is missing (apt-get, make install)
 #
 # What it does: writes a one-node slurm.conf (this host, all its CPUs) into a scratch
 # directory, starts munged, slurmctld and slurmd (and stops exactly those on exit), checks
@@ -28,8 +28,9 @@ if ! command -v slurmctld >/dev/null || ! command -v munged >/dev/null; then
     apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y slurm-wlm munge
 fi
 if ! "$VENV/bin/python" -c "import snakemake_executor_plugin_slurm" 2>/dev/null; then
-    [[ $INSTALL -eq 1 ]] || die "the SLURM executor plugin is missing: $VENV/bin/pip install -e '$REPO[slurm]'"
-    "$VENV/bin/pip" install snakemake-executor-plugin-slurm
+    # the plugin is in requirements.lock (the slurm extra): make installs it
+    [[ $INSTALL -eq 1 ]] || die "the SLURM executor plugin is missing from $VENV: run make install in $REPO"
+    make -C "$REPO" install
 fi
 
 HOST="$(hostname -s)"

@@ -5,9 +5,16 @@ Why a module of its own: the surrogate (:mod:`impactosc.measured.surrogate`) mak
 this scores what extraction (:mod:`impactosc.measured.extract`) recovers from them -- missed and
 extra impacts, timing error against the stated sigma and the Cramer-Rao bound, penetration
 error, the obstacle estimate, and the train's statistics (C_V^2, ISI modes, ACF peaks).
+
+The study is one function (:func:`noise_study`) and, for a workflow that runs it as parallel
+jobs, its parts: the rows of one noise level at every rate (:func:`noise_level_rows`, the same
+noise draws as the whole study), the sensor-realism rows (:func:`realism_rows`), and
+:func:`merge_levels`, which puts the levels' rows back in the study's order.
 """
 
 from __future__ import annotations
+
+import itertools
 
 import numpy as np
 
@@ -25,7 +32,40 @@ from .surrogate import (
     surrogate_record,
 )
 
-__all__ = ["match_impacts", "noise_study"]
+__all__ = ["TABLE_COLUMNS", "match_impacts", "merge_levels", "noise_level_rows", "noise_study", "realism_rows"]
+
+# Columns of the study's table (the rows also carry the ISI kernel densities, kept for the figure)
+TABLE_COLUMNS = [
+    "rate_hz",
+    "noise_m",
+    "method",
+    "n_true",
+    "n_found",
+    "missed",
+    "extra",
+    "timing_rms_s",
+    "timing_bias_s",
+    "timing_max_z",
+    "frac_beyond_5sigma",
+    "sigma_t_median_s",
+    "timing_err_median_s",
+    "timing_crb_median_s",
+    "timing_crb_ratio",
+    "penetration_bias_m",
+    "penetration_err_median_m",
+    "x_impact_err_m",
+    "x_impact_sigma_m",
+    "sensor_delay_s",
+    "noise_estimate_m",
+    "cv2_paper",
+    "cv2",
+    "isi_n_modes",
+    "isi_maxima",
+    "isi_valley_ratio",
+    "acf_n_significant",
+    "note",
+    "x_impact_note",
+]
 
 
 def match_impacts(true_t, found_t):
@@ -178,71 +218,163 @@ def noise_study(
         with ``declare_delay: false`` drops the filter's sensor_delay from the record's metadata
         (the delay is then not corrected: its timing bias shows).
     """
-    stray = sorted(set(x_impact_noise) - set(noises))
-    if stray:
-        raise ValueError(f"x_impact_noise {stray} not among the study's noise levels {list(noises)}")
+    _check_x_impact_noise(noises, x_impact_noise)
+    common = dict(mismatch=mismatch, seed=seed, params=params, rtol=rtol, atol=atol)
     out = []
     for rate in rates:
-        base = SurrogateOptions(rate=float(rate), noise=0.0, mismatch=mismatch or {}, seed=seed)
-        rec0, truth = surrogate_record(omega, transient, duration, base, params=params, rtol=rtol, atol=atol)
-        T = truth["impacts"]["t"]
-        x_true = rec0.meta["x_impact"]
-        t0, t1 = float(rec0.t[0]), float(rec0.t[-1])
-        exact = _train_numbers(T, t0, t1, omega, analysis)
-        out.append(
-            {
-                "rate_hz": rate,
-                "noise_m": 0.0,
-                "method": "exact events",
-                "n_true": T.size,
-                "n_found": T.size,
-                "missed": 0,
-                "extra": 0,
-                **exact,
-            }
-        )
-        rng = np.random.default_rng(seed)
-        for noise in noises:
-            # no omega: the study needs the impacts, not the Poincare points (the costliest
-            # part of extraction left); the noise is estimated once for both methods
-            x = rec0.x + (rng.normal(0, noise, rec0.x.size) if noise > 0 else 0.0)
-            rec = Record(rec0.t, x, None, rec0.meta, rec0.path)
-            sigma = estimate_noise(x)
-            for method, opts in (
-                ("hysteresis", ExtractOptions(noise=sigma)),
-                ("naive threshold", ExtractOptions(noise=sigma, hysteresis=0.0, confirm_sigmas=0.0)),
-            ):
-                cols, E = _extraction_row(rec, x_true, truth, opts)
-                row = {"rate_hz": rate, "noise_m": noise, "method": method, **cols}
-                if method == "hysteresis" and (not x_impact_noise or noise in x_impact_noise):
-                    row.update(_x_impact_columns(Record(rec0.t, x, omega, {}, rec0.path), x_impact_span, x_true))
-                try:
-                    row.update(_train_numbers(E, t0, t1, omega, analysis))
-                except ValueError as exc:  # e.g. too few impacts left: say so in the table
-                    row["note"] = str(exc)
-                out.append(row)
+        rec0, truth = _clean_record(omega, transient, duration, rate, **common)
+        out.append(_exact_row(rate, rec0, truth, omega, analysis))
+        for noise, x in zip(noises, _noisy_samples(rec0.x, noises, seed)):
+            out.extend(_level_rows(rate, noise, rec0, truth, x, omega, analysis, x_impact_span, x_impact_noise))
     if realism:
         out.extend(
-            _realism_rows(
+            realism_rows(
                 omega,
                 transient,
                 duration,
                 float(realism_rate or rates[0]),
                 realism_noise,
                 realism,
-                mismatch=mismatch,
-                seed=seed,
-                params=params,
-                rtol=rtol,
-                atol=atol,
                 x_impact_span=x_impact_span,
+                **common,
             )
         )
     return out
 
 
-def _realism_rows(omega, transient, duration, rate, noise, cases, *, mismatch, seed, params, rtol, atol, x_impact_span):
-    """Rows of :func:`noise_study` for the sensor-realism cases (one simulation on the fine grid)."""
+def noise_level_rows(
+    omega,
+    transient,
+    duration,
+    rates,
+    noises,
+    level,
+    *,
+    analysis=None,
+    mismatch=None,
+    seed=0,
+    params=None,
+    rtol=1e-10,
+    atol=1e-12,
+    x_impact_span=0.0,
+    x_impact_noise=(),
+):
+    """The rows of :func:`noise_study` for noise level ``noises[level]`` at every rate, alone.
+
+    Why: a workflow runs one job per level. Each rate's clean record is simulated again (the
+    same record: the simulation is deterministic) and the noise is the study's own draw: one
+    generator seeded with ``seed`` per rate gives the levels their noise in turn, so the levels
+    before this one are drawn and discarded. Level 0 also gives each rate's exact-events row.
+    Rows are grouped by rate, in the order of ``rates``: :func:`merge_levels` relies on it.
+    """
+    _check_x_impact_noise(noises, x_impact_noise)
+    noise = noises[level]
+    out = []
+    for rate in rates:
+        rec0, truth = _clean_record(
+            omega, transient, duration, rate, mismatch=mismatch, seed=seed, params=params, rtol=rtol, atol=atol
+        )
+        if level == 0:
+            out.append(_exact_row(rate, rec0, truth, omega, analysis))
+        x = next(itertools.islice(_noisy_samples(rec0.x, noises, seed), level, None))
+        out.extend(_level_rows(rate, noise, rec0, truth, x, omega, analysis, x_impact_span, x_impact_noise))
+    return out
+
+
+def merge_levels(levels, n_rates):
+    """Rows of every level (a list per level, each from :func:`noise_level_rows` or the same rows
+    in another form, e.g. the table's cells) in the order of :func:`noise_study`: rate by rate,
+    and within a rate level by level. A level's rows come in ``n_rates`` equal groups."""
+    blocks = []
+    for i, rows in enumerate(levels):
+        if len(rows) % n_rates:
+            raise ValueError(f"noise level {i}: {len(rows)} rows do not split into {n_rates} rates")
+        k = len(rows) // n_rates
+        blocks.append([rows[j * k : (j + 1) * k] for j in range(n_rates)])
+    return [row for j in range(n_rates) for block in blocks for row in block[j]]
+
+
+def _check_x_impact_noise(noises, x_impact_noise):
+    """x_impact_noise must name levels of the study (an estimate at a level not studied is a typo)."""
+    stray = sorted(set(x_impact_noise) - set(noises))
+    if stray:
+        raise ValueError(f"x_impact_noise {stray} not among the study's noise levels {list(noises)}")
+
+
+def _clean_record(omega, transient, duration, rate, *, mismatch, seed, params, rtol, atol):
+    """The surrogate record sampled at rate without noise, and its exact events (the truth)."""
+    base = SurrogateOptions(rate=float(rate), noise=0.0, mismatch=mismatch or {}, seed=seed)
+    return surrogate_record(omega, transient, duration, base, params=params, rtol=rtol, atol=atol)
+
+
+def _exact_row(rate, rec0, truth, omega, analysis) -> dict:
+    """The row of the exact events of a rate's record: the statistics the extraction aims at."""
+    T = truth["impacts"]["t"]
+    exact = _train_numbers(T, float(rec0.t[0]), float(rec0.t[-1]), omega, analysis)
+    return {
+        "rate_hz": rate,
+        "noise_m": 0.0,
+        "method": "exact events",
+        "n_true": T.size,
+        "n_found": T.size,
+        "missed": 0,
+        "extra": 0,
+        **exact,
+    }
+
+
+def _noisy_samples(x, noises, seed):
+    """x plus white noise of each level in turn, from one generator seeded with seed: a level's
+    draw follows those of the levels before it (a level of zero draws nothing)."""
+    rng = np.random.default_rng(seed)
+    for noise in noises:
+        yield x + (rng.normal(0, noise, x.size) if noise > 0 else 0.0)
+
+
+def _level_rows(rate, noise, rec0, truth, x, omega, analysis, x_impact_span, x_impact_noise) -> list[dict]:
+    """The rows of one (rate, noise): events extracted with hysteresis and by naive threshold
+    crossing, scored against the truth; the hysteresis row also gets the obstacle estimate at
+    the levels of x_impact_noise (at every level when it is empty)."""
+    # no omega: the study needs the impacts, not the Poincare points (the costliest
+    # part of extraction left); the noise is estimated once for both methods
+    rec = Record(rec0.t, x, None, rec0.meta, rec0.path)
+    sigma = estimate_noise(x)
+    t0, t1 = float(rec0.t[0]), float(rec0.t[-1])
+    x_true = rec0.meta["x_impact"]
+    out = []
+    for method, opts in (
+        ("hysteresis", ExtractOptions(noise=sigma)),
+        ("naive threshold", ExtractOptions(noise=sigma, hysteresis=0.0, confirm_sigmas=0.0)),
+    ):
+        cols, E = _extraction_row(rec, x_true, truth, opts)
+        row = {"rate_hz": rate, "noise_m": noise, "method": method, **cols}
+        if method == "hysteresis" and (not x_impact_noise or noise in x_impact_noise):
+            row.update(_x_impact_columns(Record(rec0.t, x, omega, {}, rec0.path), x_impact_span, x_true))
+        try:
+            row.update(_train_numbers(E, t0, t1, omega, analysis))
+        except ValueError as exc:  # e.g. too few impacts left: say so in the table
+            row["note"] = str(exc)
+        out.append(row)
+    return out
+
+
+def realism_rows(
+    omega,
+    transient,
+    duration,
+    rate,
+    noise,
+    cases,
+    *,
+    mismatch=None,
+    seed=0,
+    params=None,
+    rtol=1e-10,
+    atol=1e-12,
+    x_impact_span=0.0,
+):
+    """Rows of :func:`noise_study` for the sensor-realism cases (one simulation on the fine grid):
+    a ``"realism: none"`` row, then one per case, all with the same noise draws."""
     for case in cases:
         unknown = set(case) - set(REALISM_FIELDS) - {"declare_delay"}
         if unknown:
