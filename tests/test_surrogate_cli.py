@@ -115,7 +115,7 @@ def test_noise_study_and_rows():
     from impactosc.analysis.chaotic import analyse_train
     from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain
     from impactosc.measured.noise_study import noise_study
-    from impactosc.paper.rows import measured_rows
+    from impactosc.paper.rows.measured import measured_rows
 
     o = AnalysisOptions(acf_surrogates=20, ks_bootstrap=0, mixture_restarts=1, fano_windows=(0.5, 1.0, 2.0))
     rows = noise_study(40.86, 100.0, 30.0, [2000.0], [0.0, 2e-5], analysis=o, x_impact_span=30.0, x_impact_noise=[2e-5])
