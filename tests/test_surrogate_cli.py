@@ -7,7 +7,7 @@ import pytest
 from impactosc.cli import main
 from impactosc.files import read_run
 from impactosc.measured.extract import record_set_poincare
-from impactosc.measured.records import read_record, read_record_set, write_record_set
+from impactosc.measured.record_files import read_record, read_record_set, write_record_set
 from impactosc.measured.surrogate import (
     LABEL,
     SurrogateOptions,
@@ -150,7 +150,7 @@ def test_noise_study_and_rows():
 def test_cli_reports_estimated_x_impact(tmp_path, capsys):
     rec, _ = surrogate_record(40.86, 100.0, 20.0, SurrogateOptions(rate=2000, noise=2e-6))
     meta = {k: v for k, v in rec.meta.items() if k != "x_impact"}  # the obstacle position unknown
-    from impactosc.measured.records import write_record
+    from impactosc.measured.record_files import write_record
 
     write_record(tmp_path / "r.h5", rec.t, rec.x, omega=rec.omega, meta=meta)
     assert main(["extract", str(tmp_path / "r.h5"), "--output", str(tmp_path / "e.h5")]) == 0
