@@ -6,7 +6,7 @@ import pytest
 
 from impactosc.cli import main
 from impactosc.files import read_run
-from impactosc.measured.extract import record_set_poincare
+from impactosc.measured.poincare import record_set_poincare
 from impactosc.measured.record_files import read_record, read_record_set, write_record_set
 from impactosc.measured.surrogate import (
     LABEL,

@@ -17,7 +17,7 @@ import logging
 import h5py
 
 from impactosc.files import atomic_write, check_writable, stamp_h5
-from impactosc.measured.extract import record_set_poincare
+from impactosc.measured.poincare import record_set_poincare
 from impactosc.measured.record_files import read_record, read_record_set
 from impactosc.measured.sweep import sweep_segments, write_sweep_points
 

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..integration.model import ModelParams
-from ..measured.extract import estimate_noise
+from ..measured.sample_fits import estimate_noise
 from .continuity import fit_continuous, links
 from .least_squares import FitResult, fit, fit_states
 from .parameters import LOWER, NAMES, UNITS, UPPER, params_of, theta_of

@@ -18,7 +18,7 @@ less than half a revolution per sample.  Phase 0 (and 2 pi i) must be the forcin
 (``sin(phase) = 0`` rising, the model's ``t = 2 pi i / omega``): zero the encoder there.
 ``Record.phase`` is then in radians, unwrapped and advancing.  Why: the rig's motor speed is
 not exactly the nominal w and drifts; Poincare points taken at the measured phase stay on the
-section, those at ``2 pi i / omega`` slide off it (:mod:`impactosc.measured.extract`).
+section, those at ``2 pi i / omega`` slide off it (:mod:`impactosc.measured.poincare`).
 
 Bad records are refused with a ValueError naming the line (CSV) or sample (HDF5):
 non-numeric or missing values, NaN/inf, unsorted or repeated time stamps, gaps in the
