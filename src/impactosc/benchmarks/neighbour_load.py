@@ -20,7 +20,7 @@ import sys
 import time
 
 from .core_speed import run_core
-from .peers import run_cyrk
+from .cyrk_runs import run_cyrk
 
 NEIGHBOUR = (
     "from impactosc.integration.simulate import simulate\n"

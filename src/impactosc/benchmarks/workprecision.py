@@ -20,7 +20,7 @@ stall at a v = 0 inside contact, where |v|^n3 is singular.)
 Timing follows DiffEqBenchmarks: minimum of several runs, JIT compile time excluded (and
 reported apart), the same events requested from every solver.
 
-Compiled peers (impactosc.benchmarks.peers, the ``peers`` extra): CyRK's DOP853, Vern8 and
+Compiled peers (impactosc.benchmarks.cyrk_runs, the ``peers`` extra): CyRK's DOP853, Vern8 and
 Vern7 ("CyRK <method>") are contestants like SciPy's: the same starts, horizon, events and
 errors; they integrate the model in one right-hand side (no splitting at contacts) with
 numba cfunc events (impacts; v = 0 inside contact for penetrations) located on their dense
@@ -46,8 +46,10 @@ import numpy as np
 from ..integration.model import ModelParams
 from ..integration.reference import solve_reference
 from ..integration.simulate import StallError, simulate, warm_up
-from . import peers
+from . import cyrk_runs, cyrk_shim, free_flight
 from .event_errors import METRICS, event_errors, worst_errors
+from .scene import DURATION, TRANSIENT
+from .timing_rounds import CORE_ATOL, CORE_RTOL, on_attractor
 
 CORE = "impactosc core"
 SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
@@ -172,9 +174,9 @@ def peer_solvers(methods) -> list[str]:
 
 
 def run_peer(solver, omega, t_end, x0, v0, params, rtol, atol) -> dict:
-    """The same events with a compiled peer (peers.cyrk_events); the dict also says whether the
+    """The same events with a compiled peer (cyrk_runs.cyrk_events); the dict also says whether the
     run reached t_end (success, t_reached, message)."""
-    return peers.cyrk_events(solver[len(PEER_PREFIX) :], omega, t_end, x0, v0, params, rtol, atol)
+    return cyrk_runs.cyrk_events(solver[len(PEER_PREFIX) :], omega, t_end, x0, v0, params, rtol, atol)
 
 
 def run_solver(solver, omega, t_end, x0, v0, params, rtol, atol) -> dict:
@@ -192,18 +194,16 @@ def run_solver(solver, omega, t_end, x0, v0, params, rtol, atol) -> dict:
 def long_run(solver, omega, params, rtol, atol) -> dict:
     """Impacts in 100-500 s of a run from rest (the benchmark scene's length) by the core or a
     peer, untimed: n_impacts_500s, t_reached_500s and why it stopped (empty if it did not)."""
-    t_end = peers.TRANSIENT + peers.DURATION
+    t_end = TRANSIENT + DURATION
     if solver == CORE:
         try:
-            res = simulate(
-                omega, peers.TRANSIENT, peers.DURATION, params=params, rtol=rtol, atol=atol, record=("impacts",)
-            )
+            res = simulate(omega, TRANSIENT, DURATION, params=params, rtol=rtol, atol=atol, record=("impacts",))
         except StallError as e:
             return {"n_impacts_500s": math.nan, "t_reached_500s": float(e.state.get("t", math.nan)), "stop": str(e)}
         return {"n_impacts_500s": len(res.events["impacts"]["t"]), "t_reached_500s": t_end, "stop": ""}
-    run = peers.run_cyrk(solver[len(PEER_PREFIX) :], t_end, rtol, atol, params=params, omega=omega)
+    run = cyrk_runs.run_cyrk(solver[len(PEER_PREFIX) :], t_end, rtol, atol, params=params, omega=omega)
     return {
-        "n_impacts_500s": int(np.count_nonzero(run.impacts_t >= peers.TRANSIENT)),
+        "n_impacts_500s": int(np.count_nonzero(run.impacts_t >= TRANSIENT)),
         "t_reached_500s": run.t_reached,
         "stop": "" if run.success else run.message,
     }
@@ -229,7 +229,7 @@ def known_long_runs(benchmark_rows: list[dict]) -> dict:
 def attractor_columns(run: dict, reference: int) -> dict:
     """Columns of a row from :func:`long_run`: the count, where it stopped, on_attractor and a
     note for a run that is not on the attractor."""
-    ok = not run["stop"] and peers.on_attractor(run["n_impacts_500s"], reference)
+    ok = not run["stop"] and on_attractor(run["n_impacts_500s"], reference)
     out = {
         "n_impacts_500s": run["n_impacts_500s"],
         "t_reached_500s": run["t_reached_500s"],
@@ -247,24 +247,24 @@ def attractor_columns(run: dict, reference: int) -> dict:
 
 def peer_status(solvers, *, heyoka: bool) -> dict:
     """For each peer in `solvers` (and "heyoka" if asked), None if it can run here, else why not
-    (peers.PeerUnavailable's message). Builds the CyRK shim and the cfuncs (outside any timing)."""
+    (cyrk_shim.PeerUnavailable's message). Builds the CyRK shim and the cfuncs (outside any timing)."""
     out = {}
     cyrk = [s for s in solvers if is_peer(s)]
     if cyrk:
         try:
-            peers.load_cyrk_shim()
-            peers.model_cfuncs()
-            peers.velocity_cfunc()
-            peers.run_cyrk("DOP853", 0.1, 1e-6, 1e-8)
+            cyrk_shim.load_cyrk_shim()
+            cyrk_runs.model_cfuncs()
+            cyrk_runs.velocity_cfunc()
+            cyrk_runs.run_cyrk("DOP853", 0.1, 1e-6, 1e-8)
             reason = None
-        except peers.PeerUnavailable as e:
+        except cyrk_shim.PeerUnavailable as e:
             reason = str(e)
         for s in cyrk:
             out[s] = reason
             if reason is None:
                 try:
-                    peers.cyrk_method(s[len(PEER_PREFIX) :])
-                except peers.PeerUnavailable as e:
+                    cyrk_shim.cyrk_method(s[len(PEER_PREFIX) :])
+                except cyrk_shim.PeerUnavailable as e:
                     out[s] = str(e)
     if heyoka:
         try:
@@ -272,18 +272,18 @@ def peer_status(solvers, *, heyoka: bool) -> dict:
 
             out["heyoka"] = None
         except ImportError as e:
-            out["heyoka"] = f"heyoka is not installed ({e}); {peers.INSTALL_HINT}"
+            out["heyoka"] = f"heyoka is not installed ({e}); {cyrk_shim.INSTALL_HINT}"
     return out
 
 
-def heyoka_floor(case: Case, starts, params: ModelParams, repeats: int, tol: float = peers.FLOOR_TOL) -> dict:
+def heyoka_floor(case: Case, starts, params: ModelParams, repeats: int, tol: float = free_flight.FLOOR_TOL) -> dict:
     """heyoka's Taylor integrator over the scene's starts and horizon without contact (obstacle
     out of reach): wall time summed over the starts of the minimum of `repeats` runs."""
-    integrator = peers.heyoka_free_flight(tol, dataclasses.replace(params, xI=1.0), case.omega)
-    peers.run_heyoka(integrator, case.horizon)  # outside the timing
+    integrator = free_flight.heyoka_free_flight(tol, dataclasses.replace(params, xI=1.0), case.omega)
+    free_flight.run_heyoka(integrator, case.horizon)  # outside the timing
     wall = 0.0
     for x0, v0 in starts:
-        out, wmin, _, _ = best_time(lambda: peers.run_heyoka(integrator, case.horizon, (x0, v0)), repeats)
+        out, wmin, _, _ = best_time(lambda: free_flight.run_heyoka(integrator, case.horizon, (x0, v0)), repeats)
         if not out.success:
             raise RuntimeError(f"heyoka stopped at t = {out.t_reached:g} s: {out.message}")
         wall += wmin
@@ -419,8 +419,8 @@ def sweep_case(
     solvers = [s for s in solvers if missing.get(s) is None]
     reference_500s = None
     if attractor_check and (CORE in solvers or any(is_peer(s) for s in solvers)):
-        reference_500s = long_run(CORE, case.omega, params, peers.CORE_RTOL, peers.CORE_ATOL)["n_impacts_500s"]
-        log(f"{case.name}: the core at rtol {peers.CORE_RTOL:g} has {reference_500s} impacts in 100-500 s from rest")
+        reference_500s = long_run(CORE, case.omega, params, CORE_RTOL, CORE_ATOL)["n_impacts_500s"]
+        log(f"{case.name}: the core at rtol {CORE_RTOL:g} has {reference_500s} impacts in 100-500 s from rest")
     for solver in solvers:
         capped = None
         for rtol in rtols:
