@@ -149,7 +149,7 @@ def cyrk_events(
     method: str, omega: float, t_end: float, x0: float, v0: float, params: ModelParams, rtol: float, atol: float
 ) -> dict:
     """Impacts, penetrations and Poincare points on (0, t_end] from (x0, v0), as
-    workprecision.run_core returns them, by CyRK in one right-hand side.
+    wp_solvers.run_core_events returns them, by CyRK in one right-hand side.
 
     Impacts: x - xI crossed upwards; penetrations: v = 0 crossed downwards at x > xI (depth
     x - xI); Poincare points: CyRK's dense output at t_i = 2 pi i / w (t_eval). Besides the
