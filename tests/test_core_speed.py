@@ -43,7 +43,7 @@ def _rows():
 
 
 def test_headline_compares_the_fastest_runs_at_the_error_bound():
-    head = {h["role"]: h for h in cs.headline(_rows(), max_error=2.5e-9)}
+    head = {h["role"]: h for h in cs.core_speed_headline(_rows(), max_error=2.5e-9)}
     assert head["core"]["rtol"] == 1e-10 and head["core"]["time_over_core"] == 1.0
     peer = head["fastest compiled peer"]
     assert (peer["solver"], peer["rtol"]) == ("CyRK Vern7", 1e-10)
@@ -53,29 +53,29 @@ def test_headline_compares_the_fastest_runs_at_the_error_bound():
     assert head["SciPy"]["time_over_core"] == pytest.approx(66.6 / 0.41)
     assert head["free-flight floor"]["solver"].startswith("heyoka")
     # a looser bound: SciPy at equal error, and the core's faster rtol
-    loose = {h["role"]: h for h in cs.headline(_rows(), max_error=1e-7)}
+    loose = {h["role"]: h for h in cs.core_speed_headline(_rows(), max_error=1e-7)}
     assert loose["core"]["rtol"] == 1e-8 and loose["SciPy"]["rtol"] == 1e-8
     assert loose["SciPy"]["note"] == "at equal error (<= 1e-07 s)"
 
 
 def test_headline_without_qualifying_rows_says_none():
     rows = [r for r in _rows() if not r["solver"].startswith("CyRK")]
-    head = {h["role"]: h for h in cs.headline(rows, max_error=2.5e-9)}
+    head = {h["role"]: h for h in cs.core_speed_headline(rows, max_error=2.5e-9)}
     assert head["fastest compiled peer"]["solver"] == "none"
     assert head["fastest compiled peer"]["note"].startswith("no run with error <= 2.5e-09 s")
-    no_scipy = {h["role"]: h for h in cs.headline([r for r in rows if r["solver"] != cs.SCIPY])}
+    no_scipy = {h["role"]: h for h in cs.core_speed_headline([r for r in rows if r["solver"] != cs.SCIPY])}
     assert no_scipy["SciPy"]["note"] == "not measured"
     assert "no compiled peer" in cs.headline_sentence(list(head.values()))
-    none = cs.headline(rows, max_error=1e-15)
+    none = cs.core_speed_headline(rows, max_error=1e-15)
     assert none[0]["solver"] == "none" and cs.headline_sentence(none).startswith("No run of the core")
 
 
 def test_headline_reads_its_rows_back_from_csv(tmp_path):
     """benchmark_core.csv says on_attractor yes/no; best_peer reads either form."""
     back = read_table(write_table(tmp_path / "b.csv", _rows()))
-    head = {h["role"]: h for h in cs.headline(back, max_error=2.5e-9)}
+    head = {h["role"]: h for h in cs.core_speed_headline(back, max_error=2.5e-9)}
     assert head["fastest compiled peer"]["solver"] == "CyRK Vern7"
-    sentence = cs.headline_sentence(cs.headline(back, max_error=2.5e-9))
+    sentence = cs.headline_sentence(cs.core_speed_headline(back, max_error=2.5e-9))
     assert "CyRK Vern7 at rtol 1e-10" in sentence and "2.56x the core's time" in sentence
     assert sentence.index("CyRK") < sentence.index("SciPy")  # the peer first, then SciPy
 

@@ -139,7 +139,7 @@ def test_cost_at_error_is_the_cheapest_run_at_least_that_accurate():
 
 
 def test_headline_ratio_against_the_fastest_scipy_solver():
-    head = sae.headline(_rows(), {"impact_time_error": [1e-6, 1e-9, 1e-12]})
+    head = sae.speed_at_error_headline(_rows(), {"impact_time_error": [1e-6, 1e-9, 1e-12]})
     h = {r["error_level"]: r for r in head}
     assert h[1e-6]["best_scipy"] == "LSODA" and h[1e-6]["speedup"] == pytest.approx(0.2 / 0.002)
     assert h[1e-9]["best_scipy"] == "DOP853" and h[1e-9]["speedup"] == pytest.approx(0.6 / 0.004)
@@ -319,13 +319,16 @@ def _peer_rows():
 
 
 def test_headline_names_the_fastest_compiled_peer_apart_from_scipy():
-    head = {r["error_level"]: r for r in sae.headline(_peer_rows(), {"impact_time_error": [1e-6, 1e-9, 1e-11]})}
+    head = {
+        r["error_level"]: r
+        for r in sae.speed_at_error_headline(_peer_rows(), {"impact_time_error": [1e-6, 1e-9, 1e-11]})
+    }
     # SciPy's columns are as without peers
     assert head[1e-6]["best_scipy"] == "LSODA" and head[1e-6]["speedup"] == pytest.approx(0.2 / 0.002)
     assert head[1e-6]["best_peer"] == "CyRK DOP853" and head[1e-6]["peer_over_core"] == pytest.approx(0.0015 / 0.002)
     # the rtol 1e-12 run is accurate over 1.5 s but leaves the attractor in 500 s: it does not count
     assert head[1e-11]["best_peer"] == "none" and math.isnan(head[1e-11]["peer_over_core"])
-    assert "best_peer" not in sae.headline(_rows(), {"impact_time_error": [1e-6]})[0]
+    assert "best_peer" not in sae.speed_at_error_headline(_rows(), {"impact_time_error": [1e-6]})[0]
 
 
 def test_attractor_columns_flag_a_run_that_stops_or_leaves():
@@ -431,12 +434,12 @@ def test_time_budget_gives_a_lower_bound_where_scipy_stopped():
                 "reference_impact_time_error": 1e-12,
             }
         )
-    h = {r["error_level"]: r for r in sae.headline(rows, {"impact_time_error": [1e-6, 1e-9]})}
+    h = {r["error_level"]: r for r in sae.speed_at_error_headline(rows, {"impact_time_error": [1e-6, 1e-9]})}
     assert h[1e-6]["speedup"] == pytest.approx(0.2 / 0.002) and math.isnan(h[1e-6]["speedup_at_least"])
     assert h[1e-9]["best_scipy"] == "none" and math.isnan(h[1e-9]["speedup"])
     assert h[1e-9]["speedup_at_least"] == pytest.approx(0.2 / 0.004)  # LSODA's last point, 0.2 s
     # without a stopped sweep there is no bound: the full sweeps never reached 1e-12
-    full = sae.headline(_rows(), {"impact_time_error": [1e-12]})[0]
+    full = sae.speed_at_error_headline(_rows(), {"impact_time_error": [1e-12]})[0]
     assert math.isnan(full["speedup_at_least"])
 
 

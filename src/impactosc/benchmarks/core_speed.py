@@ -22,7 +22,7 @@ first 1.5 s, impacts in 100-500 s, on the attractor):
     contact) at the same tolerance: the method's floor;
   * JIT compile time, cold (empty cache) and cached, in fresh processes.
 
-:func:`headline` gives the numbers the README leads with: the core's fastest run with
+:func:`core_speed_headline` gives the numbers the README leads with: the core's fastest run with
 error <= max_error, the fastest compiled peer at the same bound and their time ratio, then
 SciPy.
 """
@@ -95,7 +95,7 @@ def _n_periods(t: float) -> float:
 # ------------------------------------------------------------------------------ the core
 
 
-def run_core(rtol: float, atol: float, transient: float = TRANSIENT, duration: float = DURATION):
+def run_core_from_rest(rtol: float, atol: float, transient: float = TRANSIENT, duration: float = DURATION):
     """One run of the core from rest as a timing_rounds.PeerRun (impacts with t >= transient). The wall
     time is the whole simulate() call, as a peer's is its whole solver call; a run that stalls
     is reported (success False, StallError's message), not raised."""
@@ -138,8 +138,8 @@ def core_contestants(rtols):
                 "scene",
                 rtol,
                 atol,
-                run=lambda r=rtol, a=atol: run_core(r, a),
-                short=lambda r=rtol, a=atol: run_core(r, a, 0.0, ERR_HORIZON),
+                run=lambda r=rtol, a=atol: run_core_from_rest(r, a),
+                short=lambda r=rtol, a=atol: run_core_from_rest(r, a, 0.0, ERR_HORIZON),
             )
         )
     return out
@@ -210,7 +210,7 @@ COLUMNS = (
 )
 
 
-def measure(
+def measure_core_speed(
     rtols=(1e-8, 1e-9, 1e-10, 1e-11),
     repeats: int = 3,
     *,
@@ -241,7 +241,7 @@ def measure(
         others, skipped = [], []
     reference = None
     if CORE_RTOL in rtols:
-        reference = len(run_core(CORE_RTOL, CORE_ATOL).impacts_t)
+        reference = len(run_core_from_rest(CORE_RTOL, CORE_ATOL).impacts_t)
     if reference is None:
         reference = reference_impact_count()
     log(
@@ -260,7 +260,7 @@ def measure(
 # ------------------------------------------------------------------------------ summary
 
 
-def headline(rows: list[dict], max_error: float = MAX_ERROR) -> list[dict]:
+def core_speed_headline(rows: list[dict], max_error: float = MAX_ERROR) -> list[dict]:
     """The comparison the README leads with, one row per contestant (role):
 
     * core: the core's fastest run on the attractor with impact-time error <= max_error;
