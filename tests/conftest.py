@@ -15,12 +15,12 @@ def linear_params():
 
 @pytest.fixture(scope="session")
 def cyrk():
-    """The peers module with CyRK's shim built; skips where CyRK or a C++ compiler is missing."""
-    from impactosc.benchmarks import peers
+    """The CyRK runs module with CyRK's shim built; skips where CyRK or a C++ compiler is missing."""
+    from impactosc.benchmarks import cyrk_runs, cyrk_shim
 
     pytest.importorskip("CyRK")
     try:
-        peers.load_cyrk_shim()
-    except peers.PeerUnavailable as e:
+        cyrk_shim.load_cyrk_shim()
+    except cyrk_shim.PeerUnavailable as e:
         pytest.skip(str(e))
-    return peers
+    return cyrk_runs

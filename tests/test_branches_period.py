@@ -155,7 +155,7 @@ def _reading(t):
 
 
 def test_paper_rows_judge_the_cascade_and_the_grazing():
-    from impactosc.paper.rows import bifurcation_rows as paper_rows
+    from impactosc.paper.rows.bifurcation import bifurcation_rows as paper_rows
 
     # decreasing w: period 2 down to 37.26, period 1 with a closing near miss down to 23.06,
     # then period 3 with 4 impacts (grid 0.02 rad/s, only the relevant stretches)

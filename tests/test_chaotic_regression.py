@@ -26,7 +26,7 @@ from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain, load_t
 from impactosc.analysis.spectra import trajectory_spectrum
 from impactosc.files import read_json, write_json, write_run
 from impactosc.integration.simulate import Window, simulate
-from impactosc.paper.rows import chaotic_rows
+from impactosc.paper.rows.chaotic import chaotic_rows
 from impactosc.paper.table import write_rows
 from impactosc.plotting import save_figure
 from impactosc.plotting.chaotic import make_figure

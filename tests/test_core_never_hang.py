@@ -18,7 +18,7 @@ from impactosc.benchmarks.random_scenes import (
     draw_scene,
     impacts_agree,
     run_scenes,
-    summary,
+    summarise_scenes,
 )
 from impactosc.cli import main
 from impactosc.integration.model import ModelParams, UntestedParameterWarning
@@ -184,7 +184,7 @@ def test_agreement_horizon():
 # (hundreds of scenes) is the workflow target random_scenes and the slow test below.
 def test_random_scenes_match_scipy():
     rows = run_scenes(2026, 8, horizon=1.0, log=lambda *a: None)
-    s = summary(rows)
+    s = summarise_scenes(rows)
     assert s["stalls"] == 0, [r["message"] for r in rows if r["status"] == "stall"]
     assert s["failures"] == 0, [
         (r["scene"], r["status"], r["message"]) for r in rows if r["status"] not in ("ok", "no reference")
@@ -196,7 +196,7 @@ def test_random_scenes_match_scipy():
 @pytest.mark.slow
 def test_random_scenes_large():
     rows = run_scenes(2026, 200, horizon=1.5, log=lambda *a: None)
-    s = summary(rows)
+    s = summarise_scenes(rows)
     assert s["stalls"] == 0 and s["failures"] == 0  # each impact within 1e-8 s, or 1e-9 m for slow ones
     assert s["worst_dt_s"] < 1e-7  # measured 5.3e-9 s (2.4e-8 s before the step controller was reworked)
     assert s["no_reference"] <= 0.1 * s["scenes"]  # measured 11 of 200

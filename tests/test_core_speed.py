@@ -1,5 +1,5 @@
 """The speed benchmark's table and headline (benchmarks/core_speed.py) and the round-robin
-timing it shares with the peers (peers.measure_contestants). No solver runs here: the
+timing it shares with the peers (timing_rounds.measure_contestants). No solver runs here: the
 contestants are stand-ins."""
 
 import math
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from impactosc.benchmarks import core_speed as cs
-from impactosc.benchmarks import peers
+from impactosc.benchmarks import scene, timing_rounds
 from impactosc.files import read_table, write_table
 
 
@@ -43,7 +43,7 @@ def _rows():
 
 
 def test_headline_compares_the_fastest_runs_at_the_error_bound():
-    head = {h["role"]: h for h in cs.headline(_rows(), max_error=2.5e-9)}
+    head = {h["role"]: h for h in cs.core_speed_headline(_rows(), max_error=2.5e-9)}
     assert head["core"]["rtol"] == 1e-10 and head["core"]["time_over_core"] == 1.0
     peer = head["fastest compiled peer"]
     assert (peer["solver"], peer["rtol"]) == ("CyRK Vern7", 1e-10)
@@ -53,29 +53,29 @@ def test_headline_compares_the_fastest_runs_at_the_error_bound():
     assert head["SciPy"]["time_over_core"] == pytest.approx(66.6 / 0.41)
     assert head["free-flight floor"]["solver"].startswith("heyoka")
     # a looser bound: SciPy at equal error, and the core's faster rtol
-    loose = {h["role"]: h for h in cs.headline(_rows(), max_error=1e-7)}
+    loose = {h["role"]: h for h in cs.core_speed_headline(_rows(), max_error=1e-7)}
     assert loose["core"]["rtol"] == 1e-8 and loose["SciPy"]["rtol"] == 1e-8
     assert loose["SciPy"]["note"] == "at equal error (<= 1e-07 s)"
 
 
 def test_headline_without_qualifying_rows_says_none():
     rows = [r for r in _rows() if not r["solver"].startswith("CyRK")]
-    head = {h["role"]: h for h in cs.headline(rows, max_error=2.5e-9)}
+    head = {h["role"]: h for h in cs.core_speed_headline(rows, max_error=2.5e-9)}
     assert head["fastest compiled peer"]["solver"] == "none"
     assert head["fastest compiled peer"]["note"].startswith("no run with error <= 2.5e-09 s")
-    no_scipy = {h["role"]: h for h in cs.headline([r for r in rows if r["solver"] != cs.SCIPY])}
+    no_scipy = {h["role"]: h for h in cs.core_speed_headline([r for r in rows if r["solver"] != cs.SCIPY])}
     assert no_scipy["SciPy"]["note"] == "not measured"
     assert "no compiled peer" in cs.headline_sentence(list(head.values()))
-    none = cs.headline(rows, max_error=1e-15)
+    none = cs.core_speed_headline(rows, max_error=1e-15)
     assert none[0]["solver"] == "none" and cs.headline_sentence(none).startswith("No run of the core")
 
 
 def test_headline_reads_its_rows_back_from_csv(tmp_path):
     """benchmark_core.csv says on_attractor yes/no; best_peer reads either form."""
     back = read_table(write_table(tmp_path / "b.csv", _rows()))
-    head = {h["role"]: h for h in cs.headline(back, max_error=2.5e-9)}
+    head = {h["role"]: h for h in cs.core_speed_headline(back, max_error=2.5e-9)}
     assert head["fastest compiled peer"]["solver"] == "CyRK Vern7"
-    sentence = cs.headline_sentence(cs.headline(back, max_error=2.5e-9))
+    sentence = cs.headline_sentence(cs.core_speed_headline(back, max_error=2.5e-9))
     assert "CyRK Vern7 at rtol 1e-10" in sentence and "2.56x the core's time" in sentence
     assert sentence.index("CyRK") < sentence.index("SciPy")  # the peer first, then SciPy
 
@@ -111,9 +111,9 @@ def test_markdown_table_marks_what_does_not_apply():
 
 
 def test_serpentine_alternates_direction():
-    assert peers.serpentine([1, 2, 3], 0) == [1, 2, 3]
-    assert peers.serpentine([1, 2, 3], 1) == [3, 2, 1]
-    assert peers.serpentine(range(3), 2) == [0, 1, 2]
+    assert timing_rounds.serpentine([1, 2, 3], 0) == [1, 2, 3]
+    assert timing_rounds.serpentine([1, 2, 3], 1) == [3, 2, 1]
+    assert timing_rounds.serpentine(range(3), 2) == [0, 1, 2]
 
 
 class _Fake:
@@ -124,11 +124,11 @@ class _Fake:
 
     def run(self):
         self.log.append(self.name)
-        return peers.PeerRun(
+        return timing_rounds.PeerRun(
             self.walls.pop(0),
             1000,
             self.impacts,
-            peers.T_END if self.success else 263.8,
+            timing_rounds.T_END if self.success else 263.8,
             np.zeros(2),
             self.success,
             "" if self.success else "step size underflow",
@@ -136,7 +136,7 @@ class _Fake:
         )
 
     def short(self):
-        return peers.PeerRun(0.0, 10, np.array([0.1, 0.5 + 2e-9]), peers.ERR_HORIZON, np.zeros(2), True, "")
+        return timing_rounds.PeerRun(0.0, 10, np.array([0.1, 0.5 + 2e-9]), scene.ERR_HORIZON, np.zeros(2), True, "")
 
 
 def test_measure_contestants_times_round_robin_and_reports_medians():
@@ -146,11 +146,11 @@ def test_measure_contestants_times_round_robin_and_reports_medians():
     b = _Fake("b", [1.0, 2.0, 3.0], log, attractor[:1177], success=False)
     floor = _Fake("floor", [0.02, 0.03, 0.01], log, np.empty(0))
     contestants = [
-        peers.Contestant("core", "scene", 1e-10, 1e-12, a.run, a.short),
-        peers.Contestant("CyRK DOP853", "scene", 1e-12, 1e-14, b.run, b.short),
-        peers.Contestant("floor", "floor", 1e-10, 1e-12, floor.run),
+        timing_rounds.Contestant("core", "scene", 1e-10, 1e-12, a.run, a.short),
+        timing_rounds.Contestant("CyRK DOP853", "scene", 1e-12, 1e-14, b.run, b.short),
+        timing_rounds.Contestant("floor", "floor", 1e-10, 1e-12, floor.run),
     ]
-    rows = peers.measure_contestants(
+    rows = timing_rounds.measure_contestants(
         contestants, 3, reference_impacts=2898, ref_times=np.array([0.1, 0.5]), log=lambda _: None
     )
     assert log == ["a", "b", "floor", "floor", "b", "a", "a", "b", "floor"]
@@ -161,4 +161,4 @@ def test_measure_contestants_times_round_robin_and_reports_medians():
     assert cyrk["on_attractor"] is False and cyrk["status"].startswith("stopped at t = 263.8 s")
     assert "impact_time_error_1p5s" not in fl and fl["wall_time"] == 0.02
     with pytest.raises(ValueError, match="repeats"):
-        peers.measure_contestants(contestants, 0, reference_impacts=2898, ref_times=np.empty(0))
+        timing_rounds.measure_contestants(contestants, 0, reference_impacts=2898, ref_times=np.empty(0))

@@ -47,7 +47,7 @@ def test_ramp_staircase_and_encoder_counts():
 def _section_errors(rec, truth, source):
     """rms and max |x error| (m) and rms time error (s) of a record's Poincare points against
     the true section points (the state at each period's start); the points; their true index."""
-    from impactosc.measured.extract import poincare_points
+    from impactosc.measured.poincare import poincare_points
 
     p = poincare_points(rec, source=source)
     T = truth["poincare"]["t"]

@@ -7,7 +7,9 @@ from scipy import stats
 from impactosc.analysis.chaotic import analyse_train
 from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain, load_train
 from impactosc.files import write_run
-from impactosc.measured.extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
+from impactosc.measured.extract import ExtractOptions, extract_events
+from impactosc.measured.obstacle_estimate import estimate_x_impact
+from impactosc.measured.sample_fits import estimate_noise
 from impactosc.measured.surrogate import SurrogateOptions, surrogate_record
 
 # 60 s of the chaotic attractor (w = 40.86) after a 100 s transient: ~430 impacts, of every

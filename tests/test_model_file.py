@@ -14,7 +14,7 @@ from impactosc.cli_options import MODEL_NAMES
 from impactosc.config import ConfigError, nest_dotted_keys, validate_config
 from impactosc.files import read_run
 from impactosc.integration.model import ModelParams
-from impactosc.measured.records import read_record
+from impactosc.measured.record_files import read_record
 from impactosc.model_file import (
     BC_DESCRIPTION,
     FORMAT,

@@ -5,9 +5,10 @@ import pytest
 
 from impactosc.integration.model import ModelParams
 from impactosc.measured.coverage import coverage_summary, x_impact_draws
-from impactosc.measured.extract import ExtractOptions, estimate_x_impact, extract_events
+from impactosc.measured.extract import ExtractOptions, extract_events
 from impactosc.measured.noise_study import match_impacts
 from impactosc.measured.obstacle import model_window
+from impactosc.measured.obstacle_estimate import estimate_x_impact
 from impactosc.measured.records import Record
 from impactosc.measured.surrogate import SurrogateOptions, surrogate_record
 

@@ -2,7 +2,7 @@
 
 import math
 
-from impactosc.paper.rows import orbit_rows
+from impactosc.paper.rows.bifurcation import orbit_rows
 from impactosc.periodic_orbits.table import bifurcation_table, cascade_chain, chain_ratios, multipliers_text
 
 

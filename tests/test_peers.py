@@ -1,4 +1,5 @@
-"""The peer-solver benchmark (benchmarks/peers.py): its selection logic, and CyRK and heyoka on model BC.
+"""The peer-solver benchmark (benchmarks/peers.py and the modules it runs): its selection logic,
+the timing rounds' rows and table, and CyRK and heyoka on model BC.
 
 The CyRK and heyoka tests skip when the package is not installed (the ``peers`` extra), or
 when the CyRK shim cannot be built here (no C++ compiler): the benchmark itself skips the
@@ -11,7 +12,8 @@ import sys
 import numpy as np
 import pytest
 
-from impactosc.benchmarks import cyrk_shim, peers
+from impactosc.benchmarks import cyrk_runs, cyrk_shim, free_flight, peers, timing_rounds
+from impactosc.benchmarks.scene import ERR_HORIZON, OMEGA
 from impactosc.integration.reference import solve_reference
 
 
@@ -36,10 +38,10 @@ def test_best_peer_is_the_fastest_accurate_row_on_the_attractor():
 
 
 def test_on_attractor_is_within_ten_percent_of_the_core():
-    assert peers.on_attractor(2898, 2898)
-    assert peers.on_attractor(2882, 2898)
-    assert peers.on_attractor(2610, 2900) and not peers.on_attractor(2609, 2900)
-    assert not peers.on_attractor(1177, 2898)  # a run that settled on another orbit
+    assert timing_rounds.on_attractor(2898, 2898)
+    assert timing_rounds.on_attractor(2882, 2898)
+    assert timing_rounds.on_attractor(2610, 2900) and not timing_rounds.on_attractor(2609, 2900)
+    assert not timing_rounds.on_attractor(1177, 2898)  # a run that settled on another orbit
 
 
 def test_table_marks_what_does_not_apply():
@@ -56,7 +58,7 @@ def test_table_marks_what_does_not_apply():
         ),
         dict(solver="heyoka free flight", rtol=1e-10, wall_time=0.02, steps_per_period=15.5, status="ok"),
     ]
-    lines = peers.format_table(rows).splitlines()
+    lines = timing_rounds.format_table(rows).splitlines()
     assert lines[0].split()[:2] == ["solver", "rtol"]
     assert lines[1].split()[-2:] == ["2882", "yes"]
     assert lines[2].split()[-3:] == ["-", "-", "-"]
@@ -64,8 +66,8 @@ def test_table_marks_what_does_not_apply():
 
 def test_missing_cyrk_is_reported(monkeypatch):
     monkeypatch.setitem(sys.modules, "CyRK", None)  # import CyRK now raises ImportError
-    with pytest.raises(peers.PeerUnavailable, match=r"CyRK is not installed.*\[peers\]"):
-        peers.load_cyrk_shim()
+    with pytest.raises(cyrk_shim.PeerUnavailable, match=r"CyRK is not installed.*\[peers\]"):
+        cyrk_shim.load_cyrk_shim()
 
 
 def test_a_shim_that_does_not_build_is_reported(monkeypatch, tmp_path):
@@ -74,7 +76,7 @@ def test_a_shim_that_does_not_build_is_reported(monkeypatch, tmp_path):
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     monkeypatch.setattr(cyrk_shim, "SHIM_SOURCE", "this is not Cython\n")
     with pytest.raises(cyrk_shim.PeerUnavailable, match="the CyRK shim could not be built"):
-        peers.load_cyrk_shim()
+        cyrk_shim.load_cyrk_shim()
 
 
 def test_cyrk_dop853_reproduces_the_reference_impact_times(cyrk):
@@ -86,8 +88,8 @@ def test_cyrk_dop853_reproduces_the_reference_impact_times(cyrk):
     and still fails an event put at a step end (steps here are ~1e-4 s), a wrong interpolant
     (~1e-7 s at this rtol) or a parameter passed wrongly.
     """
-    ref = solve_reference(peers.OMEGA, peers.ERR_HORIZON, rtol=peers.REF_RTOL, atol=peers.REF_ATOL)["impacts_t"]
-    run = cyrk.run_cyrk("DOP853", peers.ERR_HORIZON, 1e-12, 1e-14)
+    ref = solve_reference(OMEGA, ERR_HORIZON, rtol=timing_rounds.REF_RTOL, atol=timing_rounds.REF_ATOL)["impacts_t"]
+    run = cyrk.run_cyrk("DOP853", ERR_HORIZON, 1e-12, 1e-14)
     assert run.success, run.message
     assert len(run.impacts_t) == len(ref) == 10  # direction +1: onsets only, none missed
     assert np.abs(run.impacts_t - ref).max() < 1e-9
@@ -95,12 +97,12 @@ def test_cyrk_dop853_reproduces_the_reference_impact_times(cyrk):
 
 
 def test_a_run_that_stops_early_says_where(cyrk, monkeypatch):
-    monkeypatch.setattr(peers, "MAX_STEPS", 200)  # deterministic stand-in for a step-size underflow
-    run = cyrk.run_cyrk("DOP853", peers.ERR_HORIZON, 1e-10, 1e-12)
-    assert not run.success and 0 < run.t_reached < peers.ERR_HORIZON
-    row = peers._row("CyRK DOP853", "scene", 1e-10, 1e-12, [run])
+    monkeypatch.setattr(cyrk_runs, "MAX_STEPS", 200)  # deterministic stand-in for a step-size underflow
+    run = cyrk.run_cyrk("DOP853", ERR_HORIZON, 1e-10, 1e-12)
+    assert not run.success and 0 < run.t_reached < ERR_HORIZON
+    row = timing_rounds._row("CyRK DOP853", "scene", 1e-10, 1e-12, [run])
     assert row["status"].startswith(f"stopped at t = {run.t_reached:.6g} s: ")
-    assert row["steps_per_period"] == pytest.approx(200 / (run.t_reached / peers.PERIOD), rel=0.01)
+    assert row["steps_per_period"] == pytest.approx(200 / (run.t_reached / timing_rounds.PERIOD), rel=0.01)
 
 
 def test_heyoka_floor_integrates_the_model_without_contact(cyrk):
@@ -110,8 +112,8 @@ def test_heyoka_floor_integrates_the_model_without_contact(cyrk):
     wrong coefficient."""
     pytest.importorskip("heyoka")
     t_end = 5.0
-    taylor = peers.run_heyoka(peers.heyoka_free_flight(tol=1e-13), t_end)
-    dop = cyrk.run_cyrk("DOP853", t_end, 1e-12, 1e-14, params=peers.FREE_FLIGHT, impacts=False)
+    taylor = free_flight.run_heyoka(free_flight.heyoka_free_flight(tol=1e-13), t_end)
+    dop = cyrk.run_cyrk("DOP853", t_end, 1e-12, 1e-14, params=free_flight.FREE_FLIGHT, impacts=False)
     assert taylor.success and dop.success, (taylor.message, dop.message)
     assert np.abs(taylor.state_end - dop.state_end).max() < 1e-8
     assert np.abs(dop.state_end).max() > 1e-4  # it did move
@@ -119,7 +121,9 @@ def test_heyoka_floor_integrates_the_model_without_contact(cyrk):
 
 @pytest.mark.slow
 def test_measure_builds_complete_rows(cyrk):
-    rows = peers.measure(("DOP853",), (1e-9,), repeats=1, reference_impacts=2898, heyoka=False, log=lambda _: None)
+    rows = peers.measure_peers(
+        ("DOP853",), (1e-9,), repeats=1, reference_impacts=2898, heyoka=False, log=lambda _: None
+    )
     scene, floor = rows
     assert scene["kind"] == "scene" and floor["kind"] == "floor"
     assert scene["on_attractor"] and 2600 < scene["n_impacts"] < 3200

@@ -10,7 +10,7 @@ from impactosc.analysis.orbits import poincare_period
 from impactosc.analysis.periodic import impact_map_numbers
 from impactosc.analysis.spectra import analyse_spectrum
 from impactosc.files import write_json
-from impactosc.paper.rows import periodic_rows as table_rows
+from impactosc.paper.rows.periodic import periodic_rows as table_rows
 
 OMEGA = 23.03
 LEVELS = np.array([0.09034927, 0.19520570, 0.25988248])  # s

@@ -25,13 +25,8 @@ from impactosc.files import (
     write_table,
     write_text,
 )
-from impactosc.measured.records import (
-    Record,
-    read_record,
-    read_record_set,
-    write_record,
-    write_record_set,
-)
+from impactosc.measured.record_files import read_record, read_record_set, write_record, write_record_set
+from impactosc.measured.records import Record
 from impactosc.sweeps.continuation import (
     SweepResult,
     SweepSettings,

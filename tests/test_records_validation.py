@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from impactosc.measured import records
-from impactosc.measured.records import read_record, read_record_set, write_record, write_record_set
+from impactosc.measured import record_csv
+from impactosc.measured.record_files import read_record, read_record_set, write_record, write_record_set
 
 HEADER = "# units: mm\n# omega: 40.86\nt,x\n"
 
@@ -94,11 +94,11 @@ def test_record_set_manifest_and_h5(tmp_path):
 
 def _read_both(path, monkeypatch):
     """read_record through the loadtxt fast path (asserting numpy took it), then line by line."""
-    real, taken = records._loadtxt_columns, []
-    monkeypatch.setattr(records, "_loadtxt_columns", lambda *a: taken.append(real(*a)) or taken[-1])
+    real, taken = record_csv._loadtxt_columns, []
+    monkeypatch.setattr(record_csv, "_loadtxt_columns", lambda *a: taken.append(real(*a)) or taken[-1])
     fast = read_record(path)
     assert taken and taken[-1] is not None  # numpy parsed the whole block
-    monkeypatch.setattr(records, "_loadtxt_columns", lambda *a: None)  # force the fallback
+    monkeypatch.setattr(record_csv, "_loadtxt_columns", lambda *a: None)  # force the fallback
     return fast, read_record(path)
 
 

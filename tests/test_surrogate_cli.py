@@ -6,8 +6,8 @@ import pytest
 
 from impactosc.cli import main
 from impactosc.files import read_run
-from impactosc.measured.extract import record_set_poincare
-from impactosc.measured.records import read_record, read_record_set, write_record_set
+from impactosc.measured.poincare import record_set_poincare
+from impactosc.measured.record_files import read_record, read_record_set, write_record_set
 from impactosc.measured.surrogate import (
     LABEL,
     SurrogateOptions,
@@ -115,7 +115,7 @@ def test_noise_study_and_rows():
     from impactosc.analysis.chaotic import analyse_train
     from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain
     from impactosc.measured.noise_study import noise_study
-    from impactosc.paper.rows import measured_rows
+    from impactosc.paper.rows.measured import measured_rows
 
     o = AnalysisOptions(acf_surrogates=20, ks_bootstrap=0, mixture_restarts=1, fano_windows=(0.5, 1.0, 2.0))
     rows = noise_study(40.86, 100.0, 30.0, [2000.0], [0.0, 2e-5], analysis=o, x_impact_span=30.0, x_impact_noise=[2e-5])
@@ -150,7 +150,7 @@ def test_noise_study_and_rows():
 def test_cli_reports_estimated_x_impact(tmp_path, capsys):
     rec, _ = surrogate_record(40.86, 100.0, 20.0, SurrogateOptions(rate=2000, noise=2e-6))
     meta = {k: v for k, v in rec.meta.items() if k != "x_impact"}  # the obstacle position unknown
-    from impactosc.measured.records import write_record
+    from impactosc.measured.record_files import write_record
 
     write_record(tmp_path / "r.h5", rec.t, rec.x, omega=rec.omega, meta=meta)
     assert main(["extract", str(tmp_path / "r.h5"), "--output", str(tmp_path / "e.h5")]) == 0

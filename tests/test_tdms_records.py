@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 from nptdms import ChannelObject, GroupObject, RootObject, TdmsFile, TdmsWriter
 
-from impactosc.measured.records import phase_factor, read_record, write_record
+from impactosc.measured.record_files import read_record, write_record
+from impactosc.measured.records import phase_factor
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "record_example.tdms"

@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pytest
 
+from impactosc.benchmarks import cyrk_shim, wp_attractor, wp_solvers
 from impactosc.benchmarks import event_errors as ee
 from impactosc.benchmarks import speed_at_error as sae
 from impactosc.benchmarks import tolerance_statistics as ts
@@ -64,13 +65,13 @@ def test_best_time_takes_the_minimum_and_stops_for_slow_runs():
         calls.append(1)
         return len(calls)
 
-    out, wmin, wmed, n = wp.best_time(fn, 5)
+    out, wmin, wmed, n = wp_solvers.best_time(fn, 5)
     assert n == 5 and out == 5 and wmin <= wmed
     calls.clear()
-    _, _, _, n = wp.best_time(fn, 5, repeat_below=-1.0)  # every run counts as slow
+    _, _, _, n = wp_solvers.best_time(fn, 5, repeat_below=-1.0)  # every run counts as slow
     assert n == 1
     with pytest.raises(ValueError, match="repeats"):
-        wp.best_time(fn, 0)
+        wp_solvers.best_time(fn, 0)
 
 
 def test_case_validation():
@@ -85,22 +86,22 @@ def test_scipy_contestant_is_the_reference_algorithm_plus_sections():
     and penetrations to rounding (t_eval does not change SciPy's steps), plus Poincare points
     that agree with the core's at tight tolerance."""
     p = ModelParams()
-    a = wp.run_scipy(40.86, 1.0, 0.0, 0.0, p, "DOP853", 1e-10, 1e-12)
+    a = wp_solvers.run_scipy(40.86, 1.0, 0.0, 0.0, p, "DOP853", 1e-10, 1e-12)
     b = solve_reference(40.86, 1.0, params=p, method="DOP853", rtol=1e-10, atol=1e-12)
     np.testing.assert_allclose(a["impacts_t"], b["impacts_t"], rtol=0, atol=1e-14)
     np.testing.assert_allclose(a["penetrations_h"], b["penetrations_h"], rtol=0, atol=1e-17)
-    core = wp.run_core(40.86, 1.0, 0.0, 0.0, p, 1e-12, 1e-14)
+    core = wp_solvers.run_core_events(40.86, 1.0, 0.0, 0.0, p, 1e-12, 1e-14)
     np.testing.assert_array_equal(core["poincare_t"].size, a["poincare_t"].size)
     # SciPy at rtol 1e-10 against the core at 1e-12 over 1 s: ~1e-9 m (lead's measurements)
     np.testing.assert_allclose(a["poincare_x"], core["poincare_x"], rtol=0, atol=1e-8)
     with pytest.raises(ValueError, match="unknown SciPy method"):
-        wp.run_scipy(40.86, 1.0, 0.0, 0.0, p, "BDF", 1e-6, 1e-8)
+        wp_solvers.run_scipy(40.86, 1.0, 0.0, 0.0, p, "BDF", 1e-6, 1e-8)
 
 
 def _rows():
     rows = []
     for solver, walls, errs in (
-        (wp.CORE, [0.001, 0.002, 0.004], [1e-5, 1e-8, 1e-11]),
+        (wp_solvers.CORE, [0.001, 0.002, 0.004], [1e-5, 1e-8, 1e-11]),
         ("DOP853", [0.1, 0.3, 0.6], [1e-4, 1e-7, 1e-10]),
         ("LSODA", [0.05, 0.2, 0.9], [1e-3, 1e-8, 1e-9]),
     ):
@@ -138,7 +139,7 @@ def test_cost_at_error_is_the_cheapest_run_at_least_that_accurate():
 
 
 def test_headline_ratio_against_the_fastest_scipy_solver():
-    head = sae.headline(_rows(), {"impact_time_error": [1e-6, 1e-9, 1e-12]})
+    head = sae.speed_at_error_headline(_rows(), {"impact_time_error": [1e-6, 1e-9, 1e-12]})
     h = {r["error_level"]: r for r in head}
     assert h[1e-6]["best_scipy"] == "LSODA" and h[1e-6]["speedup"] == pytest.approx(0.2 / 0.002)
     assert h[1e-9]["best_scipy"] == "DOP853" and h[1e-9]["speedup"] == pytest.approx(0.6 / 0.004)
@@ -200,10 +201,18 @@ def test_sweep_smoke_core_fastest_and_accurate():
         "check_atol": 1e-15,
     }
     rows = wp.sweep_case(
-        case, ModelParams(), [1e-6, 1e-10], 1e-2, [wp.CORE, "LSODA"], ref, core_repeats=3, scipy_repeats=1, log=quiet
+        case,
+        ModelParams(),
+        [1e-6, 1e-10],
+        1e-2,
+        [wp_solvers.CORE, "LSODA"],
+        ref,
+        core_repeats=3,
+        scipy_repeats=1,
+        log=quiet,
     )
     assert all(r["status"] == "ok" for r in rows)
-    core = {r["rtol"]: r for r in rows if r["solver"] == wp.CORE}
+    core = {r["rtol"]: r for r in rows if r["solver"] == wp_solvers.CORE}
     lsoda = {r["rtol"]: r for r in rows if r["solver"] == "LSODA"}
     assert core[1e-10]["impact_time_error"] < core[1e-6]["impact_time_error"]
     assert core[1e-10]["impact_time_error"] < 1e-8
@@ -223,19 +232,19 @@ def test_a_contestant_that_raises_is_a_failed_row(monkeypatch):
         "check_rtol": 1e-11,
         "check_atol": 1e-14,
     }
-    real = wp.run_solver
+    real = wp_solvers.run_solver
 
     def run_solver(solver, *args):
         if solver == "LSODA":
             raise ValueError("f(a) and f(b) must have different signs")
         return real(solver, *args)
 
-    monkeypatch.setattr(wp, "run_solver", run_solver)
+    monkeypatch.setattr(wp, "run_solver", run_solver)  # the name the sweep calls
     rows = wp.sweep_case(
-        case, ModelParams(), [1e-8], 1e-2, [wp.CORE, "LSODA"], ref, core_repeats=1, scipy_repeats=1, log=quiet
+        case, ModelParams(), [1e-8], 1e-2, [wp_solvers.CORE, "LSODA"], ref, core_repeats=1, scipy_repeats=1, log=quiet
     )
     status = {r["solver"]: (r["status"], r.get("note", "")) for r in rows}
-    assert status[wp.CORE][0] == "ok"
+    assert status[wp_solvers.CORE][0] == "ok"
     assert status["LSODA"] == ("failed", "ValueError: f(a) and f(b) must have different signs")
 
 
@@ -310,21 +319,24 @@ def _peer_rows():
 
 
 def test_headline_names_the_fastest_compiled_peer_apart_from_scipy():
-    head = {r["error_level"]: r for r in sae.headline(_peer_rows(), {"impact_time_error": [1e-6, 1e-9, 1e-11]})}
+    head = {
+        r["error_level"]: r
+        for r in sae.speed_at_error_headline(_peer_rows(), {"impact_time_error": [1e-6, 1e-9, 1e-11]})
+    }
     # SciPy's columns are as without peers
     assert head[1e-6]["best_scipy"] == "LSODA" and head[1e-6]["speedup"] == pytest.approx(0.2 / 0.002)
     assert head[1e-6]["best_peer"] == "CyRK DOP853" and head[1e-6]["peer_over_core"] == pytest.approx(0.0015 / 0.002)
     # the rtol 1e-12 run is accurate over 1.5 s but leaves the attractor in 500 s: it does not count
     assert head[1e-11]["best_peer"] == "none" and math.isnan(head[1e-11]["peer_over_core"])
-    assert "best_peer" not in sae.headline(_rows(), {"impact_time_error": [1e-6]})[0]
+    assert "best_peer" not in sae.speed_at_error_headline(_rows(), {"impact_time_error": [1e-6]})[0]
 
 
 def test_attractor_columns_flag_a_run_that_stops_or_leaves():
-    on = wp.attractor_columns({"n_impacts_500s": 2890, "t_reached_500s": 500.0, "stop": ""}, 2898)
+    on = wp_attractor.attractor_columns({"n_impacts_500s": 2890, "t_reached_500s": 500.0, "stop": ""}, 2898)
     assert on["on_attractor"] is True and "attractor_note" not in on
-    off = wp.attractor_columns({"n_impacts_500s": 520, "t_reached_500s": 500.0, "stop": ""}, 2898)
+    off = wp_attractor.attractor_columns({"n_impacts_500s": 520, "t_reached_500s": 500.0, "stop": ""}, 2898)
     assert off["on_attractor"] is False and "left the attractor" in off["attractor_note"]
-    stop = wp.attractor_columns({"n_impacts_500s": 1177, "t_reached_500s": 263.8, "stop": "step size"}, 2898)
+    stop = wp_attractor.attractor_columns({"n_impacts_500s": 1177, "t_reached_500s": 263.8, "stop": "step size"}, 2898)
     assert stop["on_attractor"] is False and stop["attractor_note"].startswith("500 s run stopped at t = 263.8 s")
 
 
@@ -335,7 +347,7 @@ def test_a_peer_that_is_not_installed_is_a_row_and_a_note(monkeypatch):
 
     monkeypatch.setitem(sys.modules, "CyRK", None)  # import CyRK now raises ImportError
     monkeypatch.setitem(sys.modules, "heyoka", None)
-    status = wp.peer_status([wp.CORE, "DOP853", "CyRK DOP853", "CyRK Vern8"], heyoka=True)
+    status = wp_solvers.peer_status([wp_solvers.CORE, "DOP853", "CyRK DOP853", "CyRK Vern8"], heyoka=True)
     assert set(status) == {"CyRK DOP853", "CyRK Vern8", "heyoka"}
     assert all("not installed" in why for why in status.values())
     rows = [{"scene": "chaotic", "solver": s, "status": "unavailable", "note": why} for s, why in status.items()]
@@ -362,8 +374,8 @@ def test_peer_contestant_gives_the_events_of_the_others(cyrk):
     penetrations and Poincare points over 1.5 s from rest (measured: 2.9e-11 s, 7e-14 m,
     1.5e-12 m; the bounds leave a factor ~30 for other compilers and CPUs)."""
     p = ModelParams()
-    ref = wp.run_scipy(40.86, 1.5, 0.0, 0.0, p, "DOP853", 1e-13, 1e-15)
-    run = wp.run_solver("CyRK DOP853", 40.86, 1.5, 0.0, 0.0, p, 1e-12, 1e-14)
+    ref = wp_solvers.run_scipy(40.86, 1.5, 0.0, 0.0, p, "DOP853", 1e-13, 1e-15)
+    run = wp_solvers.run_solver("CyRK DOP853", 40.86, 1.5, 0.0, 0.0, p, 1e-12, 1e-14)
     assert run["success"] and run["t_reached"] == 1.5
     e = ee.event_errors(run, ref)
     assert e["n_impacts"] == e["n_impacts_ref"] == 10
@@ -373,14 +385,14 @@ def test_peer_contestant_gives_the_events_of_the_others(cyrk):
 
 def test_sweep_with_a_peer_and_a_missing_one(cyrk, monkeypatch):
     """A short sweep: the peer's row is complete, a method CyRK does not have is a row that says so."""
-    real = cyrk.cyrk_method
+    real = cyrk_shim.cyrk_method
 
     def method(name):
         if name == "Nope":
-            raise cyrk.PeerUnavailable("no " + name)
+            raise cyrk_shim.PeerUnavailable("no " + name)
         return real(name)
 
-    monkeypatch.setattr(cyrk, "cyrk_method", method)
+    monkeypatch.setattr(cyrk_shim, "cyrk_method", method)
     case = wp.Case("chaotic", 40.86, 100.0, 0.5)
     ref = {
         "method": "DOP853",
@@ -395,7 +407,7 @@ def test_sweep_with_a_peer_and_a_missing_one(cyrk, monkeypatch):
         ModelParams(),
         [1e-9],
         1e-2,
-        [wp.CORE, "CyRK DOP853", "CyRK Nope"],
+        [wp_solvers.CORE, "CyRK DOP853", "CyRK Nope"],
         ref,
         core_repeats=1,
         peer_repeats=1,
@@ -422,12 +434,12 @@ def test_time_budget_gives_a_lower_bound_where_scipy_stopped():
                 "reference_impact_time_error": 1e-12,
             }
         )
-    h = {r["error_level"]: r for r in sae.headline(rows, {"impact_time_error": [1e-6, 1e-9]})}
+    h = {r["error_level"]: r for r in sae.speed_at_error_headline(rows, {"impact_time_error": [1e-6, 1e-9]})}
     assert h[1e-6]["speedup"] == pytest.approx(0.2 / 0.002) and math.isnan(h[1e-6]["speedup_at_least"])
     assert h[1e-9]["best_scipy"] == "none" and math.isnan(h[1e-9]["speedup"])
     assert h[1e-9]["speedup_at_least"] == pytest.approx(0.2 / 0.004)  # LSODA's last point, 0.2 s
     # without a stopped sweep there is no bound: the full sweeps never reached 1e-12
-    full = sae.headline(_rows(), {"impact_time_error": [1e-12]})[0]
+    full = sae.speed_at_error_headline(_rows(), {"impact_time_error": [1e-12]})[0]
     assert math.isnan(full["speedup_at_least"])
 
 
@@ -448,7 +460,7 @@ def test_budget_skips_tighter_tolerances_and_says_so(monkeypatch):
         ModelParams(),
         [1e-6, 1e-8, 1e-10],
         1e-2,
-        [wp.CORE, "LSODA"],
+        [wp_solvers.CORE, "LSODA"],
         ref,
         core_repeats=1,
         scipy_repeats=1,
@@ -456,7 +468,7 @@ def test_budget_skips_tighter_tolerances_and_says_so(monkeypatch):
         log=quiet,
     )
     status = {(r["solver"], r["rtol"]): r for r in rows}
-    assert all(status[(wp.CORE, rt)]["status"] == "ok" for rt in (1e-6, 1e-8, 1e-10))
+    assert all(status[(wp_solvers.CORE, rt)]["status"] == "ok" for rt in (1e-6, 1e-8, 1e-10))
     assert status[("LSODA", 1e-6)]["status"] == "ok"
     for rt in (1e-8, 1e-10):
         assert status[("LSODA", rt)]["status"] == "skipped"
@@ -468,7 +480,14 @@ def test_budget_skips_tighter_tolerances_and_says_so(monkeypatch):
 
 def test_known_long_runs_reuse_the_benchmark_table():
     bench = [
-        {"solver": wp.CORE, "kind": "scene", "rtol": 1e-10, "n_impacts": 2888.0, "t_reached": 500.0, "status": "ok"},
+        {
+            "solver": wp_solvers.CORE,
+            "kind": "scene",
+            "rtol": 1e-10,
+            "n_impacts": 2888.0,
+            "t_reached": 500.0,
+            "status": "ok",
+        },
         {
             "solver": "CyRK DOP853",
             "kind": "scene",
@@ -480,11 +499,11 @@ def test_known_long_runs_reuse_the_benchmark_table():
         {"solver": "CyRK DOP853 free flight", "kind": "floor", "rtol": 1e-10, "status": "ok"},
         {"solver": "SciPy", "kind": "scene", "rtol": 1e-8, "n_impacts": 2896.0, "t_reached": 500.0, "status": "ok"},
     ]
-    known = wp.known_long_runs(bench)
-    assert known[(wp.CORE, 1e-10)] == {"n_impacts_500s": 2888.0, "t_reached_500s": 500.0, "stop": ""}
+    known = wp_attractor.known_long_runs(bench)
+    assert known[(wp_solvers.CORE, 1e-10)] == {"n_impacts_500s": 2888.0, "t_reached_500s": 500.0, "stop": ""}
     assert known[("CyRK DOP853", 1e-12)]["stop"] == "Error in step size calculation"
     assert ("CyRK DOP853 free flight", 1e-10) not in known
-    cols = wp.attractor_columns(known[("CyRK DOP853", 1e-12)], 2888)
+    cols = wp_attractor.attractor_columns(known[("CyRK DOP853", 1e-12)], 2888)
     assert cols["on_attractor"] is False and "stopped" in cols["attractor_note"]
 
 
@@ -508,12 +527,12 @@ def test_references_made_apart_give_the_same_sweep(tmp_path):
         ModelParams(),
         [1e-8],
         1e-2,
-        [wp.CORE],
+        [wp_solvers.CORE],
         ref,
         core_repeats=1,
         log=quiet,
         reference=read_json(tmp_path / "ref.json"),
     )
-    inside = wp.sweep_case(case, ModelParams(), [1e-8], 1e-2, [wp.CORE], ref, core_repeats=1, log=quiet)
+    inside = wp.sweep_case(case, ModelParams(), [1e-8], 1e-2, [wp_solvers.CORE], ref, core_repeats=1, log=quiet)
     for key in ("impact_time_error", "penetration_error", "poincare_x_error", "reference_impact_time_error"):
         assert apart[0][key] == inside[0][key]

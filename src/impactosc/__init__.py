@@ -13,7 +13,20 @@ __version__ = "0.1.0"
 # reusing stale machine code. An explicit NUMBA_CACHE_DIR is respected.
 CORE_SOURCES = tuple(
     f"integration/{name}.py"
-    for name in ("layout", "tableau", "model", "dop853", "radau", "events", "sampling", "pieces", "implicit", "core")
+    for name in (
+        "layout",
+        "tableau",
+        "model",
+        "dop853",
+        "radau",
+        "events",
+        "sampling",
+        "pieces",
+        "time_pieces",
+        "transformed_pieces",
+        "implicit",
+        "core",
+    )
 )
 
 

@@ -113,7 +113,7 @@ def _parse_mismatch(text):
 
 def _surrogate(args) -> int:
     from .files import check_writable
-    from .measured.records import write_record
+    from .measured.record_files import write_record
     from .measured.surrogate import REALISM_FIELDS, SurrogateOptions, surrogate_ramp, surrogate_record
 
     check_writable(args.output)

@@ -229,7 +229,7 @@ def _identify_run(args) -> int:
     from .identification import identify
     from .identification.choice import candidates, choice_markdown, choose_model
     from .identification.report import parameter_markdown, parameter_table, write_identified_model
-    from .measured.records import read_records
+    from .measured.record_files import read_records
 
     _check_identify_outputs(args)
     if not all(periods > 0 for periods in args.stages):

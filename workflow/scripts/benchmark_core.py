@@ -2,9 +2,9 @@
 
 Reads params bc (config benchmark_core: core rtols, repeats, SciPy rtols, peers, max_error);
 writes snakemake.output.csv (one row per solver and rtol, the same columns for every
-contestant; impactosc.benchmarks.core_speed.measure), .headline (the core's fastest run at
+contestant; impactosc.benchmarks.core_speed.measure_core_speed), .headline (the core's fastest run at
 impact-time error <= max_error, the fastest compiled peer and SciPy at the same bound, their
-time ratios; core_speed.headline) and .md (both tables, JIT times, the SciPy ratio at each
+time ratios; core_speed.core_speed_headline) and .md (both tables, JIT times, the SciPy ratio at each
 rtol, the peers that were skipped).
 """
 
@@ -22,10 +22,10 @@ from impactosc.benchmarks.core_speed import (
     SCIPY,
     TABLE_COLUMNS,
     TRANSIENT,
-    headline,
+    core_speed_headline,
     headline_sentence,
     markdown_table,
-    measure,
+    measure_core_speed,
 )
 from impactosc.files import read_json, write_table, write_text
 
@@ -49,7 +49,7 @@ def main(bc, jit_path, csv_path, headline_path, md_path):
     jit = read_json(jit_path)  # measured once, by the work-precision group's wp_jit
     logging.info("JIT (from %s): %s", jit_path, jit)
     peers = bc["peers"]
-    rows, skipped = measure(
+    rows, skipped = measure_core_speed(
         rtols=bc["rtols"],
         repeats=bc["repeats"],
         scipy_rtols=bc["scipy_rtols"],
@@ -59,7 +59,7 @@ def main(bc, jit_path, csv_path, headline_path, md_path):
         log=logging.info,
     )
     write_table(csv_path, rows)
-    head = headline(rows, bc["max_error"])
+    head = core_speed_headline(rows, bc["max_error"])
     write_table(headline_path, head)
     reference = rows[0]["reference_impacts"]
     cold = "not measured" if jit.get("cold") is None else f"{jit['cold']:.1f} s"

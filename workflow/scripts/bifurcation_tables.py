@@ -14,7 +14,7 @@ import logging
 
 from impactosc.analysis.bifurcation import differing_windows, read_sweep
 from impactosc.files import read_json, write_csv, write_json
-from impactosc.paper.rows import bifurcation_rows as paper_rows
+from impactosc.paper.rows.bifurcation import bifurcation_rows as paper_rows
 from impactosc.paper.table import write_rows
 from impactosc.sweeps.continuation import load_sweep
 

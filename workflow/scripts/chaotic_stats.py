@@ -14,7 +14,7 @@ import logging
 from impactosc.analysis.chaotic import mixture_table
 from impactosc.analysis.spectra import trajectory_spectrum
 from impactosc.files import read_json, read_run, write_csv
-from impactosc.paper.rows import chaotic_rows as paper_rows
+from impactosc.paper.rows.chaotic import chaotic_rows as paper_rows
 from impactosc.paper.table import write_rows
 
 model = read_json(snakemake.input.model[0])

@@ -1,6 +1,6 @@
 """Measured Poincare points for the Fig 2 left panel: per-w records, or one slow-sweep record.
 
-Reads snakemake.input.records: a record set (HDF5 or CSV manifest, impactosc.measured.records),
+Reads snakemake.input.records: a record set (HDF5 or CSV manifest, impactosc.measured.record_files),
 or, when snakemake.params.segments is set (config measured.fig02.sweep_record), one record of
 a slow sweep of w with an encoder phase (read as snakemake.params.reader says), cut into
 segments of quasi-constant measured w (impactosc.measured.sweep).  Writes
@@ -17,8 +17,8 @@ import logging
 import h5py
 
 from impactosc.files import atomic_write, check_writable, stamp_h5
-from impactosc.measured.extract import record_set_poincare
-from impactosc.measured.records import read_record, read_record_set
+from impactosc.measured.poincare import record_set_poincare
+from impactosc.measured.record_files import read_record, read_record_set
 from impactosc.measured.sweep import sweep_segments, write_sweep_points
 
 p = snakemake.params

@@ -11,7 +11,7 @@ configure_logging(snakemake)
 import logging
 
 from impactosc.files import read_json
-from impactosc.paper.rows import measured_rows
+from impactosc.paper.rows.measured import measured_rows
 from impactosc.paper.table import write_rows
 
 rows = measured_rows(

@@ -13,7 +13,7 @@ configure_logging(snakemake)
 import logging
 
 from impactosc.files import read_csv, read_json, write_csv, write_text
-from impactosc.paper.rows import orbit_rows
+from impactosc.paper.rows.bifurcation import orbit_rows
 from impactosc.paper.table import to_markdown, write_rows
 from impactosc.periodic_orbits.table import bifurcation_table, cascade_chain, chain_ratios, multipliers_text
 

@@ -12,7 +12,7 @@ configure_logging(snakemake)
 import json
 import logging
 
-from impactosc.paper.rows import periodic_rows as table_rows
+from impactosc.paper.rows.periodic import periodic_rows as table_rows
 from impactosc.paper.table import write_rows
 
 with open(snakemake.input.stats) as f:

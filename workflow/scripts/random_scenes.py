@@ -11,14 +11,14 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.benchmarks.random_scenes import BOUND, BOUND_X, summary
+from impactosc.benchmarks.random_scenes import BOUND, BOUND_X, summarise_scenes
 from impactosc.files import read_csv, write_csv, write_text
 
 rows = [r for path in snakemake.input.parts for r in read_csv(path, numbers=True)]
 for r in rows:
     r["scene"], r["compared"] = int(r["scene"]), int(r["compared"])
 rows.sort(key=lambda r: r["scene"])
-s = summary(rows)
+s = summarise_scenes(rows)
 logging.info("summary: %s", s)
 write_csv(snakemake.output.csv, rows, floats="", sources=snakemake.input.parts)
 rs = snakemake.params.rs

@@ -12,7 +12,7 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.benchmarks.speed_at_error import headline
+from impactosc.benchmarks.speed_at_error import speed_at_error_headline
 from impactosc.benchmarks.tolerance_statistics import statistics_summary
 from impactosc.files import read_json, read_table, write_table
 from impactosc.plotting import save_figure
@@ -28,7 +28,7 @@ def main(scene_csvs, stats_csv, jit_json, levels, out):
     rows = [r for path in scene_csvs for r in read_table(path)]
     jit = read_json(jit_json)
     write_table(out.table, rows, sources=scene_csvs)
-    head = headline(rows, {"impact_time_error": levels})
+    head = speed_at_error_headline(rows, {"impact_time_error": levels})
     write_table(
         out.headline,
         [{**h, "jit_cold": jit["cold"], "jit_cached": jit["cached"]} for h in head],

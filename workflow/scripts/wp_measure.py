@@ -18,7 +18,9 @@ configure_logging(snakemake)
 import logging
 import math
 
-from impactosc.benchmarks.workprecision import CORE, Case, known_long_runs, peer_solvers, sweep_case
+from impactosc.benchmarks.workprecision import Case, sweep_case
+from impactosc.benchmarks.wp_attractor import known_long_runs
+from impactosc.benchmarks.wp_solvers import CORE, peer_solvers
 from impactosc.files import read_json, read_table, write_table
 from impactosc.integration.model import ModelParams
 

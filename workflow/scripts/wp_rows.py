@@ -11,7 +11,7 @@ configure_logging(snakemake)
 import logging
 
 from impactosc.files import read_table
-from impactosc.paper.rows import numerics_rows as paper_rows
+from impactosc.paper.rows.numerics import numerics_rows as paper_rows
 from impactosc.paper.table import write_rows
 
 

@@ -24,7 +24,7 @@ the ISI mixture table.
 The rest of section 2.2 lives in its own modules, imported from there: the spread over
 realisations (:mod:`impactosc.analysis.ensemble`), the Fig 6b spectrum
 (:func:`impactosc.analysis.spectra.trajectory_spectrum`), the rows of the paper table
-(:func:`impactosc.paper.rows.chaotic_rows`) and the statistics files
+(:func:`impactosc.paper.rows.chaotic.chaotic_rows`) and the statistics files
 (:func:`impactosc.files.write_json`, :func:`~impactosc.files.read_json`).
 """
 

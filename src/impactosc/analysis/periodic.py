@@ -7,7 +7,7 @@ secondary frequency w1 < w and the combinations k w +/- w1, measured by
 :func:`impactosc.analysis.spectra.analyse_spectrum`) are recomputed here from a run
 file, together with what the model says about them (the sum of the intervals is a whole
 number of forcing periods; w1 is a rational fraction of w, i.e. a subharmonic, not a
-second incommensurate frequency). :func:`impactosc.paper.rows.periodic_rows` puts them
+second incommensurate frequency). :func:`impactosc.paper.rows.periodic.periodic_rows` puts them
 beside the paper's.
 """
 

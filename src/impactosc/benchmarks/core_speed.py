@@ -8,7 +8,7 @@ first 1.5 s, impacts in 100-500 s, on the attractor):
     its tolerances and with the compiled peers of :mod:`impactosc.benchmarks.peers` (CyRK
     DOP853 / Vern8 / Vern7 with numba cfunc right-hand side and events, and the free-flight
     floors of CyRK and heyoka): `repeats` timing rounds in which every one of them runs
-    once (:func:`peers.measure_contestants`, serpentine order), so that a change in the
+    once (:func:`impactosc.benchmarks.timing_rounds.measure_contestants`, serpentine order), so that a change in the
     machine's load spreads over all rows; the wall time reported is the median of the
     rounds (and its minimum beside it), JIT compilation and the shim's build excluded;
   * SciPy solve_ivp DOP853 with events (split at contact onset/exit) at `scipy_rtols`,
@@ -16,13 +16,13 @@ first 1.5 s, impacts in 100-500 s, on the attractor):
   * impact-time error over the first 1.5 s (before chaos amplifies differences) against
     SciPy DOP853 at rtol 1e-13 / atol 1e-15, the same for every contestant;
   * on the attractor: the run reached 500 s and its impact count in 100-500 s is within
-    10 % of the core's at rtol 1e-10 (peers.on_attractor);
+    10 % of the core's at rtol 1e-10 (timing_rounds.on_attractor);
   * RHS evaluations per forcing period of the core and SciPy (CyRK does not count them),
     beside the same figure of the core for the smooth linear oscillator (T = 0, no
     contact) at the same tolerance: the method's floor;
   * JIT compile time, cold (empty cache) and cached, in fresh processes.
 
-:func:`headline` gives the numbers the README leads with: the core's fastest run with
+:func:`core_speed_headline` gives the numbers the README leads with: the core's fastest run with
 error <= max_error, the fastest compiled peer at the same bound and their time ratio, then
 SciPy.
 """
@@ -43,6 +43,17 @@ from ..integration.model import ModelParams
 from ..integration.reference import solve_reference
 from ..integration.simulate import StallError, simulate, warm_up
 from .scene import DURATION, ERR_HORIZON, OMEGA, TRANSIENT, impact_error
+from .timing_rounds import (
+    ATTRACTOR_TOLERANCE,
+    CORE_ATOL,
+    CORE_RTOL,
+    Contestant,
+    PeerRun,
+    measure_contestants,
+    on_attractor,
+    reference_impact_count,
+    reference_times,
+)
 
 CORE = "impactosc core"
 SCIPY = "SciPy solve_ivp DOP853 + events"
@@ -84,12 +95,10 @@ def _n_periods(t: float) -> float:
 # ------------------------------------------------------------------------------ the core
 
 
-def run_core(rtol: float, atol: float, transient: float = TRANSIENT, duration: float = DURATION):
-    """One run of the core from rest as a peers.PeerRun (impacts with t >= transient). The wall
+def run_core_from_rest(rtol: float, atol: float, transient: float = TRANSIENT, duration: float = DURATION):
+    """One run of the core from rest as a timing_rounds.PeerRun (impacts with t >= transient). The wall
     time is the whole simulate() call, as a peer's is its whole solver call; a run that stalls
     is reported (success False, StallError's message), not raised."""
-    from .peers import PeerRun
-
     t0 = time.perf_counter()
     try:
         res = simulate(OMEGA, transient, duration, rtol=rtol, atol=atol, record=("impacts",))
@@ -119,9 +128,7 @@ def run_core(rtol: float, atol: float, transient: float = TRANSIENT, duration: f
 
 
 def core_contestants(rtols):
-    """The core at each rtol (atol = rtol/100) as peers.Contestant rows of the scene."""
-    from .peers import Contestant
-
+    """The core at each rtol (atol = rtol/100) as timing_rounds.Contestant rows of the scene."""
     out = []
     for rtol in rtols:
         atol = rtol * 1e-2
@@ -131,8 +138,8 @@ def core_contestants(rtols):
                 "scene",
                 rtol,
                 atol,
-                run=lambda r=rtol, a=atol: run_core(r, a),
-                short=lambda r=rtol, a=atol: run_core(r, a, 0.0, ERR_HORIZON),
+                run=lambda r=rtol, a=atol: run_core_from_rest(r, a),
+                short=lambda r=rtol, a=atol: run_core_from_rest(r, a, 0.0, ERR_HORIZON),
             )
         )
     return out
@@ -150,8 +157,6 @@ def linear_rhs_per_period(rtol: float) -> float:
 
 def scipy_row(rtol: float, ref_times, reference_impacts: int, log=print) -> dict:
     """SciPy solve_ivp DOP853 with events over the scene (one run) and over 1.5 s (its error)."""
-    from .peers import on_attractor
-
     atol = rtol * 1e-2
     t0 = time.perf_counter()
     sp = solve_reference(OMEGA, TRANSIENT + DURATION, rtol=rtol, atol=atol)
@@ -205,7 +210,7 @@ COLUMNS = (
 )
 
 
-def measure(
+def measure_core_speed(
     rtols=(1e-8, 1e-9, 1e-10, 1e-11),
     repeats: int = 3,
     *,
@@ -221,29 +226,29 @@ def measure(
     that was skipped (not installed, shim not built).
 
     The attractor's impact count is the core's at rtol 1e-10 (measured here if that is one of
-    `rtols`, else by peers.reference_impact_count).
+    `rtols`, else by timing_rounds.reference_impact_count).
     """
     from . import peers
 
     warm_up()
     methods = peers.METHODS if peer_methods is None else tuple(peer_methods)
     p_rtols = peers.RTOLS if peer_rtols is None else tuple(peer_rtols)
-    ref_times = peers.reference_times()
+    ref_times = reference_times()
     core = core_contestants(rtols)
     if methods or heyoka:
         others, skipped = peers.peer_contestants(methods, p_rtols, heyoka=heyoka, log=log)
     else:
         others, skipped = [], []
     reference = None
-    if peers.CORE_RTOL in rtols:
-        reference = len(run_core(peers.CORE_RTOL, peers.CORE_ATOL).impacts_t)
+    if CORE_RTOL in rtols:
+        reference = len(run_core_from_rest(CORE_RTOL, CORE_ATOL).impacts_t)
     if reference is None:
-        reference = peers.reference_impact_count()
+        reference = reference_impact_count()
     log(
-        f"attractor: the core at rtol {peers.CORE_RTOL:g} has {reference} impacts in {TRANSIENT:g}-"
-        f"{TRANSIENT + DURATION:g} s; on_attractor = within {peers.ATTRACTOR_TOLERANCE:.0%}"
+        f"attractor: the core at rtol {CORE_RTOL:g} has {reference} impacts in {TRANSIENT:g}-"
+        f"{TRANSIENT + DURATION:g} s; on_attractor = within {ATTRACTOR_TOLERANCE:.0%}"
     )
-    rows = peers.measure_contestants(core + others, repeats, reference_impacts=reference, ref_times=ref_times, log=log)
+    rows = measure_contestants(core + others, repeats, reference_impacts=reference, ref_times=ref_times, log=log)
     for r in rows:
         if r["solver"] == CORE:
             r["rhs_per_period_linear"] = linear_rhs_per_period(r["rtol"])
@@ -255,7 +260,7 @@ def measure(
 # ------------------------------------------------------------------------------ summary
 
 
-def headline(rows: list[dict], max_error: float = MAX_ERROR) -> list[dict]:
+def core_speed_headline(rows: list[dict], max_error: float = MAX_ERROR) -> list[dict]:
     """The comparison the README leads with, one row per contestant (role):
 
     * core: the core's fastest run on the attractor with impact-time error <= max_error;

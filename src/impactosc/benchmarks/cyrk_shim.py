@@ -1,7 +1,7 @@
 """The Cython shim through which the peer benchmark drives CyRK's C++ solvers with events.
 
 CyRK 0.20's Python entries do not combine a compiled right-hand side with events (see
-peers.py), so this ~40-line shim builds the C++ ``Event`` objects around numba cfuncs and calls
+cyrk_runs.py), so this ~40-line shim builds the C++ ``Event`` objects around numba cfuncs and calls
 ``cysolve_ivp_noreturn`` from CyRK's own binary. It is compiled on first use into
 $XDG_CACHE_HOME/impactosc/cyrk-shim-<hash> (the hash covers the shim and the CyRK, Cython and
 numpy versions and the Python ABI), under a file lock, in a subprocess.

@@ -19,8 +19,8 @@ import subprocess
 import sys
 import time
 
-from .core_speed import run_core
-from .peers import run_cyrk
+from .core_speed import run_core_from_rest
+from .cyrk_runs import run_cyrk
 
 NEIGHBOUR = (
     "from impactosc.integration.simulate import simulate\n"
@@ -28,12 +28,12 @@ NEIGHBOUR = (
     "    simulate(40.86, 0.0, 2000.0, record=('impacts',))\n"
 )
 CONTESTANTS = {
-    "core": lambda: run_core(1e-10, 1e-12).wall_time,
+    "core": lambda: run_core_from_rest(1e-10, 1e-12).wall_time,
     "CyRK Vern7": lambda: run_cyrk("Vern7", 500.0, 1e-10, 1e-12).wall_time,
 }
 
 
-def measure(rounds: int, settle: float = 2.0) -> dict:
+def measure_neighbour_load(rounds: int, settle: float = 2.0) -> dict:
     """{condition: {contestant: [wall time per round]}} for the conditions alone and beside a
     busy neighbour, alternated (ABBA...) so that a drift of the machine's load falls on both."""
     if rounds < 1:
@@ -56,7 +56,7 @@ def measure(rounds: int, settle: float = 2.0) -> dict:
     return out
 
 
-def summary(out: dict) -> list[str]:
+def summarise_load(out: dict) -> list[str]:
     """One line per condition: median wall times and the median per-round CyRK / core ratio."""
     lines = []
     for cond, walls in out.items():
@@ -73,7 +73,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=12, help="rounds per condition (default 12)")
     args = ap.parse_args(argv)
-    for line in summary(measure(args.rounds)):
+    for line in summarise_load(measure_neighbour_load(args.rounds)):
         print(line)
     return 0
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 
-from .workprecision import CORE, SCIPY_METHODS, is_peer
+from .wp_solvers import CORE, SCIPY_METHODS, is_peer
 
 
 def cost_at_error(rows: list[dict], scene: str, solver: str, metric: str, level: float) -> float:
@@ -50,7 +50,7 @@ def _fastest(rows, scene, solvers, metric, level):
     return costs, (min(finite, key=finite.get) if finite else None)
 
 
-def headline(rows: list[dict], levels: dict) -> list[dict]:
+def speed_at_error_headline(rows: list[dict], levels: dict) -> list[dict]:
     """Speed ratio at equal error: the fastest SciPy solver's cost over the core's, and the
     fastest compiled peer's (if any were measured) over the core's.
 

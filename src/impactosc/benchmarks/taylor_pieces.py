@@ -290,7 +290,7 @@ def taylor_through_the_band(tol: float = 1e-10, horizon: float = 5.0) -> dict:
     against SciPy. Its step-size rule does not see the band's switch (width eps / |a| in time):
     with the band in time a Taylor method is fast and wrong, which is why the core integrates
     the band in asinh(v/eps)."""
-    from .peers import heyoka_free_flight
+    from .free_flight import heyoka_free_flight
 
     free = ModelParams(xI=1.0)
     integrator = heyoka_free_flight(tol, free, OMEGA)

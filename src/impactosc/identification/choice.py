@@ -61,7 +61,7 @@ def candidates() -> list[tuple[str, str]]:
 
 def fit_candidate(records, law, friction, *, base=None, start=None, every=4, stages=STAGES, rtol=1e-10, progress=None):
     """One candidate fitted on the records' windows outside the held-out blocks: its row."""
-    from ..measured.extract import estimate_noise
+    from ..measured.sample_fits import estimate_noise
 
     base = base or ModelParams()
     if start is None:
@@ -121,7 +121,7 @@ def choose_model(
     records, *, base: ModelParams | None = None, every: int = 4, stages=STAGES, rtol: float = 1e-10, progress=None
 ):
     """Fit every (contact law, friction) candidate; one row each, best BIC first (:func:`rank`)."""
-    from ..measured.extract import estimate_noise
+    from ..measured.sample_fits import estimate_noise
 
     records = list(records)
     say = progress or (lambda msg: None)

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..integration.model import ModelParams
-from ..measured.extract import estimate_noise
+from ..measured.sample_fits import estimate_noise
 from .continuity import fit_continuous, links
 from .least_squares import FitResult, fit, fit_states
 from .parameters import LOWER, NAMES, UNITS, UPPER, params_of, theta_of
@@ -108,6 +108,31 @@ def _stage(records, theta, free, base_p, m, periods, level, rtol, keep=None):
     return pred, states
 
 
+def _free_parameters(start: dict, fixed: dict | None, base: ModelParams) -> tuple[np.ndarray, np.ndarray, dict]:
+    """The first theta, which of its entries are fitted, and why each other one is fixed: what
+    the start values could not pin, what the caller fixes (`fixed`), and n3 without damping."""
+    theta = start["theta"].copy()
+    free = np.ones(len(NAMES), dtype=bool)
+    why_fixed = {}
+    for nm, why in start["unpinned"].items():
+        free[NAMES.index(nm)] = False
+        theta[NAMES.index(nm)] = theta_of(base)[NAMES.index(nm)]
+        why_fixed[nm] = f"not identifiable: {why}; fixed at the stated value"
+    for nm, value in (fixed or {}).items():
+        if nm not in NAMES:
+            raise ValueError(f"unknown parameter {nm!r} to fix; choose from {', '.join(NAMES)}")
+        i = NAMES.index(nm)
+        free[i] = False
+        theta[i] = theta_of(base)[i] if value is None else float(value)
+        why_fixed[nm] = "fixed by the model's definition"
+    if theta[NAMES.index("b")] == 0.0:  # no damping: n3 does nothing
+        i = NAMES.index("n3")
+        if free[i]:
+            free[i] = False
+            why_fixed["n3"] = "no effect without damping (b = 0)"
+    return theta, free, why_fixed
+
+
 def identify(
     records,
     *,
@@ -139,25 +164,7 @@ def identify(
     if start is None:
         say(f"start values: contact fit and free-flight fit on {len(records)} record(s)")
         start = start_values(records, base, sigma=sigma)
-    theta = start["theta"].copy()
-    free = np.ones(len(NAMES), dtype=bool)
-    why_fixed = {}
-    for nm, why in start["unpinned"].items():
-        free[NAMES.index(nm)] = False
-        theta[NAMES.index(nm)] = theta_of(base)[NAMES.index(nm)]
-        why_fixed[nm] = f"not identifiable: {why}; fixed at the stated value"
-    for nm, value in (fixed or {}).items():
-        if nm not in NAMES:
-            raise ValueError(f"unknown parameter {nm!r} to fix; choose from {', '.join(NAMES)}")
-        i = NAMES.index(nm)
-        free[i] = False
-        theta[i] = theta_of(base)[i] if value is None else float(value)
-        why_fixed[nm] = "fixed by the model's definition"
-    if theta[NAMES.index("b")] == 0.0:  # no damping: n3 does nothing
-        i = NAMES.index("n3")
-        if free[i]:
-            free[i] = False
-            why_fixed["n3"] = "no effect without damping (b = 0)"
+    theta, free, why_fixed = _free_parameters(start, fixed, base)
     m = base.m
     base_p = base.as_array(1.0)
     level = theta[NAMES.index("xI")]

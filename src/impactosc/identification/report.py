@@ -164,7 +164,7 @@ def configured_inputs(section: dict, model: dict, paths) -> tuple:
     import dataclasses
 
     from ..integration.model import ModelParams
-    from ..measured.records import read_records
+    from ..measured.record_files import read_records
 
     base = ModelParams(**model)
     if section["mass"] is not None:

@@ -1,7 +1,7 @@
 """Start values of the identification: the contact fit and a linear fit of the free flight.
 
 Why these: both are cheap and need no trajectory.  The obstacle's contact fit
-(:func:`impactosc.measured.extract.estimate_x_impact`, method "contact") already estimates xI,
+(:func:`impactosc.measured.obstacle_estimate.estimate_x_impact`, method "contact") already estimates xI,
 kI/m, b and n3 from the samples around the turning points; the free flight is linear in k/m,
 c/m, T/m and m0e/m once the acceleration is estimated from the samples (as
 :func:`impactosc.measured.obstacle.free_flight_law` does for one record: a = (m0e/m) w^2 sin(phi)
@@ -35,7 +35,7 @@ class StartValues(dict):
 
 def _contact(records, sigma):
     """The contact fit on each record that has one; (weighted xI, sigma, K, b, n3) or reason."""
-    from ..measured.extract import estimate_x_impact
+    from ..measured.obstacle_estimate import estimate_x_impact
 
     fits, reasons = [], []
     for rec in records:

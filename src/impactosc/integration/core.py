@@ -21,8 +21,8 @@ found by randomized testing); it returns to explicit steps once h |da/dv| < STIF
 piece that would become invalid (a vanishing acceleration or velocity) falls back to plain
 time stepping, which is always correct.
 
-The piece graph (solver of each piece in brackets: time and transformed steps in pieces.py,
-implicit steps in implicit.py; the event on each arrow):
+The piece graph (solver of each piece in brackets: time steps in time_pieces.py, transformed
+steps in transformed_pieces.py, implicit steps in implicit.py; the event on each arrow):
 
     free flight [time] --impact--> contact onset [sqrt(h)] --v < 0.95 v0--> turn [|v|^n3]
         ^    |                                                                  | v = 0
@@ -58,7 +58,7 @@ import math
 import numpy as np
 from numba import njit
 
-from . import dop853, implicit, pieces
+from . import dop853, implicit, pieces, time_pieces, transformed_pieces
 from .events import enter_slow, goes_implicit, phase_of, record_poincare
 from .layout import (
     C_ATTEMPTS,
@@ -161,9 +161,9 @@ def run(p, st, cnt, rs, ev, n_ev, win_x, win_v, max_steps):
         if st[S_SLOW] != 0.0:
             ev, n_ev = implicit.implicit_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target)
         elif st[S_MODE] != TIME:
-            ev, n_ev = pieces.transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v)
+            ev, n_ev = transformed_pieces.transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v)
         else:
-            ev, n_ev = pieces.time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target)
+            ev, n_ev = time_pieces.time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target)
         if st[S_STATUS] != RUNNING:
             break
     return ev, n_ev

@@ -2,10 +2,11 @@
 
 An event is a point where the vector field or the piece's variable changes: an impact
 (x = xI upwards), a contact exit (x = xI downwards), the Hunt-Crossley cut (v = -v_cut, on or
-off), a reversal (v = 0) and a Poincare time. The piece solvers (pieces.py) locate them; this
-module applies them (:func:`apply_event`), records them in the event rows ``ev`` and makes
-the decisions taken at v = 0: stick or slow reversal (implicit phase), stiff creep (implicit
-phase), or an extremum of x (a penetration in contact, a near miss in free flight).
+off), a reversal (v = 0) and a Poincare time. The piece solvers (time_pieces.py,
+transformed_pieces.py, implicit.py) locate them; this module applies them
+(:func:`apply_event`), records them in the event rows ``ev`` and makes the decisions taken
+at v = 0: stick or slow reversal (implicit phase), stiff creep (implicit phase), or an
+extremum of x (a penetration in contact, a near miss in free flight).
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 Entered at v = 0 when dry friction can hold the cart or barely lets it reverse (events.py), or
 when explicit steps are held by stability (the Hunt-Crossley creep). Ends once |v| leaves the
 friction band (|v| > BAND eps) or the step is no longer stiff; the explicit solvers
-(pieces.py) then take over. Events inside a step are located by re-stepping from its start.
+(time_pieces.py, transformed_pieces.py) then take over. Events inside a step are located by re-stepping from its start.
 """
 
 from __future__ import annotations

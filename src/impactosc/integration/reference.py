@@ -36,29 +36,10 @@ def _forces(p: ModelParams, omega: float):
     return external, contact
 
 
-def solve_reference(
-    omega,
-    t_end,
-    *,
-    x0=0.0,
-    v0=0.0,
-    params=None,
-    method="DOP853",
-    rtol=1e-13,
-    atol=1e-15,
-    max_pieces=1_000_000,
-    poincare=False,
-    max_nfev=None,
-):
-    """Impact onsets (t, v) and penetrations (t, h) of model BC on [0, t_end] with SciPy.
-
-    Returns a dict with arrays impacts_t, impacts_v, penetrations_t, penetrations_h and the
-    counters nfev, n_pieces, wall_time. With ``poincare`` also poincare_t|x|v: SciPy's dense
-    output at t_i = 2 pi i / w (``t_eval``, which does not change SciPy's steps).
-    With ``max_nfev`` the run raises :class:`ReferenceBudgetExceeded` after that many
-    right-hand-side evaluations (an explicit method pinned by a stiff creep never ends).
-    """
-    p = params or ModelParams()
+def _piece_setups(p: ModelParams, omega: float, method: str, max_nfev) -> dict:
+    """Right-hand side and events of each piece kind ("free", "contact", "cut") for
+    ``solve_ivp``; the right-hand sides count their calls and raise
+    :class:`ReferenceBudgetExceeded` past ``max_nfev`` (None: no limit)."""
     external, contact = _forces(p, omega)
     vcut = p.cut_velocity
 
@@ -98,13 +79,41 @@ def solve_reference(
 
     ev_vzero.terminal, ev_vzero.direction = False, -1
 
-    t, y = 0.0, np.array([x0, v0], float)
-    mode = "contact" if y[0] >= p.xI and y[1] > -vcut else ("cut" if y[0] >= p.xI else "free")
-    setups = {
+    return {
         "free": (rhs_free, (ev_onset,)),
         "contact": (rhs_contact, (ev_exit, ev_cut, ev_vzero)),
         "cut": (rhs_free, (ev_exit, ev_cut)),
     }
+
+
+def solve_reference(
+    omega,
+    t_end,
+    *,
+    x0=0.0,
+    v0=0.0,
+    params=None,
+    method="DOP853",
+    rtol=1e-13,
+    atol=1e-15,
+    max_pieces=1_000_000,
+    poincare=False,
+    max_nfev=None,
+):
+    """Impact onsets (t, v) and penetrations (t, h) of model BC on [0, t_end] with SciPy.
+
+    Returns a dict with arrays impacts_t, impacts_v, penetrations_t, penetrations_h and the
+    counters nfev, n_pieces, wall_time. With ``poincare`` also poincare_t|x|v: SciPy's dense
+    output at t_i = 2 pi i / w (``t_eval``, which does not change SciPy's steps).
+    With ``max_nfev`` the run raises :class:`ReferenceBudgetExceeded` after that many
+    right-hand-side evaluations (an explicit method pinned by a stiff creep never ends).
+    """
+    p = params or ModelParams()
+    vcut = p.cut_velocity
+    setups = _piece_setups(p, omega, method, max_nfev)
+
+    t, y = 0.0, np.array([x0, v0], float)
+    mode = "contact" if y[0] >= p.xI and y[1] > -vcut else ("cut" if y[0] >= p.xI else "free")
     period = 2 * math.pi / omega
     sections = period * np.arange(1, int(math.floor(t_end / period * (1 + 1e-14))) + 1) if poincare else None
     imp_t, imp_v, pen_t, pen_h, pc_t, pc_x, pc_v = [], [], [], [], [], [], []

@@ -1,7 +1,7 @@
 """Does the obstacle estimate's stated sigma cover the truth?  A Monte-Carlo over record
 segments and noise draws.
 
-Why: :func:`impactosc.measured.extract.estimate_x_impact` states a 1-sigma uncertainty from
+Why: :func:`impactosc.measured.obstacle_estimate.estimate_x_impact` states a 1-sigma uncertainty from
 the fit covariance.  A covariance assumes the fit is unbiased and the residuals white; whether
 that holds at a given noise level is a question for repeated draws with a known truth, not for
 one record.  A clean surrogate record of the chaotic attractor is cut into segments, white
@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from ..integration.model import ModelParams
-from .extract import estimate_x_impact
+from .obstacle_estimate import estimate_x_impact
 from .records import Record
 from .surrogate import SurrogateOptions, surrogate_record
 

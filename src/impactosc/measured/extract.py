@@ -10,7 +10,8 @@ Method
 ------
 * Noise level sigma: robust (MAD) scale of the second difference of the samples divided
   by sqrt(6) (white noise of std sigma gives a second difference of std sigma sqrt(6); the
-  smooth motion contributes a |x''| dt^2 that is small at kHz rates).
+  smooth motion contributes a |x''| dt^2 that is small at kHz rates;
+  :func:`impactosc.measured.sample_fits.estimate_noise`).
 * Impact onset = upward crossing of x_impact with hysteresis: a crossing counts only when
   the signal has been below ``x_impact - hysteresis`` since the previous one
   (default hysteresis 5 sigma), so sensor noise around the obstacle level cannot produce
@@ -32,9 +33,11 @@ Method
   crossing; else at t_i = 2 pi i / omega (the nominal w).  The rig's motor speed is not
   exactly nominal: an error dw slides the nominal section by dw t_i / w of a period after
   t_i, so after a few hundred periods the nominal points are no longer on the section.  The
-  encoder also gives w(t): 4 pi over the time between the neighbouring crossings.
+  encoder also gives w(t): 4 pi over the time between the neighbouring crossings
+  (:mod:`impactosc.measured.poincare`).
 
-When x_impact is not known, :func:`estimate_x_impact` estimates it from the record.
+When x_impact is not known, :func:`impactosc.measured.obstacle_estimate.estimate_x_impact`
+estimates it from the record.
 """
 
 from __future__ import annotations
@@ -45,24 +48,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .obstacle_estimate import estimate_x_impact
+from .poincare import poincare_attrs, poincare_points
 from .records import Record
+from .sample_fits import estimate_noise, quadratic_fits
 
 __all__ = [
     "ExtractOptions",
-    "estimate_noise",
     "crossing_time_crb",
-    "estimate_x_impact",
     "extract_events",
-    "phase_crossings",
-    "poincare_points",
-    "poincare_phase_source",
-    "record_set_poincare",
 ]
-
-#: Samples either side of a phase crossing in its straight-line fit.  Why 10: the fit
-#: averages the encoder's quantization (one count, 1.5 mrad at 4096 per revolution) over 20
-#: samples, while w changes by less than 1e-4 of itself in those 10 ms at 2 kHz.
-PHASE_FIT_HALF = 10
 
 #: Contact-force exponents the obstacle fit allows, given or fitted (soft to stiff contacts).
 CONTACT_EXPONENT_RANGE = (1.0, 2.5)
@@ -88,7 +83,7 @@ class ExtractOptions:
         many noise std (penetrations shallower than the noise are not resolvable; this
         keeps near misses lifted above the obstacle by noise out).
     x_impact_method : str
-        How :func:`estimate_x_impact` estimates x_impact when it is neither given nor in the
+        How :func:`impactosc.measured.obstacle_estimate.estimate_x_impact` estimates x_impact when it is neither given nor in the
         record's metadata: "contact" (fit of the contact law, default) or "curvature" (the
         earlier, 8-16 um low estimate).
     contact_exponent : float or None
@@ -132,166 +127,6 @@ class ExtractOptions:
         for name in ("hysteresis_sigmas", "confirm_sigmas"):
             if not getattr(self, name) >= 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
-
-
-def estimate_noise(x) -> float:
-    """Sensor-noise std (m) from the MAD of the second difference (see module docstring).
-
-    ``scale="normal"`` makes the MAD estimate a Gaussian std (factor 1/Phi^-1(3/4) = 1.482602...).
-    """
-    from scipy import stats
-
-    d2 = np.diff(np.asarray(x, dtype=float), 2)
-    return float(stats.median_abs_deviation(d2, scale="normal") / math.sqrt(6.0))
-
-
-def _local_maxima(x, half):
-    """Indices of samples that are the largest within +-half samples."""
-    from scipy.ndimage import maximum_filter1d
-
-    m = maximum_filter1d(x, size=2 * half + 1, mode="nearest")
-    return np.flatnonzero((x == m) & (np.arange(x.size) >= half) & (np.arange(x.size) < x.size - half))
-
-
-def estimate_x_impact(
-    record: Record,
-    *,
-    method: str = "contact",
-    window: float | None = None,
-    noise: float | None = None,
-    n3: float | None = None,
-    exponent: float | None = 1.5,
-) -> tuple[float, dict]:
-    """Estimate the obstacle position x_impact (m) from a record, with its uncertainty.
-
-    ``method="contact"`` (default): the contact law fitted to the samples around every turning
-    point near the obstacle, the free-flight acceleration (forcing, spring, damping, friction)
-    measured on the rest of the record (:func:`impactosc.measured.obstacle.fit_contact_law`,
-    whose docstring gives the method).  The curvature estimate below is its starting point.
-    On the model's chaotic attractor (w = 40.86, 2 kHz, c + 1 %; 6 segments of 60 s x 5 noise
-    seeds, :mod:`impactosc.measured.coverage`, target measured_x_impact_coverage) the error is
-    +0.00 +- 0.11 um at 5 um noise and +0.17 +- 0.22 um at 10 um (mean +- its standard error; sd
-    0.62 and 1.22 um against a median stated sigma of 0.64 and 1.22 um); the stated sigma, from
-    the fit covariance, holds the truth within 1 sigma in 22/30 and 20/30 draws, within 2 sigma
-    in 30/30 and 29/30.  The curvature estimate: -8.7 to -10.7 um.  About 5 s per 60 s of record
-    at 2 kHz (README, tests/test_obstacle.py).
-
-    ``method="curvature"``: the earlier estimate.  At a turning point in free flight the
-    curvature |x''| is the spring and forcing acceleration (a few m/s^2 here); at a turning point
-    in contact it grows with the penetration, like kI/m (x_max - x_impact)^1.5 (tens of m/s^2).
-    Each turning point (maximum within +-5 ms) gets a height and curvature from a quadratic fit
-    over +-``window`` s (default 2.5 ms); turning points with curvature above a quarter of the
-    median and above 5 times the fit's noise are taken as contacts; a robust (Theil-Sen)
-    straight line of curvature^(2/3) against height then crosses zero at x_impact.  Measured
-    8-16 um too low on the chaotic attractor at <= 5 um noise (the quadratic misses the sharp,
-    lopsided peak of the contact acceleration by 9-25 %, growing with depth; module
-    impactosc.measured.obstacle); no uncertainty.
-
-    noise : sensor-noise std (m); None estimates it (:func:`estimate_noise`).
-    n3 : contact method only: fix the damping exponent (None fits it).
-    exponent : contact method only: the contact-force exponent (1.5, Hertz: model BC's law), or
-        None to fit it too.  Why offer it: with the exponent fixed, a rig whose law differs is
-        estimated precisely but off (an emulated exponent of about 1.9 moved the estimate by +3.7
-        and +5.7 um on 30 s at 5 um noise, beyond 2 sigma); fitted, the exponent trades off
-        against x_impact and the stated sigma grows to 4-8 um on 30 s, covering the truth there;
-        over 30 draws of 60 s it is unbiased but its sigma is 10-30 % smaller than the spread
-        (README: a lower bound).
-
-    Returns (estimate, details): details hold ``method``, ``sigma`` (1-sigma uncertainty, m;
-    nan for the curvature method), n_maxima, n_contacts, noise and the method's own numbers.
-    """
-    if method not in ("contact", "curvature"):
-        raise ValueError(f"method must be 'contact' or 'curvature', got {method!r}")
-    curv, det = _curvature_estimate(record, window=2.5e-3 if (window is None or method == "contact") else window)
-    if noise is not None:
-        det["noise"] = float(noise)
-    det["method"] = "curvature"
-    det["sigma"] = float("nan")
-    if method == "curvature":
-        return curv, det
-    from .obstacle import fit_contact_law
-
-    fit = fit_contact_law(
-        record.t,
-        record.x,
-        curv,
-        det["noise"],
-        omega=record.omega,
-        K0=det["slope"] ** 1.5,
-        window=window if window is not None else 2.5e-3,
-        n3=n3,
-        exponent=exponent,
-    )
-    ff = fit.pop("free_flight")
-    return fit["x_impact"], {
-        "method": "contact",
-        "sigma": fit["sigma"],
-        "curvature_estimate": curv,
-        "n_maxima": det["n_maxima"],
-        "noise": det["noise"],
-        **fit,
-        "omega": ff["omega"],
-        "omega_estimated": ff["omega_estimated"],
-        "free_flight_samples": ff["n"],
-        "free_flight_rms": ff["rms"],
-    }
-
-
-def _curvature_estimate(record: Record, *, window: float) -> tuple[float, dict]:
-    """The curvature estimate of :func:`estimate_x_impact` (``method="curvature"``)."""
-    from scipy import stats
-
-    sigma = estimate_noise(record.x)
-    t, x, dt = record.t, record.x, record.dt
-    hf = max(2, int(round(window / dt)))
-    idx = _local_maxima(x, max(1, int(round(5e-3 / dt))))
-    idx = idx[(idx >= hf) & (idx < x.size - hf)]
-    if idx.size < 5:
-        raise ValueError(f"{record.path}: only {idx.size} turning points; cannot estimate x_impact, pass it")
-    c, _ = _quadfits(t, x, idx - hf, idx + hf + 1, t[idx])
-    s = np.zeros(idx.size)
-    top = c[:, 2] < 0
-    s[top] = -c[top, 1] / (2 * c[top, 2])
-    curv, height = -2 * c[:, 2], c[:, 0] + c[:, 1] * s + c[:, 2] * s * s
-    _, cov = _quadfits(t, x, np.array([0]), np.array([2 * hf + 1]), t[[hf]])
-    curv_noise = 2 * sigma * math.sqrt(cov[0, 2, 2])
-    contact = curv > max(0.25 * np.median(curv), 5 * curv_noise)
-    if contact.sum() < 3:
-        raise ValueError(
-            f"{record.path}: only {int(contact.sum())} turning points look like contacts; "
-            "cannot estimate x_impact, pass it"
-        )
-    slope, intercept, _, _ = stats.theilslopes(curv[contact] ** (2 / 3), height[contact])
-    if not slope > 0:
-        raise ValueError(
-            f"{record.path}: contact curvature does not grow with height; cannot estimate x_impact, pass it"
-        )
-    return float(-intercept / slope), {
-        "n_maxima": int(idx.size),
-        "n_contacts": int(contact.sum()),
-        "noise": sigma,
-        "curvature_noise": curv_noise,
-        "slope": float(slope),
-    }
-
-
-def _quadfits(t, x, lo, hi, t0):
-    """Quadratic LS fits of x over samples lo..hi-1 in s = t - t0, one per entry of lo, hi, t0.
-
-    Why batched: extraction fits two quadratics per impact (tens of thousands per record);
-    one stacked solve avoids numpy's per-call overhead.  Windows shorter than the longest
-    are padded with zero rows, which add nothing to the normal equations.  Returns the
-    coefficients (c0, c1, c2), shape (m, 3), and their covariance / sigma^2, shape (m, 3, 3).
-    """
-    width = int(np.max(hi - lo, initial=0))
-    k = lo[:, None] + np.arange(width)
-    inside = k < hi[:, None]
-    k = np.where(inside, k, lo[:, None])
-    s = np.where(inside, t[k] - t0[:, None], 0.0)
-    A = np.stack([inside.astype(float), s, s * s], axis=-1)
-    At = A.transpose(0, 2, 1)
-    ata_inv = np.linalg.inv(At @ A)
-    return (ata_inv @ (At @ np.where(inside, x[k], 0.0)[..., None]))[..., 0], ata_inv
 
 
 def crossing_time_crb(sigma, v, u, n):
@@ -338,7 +173,7 @@ def _crossings(t, x, i, xi, n, sigma):
     tc, v = lin.copy(), v_lin.copy()
     f = np.flatnonzero(i >= 2)  # at least 3 samples in the fit window
     fi = i[f]
-    c, cov = _quadfits(t, x, np.maximum(0, fi - n + 1), fi + 1, t[fi])
+    c, cov = quadratic_fits(t, x, np.maximum(0, fi - n + 1), fi + 1, t[fi])
     a, b, cc = c[:, 2], c[:, 1], c[:, 0] - xi
     # both roots in the numerically stable form (no cancellation in b +- sqrt(disc); q = 0
     # only for the double root 0); a == 0 leaves the linear root
@@ -409,105 +244,13 @@ def _peaks(t, x, j, half):
     lo, hi = np.maximum(0, j - half), np.minimum(x.size, j + half + 1)
     tp, xp = t[j].copy(), x[j].copy()
     f = np.flatnonzero(hi - lo >= 3)
-    c, _ = _quadfits(t, x, lo[f], hi[f], t[j[f]])
+    c, _ = quadratic_fits(t, x, lo[f], hi[f], t[j[f]])
     with np.errstate(divide="ignore", invalid="ignore"):
         s = -c[:, 1] / (2 * c[:, 2])
     use = (c[:, 2] < 0) & (np.abs(s) <= (t[hi[f] - 1] - t[lo[f]]) / 2)
     f, c, s = f[use], c[use], s[use]
     tp[f], xp[f] = t[j[f]] + s, c[:, 0] + c[:, 1] * s + c[:, 2] * s * s
     return tp, xp
-
-
-def phase_crossings(t, phase, half: int = PHASE_FIT_HALF) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Where a measured (unwrapped, advancing) phase crosses 2 pi i: (i, t_i, w_i).
-
-    t_i: root of a least-squares line through the ``2 half`` samples around the crossing
-    (the first sample at or past 2 pi i, found on the running maximum, so noise cannot
-    make a crossing twice); w_i: 4 pi / (t_(i+1) - t_(i-1)), the mean forcing frequency
-    over the two periods around t_i (one period at the ends; the line's slope when the
-    record holds a single crossing).
-    """
-    t = np.asarray(t, dtype=float)
-    phase = np.asarray(phase, dtype=float)
-    two_pi = 2 * math.pi
-    i = np.arange(math.ceil(phase[0] / two_pi), math.floor(phase[-1] / two_pi) + 1)
-    if i.size == 0:
-        return i, np.empty(0), np.empty(0)
-    level = two_pi * i
-    k = np.searchsorted(np.maximum.accumulate(phase), level, side="left")
-    width = min(2 * half, t.size)
-    lo = np.clip(k - width // 2, 0, t.size - width)
-    idx = lo[:, None] + np.arange(width)
-    s = t[idx] - t[k][:, None]  # local time, and the phase relative to the level: no cancellation
-    y = phase[idx] - level[:, None]
-    sm, ym = s.mean(axis=1), y.mean(axis=1)
-    slope = ((s - sm[:, None]) * (y - ym[:, None])).sum(axis=1) / ((s - sm[:, None]) ** 2).sum(axis=1)
-    tc = t[k] + sm - ym / slope
-    if tc.size >= 3:
-        w = np.empty(tc.size)
-        w[1:-1] = 2 * two_pi / (tc[2:] - tc[:-2])
-        w[0], w[-1] = two_pi / (tc[1] - tc[0]), two_pi / (tc[-1] - tc[-2])
-    elif tc.size == 2:
-        w = np.full(2, two_pi / (tc[1] - tc[0]))
-    else:
-        w = slope
-    return i, tc, w
-
-
-def poincare_phase_source(rec: Record, source: str = "auto") -> str:
-    """Which phase the Poincare points of ``rec`` are taken at: "encoder" (the measured
-    phase) or "nominal omega" (t_i = 2 pi i / omega); ``source`` "auto" prefers the encoder."""
-    if source not in ("auto", "encoder", "nominal"):
-        raise ValueError(f"Poincare source must be auto, encoder or nominal, got {source!r}")
-    if source == "encoder" or (source == "auto" and rec.phase is not None):
-        if rec.phase is None:
-            raise ValueError(f"{rec.path}: no phase channel; the encoder's Poincare points need one")
-        return "encoder"
-    if rec.omega is None:
-        raise ValueError(
-            f"{rec.path}: no omega and no phase channel; Poincare points need the forcing frequency or phase"
-        )
-    return "nominal omega"
-
-
-def poincare_points(rec: Record, half=3, source: str = "auto") -> dict:
-    """Poincare points t, x, v of a record (local quadratic fits), at the crossings of 2 pi i
-    by the measured phase (then also ``omega``, w measured there; :func:`phase_crossings`) or
-    at t_i = 2 pi i / omega; ``source`` as :func:`poincare_phase_source`."""
-    from scipy.signal import savgol_filter
-
-    how = poincare_phase_source(rec, source)
-    out = {}
-    if how == "encoder":
-        _, tp, w = phase_crossings(rec.t, rec.phase)
-        keep = (tp >= rec.t[0]) & (tp <= rec.t[-1])  # a line fit at the record's edge may land outside
-        tp, out["omega"] = tp[keep], w[keep]
-    else:
-        period = 2 * math.pi / rec.omega
-        i0, i1 = math.ceil(rec.t[0] / period), math.floor(rec.t[-1] / period)
-        tp = np.arange(i0, i1 + 1) * period
-    dt = rec.dt
-    win = 2 * half + 1
-    xs = savgol_filter(rec.x, win, 2)
-    vs = savgol_filter(rec.x, win, 2, deriv=1, delta=dt)
-    return {"t": tp, "x": np.interp(tp, rec.t, xs), "v": np.interp(tp, rec.t, vs), **out}
-
-
-def _poincare_attrs(rec: Record, points: dict) -> dict:
-    """Attributes saying where the Poincare points were taken (and w measured by the encoder)."""
-    how = poincare_phase_source(rec)
-    attrs = {"poincare_phase_source": how}
-    w = points.get("omega")
-    if how == "encoder" and w is not None and w.size:
-        attrs.update(
-            omega_measured_median=float(np.median(w)),
-            omega_measured_min=float(np.min(w)),
-            omega_measured_max=float(np.max(w)),
-        )
-        if rec.omega is None:
-            attrs["omega"] = float(np.median(w))
-            attrs["omega_source"] = "encoder (median of the measured w)"
-    return attrs
 
 
 def extract_events(
@@ -606,7 +349,7 @@ def extract_events(
     }
     if record.omega is not None or record.phase is not None:
         events["poincare"] = poincare_points(record)
-        attrs.update(_poincare_attrs(record, events["poincare"]))
+        attrs.update(poincare_attrs(record, events["poincare"]))
     s = events["impacts"]["sigma_t"]
     attrs["n_impacts"] = int(s.size)
     attrs["timing_sigma_median"] = float(np.median(s)) if s.size else float("nan")
@@ -614,24 +357,3 @@ def extract_events(
     crb = events["impacts"]["crb_t"]
     attrs["timing_crb_median"] = float(np.nanmedian(crb)) if np.isfinite(crb).any() else float("nan")
     return events, attrs
-
-
-def record_set_poincare(records) -> dict:
-    """Flat Poincare diagram of a bifurcation experiment (one record per w).
-
-    Returns ``omega`` and ``x`` (one row per Poincare point, the format of the Fig 2
-    experimental panel) and per record ``record_omega`` and ``n_points``.
-    """
-    w, x, rw, n = [], [], [], []
-    for rec in records:
-        p = poincare_points(rec)
-        w.append(np.full(p["x"].size, rec.omega))
-        x.append(p["x"])
-        rw.append(rec.omega)
-        n.append(p["x"].size)
-    return {
-        "omega": np.concatenate(w),
-        "x": np.concatenate(x),
-        "record_omega": np.asarray(rw),
-        "n_points": np.asarray(n),
-    }

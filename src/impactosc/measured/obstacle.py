@@ -1,6 +1,6 @@
 """Obstacle position from a sampled record: the contact law fitted to the samples around each turning point.
 
-Why not the curvature of the turning points alone (:func:`impactosc.measured.extract.estimate_x_impact`
+Why not the curvature of the turning points alone (:func:`impactosc.measured.obstacle_estimate.estimate_x_impact`
 with ``method="curvature"``): a quadratic fitted over +-2.5 ms of a contact does not see the
 curvature at the vertex.  The contact force grows like h^1.5 and its Hunt-Crossley damping
 b h^1.5 |v|^n3 (n3 = 0.19 in model BC) switches sign at the vertex, so the acceleration is
@@ -362,7 +362,8 @@ def fit_contact_law(
         return out.ravel() / sigma
 
     u0 = np.array([0.0, 0.0, 0.5] + ([0.3] if fit_n3 else []) + ([1.5] if fit_n1 else []))
-    # the exponent's box is extract.CONTACT_EXPONENT_RANGE (not imported: extract loads this module lazily)
+    # the exponent's box is extract.CONTACT_EXPONENT_RANGE (not imported: extract imports
+    # obstacle_estimate, which loads this module lazily)
     lo = [-np.inf, -np.inf, 0.0] + ([0.02] if fit_n3 else []) + ([1.0] if fit_n1 else [])
     hi = [np.inf, np.inf, 20.0] + ([3.0] if fit_n3 else []) + ([2.5] if fit_n1 else [])
     # warm start of the per-window unknowns at the starting constants (every evaluation

@@ -8,7 +8,7 @@ matters is the one the encoder measured, not the one the speed controller was as
 Method
 ------
 * Poincare points where the encoder's phase crosses 2 pi i, each with the w measured around
-  it (:func:`impactosc.measured.extract.phase_crossings`): w(t) comes from the record.
+  it (:func:`impactosc.measured.poincare.phase_crossings`): w(t) comes from the record.
 * Bins of width ``bin_width`` centred on its multiples: a point belongs to bin
   k = round(w_i / bin_width), with hysteresis -- the current bin is left only when w_i is
   more than (1/2 + ``edge_hysteresis``) bin widths from its centre, so noise in the measured w
@@ -33,7 +33,7 @@ after a bifurcation the sweep still follows the old, now unstable, orbit (bifurc
 1.4 mm off at 37.57 rad/s) -- a property of sweeping that a rig's sweep shares.
 
 The result has the layout of the Fig 2 experimental panel (``omega``, ``x``; see
-:func:`impactosc.measured.extract.record_set_poincare`) plus the segment datasets.
+:func:`impactosc.measured.poincare.record_set_poincare`) plus the segment datasets.
 """
 
 from __future__ import annotations
@@ -43,7 +43,7 @@ import math
 import numpy as np
 
 from ..files import atomic_write, check_writable, stamp_h5
-from .extract import poincare_points
+from .poincare import poincare_points
 from .records import Record
 
 __all__ = ["sweep_segments", "write_sweep_points"]

@@ -17,6 +17,11 @@ from ..files import read_csv, write_csv, write_text
 COLUMNS = ("section", "quantity", "paper", "replication", "tolerance", "agrees", "command")
 
 
+def agreement(ok: bool) -> str:
+    """The agrees column of a row with a yes/no verdict (rows beyond the paper write n.a.)."""
+    return "yes" if ok else "no"
+
+
 def write_rows(path, rows: list[dict], *, sources=None) -> None:
     """Write rows (dicts with exactly COLUMNS as keys) to a CSV file, every cell as str();
     `sources` (input files) go to its provenance sidecar."""

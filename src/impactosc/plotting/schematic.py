@@ -58,6 +58,100 @@ def _dim_arrow(ax, x0, x1, y, text, dy=0.12, color=INK, fs=8):
     ax.text(0.5 * (x0 + x1), y + dy, text, ha="center", va="bottom", fontsize=fs, color=color)
 
 
+def _draw_unbalance(ax, cart_x0, cart_y0, cart_y1):
+    """The rotating unbalance on the cart (disk, arm at phi from the vertical, mass m0 at
+    radius e) and the force it exerts."""
+    cx, cy, r = 8.0, cart_y0 + 1.3, 0.82
+    ax.add_patch(Circle((cx, cy), r, fc="white", ec=INK, lw=0.9))
+    ax.plot([cx, cx], [cy, cy + r + 0.35], color="0.4", lw=0.6, ls="--")
+    phi = np.deg2rad(50.0)  # from the vertical towards +x: x-force m0 e w^2 sin(phi)
+    mx, my = cx + r * 0.8 * np.sin(phi), cy + r * 0.8 * np.cos(phi)
+    ax.plot([cx, mx], [cy, my], color=INK, lw=1.1)
+    ax.add_patch(Circle((mx, my), 0.13, fc=INK, ec=INK))
+    ax.add_patch(Circle((cx, cy), 0.05, fc=INK, ec=INK))
+    ax.text(mx + 0.17, my + 0.05, "$m_0$", fontsize=8, ha="left", va="bottom")
+    ax.text(cx + 0.5 * (mx - cx) + 0.12, cy + 0.5 * (my - cy) - 0.18, "$e$", fontsize=8, ha="left", va="center")
+    ax.add_patch(Arc((cx, cy), 0.75, 0.75, theta1=90 - np.rad2deg(phi), theta2=90, lw=0.7, color="tab:blue"))
+    ax.text(cx + 0.12, cy + 0.5, r"$\varphi$", fontsize=8, color="tab:blue", ha="left", va="bottom")
+    ax.add_patch(
+        FancyArrowPatch(
+            (cx - 0.62, cy - 0.72),
+            (cx + 0.62, cy - 0.72),
+            connectionstyle="arc3,rad=0.45",
+            arrowstyle="->",
+            mutation_scale=7,
+            lw=0.7,
+            color="tab:blue",
+        )
+    )
+    ax.text(cx, cy - r - 0.12, r"$\omega = \dot\varphi$", fontsize=7.5, color="tab:blue", ha="center", va="top")
+    _dim_arrow(ax, cart_x0 + 0.6, cart_x0 + 2.1, cart_y1 + 0.15, r"$m_0 e\,\omega^2 \sin\varphi$", color="tab:blue")
+
+
+def _draw_obstacle(ax, ground, cart_x1, cart_y0):
+    """The bumper of the cart and the obstacle with its Hunt-Crossley contact; returns the
+    bumper's tip, the contact face (x = xI) and the bumper's height."""
+    by = cart_y0 + 1.3
+    ax.add_patch(Wedge((cart_x1, by), 0.35, -90, 90, fc="0.6", ec=INK, lw=0.8))
+    tip = cart_x1 + 0.35
+    face = 11.25  # contact face x = xI
+    block0, block1 = 12.4, 13.3
+    ax.add_patch(Rectangle((block0, ground), block1 - block0, 3.3, fc="0.8", ec=INK, lw=1.0, hatch="///"))
+    ax.text(block1 + 0.12, ground + 3.15, "obstacle\n(support)", fontsize=7, ha="left", va="top")
+    ax.add_patch(
+        Polygon(
+            [[face, by - 0.55], [face + 0.12, by - 0.55], [face + 0.12, by + 0.55], [face, by + 0.55]],
+            closed=True,
+            fc="0.6",
+            ec=INK,
+            lw=0.8,
+        )
+    )
+    _spring(ax, face + 0.12, block0, by + 0.3, n=4, amp=0.1, lead=0.15, lw=0.8)
+    _damper(ax, face + 0.12, block0, by - 0.3, w=0.12, lw=0.8)
+    ax.text(0.5 * (face + block0), by + 0.62, r"$k_I,\ b$", fontsize=8, ha="center", va="bottom")
+    ax.text(
+        block1 + 0.12,
+        by - 0.05,
+        r"contact when $x \geq x_I$:"
+        "\n"
+        r"$F_I = k_I\,(h^{n_1} + b\,h^{n_2}\,\mathrm{sgn}\,\dot x\,|\dot x|^{n_3})$,"
+        "\n"
+        r"$h = x - x_I$ (Hunt–Crossley)",
+        fontsize=6.8,
+        ha="left",
+        va="center",
+    )
+    return tip, face, by
+
+
+def _draw_axis(ax, tip, face, by):
+    """The coordinate axis: current position x, obstacle face xI, relaxed springs x = 0."""
+    ya = 5.45
+    ax.add_patch(FancyArrowPatch((6.4, ya), (14.4, ya), arrowstyle="->", mutation_scale=9, lw=0.8, color=INK))
+    ax.text(14.5, ya, "$x$", fontsize=9, va="center", ha="left")
+    zero = face + 0.75
+    for xt, lab in ((tip, "$x$"), (face, "$x_I$"), (zero, "$0$")):
+        ax.plot([xt, xt], [ya - 0.1, ya + 0.1], color=INK, lw=0.8)
+        ax.text(xt, ya + 0.16, lab, fontsize=8, ha="center", va="bottom")
+    ax.plot([tip, tip], [by, ya - 0.1], color="0.45", lw=0.5, ls="--")
+    ax.plot([face, face], [by + 0.55, ya - 0.1], color="0.45", lw=0.5, ls="--")
+    ax.plot([zero, zero], [by + 1.0, ya - 0.1], color="0.45", lw=0.5, ls=":")
+    ax.text(
+        zero + 0.15,
+        ya - 0.2,
+        r"springs relaxed at $x = 0$;"
+        "\n"
+        r"$x_I = -2.086$ mm $< 0$: at rest the"
+        "\n"
+        r"cart is pressed against the obstacle",
+        fontsize=6.5,
+        ha="left",
+        va="top",
+        color="0.3",
+    )
+
+
 def fig01_rig():
     """The rig of Kudra et al. (2018) as model BC sees it; returns the Figure."""
     apply_style()
@@ -98,90 +192,11 @@ def fig01_rig():
     _damper(ax, 1.0, cart_x0, cart_y0 + 0.75)
     ax.text(3.35, cart_y0 + 0.35, "$c$", fontsize=9, ha="center", va="top")
 
-    # rotating unbalance on the cart: disk, arm at phi from the vertical, mass m0 at radius e
-    cx, cy, r = 8.0, cart_y0 + 1.3, 0.82
-    ax.add_patch(Circle((cx, cy), r, fc="white", ec=INK, lw=0.9))
-    ax.plot([cx, cx], [cy, cy + r + 0.35], color="0.4", lw=0.6, ls="--")
-    phi = np.deg2rad(50.0)  # from the vertical towards +x: x-force m0 e w^2 sin(phi)
-    mx, my = cx + r * 0.8 * np.sin(phi), cy + r * 0.8 * np.cos(phi)
-    ax.plot([cx, mx], [cy, my], color=INK, lw=1.1)
-    ax.add_patch(Circle((mx, my), 0.13, fc=INK, ec=INK))
-    ax.add_patch(Circle((cx, cy), 0.05, fc=INK, ec=INK))
-    ax.text(mx + 0.17, my + 0.05, "$m_0$", fontsize=8, ha="left", va="bottom")
-    ax.text(cx + 0.5 * (mx - cx) + 0.12, cy + 0.5 * (my - cy) - 0.18, "$e$", fontsize=8, ha="left", va="center")
-    ax.add_patch(Arc((cx, cy), 0.75, 0.75, theta1=90 - np.rad2deg(phi), theta2=90, lw=0.7, color="tab:blue"))
-    ax.text(cx + 0.12, cy + 0.5, r"$\varphi$", fontsize=8, color="tab:blue", ha="left", va="bottom")
-    ax.add_patch(
-        FancyArrowPatch(
-            (cx - 0.62, cy - 0.72),
-            (cx + 0.62, cy - 0.72),
-            connectionstyle="arc3,rad=0.45",
-            arrowstyle="->",
-            mutation_scale=7,
-            lw=0.7,
-            color="tab:blue",
-        )
-    )
-    ax.text(cx, cy - r - 0.12, r"$\omega = \dot\varphi$", fontsize=7.5, color="tab:blue", ha="center", va="top")
-    _dim_arrow(ax, cart_x0 + 0.6, cart_x0 + 2.1, cart_y1 + 0.15, r"$m_0 e\,\omega^2 \sin\varphi$", color="tab:blue")
+    _draw_unbalance(ax, cart_x0, cart_y0, cart_y1)
 
-    # bumper of the cart and the obstacle with its Hunt-Crossley contact
-    by = cart_y0 + 1.3
-    ax.add_patch(Wedge((cart_x1, by), 0.35, -90, 90, fc="0.6", ec=INK, lw=0.8))
-    tip = cart_x1 + 0.35
-    face = 11.25  # contact face x = xI
-    block0, block1 = 12.4, 13.3
-    ax.add_patch(Rectangle((block0, ground), block1 - block0, 3.3, fc="0.8", ec=INK, lw=1.0, hatch="///"))
-    ax.text(block1 + 0.12, ground + 3.15, "obstacle\n(support)", fontsize=7, ha="left", va="top")
-    ax.add_patch(
-        Polygon(
-            [[face, by - 0.55], [face + 0.12, by - 0.55], [face + 0.12, by + 0.55], [face, by + 0.55]],
-            closed=True,
-            fc="0.6",
-            ec=INK,
-            lw=0.8,
-        )
-    )
-    _spring(ax, face + 0.12, block0, by + 0.3, n=4, amp=0.1, lead=0.15, lw=0.8)
-    _damper(ax, face + 0.12, block0, by - 0.3, w=0.12, lw=0.8)
-    ax.text(0.5 * (face + block0), by + 0.62, r"$k_I,\ b$", fontsize=8, ha="center", va="bottom")
-    ax.text(
-        block1 + 0.12,
-        by - 0.05,
-        r"contact when $x \geq x_I$:"
-        "\n"
-        r"$F_I = k_I\,(h^{n_1} + b\,h^{n_2}\,\mathrm{sgn}\,\dot x\,|\dot x|^{n_3})$,"
-        "\n"
-        r"$h = x - x_I$ (Hunt–Crossley)",
-        fontsize=6.8,
-        ha="left",
-        va="center",
-    )
+    tip, face, by = _draw_obstacle(ax, ground, cart_x1, cart_y0)
 
-    # coordinate axis: current position x, obstacle face xI, relaxed springs x = 0
-    ya = 5.45
-    ax.add_patch(FancyArrowPatch((6.4, ya), (14.4, ya), arrowstyle="->", mutation_scale=9, lw=0.8, color=INK))
-    ax.text(14.5, ya, "$x$", fontsize=9, va="center", ha="left")
-    zero = face + 0.75
-    for xt, lab in ((tip, "$x$"), (face, "$x_I$"), (zero, "$0$")):
-        ax.plot([xt, xt], [ya - 0.1, ya + 0.1], color=INK, lw=0.8)
-        ax.text(xt, ya + 0.16, lab, fontsize=8, ha="center", va="bottom")
-    ax.plot([tip, tip], [by, ya - 0.1], color="0.45", lw=0.5, ls="--")
-    ax.plot([face, face], [by + 0.55, ya - 0.1], color="0.45", lw=0.5, ls="--")
-    ax.plot([zero, zero], [by + 1.0, ya - 0.1], color="0.45", lw=0.5, ls=":")
-    ax.text(
-        zero + 0.15,
-        ya - 0.2,
-        r"springs relaxed at $x = 0$;"
-        "\n"
-        r"$x_I = -2.086$ mm $< 0$: at rest the"
-        "\n"
-        r"cart is pressed against the obstacle",
-        fontsize=6.5,
-        ha="left",
-        va="top",
-        color="0.3",
-    )
+    _draw_axis(ax, tip, face, by)
     ax.text(
         0.6,
         6.35,

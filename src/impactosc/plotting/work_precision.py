@@ -25,7 +25,8 @@ import numpy as np
 from matplotlib.lines import Line2D
 
 from ..benchmarks.event_errors import METRICS
-from ..benchmarks.workprecision import CORE, METRIC_LABELS, SCIPY_METHODS
+from ..benchmarks.workprecision import METRIC_LABELS
+from ..benchmarks.wp_solvers import CORE, SCIPY_METHODS
 from .style import DOUBLE, apply_style
 
 STYLES = {

@@ -69,65 +69,10 @@ def regularisation_case(
     spread = np.std([e["n_impacts"] for e in ens], ddof=1)
     log(f"eps 1e-6: {ref['n_impacts']} impacts, wall {wall0:.3f} s; ensemble of {len(ens)}: n std {spread:.1f}")
     for eps in eps_values:
-        st, wall, attrs = _chaos_stats(dataclasses.replace(base, eps=eps), omega, transient, duration)
-        z, worst = _z(st, ens)
-        log(
-            f"eps {eps:g}: {st['n_impacts']} impacts, C_V^2 {st['cv2_paper']:.4f} s, worst z {z:.2f} ({worst}), "
-            f"wall {wall:.3f} s"
-        )
-        rows.append(
-            row(
-                "regularisation",
-                f"eps {eps:g}: chaotic statistics, worst |z| against {len(ens)} eps = 1e-6 "
-                "realisations (counts, windows, C_V^2, ISI maxima)",
-                z,
-                3.0,
-                "std",
-                detail=f"{st['n_impacts']} impacts, windows {st['window_counts']}, C_V^2 "
-                f"{st['cv2_paper']:.4f} s, maxima {st['isi_first_maximum']:.4f}/{st['isi_last_maximum']:.4f} s; "
-                f"worst: {worst}; {attrs['n_stick']} sticks",
-            )
-        )
-        # Work, not wall time (as for kI below). Bound 2: the friction band is crossed in
-        # asinh(v/eps) and sticking is handed to the implicit phase, so the work should not
-        # depend on eps (measured 1.02-1.10 x eps = 1e-6's for eps = 1e-7..1e-9, realisations
-        # differ by ~1 %); explicit steps through a stick, where the friction law's stiffness
-        # is ~T/(m eps), would need steps per stick growing as 1/eps.
-        rhs = attrs["n_rhs"]
-        rows.append(
-            row(
-                "regularisation",
-                f"eps {eps:g}: RHS evaluations of the 500 s chaotic scene over eps = 1e-6's",
-                rhs / attrs0["n_rhs"],
-                2.0,
-                "ratio",
-                detail=f"{rhs} against {attrs0['n_rhs']} RHS evaluations, {attrs['n_steps']} against "
-                f"{attrs0['n_steps']} steps; wall {wall:.3f} s against {wall0:.3f} s (ratio {wall / wall0:.2f}, "
-                "information only: timings are judged in the benchmarks)",
-            )
-        )
+        rows += _eps_rows(dataclasses.replace(base, eps=eps), omega, transient, duration, ens, wall0, attrs0, log)
     # stiffer contact: single impacts from the same approach
     stiff = dataclasses.replace(base, kI=base.kI * kI_factor)
-    expected = kI_factor**-0.4
-    for V in approach_speeds:
-        h = []
-        for q in (base, stiff):
-            r = simulate(omega, 0.0, 0.02, x0=base.xI - 1e-6, v0=V, params=q, record=("penetrations",))
-            h.append(float(r.events["penetrations"]["h"][0]))
-        f_peak = base.kI * h[0] ** base.n1
-        f_other = base.m0e * omega**2 + base.k * abs(base.xI) + base.c * V + base.T
-        dev = abs(h[1] / h[0] / expected - 1)
-        rows.append(
-            row(
-                "regularisation",
-                f"kI x {kI_factor:g}, impact at {V:g} m/s: |H ratio / {kI_factor:g}^(-2/5) - 1| "
-                "(bound: other forces / peak contact force)",
-                dev,
-                f_other / f_peak,
-                "1",
-                detail=f"H = {h[0]:.4g} m -> {h[1]:.4g} m, ratio {h[1] / h[0]:.5f} (scaling {expected:.5f})",
-            )
-        )
+    rows += _scaling_rows(base, stiff, kI_factor, omega, approach_speeds)
     st, wall, attrs = _chaos_stats(stiff, omega, transient, duration)
     z, worst = _z(st, ens)
     log(f"kI x {kI_factor:g}: {st['n_impacts']} impacts, worst z {z:.1f} ({worst}), wall {wall:.3f} s")
@@ -167,6 +112,78 @@ def regularisation_case(
             "timings are judged in the benchmarks)",
         )
     )
+    return rows
+
+
+def _eps_rows(params, omega, transient, duration, ens, wall0, attrs0, log) -> list[dict]:
+    """The chaotic statistics at a smaller regularisation eps (`params`) against the ensemble
+    `ens` of eps = 1e-6 realisations, and the work against eps = 1e-6's run (`attrs0`)."""
+    rows = []
+    eps = params.eps
+    st, wall, attrs = _chaos_stats(params, omega, transient, duration)
+    z, worst = _z(st, ens)
+    log(
+        f"eps {eps:g}: {st['n_impacts']} impacts, C_V^2 {st['cv2_paper']:.4f} s, worst z {z:.2f} ({worst}), "
+        f"wall {wall:.3f} s"
+    )
+    rows.append(
+        row(
+            "regularisation",
+            f"eps {eps:g}: chaotic statistics, worst |z| against {len(ens)} eps = 1e-6 "
+            "realisations (counts, windows, C_V^2, ISI maxima)",
+            z,
+            3.0,
+            "std",
+            detail=f"{st['n_impacts']} impacts, windows {st['window_counts']}, C_V^2 "
+            f"{st['cv2_paper']:.4f} s, maxima {st['isi_first_maximum']:.4f}/{st['isi_last_maximum']:.4f} s; "
+            f"worst: {worst}; {attrs['n_stick']} sticks",
+        )
+    )
+    # Work, not wall time (as for kI below). Bound 2: the friction band is crossed in
+    # asinh(v/eps) and sticking is handed to the implicit phase, so the work should not
+    # depend on eps (measured 1.02-1.10 x eps = 1e-6's for eps = 1e-7..1e-9, realisations
+    # differ by ~1 %); explicit steps through a stick, where the friction law's stiffness
+    # is ~T/(m eps), would need steps per stick growing as 1/eps.
+    rhs = attrs["n_rhs"]
+    rows.append(
+        row(
+            "regularisation",
+            f"eps {eps:g}: RHS evaluations of the 500 s chaotic scene over eps = 1e-6's",
+            rhs / attrs0["n_rhs"],
+            2.0,
+            "ratio",
+            detail=f"{rhs} against {attrs0['n_rhs']} RHS evaluations, {attrs['n_steps']} against "
+            f"{attrs0['n_steps']} steps; wall {wall:.3f} s against {wall0:.3f} s (ratio {wall / wall0:.2f}, "
+            "information only: timings are judged in the benchmarks)",
+        )
+    )
+    return rows
+
+
+def _scaling_rows(base, stiff, kI_factor, omega, approach_speeds) -> list[dict]:
+    """Single impacts from the same approach with the contact stiffened by `kI_factor`: the
+    deepest penetration against the contact's scaling law f^(-2/5), one row per approach speed."""
+    expected = kI_factor**-0.4
+    rows = []
+    for V in approach_speeds:
+        h = []
+        for q in (base, stiff):
+            r = simulate(omega, 0.0, 0.02, x0=base.xI - 1e-6, v0=V, params=q, record=("penetrations",))
+            h.append(float(r.events["penetrations"]["h"][0]))
+        f_peak = base.kI * h[0] ** base.n1
+        f_other = base.m0e * omega**2 + base.k * abs(base.xI) + base.c * V + base.T
+        dev = abs(h[1] / h[0] / expected - 1)
+        rows.append(
+            row(
+                "regularisation",
+                f"kI x {kI_factor:g}, impact at {V:g} m/s: |H ratio / {kI_factor:g}^(-2/5) - 1| "
+                "(bound: other forces / peak contact force)",
+                dev,
+                f_other / f_peak,
+                "1",
+                detail=f"H = {h[0]:.4g} m -> {h[1]:.4g} m, ratio {h[1] / h[0]:.5f} (scaling {expected:.5f})",
+            )
+        )
     return rows
 
 

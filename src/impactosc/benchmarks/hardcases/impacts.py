@@ -226,10 +226,19 @@ def coincidence_case(omega=40.86, x0=-8e-3, v0=-0.2, horizon_after=1.0, log=prin
         ),
     ]
     # (b) runs that end exactly on an event
-    long = runs[0.0]
+    rows += _run_end_rows(omega, x0, v0, dataclasses.replace(base, xI=x_i), horizon, runs[0.0], log)
+    return rows
+
+
+def _run_end_rows(omega, x0, v0, params, horizon, long, log) -> list[dict]:
+    """Part (b) of :func:`coincidence_case`: runs from (x0, v0) with `params` that end exactly
+    on a Poincare time, and exactly at an impact time, against `long` (the run to `horizon`)."""
+    period = 2 * math.pi / omega
+    imp = long.events["impacts"]["t"]
+    rows = []
     n_sec = int(math.floor(horizon / period)) - 1
     t_sec = n_sec * period
-    short = simulate(omega, 0.0, t_sec, x0=x0, v0=v0, params=dataclasses.replace(base, xI=x_i), record=ALL_RECORD)
+    short = simulate(omega, 0.0, t_sec, x0=x0, v0=v0, params=params, record=ALL_RECORD)
     n_end = int(np.count_nonzero(short.events["poincare"]["t"] == t_sec))
     same = _events_equal(short.events, long.events, t_sec)
     rows.append(
@@ -245,7 +254,7 @@ def coincidence_case(omega=40.86, x0=-8e-3, v0=-0.2, horizon_after=1.0, log=prin
         )
     )
     t_imp = float(imp[imp.size // 2])
-    short = simulate(omega, 0.0, t_imp, x0=x0, v0=v0, params=dataclasses.replace(base, xI=x_i), record=ALL_RECORD)
+    short = simulate(omega, 0.0, t_imp, x0=x0, v0=v0, params=params, record=ALL_RECORD)
     s_imp = short.events["impacts"]["t"]
     before = np.array_equal(s_imp[s_imp < t_imp - 1e-9], imp[imp < t_imp - 1e-9])
     n_final = int(np.count_nonzero(np.abs(s_imp - t_imp) <= 1e-9))
