@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from impactosc.build_times import group_table, largest_jobs, markdown, read_benchmark
+from impactosc.build_times import build_times_markdown, group_table, largest_jobs, read_benchmark
 
 REPO = Path(__file__).resolve().parents[1]
 HEADER = "s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"
@@ -55,7 +55,7 @@ def test_groups_longest_first_with_total_and_largest_jobs(tmp_path):
         "bifurcation_chunk_increasing_0",
         "bifurcation_chunk_increasing_1",
     ]
-    page = markdown(groups, largest_jobs(jobs, 2))
+    page = build_times_markdown(groups, largest_jobs(jobs, 2))
     assert "3 jobs, 60.0 s of wall time" in page
     assert "| periodic | 1 | 10.0 | - | 16.7 | fig01 | 10.0 |" in page
     assert "| **total** | 3 | 60.0 | 48.0 | 100.0 |" in page

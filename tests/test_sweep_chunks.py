@@ -11,20 +11,16 @@ import pytest
 
 from impactosc.analysis.bifurcation import classify_sweep
 from impactosc.sweeps import continuation as sweep_mod
+from impactosc.sweeps.chunks import coarse_pass, merge_chunks, plan_chunks, run_chunk, sweep_chunked
 from impactosc.sweeps.continuation import (
     CORE_ERROR,
     OK,
     STALLED,
     SweepSettings,
-    coarse_pass,
     continuation,
     load_sweep,
-    merge_chunks,
     omega_grid,
-    plan_chunks,
-    run_chunk,
     save_sweep,
-    sweep_chunked,
 )
 
 SETTINGS = SweepSettings(n_transient=100, n_record=24, n_initial=300)

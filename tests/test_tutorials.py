@@ -1,7 +1,7 @@
 """The tutorials of the documentation run as written: every ``sh`` and ``python`` block of each
 page in docs/tutorials/, in order, in a fresh copy of the repository (the workflow writes its
 results/ there). A block that fails fails the test with its output; the python blocks of a page
-share one namespace, as in one session of a reader."""
+share one namespace, as a reader runs them."""
 
 from __future__ import annotations
 

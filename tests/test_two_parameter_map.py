@@ -6,7 +6,7 @@ import pytest
 
 from impactosc.periodic_orbits.two_parameter_map import (
     codim_two_rows,
-    crossings,
+    curve_crossings,
     orbit_types,
     point_rows,
     separation,
@@ -47,8 +47,8 @@ def scene():
 
 def test_crossings_interpolate_and_a_turning_curve_crosses_twice():
     pts = [{"omega": 1.0, "value": 0.0}, {"omega": 3.0, "value": 2.0}, {"omega": 5.0, "value": 0.0}]
-    assert crossings(pts, 1.0) == [2.0, 4.0]
-    assert crossings(pts, 3.0) == []
+    assert curve_crossings(pts, 1.0) == [2.0, 4.0]
+    assert curve_crossings(pts, 3.0) == []
 
 
 def test_orbit_types_do_not_count_the_grazing_touch(scene):

@@ -15,7 +15,7 @@ import csv
 import math
 from pathlib import Path
 
-__all__ = ["group_table", "largest_jobs", "markdown", "read_benchmark"]
+__all__ = ["group_table", "largest_jobs", "build_times_markdown", "read_benchmark"]
 
 
 def _number(text: str) -> float:
@@ -84,7 +84,7 @@ def _cell(v) -> str:
     return str(v)
 
 
-def markdown(groups: list[dict], largest: list[dict]) -> str:
+def build_times_markdown(groups: list[dict], largest: list[dict]) -> str:
     """The Markdown page: the table per group with the total, then the largest jobs."""
     total = groups[-1] if groups else {"jobs": 0, "wall_s": 0.0, "cpu_s": math.nan}
     lines = [

@@ -168,7 +168,7 @@ def _add_sweep_extract_parser(sub) -> None:
         "point_omega, and per segment record_omega, n_points, segment_start, segment_stop, omega_spread) "
         "to an HDF5 file. See impactosc.measured.sweep.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog=RECORD_FORMATS + "\nExample (the surrogate sweep of the README):\n"
+        epilog=RECORD_FORMATS + "\nExample (the surrogate sweep of docs/measured.md):\n"
         "  impactosc sweep-extract sweep.h5 --bin-width 0.25 --settle 10 --output fig02_experimental.h5\n"
         "Choose SETTLE a few relaxation times of the rig (model BC: 2.6 s from its damping alone) and "
         "BIN_WIDTH so that each segment keeps at least MIN_POINTS forcing periods after it.",

@@ -62,7 +62,7 @@ rule benchmark_taylor:
         "../scripts/benchmark_taylor.py"
 
 
-# Randomized differential testing (issue 16): scenes drawn from a box wider than model BC,
+# Randomized differential testing: scenes drawn from a box wider than model BC,
 # the core against SciPy LSODA at two tolerances over the horizon where those agree.
 # Opt-in (about 15 min of CPU for 200 scenes): snakemake -j2 random_scenes.
 rule random_scenes_part:

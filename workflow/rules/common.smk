@@ -45,8 +45,8 @@ def timing_threads(wildcards):
     """Threads of a timing job. With timing.exclusive: every core of a local run (snakemake
     -jN: N), so that no other job runs beside it; 1 where no total is defined (an executor
     such as SLURM without --cores, where each job has its own allocation; a plain
-    `threads: workflow.cores` would stop the whole workflow from parsing there, issue 17).
-    Without it: one core, like any job (the README says what that changes in the timings)."""
+    `threads: workflow.cores` would stop the whole workflow from parsing there).
+    Without it: one core, like any job (docs/performance.md says what that changes in the timings)."""
     if not config["timing"]["exclusive"]:
         return 1
     try:
@@ -227,7 +227,7 @@ BENCHMARK_TAYLOR_MD = "results/tables/benchmark/benchmark_taylor.md"
 BUILD_TIMES_CSV = "results/tables/build_times.csv"
 BUILD_TIMES_MD = "results/tables/build_times.md"
 
-# combined: the table of every number the paper states (named in README: kept at the top)
+# combined: the table of every number the paper states (named in the README: kept at the top)
 PAPER_TABLE_CSV = "results/tables/paper_vs_replication.csv"
 PAPER_TABLE_MD = "results/tables/paper_vs_replication.md"
 PAPER_TABLE_HTML = "results/tables/paper_vs_replication.html"  # the table as the Snakemake report shows it

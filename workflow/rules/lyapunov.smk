@@ -1,4 +1,4 @@
-# Lyapunov exponents of the stroboscopic map (beyond the paper, issue 14): the spectrum of the
+# Lyapunov exponents of the stroboscopic map (beyond the paper): the spectrum of the
 # chaotic attractor, one job per realisation (start x0), the tangent numerics compared on the
 # same points and the sum of the exponents against the divergence of the vector field
 # (variational equations), merged into a table and a convergence figure; and the largest

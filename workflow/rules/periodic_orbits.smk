@@ -1,4 +1,4 @@
-# Periodic orbits continued in w (beyond the paper, issue 13): one job per branch segment of
+# Periodic orbits continued in w (beyond the paper): one job per branch segment of
 # config periodic_orbits.segments (a seed orbit followed both ways by pseudo-arclength, or the
 # doubled branch born at a parent segment's period doubling), then the table of every located
 # bifurcation point beside the sweeps' grid readings, the refined paper-vs-replication rows,

@@ -1,4 +1,4 @@
-# Speed against error, and numerical stability on hard cases (issue 7).
+# Speed against error, and numerical stability on hard cases.
 # work_precision: per scene, the core and SciPy's solvers (and, on work_precision.peers.scenes,
 # the compiled peers CyRK and heyoka's floor) over a tolerance sweep against a reference from
 # another method (wp_reference, computed once per scene beside other jobs; wp_measure, one job

@@ -16,9 +16,9 @@ import math
 
 from impactosc.benchmarks.taylor_pieces import (
     core_per_period,
-    markdown,
     measure_pieces,
     projection,
+    taylor_markdown,
     taylor_through_the_band,
 )
 from impactosc.files import read_table, write_table, write_text
@@ -38,4 +38,4 @@ except ImportError:
 for r in projected:
     logging.info(f"{r['method']}: core {r['core_us_per_period']:.1f} -> {r['projected_us_per_period']:.1f} us/period")
 write_table(snakemake.output.csv, rows)
-write_text(snakemake.output.md, markdown(rows, core, projected, lead, band))
+write_text(snakemake.output.md, taylor_markdown(rows, core, projected, lead, band))

@@ -13,7 +13,8 @@ import logging
 import time
 
 from impactosc.analysis.grazing import regular_grid
-from impactosc.sweeps.continuation import SweepSettings, coarse_pass, load_sweep, plan_chunks, run_chunk, save_sweep
+from impactosc.sweeps.chunks import coarse_pass, plan_chunks, run_chunk
+from impactosc.sweeps.continuation import SweepSettings, load_sweep, save_sweep
 
 
 def main(params, seeds_path, output):

@@ -14,7 +14,8 @@ import logging
 
 import numpy as np
 
-from impactosc.sweeps.continuation import load_sweep, merge_chunks, save_sweep
+from impactosc.sweeps.chunks import merge_chunks
+from impactosc.sweeps.continuation import load_sweep, save_sweep
 
 
 def main(chunk_paths, coarse_paths, name, grid, output):

@@ -12,13 +12,13 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.build_times import group_table, largest_jobs, markdown, read_benchmark
+from impactosc.build_times import build_times_markdown, group_table, largest_jobs, read_benchmark
 from impactosc.files import write_csv, write_text
 
 jobs = [read_benchmark(path) for path in snakemake.input.benchmarks]
 groups = group_table(jobs)
 write_csv(snakemake.output.csv, groups, floats="", sources=snakemake.input.benchmarks)
-write_text(snakemake.output.md, markdown(groups, largest_jobs(jobs, snakemake.params.largest)))
+write_text(snakemake.output.md, build_times_markdown(groups, largest_jobs(jobs, snakemake.params.largest)))
 if groups:
     total = groups[-1]
     logging.info(f"{total['jobs']} jobs, {total['wall_s']:.1f} s of wall time, {total['cpu_s']:.1f} s of CPU time")

@@ -29,7 +29,8 @@ import numpy as np
 from ..files import read_json
 from ..integration.simulate import Window, simulate
 from ..paper.numbers import GRAZING
-from ..sweeps.continuation import continuation, load_sweep, merge_chunks
+from ..sweeps.chunks import merge_chunks
+from ..sweeps.continuation import continuation, load_sweep
 from .orbits import poincare_period
 
 __all__ = [

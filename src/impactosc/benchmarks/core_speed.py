@@ -22,7 +22,7 @@ first 1.5 s, impacts in 100-500 s, on the attractor):
     contact) at the same tolerance: the method's floor;
   * JIT compile time, cold (empty cache) and cached, in fresh processes.
 
-:func:`core_speed_headline` gives the numbers the README leads with: the core's fastest run with
+:func:`core_speed_headline` gives the numbers docs/performance.md leads with: the core's fastest run with
 error <= max_error, the fastest compiled peer at the same bound and their time ratio, then
 SciPy.
 """
@@ -261,7 +261,7 @@ def measure_core_speed(
 
 
 def core_speed_headline(rows: list[dict], max_error: float = MAX_ERROR) -> list[dict]:
-    """The comparison the README leads with, one row per contestant (role):
+    """The comparison docs/performance.md leads with, one row per contestant (role):
 
     * core: the core's fastest run on the attractor with impact-time error <= max_error;
     * compiled peer: the fastest compiled peer under the same condition (peers.best_peer);

@@ -199,7 +199,7 @@ def run_scenes(seed: int, n: int, horizon: float = 3.0, start: int = 0, log=prin
 
 
 def summarise_scenes(rows: list[dict]) -> dict:
-    """What the README quotes: scenes, horizon, impacts compared, worst difference, stalls, failures."""
+    """What docs/core.md shows: scenes, horizon, impacts compared, worst difference, stalls, failures."""
     worst = [r["worst_dt"] for r in rows if r["status"] in ("ok", "time differs")]
     return {
         "scenes": len(rows),

@@ -304,7 +304,7 @@ def taylor_through_the_band(tol: float = 1e-10, horizon: float = 5.0) -> dict:
     }
 
 
-def markdown(rows: list[dict], core: dict, projected: list[dict], lead_over_peer: float, band=None) -> str:
+def taylor_markdown(rows: list[dict], core: dict, projected: list[dict], lead_over_peer: float, band=None) -> str:
     """The pieces table and the projection, in words and numbers."""
     lines = [
         "# Taylor steps against the core's DOP853 steps, piece by piece",

@@ -34,7 +34,7 @@ How (this module):
    constants by ``scipy.optimize.least_squares`` with finite differences.
 5. **Uncertainty.**  sigma(x_impact) from the Jacobian of the projected residuals (the fit
    covariance, scaled by the residual variance).  Checked against the spread over noise seeds
-   and record segments (tests/test_obstacle.py, README).
+   and record segments (tests/test_obstacle.py, docs/measured.md).
 """
 
 from __future__ import annotations

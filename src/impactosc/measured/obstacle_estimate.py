@@ -48,7 +48,7 @@ def estimate_x_impact(
     0.62 and 1.22 um against a median stated sigma of 0.64 and 1.22 um); the stated sigma, from
     the fit covariance, holds the truth within 1 sigma in 22/30 and 20/30 draws, within 2 sigma
     in 30/30 and 29/30.  The curvature estimate: -8.7 to -10.7 um.  About 5 s per 60 s of record
-    at 2 kHz (README, tests/test_obstacle.py).
+    at 2 kHz (docs/measured.md, tests/test_obstacle.py).
 
     ``method="curvature"``: the earlier estimate.  At a turning point in free flight the
     curvature |x''| is the spring and forcing acceleration (a few m/s^2 here); at a turning point
@@ -69,7 +69,7 @@ def estimate_x_impact(
         and +5.7 um on 30 s at 5 um noise, beyond 2 sigma); fitted, the exponent trades off
         against x_impact and the stated sigma grows to 4-8 um on 30 s, covering the truth there;
         over 30 draws of 60 s it is unbiased but its sigma is 10-30 % smaller than the spread
-        (README: a lower bound).
+        (docs/measured.md: a lower bound).
 
     Returns (estimate, details): details hold ``method``, ``sigma`` (1-sigma uncertainty, m;
     nan for the curvature method), n_maxima, n_contacts, noise and the method's own numbers.

@@ -22,7 +22,7 @@ __all__ = [
     "SEPARATION_COLUMNS",
     "UNITS",
     "codim_two_rows",
-    "crossings",
+    "curve_crossings",
     "orbit_types",
     "point_rows",
     "separation",
@@ -36,7 +36,7 @@ CODIM_COLUMNS = ["curve", "what", "omega_rad_s", "parameter", "value", "located"
 SEPARATION_COLUMNS = ["check", "curve", "value", "omega", "cells", "ok"]
 
 
-def crossings(points: list[dict], value: float) -> list[float]:
+def curve_crossings(points: list[dict], value: float) -> list[float]:
     """w where a curve (its points in order) crosses the parameter value: linear interpolation
     between neighbouring points on either side of it (a curve that turns crosses more than once)."""
     out = []
@@ -77,7 +77,7 @@ def _crossing_sides(curve, parent, omega, values, period, impacts, dw):
     grid cell, the side where the bounded orbit is: "below", "above" or None if not exactly one)."""
     out = []
     for i, v in enumerate(values):
-        for wc in crossings(curve["points"], v):
+        for wc in curve_crossings(curve["points"], v):
             below, above = np.flatnonzero(omega < wc - dw), np.flatnonzero(omega > wc + dw)
             if not below.size or not above.size:
                 continue  # within a grid cell of the map's edge, or outside it
