@@ -78,7 +78,7 @@ def reference(tmp_path_factory):
 
 def test_killed_build_resumes_with_the_same_results(reference, tmp_path):
     work = workflow_copy(tmp_path)
-    build = subprocess.Popen(make(work), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    build = subprocess.Popen(make(work), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, process_group=0)
     try:
         # mid-way: some results written, others not, and a job running
         deadline = time.monotonic() + 120
