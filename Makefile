@@ -84,7 +84,7 @@ report: install
 	$(BIN)/snakemake -j$(JOBS) --report results/report.html
 
 # The README's cluster route without a cluster (.ci/run, after make test): the SLURM profile
-# must parse and plan map2d. A dry run alone would not catch issue 17 (snakemake sets
+# must parse and plan map2d. A dry run alone would not catch a broken profile (snakemake sets
 # --cores 1 for dry runs), so --summary builds the same DAG as a real run, without submitting.
 check-cluster: $(VENV)/.installed
 	$(BIN)/snakemake --workflow-profile workflow/profiles/slurm -n map2d
