@@ -83,7 +83,7 @@ test-slow: install
 report: install
 	$(BIN)/snakemake -j$(JOBS) --report results/report.html
 
-# The README's cluster route without a cluster (.ci/run, after make test): the SLURM profile
+# The cluster route (docs/workflow.md) without a cluster (.ci/run, after make test): the SLURM profile
 # must parse and plan map2d. A dry run alone would not catch a broken profile (snakemake sets
 # --cores 1 for dry runs), so --summary builds the same DAG as a real run, without submitting.
 check-cluster: $(VENV)/.installed
