@@ -32,6 +32,7 @@ from numba import njit
 from ..integration import dop853
 from ..integration.layout import CONTACT, FREE, TIME, UVEL, WVEL
 from ..integration.model import ModelParams
+from ..integration.reference import model_forces
 from .taylor_series import BAND_PIECE, PIECE_NAMES, TIME_PIECE, TURN_PIECE, integrate_piece
 
 OMEGA = 40.86
@@ -58,16 +59,6 @@ class Piece:
     v0: float  # velocity at the start (the DOP853 step needs it)
 
 
-def _accel(params: ModelParams, t, x, v, contact):
-    p = params
-    f = p.m0e * OMEGA**2 * math.sin(OMEGA * t) - p.k * x - p.c * v - p.T * v / math.hypot(v, p.eps)
-    h = x - p.xI
-    if contact and h > 0:
-        bracket = h**1.5 + p.b * h**1.5 * math.copysign(abs(v) ** p.n3, v)
-        f -= p.kI * max(bracket, 0.0)
-    return f / p.m
-
-
 def _until(params, contact, t0, y0, t_max, level, direction=0):
     """SciPy from (t0, y0) to where v crosses `level` (in `direction`): (t, x, v) there."""
     from scipy.integrate import solve_ivp
@@ -76,7 +67,13 @@ def _until(params, contact, t0, y0, t_max, level, direction=0):
         return y[1] - level
 
     event.terminal, event.direction = True, direction
-    r = solve_ivp(lambda t, y: [y[1], _accel(params, t, *y, contact)], (t0, t_max), y0, events=event, **REFERENCE)
+    external, contact_force = model_forces(params, OMEGA)
+
+    def rhs(t, y):
+        force = external(t, y[0], y[1]) - (contact_force(y[0], y[1]) if contact else 0.0)
+        return [y[1], force / params.m]
+
+    r = solve_ivp(rhs, (t0, t_max), y0, events=event, **REFERENCE)
     return r.t[-1], r.y[0, -1], r.y[1, -1]
 
 

@@ -21,7 +21,10 @@ class ReferenceBudgetExceeded(RuntimeError):
     """The reference spent more right-hand-side evaluations than it was allowed."""
 
 
-def _forces(p: ModelParams, omega: float):
+def model_forces(p: ModelParams, omega: float):
+    """(external(t, x, v), contact(x, v)): model BC's forces in plain Python, independent of the
+    numba core, for the SciPy references."""
+
     def external(t, x, v):
         fr = p.T * v / math.sqrt(v * v + p.eps * p.eps)
         return p.m0e * omega * omega * math.sin(omega * t) - p.k * x - p.c * v - fr
@@ -40,7 +43,7 @@ def _piece_setups(p: ModelParams, omega: float, method: str, max_nfev) -> dict:
     """Right-hand side and events of each piece kind ("free", "contact", "cut") for
     ``solve_ivp``; the right-hand sides count their calls and raise
     :class:`ReferenceBudgetExceeded` past ``max_nfev`` (None: no limit)."""
-    external, contact = _forces(p, omega)
+    external, contact = model_forces(p, omega)
     vcut = p.cut_velocity
 
     calls = [0]
