@@ -7,7 +7,7 @@ from impactosc.integration.model import ModelParams
 from impactosc.measured.coverage import coverage_summary, x_impact_draws
 from impactosc.measured.extract import ExtractOptions, extract_events
 from impactosc.measured.noise_study import match_impacts
-from impactosc.measured.obstacle import model_window
+from impactosc.measured.obstacle import _window, model_window
 from impactosc.measured.obstacle_estimate import estimate_x_impact
 from impactosc.measured.records import Record
 from impactosc.measured.surrogate import SurrogateOptions, surrogate_record
@@ -129,6 +129,34 @@ def test_contact_exponent_path_is_continuous_at_hertz():
     near = model_window(*args, n1=1.5 + 1e-9)
     np.testing.assert_allclose(near, hertz, rtol=0, atol=1e-12)
     assert np.max(np.abs(model_window(*args, n1=1.8) - hertz)) > 1e-7  # and the exponent matters
+
+
+@pytest.mark.parametrize("n1", [1.5, 1.8])
+def test_window_jacobian_matches_finite_differences(n1):
+    # the inner fit's Jacobian comes with the trajectory: the RK4 tangent in H (the exact
+    # derivative of the discrete map: central differences agree to 1e-9 of the largest slope,
+    # measured; bound 1e-6) and -v in tau (the continuous model's derivative: the discrete
+    # samples differ by the RK4 error, 1.5e-4 of the largest slope measured; bound 1e-3).
+    # A contact 60 um deep, damped, Hertz and another exponent.
+    p = ModelParams()
+    half, dt, nsub = 12, 1 / 5000, 1
+    args = (-2.0, 0.5, 0.01, p.kI / p.m, p.xI, p.b, n1, p.n3, half, dt, nsub)
+    H, tau = p.xI + 60e-6, 1.3e-4
+    x, d_h, d_tau = np.empty((3, 2 * half + 1))
+    _window(H, tau, *args, x, d_h, d_tau)
+    scratch = np.empty((2, 2 * half + 1))
+
+    def samples(H, tau):
+        out = np.empty(2 * half + 1)
+        _window(H, tau, *args, out, *scratch)
+        return out
+
+    eh, et = 1e-9, 1e-8
+    fd_h = (samples(H + eh, tau) - samples(H - eh, tau)) / (2 * eh)
+    fd_tau = (samples(H, tau + et) - samples(H, tau - et)) / (2 * et)
+    np.testing.assert_allclose(d_h, fd_h, rtol=0, atol=1e-6 * np.max(np.abs(fd_h)))
+    np.testing.assert_allclose(d_tau, fd_tau, rtol=0, atol=1e-3 * np.max(np.abs(fd_tau)))
+    assert np.max(np.abs(d_h - 1.0)) > 0.1  # the contact bends the tangent: the check has teeth
 
 
 def test_unknown_contact_law_fitted_exponent_covers_the_truth(clean):
