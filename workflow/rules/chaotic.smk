@@ -1,16 +1,16 @@
 # Chaotic regime at w = 40.86 rad/s (paper section 2.2, Figs 6-11).
-# Stages: simulation (rule simulate_scene for the scene, chaotic_member for the ensemble of
+# Stages: simulation (rule simulate_scene for the scene, chaotic_members for the ensemble of
 # realisations) -> statistics of each impact train (chaotic_train_stats, any events file)
 # -> ensemble spread (chaotic_ensemble) -> tables (chaotic_stats) -> one rule per figure.
 # The core locates the events during integration, so a run file already is the event
 # file; restyling a figure reruns neither a simulation nor a statistic.
-import re
 
 from impactosc.analysis.ensemble import ensemble_runs
 
 CHAOTIC = config["chaotic"]
 CHAOTIC_CAPTIONS = "Chaotic regime (Figs 6-11)"
 CHAOTIC_MEMBERS = ensemble_runs(scene(CHAOTIC["scene"]), config["solver"], CHAOTIC["ensemble"])
+CHAOTIC_MEMBER_NAMES = sorted(CHAOTIC_MEMBERS)
 CHAOTIC_SCENE_RUN = scene_run(CHAOTIC["scene"])
 CHAOTIC_TRAINS = {"model": (CHAOTIC_SCENE_RUN, "model")}
 if CHAOTIC["second_train"]:
@@ -20,29 +20,34 @@ CHAOTIC_STATS = expand(CHAOTIC_TRAIN_STATS, train=list(CHAOTIC_TRAINS))
 CHAOTIC_MODEL_STATS = expand(CHAOTIC_TRAIN_STATS, train="model")
 
 
-rule chaotic_member:
-    input:
-        cache=NUMBA_CACHE,
-    output:
-        run=CHAOTIC_MEMBER_RUN,
-    log:
-        logfile("chaotic", "chaotic_member_{member}"),
-    benchmark:
-        benchmark_file("chaotic", "chaotic_member_{member}")
-    wildcard_constraints:
-        member="|".join(re.escape(m) for m in CHAOTIC_MEMBERS),
-    params:
-        model=config["model"],
-        solver=lambda wc: {k: CHAOTIC_MEMBERS[wc.member][k] for k in ("rtol", "atol")},
-        scene=lambda wc: {
-            **scene(CHAOTIC["scene"]),
-            "x0": CHAOTIC_MEMBERS[wc.member]["x0"],
-            "events": ["impacts", "penetrations"],
-            "window": None,
-        },
-    # an ensemble member is a scene run with its own x0 and tolerances: the script of rule simulate_scene
-    script:
-        "../scripts/simulate_scene.py"
+# (no job when the ensemble is empty)
+if CHAOTIC_MEMBER_NAMES:
+
+    rule chaotic_members:
+        input:
+            cache=NUMBA_CACHE,
+        output:
+            runs=expand(CHAOTIC_MEMBER_RUN, member=CHAOTIC_MEMBER_NAMES),
+        log:
+            logfile("chaotic", "chaotic_members"),
+        benchmark:
+            benchmark_file("chaotic", "chaotic_members")
+        params:
+            model=config["model"],
+            solvers=[{k: CHAOTIC_MEMBERS[m][k] for k in ("rtol", "atol")} for m in CHAOTIC_MEMBER_NAMES],
+            scenes=[
+                {
+                    **scene(CHAOTIC["scene"]),
+                    "x0": CHAOTIC_MEMBERS[m]["x0"],
+                    "events": ["impacts", "penetrations"],
+                    "window": None,
+                }
+                for m in CHAOTIC_MEMBER_NAMES
+            ],
+        # ensemble members are scene runs with their own x0 and tolerances, all in one job (each
+        # takes less than a job's start-up): the script of rule simulate_scene
+        script:
+            "../scripts/simulate_scene.py"
 
 
 rule chaotic_train_stats:
@@ -65,7 +70,7 @@ rule chaotic_train_stats:
 
 rule chaotic_ensemble:
     input:
-        runs=[CHAOTIC_SCENE_RUN] + expand(rules.chaotic_member.output.run, member=sorted(CHAOTIC_MEMBERS)),
+        runs=[CHAOTIC_SCENE_RUN] + expand(CHAOTIC_MEMBER_RUN, member=CHAOTIC_MEMBER_NAMES),
     output:
         json=CHAOTIC_ENSEMBLE_STATS,
         csv=CHAOTIC_ENSEMBLE_TABLE,
@@ -138,6 +143,7 @@ ALL_TARGETS.extend(
     ]
 )
 TABLE_ROWS.append(rules.chaotic_stats.output.rows)
-build_jobs(rules.chaotic_member, member=sorted(CHAOTIC_MEMBERS))
+if CHAOTIC_MEMBER_NAMES:
+    build_jobs(rules.chaotic_members)
 build_jobs(rules.chaotic_train_stats, train=list(CHAOTIC_TRAINS))
 build_jobs(rules.chaotic_ensemble, rules.chaotic_stats, *(getattr(rules, f"fig{nn:02d}") for nn in range(6, 12)))
