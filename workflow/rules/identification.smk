@@ -33,6 +33,7 @@ rule identify_surrogate:
 rule identify_model:
     input:
         cache=NUMBA_CACHE,
+        kernels=NUMBA_KERNELS,
         records=IDENT_RECORDS,
     output:
         model=IDENT_MODEL,
@@ -80,6 +81,7 @@ if not IDENT["records"]:
 rule identify_choice_candidate:
     input:
         cache=NUMBA_CACHE,
+        kernels=NUMBA_KERNELS,
         records=IDENT_RECORDS,
     output:
         json=IDENT_CHOICE_PART,
@@ -120,6 +122,7 @@ rule identify:
 rule identify_coverage_part:
     input:
         cache=NUMBA_CACHE,
+        kernels=NUMBA_KERNELS,
     output:
         json=IDENT_COVERAGE_PART,
     log:

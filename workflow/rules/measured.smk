@@ -101,6 +101,7 @@ MEAS_NOISE_REALISM = bool(MEAS_NOISE.get("realism", {}).get("cases"))  # a reali
 rule measured_noise_level:
     input:
         cache=NUMBA_CACHE,
+        kernels=NUMBA_KERNELS,
     output:
         json=MEAS_NOISE_LEVEL_JSON,
         csv=MEAS_NOISE_LEVEL_CSV,
@@ -122,6 +123,7 @@ rule measured_noise_level:
 rule measured_noise_realism:
     input:
         cache=NUMBA_CACHE,
+        kernels=NUMBA_KERNELS,
     output:
         json=MEAS_NOISE_REALISM_JSON,
         csv=MEAS_NOISE_REALISM_CSV,
@@ -196,6 +198,7 @@ if MEAS_HOOK_FIG02:
 rule measured_x_impact_coverage_part:
     input:
         cache=NUMBA_CACHE,
+        kernels=NUMBA_KERNELS,
     output:
         json=MEAS_XI_COVERAGE_PART,
     log:

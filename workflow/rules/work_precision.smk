@@ -67,6 +67,7 @@ rule wp_measure:
 rule wp_statistics:
     input:
         cache=NUMBA_CACHE,
+        kernels=NUMBA_KERNELS,
     output:
         csv=WP_STATISTICS,
     log:
@@ -129,6 +130,7 @@ rule work_precision:
 rule hard_cases:
     input:
         cache=NUMBA_CACHE,
+        kernels=NUMBA_KERNELS,
     output:
         csv=HARD_CASES_TABLE,
     log:
