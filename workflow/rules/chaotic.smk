@@ -53,7 +53,6 @@ if CHAOTIC_MEMBER_NAMES:
 rule chaotic_train_stats:
     input:
         events=lambda wc: CHAOTIC_TRAINS[wc.train][0],
-        kernels=NUMBA_KERNELS,
     output:
         json=CHAOTIC_TRAIN_STATS,
     log:
@@ -71,7 +70,6 @@ rule chaotic_train_stats:
 
 rule chaotic_ensemble:
     input:
-        kernels=NUMBA_KERNELS,
         runs=[CHAOTIC_SCENE_RUN] + expand(CHAOTIC_MEMBER_RUN, member=CHAOTIC_MEMBER_NAMES),
     output:
         json=CHAOTIC_ENSEMBLE_STATS,

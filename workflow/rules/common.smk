@@ -20,9 +20,6 @@ config = validate_config(config, workflow.source_path("../schemas/config.schema.
 # and shared by every job; the numba_cache rule fills it once, whenever those sources
 # change, before any simulation runs, so parallel jobs only ever read it.
 CORE_SOURCES = [str(Path(impactosc.__file__).parent / name) for name in impactosc.CORE_SOURCES]
-KERNEL_SOURCES = [
-    str(Path(impactosc.__file__).parent / name) for name in ("measured/obstacle.py", "statistics/mixture_kernels.py")
-]
 
 # Each rules file appends its final products here (figures as figNN.png/.pdf, tables ...).
 ALL_TARGETS = []
@@ -75,7 +72,6 @@ def scene(name):
 # benchmark (benchmark.smk), combined (combined.smk: products that join several groups).
 # ---------------------------------------------------------------------------------------
 NUMBA_CACHE = "results/.numba_cache_ready"  # marker: the core is compiled into the shared cache
-NUMBA_KERNELS = "results/.numba_kernels_ready"  # marker: the obstacle fit's and mixtures' kernels too
 CYRK_SHIM = "results/.cyrk_shim_ready"  # marker: the CyRK shim is built (or why it cannot be)
 
 

@@ -33,7 +33,6 @@ rule identify_surrogate:
 rule identify_model:
     input:
         cache=NUMBA_CACHE,
-        kernels=NUMBA_KERNELS,
         records=IDENT_RECORDS,
     output:
         model=IDENT_MODEL,
@@ -81,7 +80,6 @@ if not IDENT["records"]:
 rule identify_choice_candidate:
     input:
         cache=NUMBA_CACHE,
-        kernels=NUMBA_KERNELS,
         records=IDENT_RECORDS,
     output:
         json=IDENT_CHOICE_PART,
@@ -122,7 +120,6 @@ rule identify:
 rule identify_coverage_part:
     input:
         cache=NUMBA_CACHE,
-        kernels=NUMBA_KERNELS,
     output:
         json=IDENT_COVERAGE_PART,
     log:

@@ -101,7 +101,6 @@ MEAS_NOISE_REALISM = bool(MEAS_NOISE.get("realism", {}).get("cases"))  # a reali
 rule measured_noise_level:
     input:
         cache=NUMBA_CACHE,
-        kernels=NUMBA_KERNELS,
     output:
         json=MEAS_NOISE_LEVEL_JSON,
         csv=MEAS_NOISE_LEVEL_CSV,
@@ -123,7 +122,6 @@ rule measured_noise_level:
 rule measured_noise_realism:
     input:
         cache=NUMBA_CACHE,
-        kernels=NUMBA_KERNELS,
     output:
         json=MEAS_NOISE_REALISM_JSON,
         csv=MEAS_NOISE_REALISM_CSV,
@@ -198,7 +196,6 @@ if MEAS_HOOK_FIG02:
 rule measured_x_impact_coverage_part:
     input:
         cache=NUMBA_CACHE,
-        kernels=NUMBA_KERNELS,
     output:
         json=MEAS_XI_COVERAGE_PART,
     log:

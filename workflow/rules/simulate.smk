@@ -16,22 +16,6 @@ rule numba_cache:
         "../scripts/numba_cache.py"
 
 
-# The kernels outside the core, compiled beside it (the core's compile takes longer, and the
-# jobs that use these would otherwise compile them side by side).
-rule numba_kernels:
-    input:
-        sources=KERNEL_SOURCES,
-    output:
-        marker=NUMBA_KERNELS,
-    log:
-        logfile("scenes", "numba_kernels"),
-    benchmark:
-        benchmark_file("scenes", "numba_kernels")
-    priority: 19
-    script:
-        "../scripts/numba_kernels.py"
-
-
 rule simulate_scene:
     input:
         cache=NUMBA_CACHE,
@@ -51,5 +35,5 @@ rule simulate_scene:
         "../scripts/simulate_scene.py"
 
 
-build_jobs(rules.numba_cache, rules.numba_kernels)
+build_jobs(rules.numba_cache)
 build_jobs(rules.simulate_scene, scene=list(config["scenes"]))

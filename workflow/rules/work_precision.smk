@@ -67,7 +67,6 @@ rule wp_measure:
 rule wp_statistics:
     input:
         cache=NUMBA_CACHE,
-        kernels=NUMBA_KERNELS,
     output:
         csv=WP_STATISTICS,
     log:
@@ -130,7 +129,6 @@ rule work_precision:
 rule hard_cases:
     input:
         cache=NUMBA_CACHE,
-        kernels=NUMBA_KERNELS,
     output:
         csv=HARD_CASES_TABLE,
     log:

@@ -45,7 +45,7 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["fit_contact_law", "forcing_frequency", "free_flight_law", "model_window", "warm_up"]
+__all__ = ["fit_contact_law", "forcing_frequency", "free_flight_law", "model_window"]
 
 # graded first legs: NGRADE steps growing by RATIO (first step span / 54)
 _NGRADE = 8
@@ -243,15 +243,6 @@ def _project(Y, a, gam, mu, K, xi, b, n1, n3, half, dt, nsub, H, tau, tau_max, m
         tau[j] = t_
         for k in range(L):
             out[j, k] = Y[j, k] - f[k]
-
-
-def warm_up() -> None:
-    """Compile (or load from the cache) the inner fit's kernels, with the argument types of
-    :func:`fit_contact_law`'s calls: a workflow compiles them once, beside the core, instead
-    of in every job that starts before the first one has written the cache (3.6 s each)."""
-    Y, out = np.zeros((2, 7)), np.empty((2, 7))
-    H, tau = np.full(2, 1e-6), np.zeros(2)
-    _project(Y, np.zeros(2), 0.0, 0.0, 1.0, 0.0, 0.0, 1.5, 0.2, 3, 1e-3, 1, H, tau, 1e-3, 2, out)
 
 
 def model_window(H, tau, a, K, x_impact, b, n3, half, dt, *, gamma=0.0, mu=0.0, nsub=2, n1=1.5):
