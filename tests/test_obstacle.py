@@ -33,10 +33,10 @@ def _noisy(rec, noise, seed):
 @pytest.mark.parametrize(
     "noise, seed",
     [
-        # measured (error, stated sigma): 5 um: (-0.38, 0.65) um; 10 um: (+0.49, 1.21) um.  One
+        # measured (error, stated sigma): 5 um: (-0.40, 0.66) um; 10 um: (+0.42, 1.23) um.  One
         # draw may fall beyond 2 sigma (5 % of them should); the 30-draw study per level
-        # (target measured_x_impact_coverage, README) finds no bias: +0.00 +- 0.11 um at 5 um,
-        # +0.17 +- 0.22 um at 10 um, 30/30 and 29/30 within 2 sigma
+        # (target measured_x_impact_coverage, docs/measured.md) finds no bias: -0.01 +- 0.11 um
+        # at 5 um, +0.16 +- 0.22 um at 10 um, 30/30 and 30/30 within 2 sigma
         (5e-6, 0),
         (1e-5, 0),
     ],
@@ -161,8 +161,8 @@ def test_window_jacobian_matches_finite_differences(n1):
 
 def test_unknown_contact_law_fitted_exponent_covers_the_truth(clean):
     # a contact of another law, emulated by warping the penetration: h -> h^0.8 h0^0.2
-    # (h0 = 100 um) above the obstacle, 5 um noise, 30 s.  Measured: Hertz fit +3.68 um
-    # (sigma 1.02: 3.6 sigma off), exponent fitted -0.01 um (sigma 6.48)
+    # (h0 = 100 um) above the obstacle, 5 um noise, 30 s.  Measured: Hertz fit +3.67 um
+    # (sigma 1.36: 2.7 sigma off), exponent fitted +0.53 um (sigma 6.65)
     n = int(30 * RATE)
     h = np.clip(clean.x[:n] - X_TRUE, 0.0, None)
     x = np.where(h > 0, X_TRUE + h**0.8 * 1e-4**0.2, clean.x[:n])

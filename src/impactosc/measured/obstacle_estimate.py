@@ -44,10 +44,10 @@ def estimate_x_impact(
     whose docstring gives the method).  The curvature estimate below is its starting point.
     On the model's chaotic attractor (w = 40.86, 2 kHz, c + 1 %; 6 segments of 60 s x 5 noise
     seeds, :mod:`impactosc.measured.coverage`, target measured_x_impact_coverage) the error is
-    +0.00 +- 0.11 um at 5 um noise and +0.17 +- 0.22 um at 10 um (mean +- its standard error; sd
-    0.62 and 1.22 um against a median stated sigma of 0.64 and 1.22 um); the stated sigma, from
+    -0.01 +- 0.11 um at 5 um noise and +0.16 +- 0.22 um at 10 um (mean +- its standard error; sd
+    0.62 and 1.21 um against a median stated sigma of 0.65 and 1.25 um); the stated sigma, from
     the fit covariance, holds the truth within 1 sigma in 22/30 and 20/30 draws, within 2 sigma
-    in 30/30 and 29/30.  The curvature estimate: -8.7 to -10.7 um.  About 5 s per 60 s of record
+    in 30/30 and 30/30.  The curvature estimate: -8.7 to -10.7 um.  About 2 s per 60 s of record
     at 2 kHz (docs/measured.md, tests/test_obstacle.py).
 
     ``method="curvature"``: the earlier estimate.  At a turning point in free flight the
