@@ -27,10 +27,11 @@ rule simulate_scene:
         benchmark_file("scenes", "simulate_scene_{scene}")
     wildcard_constraints:
         scene="|".join(config["scenes"]),
+    # lists of one: the script runs a list of scenes (rule chaotic_members runs several)
     params:
         model=config["model"],
-        solver=config["solver"],
-        scene=lambda wc: scene(wc.scene),
+        solvers=[config["solver"]],
+        scenes=lambda wc: [scene(wc.scene)],
     script:
         "../scripts/simulate_scene.py"
 

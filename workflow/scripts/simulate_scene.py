@@ -1,10 +1,9 @@
 """Run configured scenes through the core and write their HDF5 run files.
 
 Reads the scene entries (omega, transient, duration, events, window) and the model/solver
-config from snakemake.params; writes snakemake.output.run (atomically) and a log. One scene
-(params.scene, params.solver), or several in one job (params.scenes, params.solvers, one
-output file each, in order: the chaotic ensemble, whose runs take a third of a second each,
-less than a job's start).
+config from snakemake.params (params.scenes and params.solvers, lists of the same length);
+writes one run file per scene to snakemake.output, in order (atomically), and a log. Several
+scenes share a job where each run is shorter than a job's start (the chaotic ensemble).
 """
 
 from _logging import configure_logging
@@ -47,6 +46,5 @@ def run_scene(model: dict, solver: dict, scene: dict, output: str) -> None:
 
 
 p = snakemake.params
-scenes, solvers = (p.scenes, p.solvers) if hasattr(p, "scenes") else ([p.scene], [p.solver])
-for scene_, solver_, output_ in zip(scenes, solvers, snakemake.output, strict=True):
+for scene_, solver_, output_ in zip(p.scenes, p.solvers, snakemake.output, strict=True):
     run_scene(p.model, solver_, scene_, output_)
