@@ -185,7 +185,7 @@ def sweep_case(
     solvers,
     ref: dict,
     core_repeats: int = 7,
-    scipy_repeats: int = 3,
+    scipy_repeats: int = 2,
     repeat_below: float = 2.0,
     time_cap: float = 60.0,
     peer_repeats: int = 7,
