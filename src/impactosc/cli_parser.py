@@ -135,7 +135,7 @@ def _add_extract_parser(sub) -> None:
         default=1.5,
         metavar="E",
         help="exponent of the contact force in that fit: a number (default 1.5, Hertz, model BC's law) or "
-        "'free' to fit it too when the rig's law is not known (a wider, honest sigma: 4-8 um per 30 s at 5 um noise)",
+        "'free' to fit it too when the rig's law is not known (a wider, honest sigma: 7-9 um per 30 s at 5 um noise)",
     )
     ext.add_argument("--output", required=True, help="HDF5 events file to write (atomically)")
     ext.add_argument("--omega", type=finite_number, help="nominal forcing frequency, rad/s (overrides the record's)")

@@ -44,10 +44,10 @@ def estimate_x_impact(
     whose docstring gives the method).  The curvature estimate below is its starting point.
     On the model's chaotic attractor (w = 40.86, 2 kHz, c + 1 %; 6 segments of 60 s x 5 noise
     seeds, :mod:`impactosc.measured.coverage`, target measured_x_impact_coverage) the error is
-    -0.01 +- 0.11 um at 5 um noise and +0.16 +- 0.22 um at 10 um (mean +- its standard error; sd
-    0.62 and 1.21 um against a median stated sigma of 0.65 and 1.25 um); the stated sigma, from
+    -0.03 +- 0.12 um at 5 um noise and +0.08 +- 0.22 um at 10 um (mean +- its standard error; sd
+    0.63 and 1.22 um against a median stated sigma of 0.65 and 1.26 um); the stated sigma, from
     the fit covariance, holds the truth within 1 sigma in 22/30 and 20/30 draws, within 2 sigma
-    in 30/30 and 30/30.  The curvature estimate: -8.7 to -10.7 um.  About 2 s per 60 s of record
+    in 30/30 and 30/30.  The curvature estimate: -8.7 to -10.7 um.  About 1 s per 60 s of record
     at 2 kHz (docs/measured.md, tests/test_obstacle.py).
 
     ``method="curvature"``: the earlier estimate.  At a turning point in free flight the
@@ -67,8 +67,8 @@ def estimate_x_impact(
         None to fit it too.  Why offer it: with the exponent fixed, a rig whose law differs is
         estimated precisely but off (an emulated exponent of about 1.9 moved the estimate by +3.7
         and +5.7 um on 30 s at 5 um noise, beyond 2 sigma); fitted, the exponent trades off
-        against x_impact and the stated sigma grows to 4-8 um on 30 s, covering the truth there;
-        over 30 draws of 60 s it is unbiased but its sigma is 10-30 % smaller than the spread
+        against x_impact and the stated sigma grows to 7-9 um on 30 s, covering the truth there;
+        over 30 draws of 60 s it is unbiased but its sigma is 4-12 % smaller than the spread
         (docs/measured.md: a lower bound).
 
     Returns (estimate, details): details hold ``method``, ``sigma`` (1-sigma uncertainty, m;
