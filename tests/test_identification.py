@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from impactosc.identification import identify
-from impactosc.identification.least_squares import _inverse_scaled, _schur, _solve_scaled
+from impactosc.identification.least_squares import _inverse_scaled, _schur, _solve_scaled, carried_states
 from impactosc.identification.parameters import FIELDS, NAMES, fill_array, params_of, theta_of
 from impactosc.identification.shooting import Predictor
 from impactosc.identification.windows import WindowSet, cut_windows, split_held_out
@@ -104,6 +104,30 @@ def test_window_prediction_continues_the_trajectory():
     states = np.column_stack([tr["x"][w.start], tr["v"][w.start]])
     pred = Predictor(w, par.as_array(40.86), par.m).predict(theta_of(par), states)
     assert np.max(np.abs(pred - w.y)) < 1e-9  # the integration tolerance, far below any noise
+
+
+def test_carried_states_continue_the_fitted_trajectory():
+    # the next stage's start states from the last stage's trajectories: on a clean record with
+    # the true states of half-period windows, the two-period windows get the true states at
+    # their own starts (the integration tolerance), and none from windows not trusted
+    par = ModelParams()
+    res = simulate(40.86, 20.0, 3.0, params=par, window=Window(20.0, 23.0, 5e-4), record=())
+    tr = res.trajectory
+    rec = Record(tr["t"], tr["x"], 40.86, {}, "<clean>")
+    short = cut_windows([rec], periods=0.5, level=par.xI)
+    fitted = Predictor(short, par.as_array(40.86), par.m)
+    true_short = np.column_stack([tr["x"][short.start], tr["v"][short.start]])
+    long = cut_windows([rec], periods=2.0, level=par.xI)
+    trusted = np.ones(short.size, dtype=bool)
+    states, close = carried_states(fitted, true_short, trusted, theta_of(par), long)
+    inside = long.start >= short.start[0]
+    assert np.array_equal(close, inside) and close.sum() >= long.size - 1
+    # measured 7e-13 m and 1.4e-11 m/s (rtol 1e-10 on a few-mm, 0.1 m/s motion); bounds 100x
+    assert np.max(np.abs(states[close, 0] - tr["x"][long.start[close]])) < 1e-10
+    assert np.max(np.abs(states[close, 1] - tr["v"][long.start[close]])) < 1e-8
+    assert not np.array_equal(long.start, short.start[: long.size])  # they start elsewhere
+    states, close = carried_states(fitted, true_short, ~trusted, theta_of(par), long)
+    assert not close.any() and np.array_equal(states, np.column_stack([long.x0, long.v0]))
 
 
 def test_identified_parameters_cover_the_truth(chaos_record):

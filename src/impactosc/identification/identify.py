@@ -26,7 +26,7 @@ import numpy as np
 from ..integration.model import ModelParams
 from ..measured.sample_fits import estimate_noise
 from .continuity import fit_continuous, links
-from .least_squares import FitResult, fit, fit_states
+from .least_squares import FitResult, carried_states, fit, fit_states
 from .parameters import LOWER, NAMES, UNITS, UPPER, params_of, theta_of
 from .shooting import Predictor
 from .start import start_values
@@ -99,12 +99,25 @@ def _unpinned(theta, se, free):
     return out
 
 
-def _stage(records, theta, free, base_p, m, periods, level, rtol, keep=None):
+def _well_fitted(res: FitResult, pred: Predictor) -> np.ndarray:
+    """Mask of the windows whose rms residual is within OUTLIER times the median window's."""
+    rms = np.sqrt(res.window_rss / pred.w.n)
+    return rms <= OUTLIER * np.median(rms)
+
+
+def _stage(records, theta, base_p, m, periods, level, rtol, keep=None, previous=None):
+    """The stage's windows and their start states fitted at theta; ``previous``: the last
+    stage's (Predictor, fitted states, mask of the well-fitted windows), whose trajectories give
+    the start states' guesses."""
     windows = cut_windows(records, periods=periods, level=level)
     if keep is not None:
         windows = windows.subset(keep(windows))
     pred = Predictor(windows, base_p, m, rtol=rtol)
-    states, _ = fit_states(pred, theta, np.column_stack([windows.x0, windows.v0]))
+    if previous is None:
+        guess, close = np.column_stack([windows.x0, windows.v0]), None
+    else:
+        guess, close = carried_states(*previous, theta, windows)
+    states, _ = fit_states(pred, theta, guess, close=close)
     return pred, states
 
 
@@ -168,10 +181,13 @@ def identify(
     m = base.m
     base_p = base.as_array(1.0)
     level = theta[NAMES.index("xI")]
-    res = pred = None
+    res = pred = previous = None
     for k, periods in enumerate(stages):
         for attempt in range(2):
-            pred, states = _stage(records, theta, free, base_p, m, periods, level, rtol, select)
+            # (a refit after fixing a parameter starts afresh: the last stage's trajectories
+            # belong to the parameters before)
+            carry = previous if attempt == 0 else None
+            pred, states = _stage(records, theta, base_p, m, periods, level, rtol, select, carry)
             say(f"stage {k + 1}/{len(stages)}: {pred.w.size} windows of {periods:g} forcing periods")
             last = k == len(stages) - 1
             res = fit(
@@ -197,12 +213,12 @@ def identify(
                 say(f"{nm}: {why_fixed[nm]}")
             theta = np.where(free, res.theta, theta)
         theta = res.theta.copy()
+        previous = (pred, res.states, _well_fitted(res, pred))
         say(f"  rms residual {math.sqrt(res.s2) * 1e6:.3f} um after {res.iterations} iterations")
     if continuity:
         # a window fitted far worse than the rest settled on another trajectory (a local minimum
         # of its start state): it would pull the parameters, so it leaves the fit (and is counted)
-        rms = np.sqrt(res.window_rss / pred.w.n)
-        keep = rms <= OUTLIER * np.median(rms)
+        keep = _well_fitted(res, pred)
         if not keep.all():
             say(f"  {int((~keep).sum())} of {keep.size} windows left out: rms above {OUTLIER:g} x the median")
             pred = Predictor(pred.w.subset(keep), pred.base, pred.m, rtol=rtol)

@@ -19,7 +19,7 @@ import numpy as np
 
 from .shooting import STATE_STEPS, Predictor
 
-__all__ = ["FitResult", "fit_states", "fit"]
+__all__ = ["FitResult", "carried_states", "fit_states", "fit"]
 
 
 @dataclass
@@ -97,24 +97,55 @@ def _fit_state(pred, p, j, state, n, max_iter, tol):
     return state, cost
 
 
-def fit_states(pred: Predictor, theta, states, *, max_iter=40, tol=1e-10) -> tuple[np.ndarray, np.ndarray]:
+def fit_states(pred: Predictor, theta, states, *, close=None, max_iter=40, tol=1e-10) -> tuple[np.ndarray, np.ndarray]:
     """Each window's start state fitted alone (theta fixed); returns (states, per-window RSS).
 
     Why a growing horizon (the first quarter of the window, then half, then all of it): a
     start state guessed from a local polynomial is off by about a mm/s, which moves the
     window's later impacts so far that a fit to the whole window can settle on another
     trajectory; over the first quarter the same error is small, and each longer horizon starts
-    from the shorter one's answer.  The windows are independent here: each has its own damping.
+    from the shorter one's answer.  A guess already on a fitted trajectory (``close``, a mask:
+    carried over from shorter windows by :func:`carried_states`) is fitted to the whole window
+    at once.  The windows are independent here: each has its own damping.
     """
     w = pred.w
     states = states.copy()
+    close = np.zeros(w.size, dtype=bool) if close is None else np.asarray(close, dtype=bool)
     p = pred._p(theta)
     rss = np.empty(w.size)
     for j in range(w.size):
         n = int(w.n[j])
-        for part in (4, 2, 1):
+        for part in (1,) if close[j] else (4, 2, 1):
             states[j], rss[j] = _fit_state(pred, p, j, states[j], max(8, n // part), max_iter, tol)
     return states, rss
+
+
+def carried_states(fitted: Predictor, fitted_states, trusted, theta, windows) -> tuple[np.ndarray, np.ndarray]:
+    """Guesses of the start states of ``windows`` from the trajectories fitted to other windows
+    of the same records (``fitted``, with their states ``fitted_states``, at ``theta``): the
+    state at each window's first sample, integrated from the fitted window that holds that
+    sample.  Returns (states, close): the polynomial guess (windows.x0, v0) where no fitted
+    window of the mask ``trusted`` holds the sample or its run failed, and the mask of the
+    windows that got a carried one.
+
+    Why: the next stage's windows start elsewhere (each at its own fastest free-flight sample),
+    and a state on the fitted trajectory is far closer than a local polynomial's guess.
+    """
+    fw = fitted.w
+    states = np.column_stack([windows.x0, windows.v0])
+    close = np.zeros(windows.size, dtype=bool)
+    p = fitted._p(theta)
+    for j in range(windows.size):
+        a = int(windows.start[j])
+        holds = np.flatnonzero(trusted & (fw.record == windows.record[j]) & (fw.start <= a) & (a < fw.start + fw.n))
+        if holds.size == 0:
+            continue
+        i = int(holds[0])
+        n = a - int(fw.start[i])
+        end = fitted_states[i] if n == 0 else fitted.window(p, i, *fitted_states[i], np.empty(n), n)
+        if np.all(np.isfinite(end)):
+            states[j], close[j] = end, True
+    return states, close
 
 
 def _schur(A, B, r, w, lam):
