@@ -1,9 +1,9 @@
 # Lyapunov exponents of the stroboscopic map (beyond the paper): the spectrum of the
-# chaotic attractor, one job per realisation (start x0), the tangent numerics compared on the
-# same points and the sum of the exponents against the divergence of the vector field
-# (variational equations), merged into a table and a convergence figure; and the largest
-# exponent at every w of the two bifurcation sweeps, drawn under Figs 2 and 3b (own targets)
-# with a table of its sign against the period each sweep detected.
+# chaotic attractor, one realisation per start x0 (all in one job), the tangent numerics
+# compared on the same points and the sum of the exponents against the divergence of the
+# vector field (variational equations), merged into a table and a convergence figure; and
+# the largest exponent at every w of the two bifurcation sweeps, drawn under Figs 2 and 3b
+# (own targets) with a table of its sign against the period each sweep detected.
 # Targets: lyapunov_chaos, lyapunov_sweeps, fig02_lyapunov, fig03b_lyapunov.
 
 LYA = config["lyapunov"]
@@ -11,24 +11,26 @@ LYA_REPORT = "Lyapunov exponents (beyond the paper)"
 LYA_MEMBERS = [str(i) for i in range(len(LYA["chaos"]["x0"]))]
 
 
-rule lyapunov_member:
-    input:
-        cache=NUMBA_CACHE,
-    output:
-        run=LYAP_MEMBER,
-    log:
-        logfile("lyapunov", "lyapunov_member_{member}"),
-    benchmark:
-        benchmark_file("lyapunov", "lyapunov_member_{member}")
-    wildcard_constraints:
-        member=r"\d+",
-    priority: 3
-    params:
-        chaos=LYA["chaos"],
-        x0=lambda wc: LYA["chaos"]["x0"][int(wc.member)],
-        model=config["model"],
-    script:
-        "../scripts/lyapunov_member.py"
+# (no job when there is no start x0)
+if LYA_MEMBERS:
+
+    rule lyapunov_members:
+        input:
+            cache=NUMBA_CACHE,
+        output:
+            runs=expand(LYAP_MEMBER, member=LYA_MEMBERS),
+        log:
+            logfile("lyapunov", "lyapunov_members"),
+        benchmark:
+            benchmark_file("lyapunov", "lyapunov_members")
+        priority: 3
+        params:
+            chaos=LYA["chaos"],
+            model=config["model"],
+        # one realisation per start chaos.x0, all in one job (a job's start-up is over a third
+        # of a realisation's time)
+        script:
+            "../scripts/lyapunov_members.py"
 
 
 rule lyapunov_checks:
@@ -155,7 +157,8 @@ rule fig03b_lyapunov:
 
 ALL_TARGETS.extend(rules.lyapunov_chaos.output + rules.fig02_lyapunov.output + rules.fig03b_lyapunov.output)
 ALL_TARGETS.append(rules.lyapunov_sweeps.output.signs)
-build_jobs(rules.lyapunov_member, member=LYA_MEMBERS)
+if LYA_MEMBERS:
+    build_jobs(rules.lyapunov_members)
 build_jobs(rules.lyapunov_sweep_part, sweep=list(config["bifurcation"]["sweeps"]), chunk=range(LYA["sweeps"]["chunks"]))
 build_jobs(
     rules.lyapunov_checks, rules.lyapunov_chaos, rules.lyapunov_sweeps, rules.fig02_lyapunov, rules.fig03b_lyapunov

@@ -1,6 +1,6 @@
 """Merge the chaotic spectrum's realisations and checks: statistics, table and figure.
 
-Reads snakemake.input.runs (lyapunov_member files) and .checks; writes snakemake.output.stats
+Reads snakemake.input.runs (lyapunov_members files) and .checks; writes snakemake.output.stats
 (JSON), .table (Markdown), .png/.pdf (the convergence figure) and a log.
 """
 

@@ -2,7 +2,7 @@
 numerics (core rtol, difference step) on the same points, and the sum of the exponents against
 the divergence of the vector field integrated by the variational equations (SciPy).
 
-Reads snakemake.input.run (the first lyapunov_member file) and snakemake.params.chaos
+Reads snakemake.input.run (the first lyapunov_members file) and snakemake.params.chaos
 (check_points, checks, identity_periods), .model; writes snakemake.output.checks (JSON) and a log.
 """
 
