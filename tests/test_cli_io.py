@@ -154,3 +154,15 @@ def test_read_run_roundtrip_and_missing_file(tmp_path):
     with pytest.raises(FileNotFoundError, match="does not exist"):
         read_run(tmp_path / "nope.h5")
     assert os.listdir(tmp_path) == ["r.h5"]
+
+
+def test_uncompressed_run_reads_back_the_same(tmp_path):
+    events = {"impacts": {"t": np.arange(3.0), "v": np.ones(3)}}
+    traj = {"t": np.linspace(0.0, 1.0, 1000), "x": np.sin(np.arange(1000.0)), "v": np.cos(np.arange(1000.0))}
+    packed, plain = (
+        write_run(tmp_path / f"{name}.h5", events, {}, traj, compress=name == "packed") for name in ("packed", "plain")
+    )
+    with h5py.File(packed) as f, h5py.File(plain) as g:
+        assert f["trajectory/x"].compression == "gzip" and g["trajectory/x"].compression is None
+    for name in ("t", "x", "v"):
+        np.testing.assert_array_equal(read_run(plain)[2][name], read_run(packed)[2][name])

@@ -412,9 +412,13 @@ def read_table(path) -> list[dict]:
 # -------------------------------------------------------------------------- run files
 
 
-def write_run(path, events: dict, attrs: dict, trajectory: dict | None = None, *, sources=None) -> Path:
+def write_run(
+    path, events: dict, attrs: dict, trajectory: dict | None = None, *, sources=None, compress: bool = True
+) -> Path:
     """Write events (group -> column -> array), optional trajectory and attributes atomically,
-    stamped by :func:`stamp_h5` (`sources`: input files, e.g. the record events came from)."""
+    stamped by :func:`stamp_h5` (`sources`: input files, e.g. the record events came from).
+    The trajectory is gzipped unless `compress` is False: for a temporary file read back at
+    once, where compressing and decompressing cost more time than the disk space they save."""
     path = check_writable(path)
     with atomic_write(path) as tmp, h5py.File(tmp, "w") as f:
         for group, columns in events.items():
@@ -424,7 +428,8 @@ def write_run(path, events: dict, attrs: dict, trajectory: dict | None = None, *
         if trajectory is not None:
             g = f.create_group("trajectory")
             for name in ("t", "x", "v"):
-                g.create_dataset(name, data=np.asarray(trajectory[name], dtype=float), compression="gzip")
+                data = np.asarray(trajectory[name], dtype=float)
+                g.create_dataset(name, data=data, compression="gzip" if compress else None)
         for key, value in attrs.items():
             f.attrs[key] = value
         stamp_h5(f, sources=sources)

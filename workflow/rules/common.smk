@@ -199,6 +199,8 @@ MEAS_NOISE_LEVEL_JSON = "results/stats/measured/noise_study/level{level}.json"
 MEAS_NOISE_LEVEL_CSV = "results/stats/measured/noise_study/level{level}.csv"
 MEAS_NOISE_REALISM_JSON = "results/stats/measured/noise_study/realism.json"
 MEAS_NOISE_REALISM_CSV = "results/stats/measured/noise_study/realism.csv"
+# each sampling rate's clean run (no noise), simulated once for every level's job
+MEAS_NOISE_CLEAN_RUN = "results/runs/measured/noise_study/clean_{rate}Hz.h5"
 MEAS_XI_COVERAGE_PART = "results/stats/measured/x_impact_coverage/level{level}.json"
 MEAS_XI_COVERAGE_TABLE = "results/tables/measured/x_impact_coverage.csv"
 MEAS_XI_COVERAGE_DRAWS = "results/tables/measured/x_impact_coverage_draws.csv"

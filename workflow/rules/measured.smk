@@ -90,17 +90,35 @@ rule measured_fig02_points:
 
 
 # The noise study as parallel jobs: one per noise level (every rate; the same noise draws as
-# the study in one process, impactosc.measured.noise_study) and one for the sensor-realism rows,
-# merged into the table and the JSON the figure reads.
+# the study in one process, impactosc.measured.noise_study), each sampling the rates' clean runs
+# that one job simulates, and one for the sensor-realism rows (its own run, on the finer grid of
+# the anti-aliasing filter), merged into the table and the JSON the figure reads.
 MEAS_NOISE = MEAS["noise_study"]
 MEAS_NOISE_COMMON = {"surrogate": MEAS["surrogate"], "model": config["model"], "solver": config["solver"]}
 MEAS_NOISE_LEVELS = range(len(MEAS_NOISE["noise"]))
 MEAS_NOISE_REALISM = bool(MEAS_NOISE.get("realism", {}).get("cases"))  # a realism job when cases are configured
 
 
-rule measured_noise_level:
+# temporary: read by the level jobs only (10-50 MB per rate, not compressed)
+rule measured_noise_clean:
     input:
         cache=NUMBA_CACHE,
+    output:
+        runs=temp(expand(MEAS_NOISE_CLEAN_RUN, rate=[f"{r:g}" for r in MEAS_NOISE["rates"]])),
+    log:
+        logfile("measured", "measured_noise_clean"),
+    benchmark:
+        benchmark_file("measured", "measured_noise_clean")
+    params:
+        **MEAS_NOISE_COMMON,
+        rates=MEAS_NOISE["rates"],
+    script:
+        "../scripts/measured_noise_clean.py"
+
+
+rule measured_noise_level:
+    input:
+        runs=rules.measured_noise_clean.output.runs,
     output:
         json=MEAS_NOISE_LEVEL_JSON,
         csv=MEAS_NOISE_LEVEL_CSV,
@@ -176,6 +194,7 @@ rule measured_noise_figure:
 
 
 ALL_TARGETS.extend(rules.measured_noise_figure.output + [rules.measured_noise_study.output.csv])
+build_jobs(rules.measured_noise_clean)
 build_jobs(rules.measured_noise_level, level=MEAS_NOISE_LEVELS)
 build_jobs(rules.measured_noise_study, rules.measured_noise_figure)
 if MEAS_NOISE_REALISM:

@@ -7,8 +7,9 @@ extra impacts, timing error against the stated sigma and the Cramer-Rao bound, p
 error, the obstacle estimate, and the train's statistics (C_V^2, ISI modes, ACF peaks).
 
 The study is one function (:func:`noise_study`) and, for a workflow that runs it as parallel
-jobs, its parts: the rows of one noise level at every rate (:func:`noise_level_rows`, the same
-noise draws as the whole study), the sensor-realism rows (:func:`realism_rows`), and
+jobs, its parts: each rate's clean run (:func:`clean_runs`, simulated once and shared by the
+levels), the rows of one noise level at every rate (:func:`noise_level_rows`, the same noise
+draws as the whole study), the sensor-realism rows (:func:`realism_rows`), and
 :func:`merge_levels`, which puts the levels' rows back in the study's order.
 """
 
@@ -27,12 +28,22 @@ from .surrogate import (
     REALISM_FIELDS,
     SurrogateOptions,
     mismatched_params,
+    sample_run,
     sensor_samples,
     surrogate_meta,
     surrogate_record,
+    surrogate_run,
 )
 
-__all__ = ["TABLE_COLUMNS", "match_impacts", "merge_levels", "noise_level_rows", "noise_study", "realism_rows"]
+__all__ = [
+    "TABLE_COLUMNS",
+    "clean_runs",
+    "match_impacts",
+    "merge_levels",
+    "noise_level_rows",
+    "noise_study",
+    "realism_rows",
+]
 
 # Columns of the study's table (the rows also carry the ISI kernel densities, kept for the figure)
 TABLE_COLUMNS = [
@@ -258,21 +269,29 @@ def noise_level_rows(
     atol=1e-12,
     x_impact_span=0.0,
     x_impact_noise=(),
+    runs=None,
 ):
     """The rows of :func:`noise_study` for noise level ``noises[level]`` at every rate, alone.
 
-    Why: a workflow runs one job per level. Each rate's clean record is simulated again (the
-    same record: the simulation is deterministic) and the noise is the study's own draw: one
-    generator seeded with ``seed`` per rate gives the levels their noise in turn, so the levels
-    before this one are drawn and discarded. Level 0 also gives each rate's exact-events row.
-    Rows are grouped by rate, in the order of ``rates``: :func:`merge_levels` relies on it.
+    Why: a workflow runs one job per level. Each rate's clean record is sampled from its clean
+    run (the same record as the study's: the simulation is deterministic) and the noise is the
+    study's own draw: one generator seeded with ``seed`` per rate gives the levels their noise
+    in turn, so the levels before this one are drawn and discarded. Level 0 also gives each
+    rate's exact-events row. Rows are grouped by rate, in the order of ``rates``:
+    :func:`merge_levels` relies on it.
+
+    runs : each rate's clean run as an (events, trajectory) pair, in the order of ``rates``
+        (from :func:`clean_runs`, or read back from the run files a workflow writes once for
+        every level's job); None: simulated here.
     """
     _check_x_impact_noise(noises, x_impact_noise)
+    if runs is not None and len(runs) != len(rates):
+        raise ValueError(f"{len(runs)} clean runs for {len(rates)} rates")
     noise = noises[level]
     out = []
-    for rate in rates:
+    for rate, run in zip(rates, runs or [None] * len(rates)):
         rec0, truth = _clean_record(
-            omega, transient, duration, rate, mismatch=mismatch, seed=seed, params=params, rtol=rtol, atol=atol
+            omega, transient, duration, rate, mismatch=mismatch, seed=seed, params=params, rtol=rtol, atol=atol, run=run
         )
         if level == 0:
             out.append(_exact_row(rate, rec0, truth, omega, analysis))
@@ -301,10 +320,28 @@ def _check_x_impact_noise(noises, x_impact_noise):
         raise ValueError(f"x_impact_noise {stray} not among the study's noise levels {list(noises)}")
 
 
-def _clean_record(omega, transient, duration, rate, *, mismatch, seed, params, rtol, atol):
-    """The surrogate record sampled at rate without noise, and its exact events (the truth)."""
-    base = SurrogateOptions(rate=float(rate), noise=0.0, mismatch=mismatch or {}, seed=seed)
-    return surrogate_record(omega, transient, duration, base, params=params, rtol=rtol, atol=atol)
+def clean_runs(omega, transient, duration, rates, *, mismatch=None, params=None, rtol=1e-10, atol=1e-12):
+    """Each rate's clean run (:func:`impactosc.measured.surrogate.surrogate_run`: exact events
+    and trajectory) for ``noise_level_rows(runs=...)``: simulated once, every level samples it."""
+    return [
+        surrogate_run(omega, transient, duration, _clean_options(rate, mismatch), params=params, rtol=rtol, atol=atol)
+        for rate in rates
+    ]
+
+
+def _clean_options(rate, mismatch, seed=0):
+    """The surrogate's sensor at rate without noise (the study adds its own)."""
+    return SurrogateOptions(rate=float(rate), noise=0.0, mismatch=mismatch or {}, seed=seed)
+
+
+def _clean_record(omega, transient, duration, rate, *, mismatch, seed, params, rtol, atol, run=None):
+    """The surrogate record sampled at rate without noise, and its exact events (the truth);
+    sampled from ``run`` (a clean run's (events, trajectory)) when given, else simulated."""
+    base = _clean_options(rate, mismatch, seed)
+    if run is None:
+        return surrogate_record(omega, transient, duration, base, params=params, rtol=rtol, atol=atol)
+    events, trajectory = run
+    return sample_run(trajectory, omega, base, params=params), events
 
 
 def _exact_row(rate, rec0, truth, omega, analysis) -> dict:

@@ -31,6 +31,8 @@ __all__ = [
     "SurrogateOptions",
     "butterworth_delay",
     "mismatched_params",
+    "surrogate_run",
+    "sample_run",
     "surrogate_record",
     "surrogate_meta",
     "sensor_samples",
@@ -205,6 +207,51 @@ def sensor_samples(traj, o: SurrogateOptions, rng):
     return out
 
 
+def surrogate_run(
+    omega,
+    transient,
+    duration,
+    options: SurrogateOptions | None = None,
+    *,
+    params: ModelParams | None = None,
+    x0=0.0,
+    v0=0.0,
+    rtol=1e-10,
+    atol=1e-12,
+):
+    """The simulation a surrogate record samples: the exact events from ``transient`` on and
+    the trajectory on the sampling grid (finer under the anti-aliasing filter).
+
+    Apart from :func:`surrogate_record` so that a workflow can simulate it once, write it as a
+    run file and sample it in several jobs (:func:`sample_run`).
+    """
+    o = options or SurrogateOptions()
+    p = mismatched_params(params, o.mismatch)
+    win = Window(float(transient), float(transient) + float(duration), 1.0 / (o.rate * o.oversample))
+    return simulate(
+        omega,
+        transient,
+        duration,
+        x0=x0,
+        v0=v0,
+        params=p,
+        rtol=rtol,
+        atol=atol,
+        window=win,
+        record=("impacts", "penetrations", "poincare"),
+    )
+
+
+def sample_run(trajectory, omega, options: SurrogateOptions | None = None, *, params: ModelParams | None = None):
+    """The record the sensor of ``options`` takes of a :func:`surrogate_run` trajectory (noise
+    drawn from its seed), with the surrogate's metadata."""
+    o = options or SurrogateOptions()
+    rng = np.random.default_rng(o.seed)
+    t = trajectory["t"][:: o.oversample]
+    meta = surrogate_meta(o, mismatched_params(params, o.mismatch))
+    return Record(t, sensor_samples(trajectory, o, rng), float(omega), meta, "<surrogate>")
+
+
 def surrogate_record(
     omega,
     transient,
@@ -223,25 +270,8 @@ def surrogate_record(
     and the noise study).  x_impact is stored in the metadata (the rig's obstacle position
     would be measured too).
     """
-    o = options or SurrogateOptions()
-    p = mismatched_params(params, o.mismatch)
-    win = Window(float(transient), float(transient) + float(duration), 1.0 / (o.rate * o.oversample))
-    res = simulate(
-        omega,
-        transient,
-        duration,
-        x0=x0,
-        v0=v0,
-        params=p,
-        rtol=rtol,
-        atol=atol,
-        window=win,
-        record=("impacts", "penetrations", "poincare"),
-    )
-    rng = np.random.default_rng(o.seed)
-    t = res.trajectory["t"][:: o.oversample]
-    rec = Record(t, sensor_samples(res.trajectory, o, rng), float(omega), surrogate_meta(o, p), "<surrogate>")
-    return rec, res.events
+    res = surrogate_run(omega, transient, duration, options, params=params, x0=x0, v0=v0, rtol=rtol, atol=atol)
+    return sample_run(res.trajectory, omega, options, params=params), res.events
 
 
 def surrogate_sweep(
