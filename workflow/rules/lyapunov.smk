@@ -11,26 +11,23 @@ LYA_REPORT = "Lyapunov exponents (beyond the paper)"
 LYA_MEMBERS = [str(i) for i in range(len(LYA["chaos"]["x0"]))]
 
 
-# (no job when there is no start x0)
-if LYA_MEMBERS:
-
-    rule lyapunov_members:
-        input:
-            cache=NUMBA_CACHE,
-        output:
-            runs=expand(LYAP_MEMBER, member=LYA_MEMBERS),
-        log:
-            logfile("lyapunov", "lyapunov_members"),
-        benchmark:
-            benchmark_file("lyapunov", "lyapunov_members")
-        priority: 3
-        params:
-            chaos=LYA["chaos"],
-            model=config["model"],
-        # one realisation per start chaos.x0, all in one job (a job's start-up is over a third
-        # of a realisation's time)
-        script:
-            "../scripts/lyapunov_members.py"
+rule lyapunov_members:
+    input:
+        cache=NUMBA_CACHE,
+    output:
+        runs=expand(LYAP_MEMBER, member=LYA_MEMBERS),
+    log:
+        logfile("lyapunov", "lyapunov_members"),
+    benchmark:
+        benchmark_file("lyapunov", "lyapunov_members")
+    priority: 3
+    params:
+        chaos=LYA["chaos"],
+        model=config["model"],
+    # one realisation per start chaos.x0, all in one job (a job's start-up is over a third
+    # of a realisation's time)
+    script:
+        "../scripts/lyapunov_members.py"
 
 
 rule lyapunov_checks:
@@ -157,8 +154,7 @@ rule fig03b_lyapunov:
 
 ALL_TARGETS.extend(rules.lyapunov_chaos.output + rules.fig02_lyapunov.output + rules.fig03b_lyapunov.output)
 ALL_TARGETS.append(rules.lyapunov_sweeps.output.signs)
-if LYA_MEMBERS:
-    build_jobs(rules.lyapunov_members)
+build_jobs(rules.lyapunov_members)
 build_jobs(rules.lyapunov_sweep_part, sweep=list(config["bifurcation"]["sweeps"]), chunk=range(LYA["sweeps"]["chunks"]))
 build_jobs(
     rules.lyapunov_checks, rules.lyapunov_chaos, rules.lyapunov_sweeps, rules.fig02_lyapunov, rules.fig03b_lyapunov
