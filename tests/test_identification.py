@@ -95,25 +95,29 @@ def test_encoder_phase_sets_each_windows_forcing(chaos_record):
     assert np.allclose(w1.tau0, w0.tau0, atol=1e-9)
 
 
-def test_window_prediction_continues_the_trajectory():
-    par = ModelParams()
-    res = simulate(40.86, 20.0, 3.0, params=par, window=Window(20.0, 23.0, 5e-4), record=())
+@pytest.fixture(scope="module")
+def clean_trajectory():
+    """3 s of the chaotic attractor sampled at 2 kHz without noise, and the record of it."""
+    res = simulate(40.86, 20.0, 3.0, params=ModelParams(), window=Window(20.0, 23.0, 5e-4), record=())
     tr = res.trajectory
-    rec = Record(tr["t"], tr["x"], 40.86, {}, "<clean>")
+    return tr, Record(tr["t"], tr["x"], 40.86, {}, "<clean>")
+
+
+def test_window_prediction_continues_the_trajectory(clean_trajectory):
+    par = ModelParams()
+    tr, rec = clean_trajectory
     w = cut_windows([rec], periods=2.0, level=par.xI)
     states = np.column_stack([tr["x"][w.start], tr["v"][w.start]])
     pred = Predictor(w, par.as_array(40.86), par.m).predict(theta_of(par), states)
     assert np.max(np.abs(pred - w.y)) < 1e-9  # the integration tolerance, far below any noise
 
 
-def test_carried_states_continue_the_fitted_trajectory():
+def test_carried_states_continue_the_fitted_trajectory(clean_trajectory):
     # the next stage's start states from the last stage's trajectories: on a clean record with
     # the true states of half-period windows, the two-period windows get the true states at
     # their own starts (the integration tolerance), and none from windows not trusted
     par = ModelParams()
-    res = simulate(40.86, 20.0, 3.0, params=par, window=Window(20.0, 23.0, 5e-4), record=())
-    tr = res.trajectory
-    rec = Record(tr["t"], tr["x"], 40.86, {}, "<clean>")
+    tr, rec = clean_trajectory
     short = cut_windows([rec], periods=0.5, level=par.xI)
     fitted = Predictor(short, par.as_array(40.86), par.m)
     true_short = np.column_stack([tr["x"][short.start], tr["v"][short.start]])

@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 
 from impactosc.integration.model import ModelParams
+from impactosc.measured.contact_window import fit_vertices, integrate_window, model_window, projected_jacobian
 from impactosc.measured.coverage import coverage_summary, x_impact_draws
 from impactosc.measured.extract import ExtractOptions, extract_events
 from impactosc.measured.noise_study import match_impacts
-from impactosc.measured.obstacle import _project, _projected_jacobian, _window, model_window
 from impactosc.measured.obstacle_estimate import estimate_x_impact
 from impactosc.measured.records import Record
 from impactosc.measured.surrogate import SurrogateOptions, surrogate_record
@@ -143,12 +143,12 @@ def test_window_jacobian_matches_finite_differences(n1):
     args = (-2.0, 0.5, 0.01, p.kI / p.m, p.xI, p.b, n1, p.n3, half, dt, nsub)
     H, tau = p.xI + 60e-6, 1.3e-4
     x, d_h, d_tau = np.empty((3, 2 * half + 1))
-    _window(H, tau, *args, x, d_h, d_tau)
+    integrate_window(H, tau, *args, x, d_h, d_tau)
     scratch = np.empty((2, 2 * half + 1))
 
     def samples(H, tau):
         out = np.empty(2 * half + 1)
-        _window(H, tau, *args, out, *scratch)
+        integrate_window(H, tau, *args, out, *scratch)
         return out
 
     eh, et = 1e-9, 1e-8
@@ -181,7 +181,7 @@ def test_projected_jacobian_matches_differences_of_the_refit():
 
     def refit(c):  # the residuals Y - f with every window's H and tau fitted at the constants c
         H, tau, out = H0 + 1e-6, tau0 + 1e-5, np.empty_like(Y)
-        _project(Y, a, gam, mu, *c, half, dt, nsub, H, tau, tau_max, 50, out)
+        fit_vertices(Y, a, gam, mu, *c, half, dt, nsub, H, tau, tau_max, 50, out)
         return out.ravel(), H, tau
 
     r0, H, tau = refit(c0)
@@ -189,7 +189,7 @@ def test_projected_jacobian_matches_differences_of_the_refit():
     steps = np.array([1e-6 * c0[0], 1e-10, 1e-6, 1e-6, 1e-6])
     consts = np.vstack([c0, c0 + np.diag(steps)])
     J = np.empty((Y.size, steps.size))
-    _projected_jacobian(Y, a, gam, mu, consts, steps, half, dt, nsub, H, tau, tau_max, J)
+    projected_jacobian(Y, a, gam, mu, consts, steps, half, dt, nsub, H, tau, tau_max, J)
     for i, h in enumerate(steps):
         e = np.eye(5)[i] * h
         fd = (refit(c0 + e)[0] - refit(c0 - e)[0]) / (2 * h)
