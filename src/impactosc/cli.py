@@ -6,13 +6,13 @@ import math
 import sys
 import time
 
-from .cli_identify import _identify
-from .cli_options import model_from_args, read_record_args
-from .cli_parser import build_parser
+from impactosc.cli_identify import _identify
+from impactosc.cli_options import model_from_args, read_record_args
+from impactosc.cli_parser import build_parser
 
 
 def _config_docs(args) -> int:
-    from .config_docs import write
+    from impactosc.config_docs import write
 
     if write(args.schema, args.output, check=args.check):
         print(f"{args.output}: up to date with {args.schema}")
@@ -29,8 +29,8 @@ def _config_docs(args) -> int:
 
 
 def _extract(args) -> int:
-    from .files import check_writable, write_run
-    from .measured.extract import ExtractOptions, extract_events
+    from impactosc.files import check_writable, write_run
+    from impactosc.measured.extract import ExtractOptions, extract_events
 
     check_writable(args.output)
     x_impact, x_impact_source = _model_x_impact(args) if args.x_impact is None else (args.x_impact, None)
@@ -72,7 +72,7 @@ def _model_x_impact(args) -> tuple[float | None, str | None]:
     not model BC's filling in for it), else (None, None): the record or the estimate decides."""
     if args.model is None and not args.param:
         return None, None
-    from .model_file import read_model_file
+    from impactosc.model_file import read_model_file
 
     params, source = model_from_args(args)
     by_param = any(item.partition("=")[0].strip() == "xI" for item in args.param)
@@ -82,8 +82,8 @@ def _model_x_impact(args) -> tuple[float | None, str | None]:
 
 
 def _sweep_extract(args) -> int:
-    from .files import check_writable
-    from .measured.sweep import sweep_segments, write_sweep_points
+    from impactosc.files import check_writable
+    from impactosc.measured.sweep import sweep_segments, write_sweep_points
 
     check_writable(args.output)
     rec = read_record_args(args)
@@ -112,9 +112,9 @@ def _parse_mismatch(text):
 
 
 def _surrogate(args) -> int:
-    from .files import check_writable
-    from .measured.record_files import write_record
-    from .measured.surrogate import REALISM_FIELDS, SurrogateOptions, surrogate_ramp, surrogate_record
+    from impactosc.files import check_writable
+    from impactosc.measured.record_files import write_record
+    from impactosc.measured.surrogate import REALISM_FIELDS, SurrogateOptions, surrogate_ramp, surrogate_record
 
     check_writable(args.output)
     params, source = model_from_args(args)
@@ -151,14 +151,14 @@ def _surrogate(args) -> int:
 
 
 def _simulate(args) -> int:
-    from .files import check_writable, write_run
-    from .integration.simulate import Window, simulate, warm_up
+    from impactosc.files import check_writable, write_run
+    from impactosc.integration.simulate import Window, simulate, warm_up
 
     record = tuple(e.strip() for e in args.events.split(",") if e.strip())
     window = Window(*args.window) if args.window else None
     check_writable(args.output)
     # validate everything before compiling or integrating
-    from .integration.simulate import _validate
+    from impactosc.integration.simulate import _validate
 
     _validate(args.omega, args.transient, args.duration, args.x0, args.v0, args.rtol, args.atol, window)
     if args.step_budget < 100:

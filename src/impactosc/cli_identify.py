@@ -11,7 +11,7 @@ import contextlib
 import sys
 import warnings
 
-from .cli_options import (
+from impactosc.cli_options import (
     RECORD_FORMATS,
     add_model_options,
     add_record_options,
@@ -19,7 +19,7 @@ from .cli_options import (
     model_from_args,
     read_options,
 )
-from .identification.windows import check_forcing_phase
+from impactosc.identification.windows import check_forcing_phase
 
 IDENTIFY_EPILOG = """
 What is fitted: k/m, c/m, T/m, m0e/m, kI/m, b, n3 and xI, per unit mass because a displacement
@@ -40,8 +40,8 @@ Examples:
 
 def _add_identify_parser(sub) -> None:
     """The identify command's options (records, stated model, what is fixed, outputs)."""
-    from .identification.identify import STAGES
-    from .identification.parameters import NAMES, UNITS
+    from impactosc.identification.identify import STAGES
+    from impactosc.identification.parameters import NAMES, UNITS
 
     idp = sub.add_parser(
         "identify",
@@ -123,8 +123,8 @@ def _fixed_quantities(items, base) -> dict:
     """name -> value (None: the stated model's) of the --fix items; errors name the item."""
     import dataclasses
 
-    from .identification.parameters import FIELDS, NAMES, PER_MASS
-    from .names import closest_name
+    from impactosc.identification.parameters import FIELDS, NAMES, PER_MASS
+    from impactosc.names import closest_name
 
     fixed = {}
     for item in items:
@@ -153,7 +153,7 @@ def _check_identify_outputs(args) -> None:
     """Refuse unknown table formats, clashing or unwritable outputs before any fitting."""
     from pathlib import Path
 
-    from .files import check_writable
+    from impactosc.files import check_writable
 
     paths = [args.output]
     for option, path in (("--table", args.table), ("--choose-model", args.choose_model)):
@@ -169,7 +169,7 @@ def _check_identify_outputs(args) -> None:
 
 def _write_rows(path, rows, markdown: str, sources) -> None:
     """A table as Markdown (.md) or CSV."""
-    from .files import write_table, write_text
+    from impactosc.files import write_table, write_text
 
     if str(path).lower().endswith(".md"):
         write_text(path, markdown)
@@ -226,10 +226,10 @@ def _identify(args) -> int:
 
 
 def _identify_run(args) -> int:
-    from .identification import identify
-    from .identification.choice import candidates, choice_markdown, choose_model
-    from .identification.report import parameter_markdown, parameter_table, write_identified_model
-    from .measured.record_files import read_records
+    from impactosc.identification import identify
+    from impactosc.identification.choice import candidates, choice_markdown, choose_model
+    from impactosc.identification.report import parameter_markdown, parameter_table, write_identified_model
+    from impactosc.measured.record_files import read_records
 
     _check_identify_outputs(args)
     if not all(periods > 0 for periods in args.stages):

@@ -26,7 +26,7 @@ def contact_exponent(text: str) -> float | None:
     """A contact exponent: a number in [1, 2.5], or 'free' (None: fitted)."""
     if text.strip().lower() == "free":
         return None
-    from .measured.extract import CONTACT_EXPONENT_RANGE
+    from impactosc.measured.extract import CONTACT_EXPONENT_RANGE
 
     value = finite_number(text)
     lo, hi = CONTACT_EXPONENT_RANGE
@@ -117,7 +117,7 @@ def add_model_options(parser, description: str) -> None:
 
 def model_from_args(args):
     """(ModelParams, description of where they came from) of --model and --param."""
-    from .model_file import resolve_model
+    from impactosc.model_file import resolve_model
 
     return resolve_model(args.model, args.param)
 
@@ -137,6 +137,6 @@ def read_options(args) -> dict:
 
 
 def read_record_args(args, omega=None):
-    from .measured.record_files import read_record
+    from impactosc.measured.record_files import read_record
 
     return read_record(args.record, omega=omega, **read_options(args))

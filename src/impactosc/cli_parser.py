@@ -4,15 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from . import __version__
-from .cli_identify import _add_identify_parser
-from .cli_options import (
-    RECORD_FORMATS,
-    add_model_options,
-    add_record_options,
-    contact_exponent,
-    finite_number,
-)
+from impactosc import __version__
+from impactosc.cli_identify import _add_identify_parser
+from impactosc.cli_options import RECORD_FORMATS, add_model_options, add_record_options, contact_exponent, finite_number
 
 EPILOG = """\
 Units: SI throughout (s, m, m/s, rad/s). Model parameters are model BC of the paper
@@ -43,8 +37,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _add_simulate_parser(sub) -> None:
     """The simulate command: integrate the model and write its events."""
-    from .integration.layout import DEFAULT_STEP_BUDGET
-    from .integration.simulate import ALL_EVENTS, DEFAULT_ATOL, DEFAULT_RTOL
+    from impactosc.integration.layout import DEFAULT_STEP_BUDGET
+    from impactosc.integration.simulate import ALL_EVENTS, DEFAULT_ATOL, DEFAULT_RTOL
 
     sim = sub.add_parser(
         "simulate",

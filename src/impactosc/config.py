@@ -21,7 +21,7 @@ from pathlib import Path
 import jsonschema
 import yaml
 
-from .names import closest_name
+from impactosc.names import closest_name
 
 
 class ConfigError(ValueError):
@@ -130,7 +130,7 @@ def _model_from_file(model: dict) -> dict:
     if model.get("file") is None:
         model.pop("file", None)
         return {"file": None, "description": "model BC (paper)"}  # model_file.BC_DESCRIPTION
-    from .model_file import resolve_model  # only here: it imports numba, which the plotting jobs do without
+    from impactosc.model_file import resolve_model  # only here: it imports numba, which the plotting jobs do without
 
     path = model.pop("file")
     try:

@@ -43,7 +43,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from . import __version__
+from impactosc import __version__
 
 
 def git_commit() -> str:

@@ -32,10 +32,10 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from . import __version__
-from .files import atomic_write, git_commit
-from .integration.model import ModelParams
-from .names import closest_name
+from impactosc import __version__
+from impactosc.files import atomic_write, git_commit
+from impactosc.integration.model import ModelParams
+from impactosc.names import closest_name
 
 FORMAT = "impactosc-model/1"
 

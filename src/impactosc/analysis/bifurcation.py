@@ -27,10 +27,10 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..statistics import distinct_levels
-from ..sweeps.continuation import OK
-from .grazing import extrapolate_gap_zero
-from .orbits import FAILED, NONPERIODIC, detect_period, impacts_per_orbit
+from impactosc.analysis.grazing import extrapolate_gap_zero
+from impactosc.analysis.orbits import FAILED, NONPERIODIC, detect_period, impacts_per_orbit
+from impactosc.statistics import distinct_levels
+from impactosc.sweeps.continuation import OK
 
 __all__ = [
     "BranchTable",

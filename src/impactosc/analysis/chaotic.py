@@ -37,9 +37,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import statistics as st
-from ..files import read_run
-from .impact_train import AnalysisOptions, ImpactTrain, load_train
+from impactosc import statistics as st
+from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain, load_train
+from impactosc.files import read_run
 
 __all__ = [
     "PARTS",

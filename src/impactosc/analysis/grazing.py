@@ -26,12 +26,12 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from ..files import read_json
-from ..integration.simulate import Window, simulate
-from ..paper.numbers import GRAZING
-from ..sweeps.chunks import merge_chunks
-from ..sweeps.continuation import continuation, load_sweep
-from .orbits import poincare_period
+from impactosc.analysis.orbits import poincare_period
+from impactosc.files import read_json
+from impactosc.integration.simulate import Window, simulate
+from impactosc.paper.numbers import GRAZING
+from impactosc.sweeps.chunks import merge_chunks
+from impactosc.sweeps.continuation import continuation, load_sweep
 
 __all__ = [
     "Trial",

@@ -17,9 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import statistics as st
-from ..files import read_run
-from ..statistics._validation import as_event_times, as_finite_1d
+from impactosc import statistics as st
+from impactosc.files import read_run
+from impactosc.statistics._validation import as_event_times, as_finite_1d
 
 __all__ = ["AnalysisOptions", "ImpactTrain", "load_train"]
 

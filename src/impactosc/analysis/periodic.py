@@ -18,10 +18,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..files import read_run
-from ..statistics import distinct_levels, inter_impact_intervals
-from .orbits import poincare_period
-from .spectra import SpectrumAnalysis, analyse_spectrum
+from impactosc.analysis.orbits import poincare_period
+from impactosc.analysis.spectra import SpectrumAnalysis, analyse_spectrum
+from impactosc.files import read_run
+from impactosc.statistics import distinct_levels, inter_impact_intervals
 
 __all__ = [
     "ImpactMapNumbers",

@@ -15,8 +15,8 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..statistics import amplitude_spectrum, estimate_secondary_frequency, find_peaks_spectrum
-from ..statistics._validation import as_event_times
+from impactosc.statistics import amplitude_spectrum, estimate_secondary_frequency, find_peaks_spectrum
+from impactosc.statistics._validation import as_event_times
 
 __all__ = ["SpectrumAnalysis", "analyse_spectrum", "trajectory_spectrum"]
 

@@ -39,11 +39,8 @@ import time
 
 import numpy as np
 
-from ..integration.model import ModelParams
-from ..integration.reference import solve_reference
-from ..integration.simulate import StallError, simulate, warm_up
-from .scene import DURATION, ERR_HORIZON, OMEGA, TRANSIENT, impact_error
-from .timing_rounds import (
+from impactosc.benchmarks.scene import DURATION, ERR_HORIZON, OMEGA, TRANSIENT, impact_error
+from impactosc.benchmarks.timing_rounds import (
     ATTRACTOR_TOLERANCE,
     CORE_ATOL,
     CORE_RTOL,
@@ -54,6 +51,9 @@ from .timing_rounds import (
     reference_impact_count,
     reference_times,
 )
+from impactosc.integration.model import ModelParams
+from impactosc.integration.reference import solve_reference
+from impactosc.integration.simulate import StallError, simulate, warm_up
 
 CORE = "impactosc core"
 SCIPY = "SciPy solve_ivp DOP853 + events"
@@ -228,7 +228,7 @@ def measure_core_speed(
     The attractor's impact count is the core's at rtol 1e-10 (measured here if that is one of
     `rtols`, else by timing_rounds.reference_impact_count).
     """
-    from . import peers
+    from impactosc.benchmarks import peers
 
     warm_up()
     methods = peers.METHODS if peer_methods is None else tuple(peer_methods)
@@ -272,7 +272,7 @@ def core_speed_headline(rows: list[dict], max_error: float = MAX_ERROR) -> list[
     time_over_core = the row's wall time (median) / the core's. Roles without a qualifying
     row are listed with solver "none".
     """
-    from .peers import best_peer
+    from impactosc.benchmarks.peers import best_peer
 
     core_rows = [r for r in rows if r["solver"] == CORE]
     scipy_rows = [r for r in rows if r["solver"] == SCIPY]

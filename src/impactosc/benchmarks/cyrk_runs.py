@@ -46,11 +46,11 @@ import time
 import numpy as np
 from numba import carray, cfunc, types
 
-from ..integration.layout import CONTACT, N_PARAMS, P_XI
-from ..integration.model import ModelParams, accel
-from .cyrk_shim import cyrk_method, load_cyrk_shim
-from .scene import OMEGA
-from .timing_rounds import PeerRun
+from impactosc.benchmarks.cyrk_shim import cyrk_method, load_cyrk_shim
+from impactosc.benchmarks.scene import OMEGA
+from impactosc.benchmarks.timing_rounds import PeerRun
+from impactosc.integration.layout import CONTACT, N_PARAMS, P_XI
+from impactosc.integration.model import ModelParams, accel
 
 __all__ = ["MAX_STEPS", "model_cfuncs", "velocity_cfunc", "run_cyrk", "cyrk_events"]
 

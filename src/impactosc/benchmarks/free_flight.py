@@ -17,10 +17,10 @@ import time
 
 import numpy as np
 
-from ..integration.model import ModelParams
-from .cyrk_shim import INSTALL_HINT, PeerUnavailable
-from .scene import OMEGA
-from .timing_rounds import PeerRun
+from impactosc.benchmarks.cyrk_shim import INSTALL_HINT, PeerUnavailable
+from impactosc.benchmarks.scene import OMEGA
+from impactosc.benchmarks.timing_rounds import PeerRun
+from impactosc.integration.model import ModelParams
 
 __all__ = ["FLOOR_TOL", "FREE_FLIGHT", "heyoka_free_flight", "run_heyoka"]
 

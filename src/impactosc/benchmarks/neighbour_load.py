@@ -19,8 +19,8 @@ import subprocess
 import sys
 import time
 
-from .core_speed import run_core_from_rest
-from .cyrk_runs import run_cyrk
+from impactosc.benchmarks.core_speed import run_core_from_rest
+from impactosc.benchmarks.cyrk_runs import run_cyrk
 
 NEIGHBOUR = (
     "from impactosc.integration.simulate import simulate\n"

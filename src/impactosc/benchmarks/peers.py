@@ -27,11 +27,11 @@ import sys
 
 import numpy as np
 
-from .cyrk_runs import model_cfuncs, run_cyrk
-from .cyrk_shim import PeerUnavailable, cyrk_method, load_cyrk_shim
-from .free_flight import FLOOR_TOL, FREE_FLIGHT, heyoka_free_flight, run_heyoka
-from .scene import ERR_HORIZON, TRANSIENT
-from .timing_rounds import (
+from impactosc.benchmarks.cyrk_runs import model_cfuncs, run_cyrk
+from impactosc.benchmarks.cyrk_shim import PeerUnavailable, cyrk_method, load_cyrk_shim
+from impactosc.benchmarks.free_flight import FLOOR_TOL, FREE_FLIGHT, heyoka_free_flight, run_heyoka
+from impactosc.benchmarks.scene import ERR_HORIZON, TRANSIENT
+from impactosc.benchmarks.timing_rounds import (
     ATTRACTOR_TOLERANCE,
     CORE_RTOL,
     T_END,
@@ -217,7 +217,7 @@ def main(argv=None) -> int:
         + (f"{best['solver']} at rtol {best['rtol']:g}, {best['wall_time']:.3f} s" if best else "none")
     )
     if args.out:
-        from ..files import write_table
+        from impactosc.files import write_table
 
         write_table(args.out, rows)
     return 0

@@ -22,9 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..integration.model import ModelParams
-from ..integration.reference import ReferenceBudgetExceeded, solve_reference
-from ..integration.simulate import StallError, simulate
+from impactosc.integration.model import ModelParams
+from impactosc.integration.reference import ReferenceBudgetExceeded, solve_reference
+from impactosc.integration.simulate import StallError, simulate
 
 # (low, high, scale) of every drawn quantity; T is drawn as a fraction of the forcing
 # amplitude m0e w^2 (beyond 1 the cart never leaves the friction cone).

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 
-from .wp_solvers import CORE, SCIPY_METHODS, is_peer
+from impactosc.benchmarks.wp_solvers import CORE, SCIPY_METHODS, is_peer
 
 
 def cost_at_error(rows: list[dict], scene: str, solver: str, metric: str, level: float) -> float:

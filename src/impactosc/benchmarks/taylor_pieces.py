@@ -29,11 +29,11 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from ..integration import dop853
-from ..integration.layout import CONTACT, FREE, TIME, UVEL, WVEL
-from ..integration.model import ModelParams
-from ..integration.reference import model_forces
-from .taylor_series import BAND_PIECE, PIECE_NAMES, TIME_PIECE, TURN_PIECE, integrate_piece
+from impactosc.benchmarks.taylor_series import BAND_PIECE, PIECE_NAMES, TIME_PIECE, TURN_PIECE, integrate_piece
+from impactosc.integration import dop853
+from impactosc.integration.layout import CONTACT, FREE, TIME, UVEL, WVEL
+from impactosc.integration.model import ModelParams
+from impactosc.integration.reference import model_forces
 
 OMEGA = 40.86
 IMPACT_T, IMPACT_V = 0.7086, 0.195  # an impact of the chaotic scene
@@ -234,7 +234,7 @@ MODE_PIECE = {
 def core_per_period(rtol: float, repeats: int = 3) -> dict:
     """The core on the chaotic scene (500 s): median wall time per forcing period (us) and its
     step attempts per period in each variable."""
-    from ..integration.simulate import simulate, warm_up
+    from impactosc.integration.simulate import simulate, warm_up
 
     warm_up()
     periods = 500.0 * OMEGA / (2 * math.pi)
@@ -287,7 +287,7 @@ def taylor_through_the_band(tol: float = 1e-10, horizon: float = 5.0) -> dict:
     against SciPy. Its step-size rule does not see the band's switch (width eps / |a| in time):
     with the band in time a Taylor method is fast and wrong, which is why the core integrates
     the band in asinh(v/eps)."""
-    from .free_flight import heyoka_free_flight
+    from impactosc.benchmarks.free_flight import heyoka_free_flight
 
     free = ModelParams(xI=1.0)
     integrator = heyoka_free_flight(tol, free, OMEGA)

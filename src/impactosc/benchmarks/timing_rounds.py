@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .scene import DURATION, ERR_HORIZON, OMEGA, TRANSIENT, impact_error
+from impactosc.benchmarks.scene import DURATION, ERR_HORIZON, OMEGA, TRANSIENT, impact_error
 
 __all__ = [
     "PeerRun",
@@ -77,7 +77,7 @@ class PeerRun:
 
 def reference_impact_count(rtol: float = CORE_RTOL, atol: float = CORE_ATOL) -> int:
     """Impacts in 100-500 s of the project's core on the scene: the attractor's count."""
-    from ..integration.simulate import simulate
+    from impactosc.integration.simulate import simulate
 
     res = simulate(OMEGA, TRANSIENT, DURATION, rtol=rtol, atol=atol, record=("impacts",))
     return len(res.events["impacts"]["t"])
@@ -175,7 +175,7 @@ def measure_contestants(
 
 def reference_times() -> np.ndarray:
     """Impact times over the first ERR_HORIZON s from rest: SciPy DOP853 split at contacts at rtol 1e-13."""
-    from ..integration.reference import solve_reference
+    from impactosc.integration.reference import solve_reference
 
     return solve_reference(OMEGA, ERR_HORIZON, rtol=REF_RTOL, atol=REF_ATOL)["impacts_t"]
 

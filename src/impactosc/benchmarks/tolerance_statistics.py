@@ -9,10 +9,10 @@ import time
 
 import numpy as np
 
-from ..analysis.chaotic import analyse_train, key_numbers
-from ..analysis.impact_train import ImpactTrain
-from ..integration.model import ModelParams
-from ..integration.simulate import simulate, warm_up
+from impactosc.analysis.chaotic import analyse_train, key_numbers
+from impactosc.analysis.impact_train import ImpactTrain
+from impactosc.integration.model import ModelParams
+from impactosc.integration.simulate import simulate, warm_up
 
 STAT_KEYS = ("n_impacts", "cv2_paper", "cv2", "isi_first_maximum", "isi_last_maximum")
 

@@ -45,13 +45,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..integration.model import ModelParams
-from ..integration.simulate import simulate, warm_up
-from . import free_flight
-from .event_errors import METRICS, event_errors, worst_errors
-from .timing_rounds import CORE_ATOL, CORE_RTOL
-from .wp_attractor import attractor_columns, long_run
-from .wp_solvers import CORE, EVENT_KEYS, SCIPY_METHODS, best_time, is_peer, peer_status, run_scipy, run_solver
+from impactosc.benchmarks import free_flight
+from impactosc.benchmarks.event_errors import METRICS, event_errors, worst_errors
+from impactosc.benchmarks.timing_rounds import CORE_ATOL, CORE_RTOL
+from impactosc.benchmarks.wp_attractor import attractor_columns, long_run
+from impactosc.benchmarks.wp_solvers import (
+    CORE,
+    EVENT_KEYS,
+    SCIPY_METHODS,
+    best_time,
+    is_peer,
+    peer_status,
+    run_scipy,
+    run_solver,
+)
+from impactosc.integration.model import ModelParams
+from impactosc.integration.simulate import simulate, warm_up
 
 METRIC_LABELS = {
     "impact_time_error": "impact-time error (s)",

@@ -14,11 +14,11 @@ import math
 
 import numpy as np
 
-from ..integration.simulate import StallError, simulate
-from . import cyrk_runs
-from .scene import DURATION, TRANSIENT
-from .timing_rounds import on_attractor
-from .wp_solvers import CORE, PEER_PREFIX
+from impactosc.benchmarks import cyrk_runs
+from impactosc.benchmarks.scene import DURATION, TRANSIENT
+from impactosc.benchmarks.timing_rounds import on_attractor
+from impactosc.benchmarks.wp_solvers import CORE, PEER_PREFIX
+from impactosc.integration.simulate import StallError, simulate
 
 __all__ = ["long_run", "known_long_runs", "attractor_columns"]
 

@@ -13,9 +13,9 @@ import time
 
 import numpy as np
 
-from ..integration.reference import solve_reference
-from ..integration.simulate import simulate
-from . import cyrk_runs, cyrk_shim
+from impactosc.benchmarks import cyrk_runs, cyrk_shim
+from impactosc.integration.reference import solve_reference
+from impactosc.integration.simulate import simulate
 
 __all__ = [
     "CORE",

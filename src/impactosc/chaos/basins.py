@@ -29,12 +29,12 @@ from dataclasses import dataclass, field
 import h5py
 import numpy as np
 
-from ..files import atomic_write, check_writable, stamp_h5
-from ..integration.layout import S_V, S_X
-from ..integration.model import ModelParams
-from ..integration.simulate import DEFAULT_ATOL, DEFAULT_RTOL, StallError, simulate
-from ..periodic_orbits.segments import orbit_sample, seed_from_rest
-from ..periodic_orbits.shooting import shoot
+from impactosc.files import atomic_write, check_writable, stamp_h5
+from impactosc.integration.layout import S_V, S_X
+from impactosc.integration.model import ModelParams
+from impactosc.integration.simulate import DEFAULT_ATOL, DEFAULT_RTOL, StallError, simulate
+from impactosc.periodic_orbits.segments import orbit_sample, seed_from_rest
+from impactosc.periodic_orbits.shooting import shoot
 
 __all__ = [
     "UNRESOLVED",

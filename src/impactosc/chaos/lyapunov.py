@@ -24,9 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..integration.layout import S_V, S_X
-from ..integration.simulate import simulate
-from ..periodic_orbits.shooting import SCALE, stroboscopic_map
+from impactosc.integration.layout import S_V, S_X
+from impactosc.integration.simulate import simulate
+from impactosc.periodic_orbits.shooting import SCALE, stroboscopic_map
 
 __all__ = [
     "LyapunovRun",

@@ -27,9 +27,9 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from .least_squares import FitResult, _window_rss
-from .shooting import Predictor
-from .windows import WindowSet
+from impactosc.identification.least_squares import FitResult, _window_rss
+from impactosc.identification.shooting import Predictor
+from impactosc.identification.windows import WindowSet
 
 __all__ = ["links", "fit_continuous", "GAP_LIMIT"]
 

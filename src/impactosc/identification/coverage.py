@@ -22,10 +22,10 @@ import math
 
 import numpy as np
 
-from ..integration.model import ModelParams
-from ..measured.surrogate import SurrogateOptions, surrogate_record
-from .identify import identify
-from .parameters import NAMES, theta_of
+from impactosc.identification.identify import identify
+from impactosc.identification.parameters import NAMES, theta_of
+from impactosc.integration.model import ModelParams
+from impactosc.measured.surrogate import SurrogateOptions, surrogate_record
 
 __all__ = [
     "SCALED_FIELDS",
@@ -54,7 +54,7 @@ def random_truth(seed: int, spread: float = 0.3, base: ModelParams | None = None
 def _orbit_from(params: ModelParams, omega: float, x0: float, v0: float, period: int, n_transient: int) -> np.ndarray:
     """The sorted Poincare points of the period-``period`` orbit that ``params`` reaches from the
     section state (x0, v0) after ``n_transient`` forcing periods."""
-    from ..integration.simulate import simulate
+    from impactosc.integration.simulate import simulate
 
     t_period = 2 * math.pi / omega
     r = simulate(
@@ -79,8 +79,8 @@ def branch_distance(truth: ModelParams, model: ModelParams, omegas, *, n_transie
     the same orbit still exceeds BRANCH_TOL, at how many two coexisting orbits were taken, how
     many are non-periodic in both, and how many differ in kind or period.
     """
-    from ..analysis.bifurcation import classify_sweep
-    from ..sweeps.continuation import SweepSettings, continuation
+    from impactosc.analysis.bifurcation import classify_sweep
+    from impactosc.sweeps.continuation import SweepSettings, continuation
 
     sweeps = [
         continuation(omegas, SweepSettings(n_transient=n_transient, n_record=n_record, n_initial=n_initial, params=p))

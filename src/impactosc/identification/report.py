@@ -14,10 +14,10 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from ..files import atomic_write, stamp_h5
-from ..model_file import PARAM_UNITS, write_model_file
-from .identify import Identification
-from .parameters import FIELDS, NAMES, PER_MASS
+from impactosc.files import atomic_write, stamp_h5
+from impactosc.identification.identify import Identification
+from impactosc.identification.parameters import FIELDS, NAMES, PER_MASS
+from impactosc.model_file import PARAM_UNITS, write_model_file
 
 __all__ = [
     "configured_inputs",
@@ -163,8 +163,8 @@ def configured_inputs(section: dict, model: dict, paths) -> tuple:
     configured mass, and the record files read as ``section["read"]`` says."""
     import dataclasses
 
-    from ..integration.model import ModelParams
-    from ..measured.record_files import read_records
+    from impactosc.integration.model import ModelParams
+    from impactosc.measured.record_files import read_records
 
     base = ModelParams(**model)
     if section["mass"] is not None:

@@ -16,10 +16,10 @@ import math
 
 import numpy as np
 
-from ..integration import core
-from ..integration.layout import N_COUNT, P_B, P_N3, P_OMEGA, RUNNING, S_STATUS
-from .parameters import fill_array
-from .windows import WindowSet
+from impactosc.identification.parameters import fill_array
+from impactosc.identification.windows import WindowSet
+from impactosc.integration import core
+from impactosc.integration.layout import N_COUNT, P_B, P_N3, P_OMEGA, RUNNING, S_STATUS
 
 __all__ = ["Predictor", "STATE_STEPS", "relative_steps"]
 

@@ -21,7 +21,7 @@ import warnings
 
 import numpy as np
 
-from .parameters import NAMES, theta_of
+from impactosc.identification.parameters import NAMES, theta_of
 
 __all__ = ["StartValues", "start_values"]
 
@@ -35,7 +35,7 @@ class StartValues(dict):
 
 def _contact(records, sigma):
     """The contact fit on each record that has one; (weighted xI, sigma, K, b, n3) or reason."""
-    from ..measured.obstacle_estimate import estimate_x_impact
+    from impactosc.measured.obstacle_estimate import estimate_x_impact
 
     fits, reasons = [], []
     for rec in records:
@@ -102,7 +102,7 @@ def _free_flight(records, level, half_t=10e-3):
 
 def start_values(records, base, *, sigma) -> StartValues:
     """theta0 for the records, the base model's value wherever the records say nothing."""
-    from ..integration.model import ModelParams
+    from impactosc.integration.model import ModelParams
 
     base = base or ModelParams()
     theta = theta_of(base)

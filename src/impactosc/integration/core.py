@@ -58,9 +58,9 @@ import math
 import numpy as np
 from numba import njit
 
-from . import dop853, implicit, pieces, time_pieces, transformed_pieces
-from .events import enter_slow, goes_implicit, phase_of, record_poincare
-from .layout import (
+from impactosc.integration import dop853, implicit, pieces, time_pieces, transformed_pieces
+from impactosc.integration.events import enter_slow, goes_implicit, phase_of, record_poincare
+from impactosc.integration.layout import (
     C_ATTEMPTS,
     C_RHS,
     DEFAULT_STEP_BUDGET,

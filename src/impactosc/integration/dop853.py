@@ -15,9 +15,9 @@ import math
 import numpy as np
 from numba import njit
 
-from . import tableau as tab
-from .layout import P_EPS, P_XI, SQRTH, TIME, WVEL
-from .model import accel, accel_vn
+from impactosc.integration import tableau as tab
+from impactosc.integration.layout import P_EPS, P_XI, SQRTH, TIME, WVEL
+from impactosc.integration.model import accel, accel_vn
 
 A = np.ascontiguousarray(tab.A)
 B = np.ascontiguousarray(tab.B)

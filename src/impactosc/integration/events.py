@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .layout import (
+from impactosc.integration.layout import (
     C_SLOW_TRANSIT,
     C_STICK,
     C_STIFF,
@@ -57,7 +57,7 @@ from .layout import (
     TIME,
     WVEL,
 )
-from .model import accel, damping_rate, stick_force
+from impactosc.integration.model import accel, damping_rate, stick_force
 
 SLOW_FACTOR = 1.5  # v = 0 with |net force| < 1.5 T: stick or slow reversal -> implicit phase
 STIFF_ENTER = 4.0  # h |da/dv| above this: explicit steps are held by stability, not accuracy ...

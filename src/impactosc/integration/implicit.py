@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from numba import njit
 
-from . import radau
-from .events import EV_V, EV_X_DOWN, EV_X_UP, STIFF_EXIT, apply_event, record_extremum, sign
-from .layout import (
+from impactosc.integration import radau
+from impactosc.integration.events import EV_V, EV_X_DOWN, EV_X_UP, STIFF_EXIT, apply_event, record_extremum, sign
+from impactosc.integration.layout import (
     C_REJECT,
     C_SLOW_STEPS,
     CONTACT,
@@ -41,9 +41,9 @@ from .layout import (
     TIME,
     UNDERFLOW_IMPLICIT,
 )
-from .model import damping_rate
-from .pieces import BAND, start_piece, store
-from .sampling import sample_hermite, window_due
+from impactosc.integration.model import damping_rate
+from impactosc.integration.pieces import BAND, start_piece, store
+from impactosc.integration.sampling import sample_hermite, window_due
 
 
 @njit(cache=True)

@@ -16,7 +16,23 @@ from dataclasses import asdict, dataclass, fields
 import numpy as np
 from numba import njit
 
-from .layout import CONTACT, N_PARAMS, P_B, P_C, P_EPS, P_K, P_KI, P_M, P_M0E, P_N1, P_N2, P_N3, P_OMEGA, P_T, P_XI
+from impactosc.integration.layout import (
+    CONTACT,
+    N_PARAMS,
+    P_B,
+    P_C,
+    P_EPS,
+    P_K,
+    P_KI,
+    P_M,
+    P_M0E,
+    P_N1,
+    P_N2,
+    P_N3,
+    P_OMEGA,
+    P_T,
+    P_XI,
+)
 
 # Parameter ranges whose events have been checked against an independent SciPy reference:
 # the randomized differential tests draw from these (benchmarks/random_scenes.BOX, with T

@@ -23,8 +23,8 @@ from __future__ import annotations
 
 from numba import njit
 
-from . import dop853
-from .layout import (
+from impactosc.integration import dop853
+from impactosc.integration.layout import (
     C_RHS,
     P_N3,
     S_ERRACC,

@@ -14,8 +14,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .layout import C_NEWTON, C_RHS
-from .model import accel, jacobian
+from impactosc.integration.layout import C_NEWTON, C_RHS
+from impactosc.integration.model import accel, jacobian
 
 _S6 = math.sqrt(6.0)
 RA = np.array(

@@ -14,7 +14,7 @@ import time
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from .model import ModelParams
+from impactosc.integration.model import ModelParams
 
 
 class ReferenceBudgetExceeded(RuntimeError):

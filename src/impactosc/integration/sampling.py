@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from numba import njit
 
-from . import dop853
-from .layout import R_WIN_DT, R_WIN_T0, S_WIN, TIME
+from impactosc.integration import dop853
+from impactosc.integration.layout import R_WIN_DT, R_WIN_T0, S_WIN, TIME
 
 
 @njit(cache=True)

@@ -14,8 +14,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import core
-from .layout import (
+from impactosc.integration import core
+from impactosc.integration.layout import (
     C_ATTEMPTS,
     C_BY_MODE,
     C_DENSE,
@@ -53,7 +53,7 @@ from .layout import (
     STATUS_NAMES,
     record_flags,
 )
-from .model import ModelParams
+from impactosc.integration.model import ModelParams
 
 ALL_EVENTS = EVENT_NAMES
 DEFAULT_RTOL = 1e-10

@@ -14,8 +14,8 @@ import math
 
 from numba import njit
 
-from . import dop853
-from .events import (
+from impactosc.integration import dop853
+from impactosc.integration.events import (
     EV_CUT_OFF,
     EV_CUT_ON,
     EV_NONE,
@@ -28,7 +28,7 @@ from .events import (
     sign,
     stiff,
 )
-from .layout import (
+from impactosc.integration.layout import (
     C_BY_MODE,
     C_DENSE,
     C_DIP,
@@ -60,8 +60,8 @@ from .layout import (
     UNDERFLOW_EXPLICIT,
     UVEL,
 )
-from .pieces import BAND, U_BAND, accepted_step_factor, inverse_n3, start_piece, store
-from .sampling import bisect, sample_window, window_due
+from impactosc.integration.pieces import BAND, U_BAND, accepted_step_factor, inverse_n3, start_piece, store
+from impactosc.integration.sampling import bisect, sample_window, window_due
 
 DIP_SAMPLES = 32
 RESTART_FRACTION = 1e-3  # first step after an event, as a fraction of the step that held it

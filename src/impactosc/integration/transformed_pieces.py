@@ -14,8 +14,8 @@ import math
 
 from numba import njit
 
-from . import dop853
-from .events import (
+from impactosc.integration import dop853
+from impactosc.integration.events import (
     CONTACT_SWITCH,
     EV_CUT_ON,
     EV_NONE,
@@ -29,7 +29,7 @@ from .events import (
     record_poincare,
     sign,
 )
-from .layout import (
+from impactosc.integration.layout import (
     C_BY_MODE,
     C_DENSE,
     C_FALLBACK,
@@ -67,9 +67,9 @@ from .layout import (
     UVEL,
     WVEL,
 )
-from .model import accel, stick_force
-from .pieces import BAND, U_BAND, accepted_step_factor, inverse_n3, start_piece, store
-from .sampling import bisect, sample_window, window_due
+from impactosc.integration.model import accel, stick_force
+from impactosc.integration.pieces import BAND, U_BAND, accepted_step_factor, inverse_n3, start_piece, store
+from impactosc.integration.sampling import bisect, sample_window, window_due
 
 # Each transformed variable is regular at one end of its stretch and singular at the other
 # (sqrt(h) at v = 0, |v|^n3 at h = 0): stepping away from a singular point is cheap

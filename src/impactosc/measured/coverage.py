@@ -16,10 +16,10 @@ import math
 
 import numpy as np
 
-from ..integration.model import ModelParams
-from .obstacle_estimate import estimate_x_impact
-from .records import Record
-from .surrogate import SurrogateOptions, surrogate_record
+from impactosc.integration.model import ModelParams
+from impactosc.measured.obstacle_estimate import estimate_x_impact
+from impactosc.measured.records import Record
+from impactosc.measured.surrogate import SurrogateOptions, surrogate_record
 
 __all__ = ["coverage_summary", "x_impact_draws"]
 

@@ -48,10 +48,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .obstacle_estimate import estimate_x_impact
-from .poincare import poincare_attrs, poincare_points
-from .records import Record
-from .sample_fits import estimate_noise, quadratic_fits
+from impactosc.measured.obstacle_estimate import estimate_x_impact
+from impactosc.measured.poincare import poincare_attrs, poincare_points
+from impactosc.measured.records import Record
+from impactosc.measured.sample_fits import estimate_noise, quadratic_fits
 
 __all__ = [
     "ExtractOptions",

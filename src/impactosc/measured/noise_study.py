@@ -19,12 +19,12 @@ import itertools
 
 import numpy as np
 
-from ..analysis.chaotic import analyse_train
-from ..analysis.impact_train import ImpactTrain
-from ..integration.simulate import Window, simulate
-from .extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
-from .records import Record
-from .surrogate import (
+from impactosc.analysis.chaotic import analyse_train
+from impactosc.analysis.impact_train import ImpactTrain
+from impactosc.integration.simulate import Window, simulate
+from impactosc.measured.extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
+from impactosc.measured.records import Record
+from impactosc.measured.surrogate import (
     REALISM_FIELDS,
     SurrogateOptions,
     mismatched_params,

@@ -47,7 +47,7 @@ import math
 
 import numpy as np
 
-from .contact_window import fit_vertices, projected_jacobian
+from impactosc.measured.contact_window import fit_vertices, projected_jacobian
 
 __all__ = ["fit_contact_law", "forcing_frequency", "free_flight_law"]
 

@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 
-from .records import Record
-from .sample_fits import estimate_noise, quadratic_fits
+from impactosc.measured.records import Record
+from impactosc.measured.sample_fits import estimate_noise, quadratic_fits
 
 __all__ = ["estimate_x_impact"]
 
@@ -83,7 +83,7 @@ def estimate_x_impact(
     det["sigma"] = float("nan")
     if method == "curvature":
         return curv, det
-    from .obstacle import fit_contact_law
+    from impactosc.measured.obstacle import fit_contact_law
 
     fit = fit_contact_law(
         record.t,

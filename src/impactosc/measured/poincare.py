@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from .records import Record
+from impactosc.measured.records import Record
 
 __all__ = ["phase_crossings", "poincare_points", "poincare_phase_source", "poincare_attrs", "record_set_poincare"]
 

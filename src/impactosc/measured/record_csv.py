@@ -12,7 +12,7 @@ import csv
 
 import numpy as np
 
-from .records import Record, record_from_samples
+from impactosc.measured.records import Record, record_from_samples
 
 __all__ = ["read_csv_record"]
 

@@ -40,10 +40,10 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from ..files import PROVENANCE_ATTRS, atomic_write, stamp_h5, write_provenance_sidecar
-from .record_csv import read_csv_record
-from .record_tdms import read_tdms_record
-from .records import UNITS, Record, record_from_samples
+from impactosc.files import PROVENANCE_ATTRS, atomic_write, stamp_h5, write_provenance_sidecar
+from impactosc.measured.record_csv import read_csv_record
+from impactosc.measured.record_tdms import read_tdms_record
+from impactosc.measured.records import UNITS, Record, record_from_samples
 
 __all__ = [
     "read_record",

@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from .records import UNIT_ALIASES, UNITS, Record, record_from_samples
+from impactosc.measured.records import UNIT_ALIASES, UNITS, Record, record_from_samples
 
 __all__ = ["read_tdms_record"]
 

@@ -20,9 +20,9 @@ import math
 
 import numpy as np
 
-from ..integration.model import ModelParams
-from ..integration.simulate import Window, simulate
-from .records import Record
+from impactosc.integration.model import ModelParams
+from impactosc.integration.simulate import Window, simulate
+from impactosc.measured.records import Record
 
 __all__ = [
     "LABEL",

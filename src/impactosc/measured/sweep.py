@@ -42,9 +42,9 @@ import math
 
 import numpy as np
 
-from ..files import atomic_write, check_writable, stamp_h5
-from .poincare import poincare_points
-from .records import Record
+from impactosc.files import atomic_write, check_writable, stamp_h5
+from impactosc.measured.poincare import poincare_points
+from impactosc.measured.records import Record
 
 __all__ = ["sweep_segments", "write_sweep_points"]
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import html
 
-from ..files import read_csv, write_csv, write_text
+from impactosc.files import read_csv, write_csv, write_text
 
 COLUMNS = ("section", "quantity", "paper", "replication", "tolerance", "agrees", "command")
 

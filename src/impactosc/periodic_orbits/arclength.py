@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .shooting import (
+from impactosc.periodic_orbits.shooting import (
     DEFAULT_STEP,
     SCALE,
     PeriodicOrbit,

@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from .shooting import PeriodicOrbit, shoot
+from impactosc.periodic_orbits.shooting import PeriodicOrbit, shoot
 
 __all__ = ["TEST_FUNCTIONS", "crossings", "follow", "locate"]
 

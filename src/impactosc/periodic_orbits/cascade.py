@@ -14,9 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .arclength import continue_branch, switch_at_period_doubling
-from .bifurcation_points import TEST_FUNCTIONS, locate
-from .shooting import PeriodicOrbit, ShootingError, shoot
+from impactosc.periodic_orbits.arclength import continue_branch, switch_at_period_doubling
+from impactosc.periodic_orbits.bifurcation_points import TEST_FUNCTIONS, locate
+from impactosc.periodic_orbits.shooting import PeriodicOrbit, ShootingError, shoot
 
 __all__ = ["Doubling", "cascade", "feigenbaum_ratios"]
 

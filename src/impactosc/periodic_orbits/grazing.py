@@ -14,8 +14,8 @@ import math
 
 import numpy as np
 
-from ..integration.simulate import simulate
-from .shooting import ATOL, DEFAULT_STEP, RTOL, SCALE, PeriodicOrbit, ShootingError, shoot
+from impactosc.integration.simulate import simulate
+from impactosc.periodic_orbits.shooting import ATOL, DEFAULT_STEP, RTOL, SCALE, PeriodicOrbit, ShootingError, shoot
 
 __all__ = ["locate_orbit_grazing", "orbit_events"]
 

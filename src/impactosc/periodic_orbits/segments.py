@@ -23,12 +23,12 @@ import time
 
 import numpy as np
 
-from ..integration.model import ModelParams
-from ..integration.simulate import simulate
-from .arclength import BranchPoint, branch_points, locate_fold, switch_at_period_doubling
-from .bifurcation_points import TEST_FUNCTIONS, locate
-from .grazing import locate_orbit_grazing
-from .shooting import ATOL, RTOL, PeriodicOrbit, ShootingError, shoot
+from impactosc.integration.model import ModelParams
+from impactosc.integration.simulate import simulate
+from impactosc.periodic_orbits.arclength import BranchPoint, branch_points, locate_fold, switch_at_period_doubling
+from impactosc.periodic_orbits.bifurcation_points import TEST_FUNCTIONS, locate
+from impactosc.periodic_orbits.grazing import locate_orbit_grazing
+from impactosc.periodic_orbits.shooting import ATOL, RTOL, PeriodicOrbit, ShootingError, shoot
 
 __all__ = ["orbit_sample", "seed_from_rest", "special_points", "trace", "trace_segment"]
 

@@ -27,9 +27,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..integration.layout import S_V, S_X
-from ..integration.model import ModelParams
-from ..integration.simulate import simulate
+from impactosc.integration.layout import S_V, S_X
+from impactosc.integration.model import ModelParams
+from impactosc.integration.simulate import simulate
 
 __all__ = ["PeriodicOrbit", "ShootingError", "stroboscopic_map", "monodromy", "shoot"]
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .cascade import feigenbaum_ratios
+from impactosc.periodic_orbits.cascade import feigenbaum_ratios
 
 __all__ = ["KIND_LABELS", "bifurcation_table", "cascade_chain", "chain_ratios", "multipliers_text"]
 

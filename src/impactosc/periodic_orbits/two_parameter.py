@@ -33,11 +33,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..integration.model import ModelParams
-from ..integration.simulate import simulate
-from .arclength import _tangent
-from .bifurcation_points import TEST_FUNCTIONS
-from .shooting import (
+from impactosc.integration.model import ModelParams
+from impactosc.integration.simulate import simulate
+from impactosc.periodic_orbits.arclength import _tangent
+from impactosc.periodic_orbits.bifurcation_points import TEST_FUNCTIONS
+from impactosc.periodic_orbits.shooting import (
     ATOL,
     DEFAULT_STEP,
     RTOL,
@@ -48,7 +48,7 @@ from .shooting import (
     central_difference,
     stroboscopic_map,
 )
-from .shooting import monodromy as shooting_monodromy
+from impactosc.periodic_orbits.shooting import monodromy as shooting_monodromy
 
 __all__ = [
     "KINDS",

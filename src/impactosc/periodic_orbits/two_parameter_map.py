@@ -14,7 +14,7 @@ import itertools
 
 import numpy as np
 
-from .table import KIND_LABELS, multipliers_text
+from impactosc.periodic_orbits.table import KIND_LABELS, multipliers_text
 
 __all__ = [
     "CODIM_COLUMNS",

@@ -52,8 +52,8 @@ import numbers
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ..integration.model import ModelParams
-from .shooting import SCALE
+from impactosc.integration.model import ModelParams
+from impactosc.periodic_orbits.shooting import SCALE
 
 __all__ = ["UnsupportedTrajectory", "variational_monodromy"]
 

@@ -15,8 +15,8 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 from matplotlib.ticker import NullFormatter, ScalarFormatter
 
-from ..chaos.basins import FAILED, UNRESOLVED
-from .style import DOUBLE, apply_style
+from impactosc.chaos.basins import FAILED, UNRESOLVED
+from impactosc.plotting.style import DOUBLE, apply_style
 
 __all__ = ["basins_figure"]
 

@@ -12,7 +12,7 @@ import numpy as np
 from matplotlib import pyplot as plt
 from matplotlib.colors import BoundaryNorm, ListedColormap
 
-from .style import DOUBLE, apply_style
+from impactosc.plotting.style import DOUBLE, apply_style
 
 MM = 1e3  # m -> mm
 CM = 1 / 2.54

@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import statistics as st
-from ..analysis.spectra import trajectory_spectrum
-from ..files import read_json, read_run
-from .style import DOUBLE, SINGLE, apply_style, plt
+from impactosc import statistics as st
+from impactosc.analysis.spectra import trajectory_spectrum
+from impactosc.files import read_json, read_run
+from impactosc.plotting.style import DOUBLE, SINGLE, apply_style, plt
 
 __all__ = ["fig06", "fig07", "fig08", "fig09", "fig10", "fig11", "make_figure"]
 

@@ -11,7 +11,7 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 
-from .style import DOUBLE, apply_style
+from impactosc.plotting.style import DOUBLE, apply_style
 
 __all__ = ["identification_figure"]
 

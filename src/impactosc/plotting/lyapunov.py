@@ -8,8 +8,8 @@ import math
 import numpy as np
 from matplotlib import pyplot as plt
 
-from .bifurcation import CM, MM, diagram_panel
-from .style import DOUBLE, apply_style
+from impactosc.plotting.bifurcation import CM, MM, diagram_panel
+from impactosc.plotting.style import DOUBLE, apply_style
 
 __all__ = ["convergence_figure", "diagram_with_exponent"]
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from .style import DOUBLE, apply_style
+from impactosc.plotting.style import DOUBLE, apply_style
 
 __all__ = ["noise_study_figure"]
 

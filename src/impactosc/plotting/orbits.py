@@ -12,8 +12,8 @@ import numpy as np
 from matplotlib import pyplot as plt
 from matplotlib.lines import Line2D
 
-from .bifurcation import CM, MM, diagram_panel
-from .style import DOUBLE, apply_style
+from impactosc.plotting.bifurcation import CM, MM, diagram_panel
+from impactosc.plotting.style import DOUBLE, apply_style
 
 __all__ = ["orbit_figure", "branch_curves"]
 

@@ -14,8 +14,8 @@ import numpy as np
 from matplotlib import pyplot as plt
 from matplotlib.patches import Rectangle
 
-from ..paper.numbers import PERIODIC
-from .style import DOUBLE, SINGLE, apply_style
+from impactosc.paper.numbers import PERIODIC
+from impactosc.plotting.style import DOUBLE, SINGLE, apply_style
 
 MM = 1e3  # m -> mm
 UM = 1e6  # m -> um

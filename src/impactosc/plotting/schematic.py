@@ -13,7 +13,7 @@ import numpy as np
 from matplotlib import pyplot as plt
 from matplotlib.patches import Arc, Circle, FancyArrowPatch, Polygon, Rectangle, Wedge
 
-from .style import DOUBLE, apply_style
+from impactosc.plotting.style import DOUBLE, apply_style
 
 __all__ = ["fig01_rig"]
 

@@ -13,7 +13,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-from ..files import atomic_write
+from impactosc.files import atomic_write
 
 CM = 1 / 2.54
 SINGLE = 8.5 * CM

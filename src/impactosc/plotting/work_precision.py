@@ -24,10 +24,10 @@ import matplotlib.transforms as mtransforms
 import numpy as np
 from matplotlib.lines import Line2D
 
-from ..benchmarks.event_errors import METRICS
-from ..benchmarks.workprecision import METRIC_LABELS
-from ..benchmarks.wp_solvers import CORE, SCIPY_METHODS
-from .style import DOUBLE, apply_style
+from impactosc.benchmarks.event_errors import METRICS
+from impactosc.benchmarks.workprecision import METRIC_LABELS
+from impactosc.benchmarks.wp_solvers import CORE, SCIPY_METHODS
+from impactosc.plotting.style import DOUBLE, apply_style
 
 STYLES = {
     CORE: dict(color="black", marker="o", lw=1.6, ms=3.5, zorder=5),

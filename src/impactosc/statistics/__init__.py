@@ -20,9 +20,15 @@ scipy.signal and scipy.stats are imported inside the functions that call them: i
 costs 1-2 s, which every workflow job importing this package would pay, most of them for nothing.
 """
 
-from .acf import ACFSpectrum, Autocorrelation, acf_spectrum, autocorrelation, shuffled_autocorrelations
-from .counts import EqualRateTest, counts_in_windows, equal_rate_test, window_counts
-from .density import (
+from impactosc.statistics.acf import (
+    ACFSpectrum,
+    Autocorrelation,
+    acf_spectrum,
+    autocorrelation,
+    shuffled_autocorrelations,
+)
+from impactosc.statistics.counts import EqualRateTest, counts_in_windows, equal_rate_test, window_counts
+from impactosc.statistics.density import (
     DensityMaxima,
     Histogram,
     KernelDensity,
@@ -30,10 +36,10 @@ from .density import (
     kernel_density,
     relative_frequency_histogram,
 )
-from .intervals import DistinctLevels, distinct_levels, inter_impact_intervals, return_map
-from .mixture import FAMILIES, MixtureFit, MixtureSelection, fit_mixture, select_mixture
-from .poisson import ExponentialKSTest, exponential_ks_test
-from .spectrum import (
+from impactosc.statistics.intervals import DistinctLevels, distinct_levels, inter_impact_intervals, return_map
+from impactosc.statistics.mixture import FAMILIES, MixtureFit, MixtureSelection, fit_mixture, select_mixture
+from impactosc.statistics.poisson import ExponentialKSTest, exponential_ks_test
+from impactosc.statistics.spectrum import (
     PAPER_COMBINATIONS,
     CombinationLabel,
     SecondaryFrequency,
@@ -44,7 +50,7 @@ from .spectrum import (
     find_peaks_spectrum,
     label_combinations,
 )
-from .variability import (
+from impactosc.statistics.variability import (
     FanoCurve,
     RunningStatistic,
     cv2_paper_running,

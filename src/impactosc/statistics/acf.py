@@ -18,8 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import fft
 
-from ._peaks import parabolic_refine
-from ._validation import as_finite_1d
+from impactosc.statistics._peaks import parabolic_refine
+from impactosc.statistics._validation import as_finite_1d
 
 __all__ = ["Autocorrelation", "ACFSpectrum", "autocorrelation", "shuffled_autocorrelations", "acf_spectrum"]
 

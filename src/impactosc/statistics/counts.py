@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import as_event_times, as_finite_1d, check_time_span
+from impactosc.statistics._validation import as_event_times, as_finite_1d, check_time_span
 
 __all__ = ["EqualRateTest", "counts_in_windows", "window_counts", "equal_rate_test"]
 

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import as_event_times, as_finite_1d
+from impactosc.statistics._validation import as_event_times, as_finite_1d
 
 __all__ = ["DistinctLevels", "inter_impact_intervals", "return_map", "distinct_levels"]
 

@@ -21,9 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import as_finite_1d, as_positive_1d
-from .mixture_em import EMFamily, best_em_run, e_step
-from .mixture_kernels import component_moments, shifted_log_joint
+from impactosc.statistics._validation import as_finite_1d, as_positive_1d
+from impactosc.statistics.mixture_em import EMFamily, best_em_run, e_step
+from impactosc.statistics.mixture_kernels import component_moments, shifted_log_joint
 
 __all__ = ["FAMILIES", "MixtureFit", "MixtureSelection", "fit_mixture", "select_mixture"]
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import special
 
-from .mixture_kernels import responsibility_moments, shifted_log_joint
+from impactosc.statistics.mixture_kernels import responsibility_moments, shifted_log_joint
 
 __all__ = ["EMFamily", "EMState", "e_step", "best_em_run"]
 

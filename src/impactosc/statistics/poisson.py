@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import as_positive_1d
+from impactosc.statistics._validation import as_positive_1d
 
 __all__ = ["ExponentialKSTest", "exponential_ks_test"]
 

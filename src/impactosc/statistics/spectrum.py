@@ -12,8 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._peaks import parabolic_refine
-from ._validation import as_finite_1d, check_positive_scalar
+from impactosc.statistics._peaks import parabolic_refine
+from impactosc.statistics._validation import as_finite_1d, check_positive_scalar
 
 __all__ = [
     "PAPER_COMBINATIONS",

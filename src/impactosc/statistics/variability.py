@@ -22,8 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import as_event_times, as_positive_1d, check_positive_scalar, check_time_span
-from .counts import counts_in_windows
+from impactosc.statistics._validation import as_event_times, as_positive_1d, check_positive_scalar, check_time_span
+from impactosc.statistics.counts import counts_in_windows
 
 __all__ = [
     "RunningStatistic",

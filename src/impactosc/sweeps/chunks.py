@@ -16,7 +16,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .continuation import _PER_W, SweepResult, SweepSettings, _check_omegas, continuation
+from impactosc.sweeps.continuation import _PER_W, SweepResult, SweepSettings, _check_omegas, continuation
 
 __all__ = ["plan_chunks", "coarse_indices", "coarse_pass", "run_chunk", "merge_chunks", "sweep_chunked"]
 

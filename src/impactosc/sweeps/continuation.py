@@ -24,9 +24,9 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from ..files import atomic_write, check_writable, stamp_h5
-from ..integration.model import ModelParams
-from ..integration.simulate import DEFAULT_ATOL, DEFAULT_RTOL, StallError, simulate
+from impactosc.files import atomic_write, check_writable, stamp_h5
+from impactosc.integration.model import ModelParams
+from impactosc.integration.simulate import DEFAULT_ATOL, DEFAULT_RTOL, StallError, simulate
 
 __all__ = [
     "SweepSettings",

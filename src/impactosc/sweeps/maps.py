@@ -14,10 +14,10 @@ from typing import TYPE_CHECKING
 import h5py
 import numpy as np
 
-from ..files import atomic_write, check_writable, stamp_h5
+from impactosc.files import atomic_write, check_writable, stamp_h5
 
 if TYPE_CHECKING:  # annotations only
-    from ..analysis.bifurcation import BranchTable
+    from impactosc.analysis.bifurcation import BranchTable
 
 __all__ = ["MapResult", "save_map", "load_map", "merge_maps"]
 

@@ -28,13 +28,18 @@ from __future__ import annotations
 
 import dataclasses
 
-from ...integration.model import ModelParams
-from ...integration.simulate import warm_up
-from .chaos import long_run_case, regularisation_case
-from .checks import row
-from .grazing import grazing_case, scan_free_flight
-from .impacts import _shrinking_runs, bounce_to_rest_case, chattering_case, coincidence_case  # noqa: F401 (tests)
-from .sticking import CoulombOscillator, stick_on_obstacle_case, stick_slip_case
+from impactosc.benchmarks.hardcases.chaos import long_run_case, regularisation_case
+from impactosc.benchmarks.hardcases.checks import row
+from impactosc.benchmarks.hardcases.grazing import grazing_case, scan_free_flight
+from impactosc.benchmarks.hardcases.impacts import (  # noqa: F401 (tests)
+    _shrinking_runs,
+    bounce_to_rest_case,
+    chattering_case,
+    coincidence_case,
+)
+from impactosc.benchmarks.hardcases.sticking import CoulombOscillator, stick_on_obstacle_case, stick_slip_case
+from impactosc.integration.model import ModelParams
+from impactosc.integration.simulate import warm_up
 
 __all__ = [
     "run_all",

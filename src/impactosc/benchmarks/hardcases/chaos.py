@@ -14,10 +14,10 @@ import time
 
 import numpy as np
 
-from ...integration.model import ModelParams
-from ...integration.simulate import simulate, warm_up
-from ..tolerance_statistics import train_statistics, zscores
-from .checks import row
+from impactosc.benchmarks.hardcases.checks import row
+from impactosc.benchmarks.tolerance_statistics import train_statistics, zscores
+from impactosc.integration.model import ModelParams
+from impactosc.integration.simulate import simulate, warm_up
 
 # ======================================================================== regularisation
 

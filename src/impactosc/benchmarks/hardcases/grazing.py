@@ -13,9 +13,9 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ...analysis.grazing import grazing_by_clearance_secant, settle_orbit
-from ...integration.model import ModelParams
-from .checks import row
+from impactosc.analysis.grazing import grazing_by_clearance_secant, settle_orbit
+from impactosc.benchmarks.hardcases.checks import row
+from impactosc.integration.model import ModelParams
 
 
 def scan_free_flight(omega, params, t_a, x_a, v_a, t_b, dt):

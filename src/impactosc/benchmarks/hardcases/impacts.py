@@ -15,10 +15,10 @@ import time
 
 import numpy as np
 
-from ...integration.model import ModelParams
-from ...integration.reference import solve_reference
-from ...integration.simulate import Window, simulate
-from .checks import row
+from impactosc.benchmarks.hardcases.checks import row
+from impactosc.integration.model import ModelParams
+from impactosc.integration.reference import solve_reference
+from impactosc.integration.simulate import Window, simulate
 
 ALL_RECORD = ("impacts", "penetrations", "near_misses", "poincare")
 

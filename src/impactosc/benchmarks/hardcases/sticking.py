@@ -16,9 +16,9 @@ import time
 import numpy as np
 from scipy.optimize import brentq
 
-from ...integration.model import ModelParams
-from ...integration.simulate import Window, simulate
-from .checks import row
+from impactosc.benchmarks.hardcases.checks import row
+from impactosc.integration.model import ModelParams
+from impactosc.integration.simulate import Window, simulate
 
 
 class CoulombOscillator:

@@ -10,11 +10,11 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from ..numbers import BIFURCATION, GRAZING
-from ..table import agreement
+from impactosc.paper.numbers import BIFURCATION, GRAZING
+from impactosc.paper.table import agreement
 
 if TYPE_CHECKING:  # annotations only
-    from ...analysis.bifurcation import SweepReading, Transition
+    from impactosc.analysis.bifurcation import SweepReading, Transition
 
 __all__ = ["bifurcation_rows", "orbit_rows"]
 

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...statistics import equal_rate_test
-from ..numbers import CHAOTIC
-from ..table import agreement
+from impactosc.paper.numbers import CHAOTIC
+from impactosc.paper.table import agreement
+from impactosc.statistics import equal_rate_test
 
 __all__ = ["chaotic_rows"]
 

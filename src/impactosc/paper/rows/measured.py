@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..numbers import MEASURED
+from impactosc.paper.numbers import MEASURED
 
 __all__ = ["measured_rows"]
 

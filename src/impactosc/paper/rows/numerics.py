@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from ..numbers import MAX_STEP_SIZE
+from impactosc.paper.numbers import MAX_STEP_SIZE
 
 __all__ = ["numerics_rows"]
 

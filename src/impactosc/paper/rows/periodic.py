@@ -6,8 +6,8 @@ before_grazing.json and grazing.json) answer these rows and no others.
 
 from __future__ import annotations
 
-from ...statistics import PAPER_COMBINATIONS
-from ..numbers import BIFURCATION, GRAZING, PERIODIC
+from impactosc.paper.numbers import BIFURCATION, GRAZING, PERIODIC
+from impactosc.statistics import PAPER_COMBINATIONS
 
 __all__ = ["periodic_rows"]
 
