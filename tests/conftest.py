@@ -4,7 +4,7 @@ import dataclasses
 
 import pytest
 
-from impactosc.integration.model import ModelParams
+from impactosc.model.equations import ModelParams
 
 
 @pytest.fixture(scope="session")
@@ -16,7 +16,7 @@ def linear_params():
 @pytest.fixture(scope="session")
 def cyrk():
     """The CyRK runs module with CyRK's shim built; skips where CyRK or a C++ compiler is missing."""
-    from impactosc.benchmarks import cyrk_runs, cyrk_shim
+    from impactosc_bench import cyrk_runs, cyrk_shim
 
     pytest.importorskip("CyRK")
     try:

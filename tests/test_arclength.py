@@ -1,11 +1,11 @@
-"""Pseudo-arclength continuation of periodic orbits (impactosc.periodic_orbits.arclength):
+"""Pseudo-arclength continuation of periodic orbits (impactosc.dynamics.arclength):
 model BC's period-1 branch with two impacts per period turns back at a fold near
 w = 19.533 rad/s; followed forwards and backwards over it, the same branch comes back."""
 
 import pytest
 
-from impactosc.periodic_orbits import shoot
-from impactosc.periodic_orbits.arclength import continue_branch, folds, locate_fold
+from impactosc.dynamics import shoot
+from impactosc.dynamics.arclength import continue_branch, folds, locate_fold
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""Basins of attraction at w = 23.05 (impactosc.chaos.basins): the classifier with early exit
+"""Basins of attraction at w = 23.05 (impactosc.dynamics.basins): the classifier with early exit
 against direct long simulations, rest (0, 0), chunked = unchunked, the fractions and their
 standard error, and the refusal of bad input."""
 
@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.chaos.basins import (
+from impactosc.core.simulate import simulate
+from impactosc.dynamics.basins import (
     FAILED,
     UNRESOLVED,
     Attractor,
@@ -23,8 +24,7 @@ from impactosc.chaos.basins import (
     reference_attractors,
     save_basins,
 )
-from impactosc.integration.simulate import simulate
-from impactosc.periodic_orbits.segments import seed_from_rest
+from impactosc.dynamics.branch_segments import seed_from_rest
 
 OMEGA = 23.05
 SEEDS = {

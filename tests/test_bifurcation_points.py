@@ -1,4 +1,4 @@
-"""Bifurcation points of periodic orbits (impactosc.periodic_orbits.bifurcation_points): the
+"""Bifurcation points of periodic orbits (impactosc.dynamics.bifurcation_points): the
 test functions on families of matrices with a known answer, and model BC's first period
 doubling of the period-1 orbit, checked by the time simulation on both sides."""
 
@@ -8,9 +8,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from impactosc.integration.simulate import simulate
-from impactosc.periodic_orbits import shoot
-from impactosc.periodic_orbits.bifurcation_points import crossings, follow, locate
+from impactosc.core.simulate import simulate
+from impactosc.dynamics import shoot
+from impactosc.dynamics.bifurcation_points import crossings, follow, locate
 
 
 def rotation(angle):

@@ -10,8 +10,8 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.analysis.bifurcation import BranchTable, differing_windows, find_grazings, segments, transitions
-from impactosc.analysis.orbits import FAILED, NONPERIODIC, detect_period, impacts_per_orbit
+from impactosc.dynamics.diagram import BranchTable, differing_windows, find_grazings, segments, transitions
+from impactosc.statistics.periods import FAILED, NONPERIODIC, detect_period, impacts_per_orbit
 
 TOL = 1e-6  # m, the workflow's default x_tol
 RNG = np.random.default_rng(2024)
@@ -149,13 +149,13 @@ def test_differing_windows_flags_coexisting_attractors_only():
 
 
 def _reading(t):
-    from impactosc.analysis.bifurcation import SweepReading, find_grazings, segments, transitions
+    from impactosc.dynamics.diagram import SweepReading, find_grazings, segments, transitions
 
     return SweepReading("decreasing", t.direction, t, segments(t), transitions(t), find_grazings(t), [])
 
 
 def test_paper_rows_judge_the_cascade_and_the_grazing():
-    from impactosc.paper.rows.bifurcation import bifurcation_rows as paper_rows
+    from impactosc_study.paper.rows.bifurcation import bifurcation_rows as paper_rows
 
     # decreasing w: period 2 down to 37.26, period 1 with a closing near miss down to 23.06,
     # then period 3 with 4 impacts (grid 0.02 rad/s, only the relevant stretches)

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from impactosc.build_times import build_times_markdown, group_table, largest_jobs, read_benchmark
+from impactosc_study.build_times import build_times_markdown, group_table, largest_jobs, read_benchmark
 
 REPO = Path(__file__).resolve().parents[1]
 HEADER = "s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"

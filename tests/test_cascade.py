@@ -1,4 +1,4 @@
-"""The period-doubling cascade below the chaos at w = 40.86 (impactosc.periodic_orbits.cascade):
+"""The period-doubling cascade below the chaos at w = 40.86 (impactosc.dynamics.cascade):
 the first two doublings located orbit by orbit, with branch switching, and checked by the time
 simulation on both sides of the second."""
 
@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.integration.simulate import simulate
-from impactosc.periodic_orbits import shoot
-from impactosc.periodic_orbits.cascade import cascade, feigenbaum_ratios
+from impactosc.core.simulate import simulate
+from impactosc.dynamics import shoot
+from impactosc.dynamics.cascade import cascade, feigenbaum_ratios
 
 # Located by cascade() (bisection to 1e-9 rad/s, monodromy steps 1e-3 and 1e-4 of the state's
 # scale agree to 4e-10); the sweeps read 37.25 and 38.99-39.01. Tolerance 1e-8 rad/s, the

@@ -1,4 +1,4 @@
-"""Train-level analysis (impactosc.analysis.chaotic) on synthetic impact trains with known answers.
+"""Train-level analysis (impactosc.statistics.train_analysis) on synthetic impact trains with known answers.
 
 Poisson train: C_V^2 = 1, Fano factor 1, exponential intervals, no ACF periodicity, one
 mixture component.  Periodic train: C_V^2 = 0, Fano << 1, KS rejects.  A known two-component
@@ -13,11 +13,11 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.analysis import chaotic as ch
-from impactosc.analysis.ensemble import ensemble_runs, ensemble_summary, ensemble_table
-from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain, load_train
-from impactosc.analysis.spectra import trajectory_spectrum
-from impactosc.files import read_json, write_csv, write_json, write_run
+from impactosc.io.files import read_json, write_csv, write_json, write_run
+from impactosc.statistics import train_analysis as ch
+from impactosc.statistics.ensemble import ensemble_runs, ensemble_summary, ensemble_table
+from impactosc.statistics.impact_train import AnalysisOptions, ImpactTrain, load_train
+from impactosc.statistics.spectral_lines import trajectory_spectrum
 
 # Fast settings: fewer EM restarts, bootstrap replicates and surrogates than the workflow.
 FAST = dict(mixture_components=(1, 2), mixture_restarts=4, ks_bootstrap=199, acf_surrogates=100)
@@ -220,7 +220,7 @@ def test_config_analysis_section_matches_options():
     """Every key of the config's chaotic.analysis section is an AnalysisOptions field."""
     from pathlib import Path
 
-    from impactosc.config import load_config
+    from impactosc_study.config import load_config
 
     root = Path(__file__).resolve().parents[1]
     cfg = load_config(root / "config/config.yaml", root / "workflow/schemas/config.schema.yaml")

@@ -20,16 +20,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from impactosc.analysis import chaotic as ch
-from impactosc.analysis.ensemble import ensemble_summary
-from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain, load_train
-from impactosc.analysis.spectra import trajectory_spectrum
-from impactosc.files import read_json, write_json, write_run
-from impactosc.integration.simulate import Window, simulate
-from impactosc.paper.rows.chaotic import chaotic_rows
-from impactosc.paper.table import write_rows
-from impactosc.plotting import save_figure
-from impactosc.plotting.chaotic import make_figure
+from impactosc.core.simulate import Window, simulate
+from impactosc.io.files import read_json, write_json, write_run
+from impactosc.statistics import train_analysis as ch
+from impactosc.statistics.ensemble import ensemble_summary
+from impactosc.statistics.impact_train import AnalysisOptions, ImpactTrain, load_train
+from impactosc.statistics.spectral_lines import trajectory_spectrum
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.chaotic import make_figure
+from impactosc_study.paper.rows.chaotic import chaotic_rows
+from impactosc_study.paper.table import write_rows
 
 REF = json.loads((Path(__file__).parent / "data" / "chaotic_short_reference.json").read_text())
 SCENE = REF["scene"]

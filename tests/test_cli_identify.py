@@ -13,13 +13,13 @@ from pathlib import Path
 import h5py
 import pytest
 
-from impactosc.files import read_table
 from impactosc.identification.parameters import FIELDS
-from impactosc.integration.model import ModelParams
-from impactosc.model_file import read_model_file
+from impactosc.io.files import read_table
+from impactosc.model.equations import ModelParams
+from impactosc.model.model_file import read_model_file
 
 REPO = Path(__file__).resolve().parents[1]
-EXE = [sys.executable, "-m", "impactosc.cli"]
+EXE = [sys.executable, "-m", "impactosc.cli.main"]
 TDMS = [str(REPO / "examples" / "record_example.tdms"), "--group", "rig", "--channel", "cart"]
 EXAMPLE = [*TDMS, "--phase-channel", "encoder"]
 

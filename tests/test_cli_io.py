@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 from test_provenance import assert_stamped  # tests/ is on sys.path (pytest's prepend import mode)
 
-from impactosc import cli
-from impactosc.files import read_run, write_run
+from impactosc.cli import main as cli
+from impactosc.io.files import read_run, write_run
 
-EXE = [sys.executable, "-m", "impactosc.cli"]
+EXE = [sys.executable, "-m", "impactosc.cli.main"]
 
 
 def run_cli(*args):

@@ -8,10 +8,10 @@ from pathlib import Path
 import pytest
 import yaml
 
-from impactosc.cli import main
-from impactosc.config import ConfigError, load_config, validate_config
-from impactosc.config_docs import render_file
-from impactosc.integration.model import ModelParams
+from impactosc.cli.main import main
+from impactosc.model.equations import ModelParams
+from impactosc_study.config import ConfigError, load_config, validate_config
+from impactosc_study.config_docs import render_file
 
 ROOT = Path(__file__).resolve().parents[1]
 SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.integration.simulate import Window, simulate
+from impactosc.core.simulate import Window, simulate
 
 
 def closed_form(p, omega, t, x0, v0):

@@ -12,7 +12,11 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.benchmarks.random_scenes import (
+from impactosc.cli.main import main
+from impactosc.core.simulate import StallError, simulate
+from impactosc.dynamics.sweep import STALLED, SweepSettings, continuation
+from impactosc.model.equations import ModelParams, UntestedParameterWarning
+from impactosc_bench.random_scenes import (
     agreement_horizon,
     compare_scene,
     draw_scene,
@@ -20,11 +24,7 @@ from impactosc.benchmarks.random_scenes import (
     run_scenes,
     summarise_scenes,
 )
-from impactosc.cli import main
-from impactosc.integration.model import ModelParams, UntestedParameterWarning
-from impactosc.integration.reference import solve_reference
-from impactosc.integration.simulate import StallError, simulate
-from impactosc.sweeps.continuation import STALLED, SweepSettings, continuation
+from impactosc_bench.scipy_reference import solve_reference
 
 # The parameter set of the issue (found by a random draw), and its initial state.
 ISSUE16 = dict(
@@ -148,7 +148,7 @@ def test_sweep_marks_a_core_stall_and_goes_on(monkeypatch):
     # The sweeps hand their pace limit to the core's watchdog: with a pace of one budget
     # per period (100 attempts) every w of the chaotic range stalls, is marked, and the
     # sweep returns instead of hanging.
-    import impactosc.sweeps.continuation as cont
+    import impactosc.dynamics.sweep as cont
 
     monkeypatch.setattr(cont, "_STALL_PACE", 1)
     settings = SweepSettings(n_transient=5, n_record=5, n_initial=5, max_steps_per_period=100)

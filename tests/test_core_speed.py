@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.benchmarks import core_speed as cs
-from impactosc.benchmarks import scene, timing_rounds
-from impactosc.files import read_table, write_table
+from impactosc.io.files import read_table, write_table
+from impactosc_bench import core_speed as cs
+from impactosc_bench import scene, timing_rounds
 
 
 def _row(solver, rtol, wall, error, on=True, kind="scene", **extra):

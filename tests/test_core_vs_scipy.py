@@ -10,8 +10,8 @@ tolerance is tightened.
 import numpy as np
 import pytest
 
-from impactosc.integration.reference import solve_reference
-from impactosc.integration.simulate import simulate
+from impactosc.core.simulate import simulate
+from impactosc_bench.scipy_reference import solve_reference
 
 CASES = {"periodic": (23.03, 10.0), "chaotic": (40.86, 1.5)}
 

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.measured.surrogate import SurrogateOptions, ramp_omegas, surrogate_driven, surrogate_record
+from impactosc.records.surrogate import SurrogateOptions, ramp_omegas, surrogate_driven, surrogate_record
 
 CLEAN = SurrogateOptions(rate=2000, noise=0.0)
 
@@ -47,7 +47,7 @@ def test_ramp_staircase_and_encoder_counts():
 def _section_errors(rec, truth, source):
     """rms and max |x error| (m) and rms time error (s) of a record's Poincare points against
     the true section points (the state at each period's start); the points; their true index."""
-    from impactosc.measured.poincare import poincare_points
+    from impactosc.records.poincare import poincare_points
 
     p = poincare_points(rec, source=source)
     T = truth["poincare"]["t"]
@@ -62,7 +62,7 @@ def test_encoder_poincare_points_beat_nominal_omega(w0):
     """The motor runs 0.1 % fast with a 0.3 % ripple over 60 periods; the record says w0."""
     import dataclasses
 
-    from impactosc.measured.extract import extract_events
+    from impactosc.records.extract import extract_events
 
     k = np.arange(300)
     om = w0 * (1.001 + 0.003 * np.sin(2 * np.pi * k / 60))
@@ -89,7 +89,7 @@ def test_encoder_poincare_points_beat_nominal_omega(w0):
 def _stepped_record(levels, seconds, rate=1000.0, jitter=0.0, seed=1):
     """A synthetic record whose w holds each of ``levels`` for ``seconds`` (phase = integral
     of w, optionally with white noise on w); x = 1 mm sin(phase)."""
-    from impactosc.measured.records import Record
+    from impactosc.records.record import Record
 
     dt = 1.0 / rate
     n = int(round(seconds * rate))
@@ -101,7 +101,7 @@ def _stepped_record(levels, seconds, rate=1000.0, jitter=0.0, seed=1):
 
 
 def test_sweep_segments_bins_settle_and_hysteresis():
-    from impactosc.measured.sweep import sweep_segments
+    from impactosc.records.sweep_segments import sweep_segments
 
     # steps of w up and back down: one segment per step, the way back kept apart
     rec = _stepped_record([30.0, 30.5, 31.0, 30.5], 20.0)
@@ -131,15 +131,15 @@ def test_sweep_segments_bins_settle_and_hysteresis():
 def ramp():
     """w ramped 33 -> 38.5 rad/s in 550 s (0.01 rad/s^2, the rate of a 20 -> 45 sweep in 2500 s):
     period 1 up to the doubling at 37.28 rad/s, period 2 beyond; 2 kHz, 5 um noise, 4096-count encoder."""
-    from impactosc.measured.surrogate import surrogate_ramp
-    from impactosc.measured.sweep import sweep_segments
+    from impactosc.records.surrogate import surrogate_ramp
+    from impactosc.records.sweep_segments import sweep_segments
 
     rec, _ = surrogate_ramp(33.0, 38.5, 550.0, SurrogateOptions(rate=2000, noise=5e-6), encoder_counts=4096)
     return sweep_segments(rec, 0.25, 10.0)
 
 
 def test_sweep_record_segments_match_the_attractor(ramp):
-    from impactosc.integration.simulate import simulate
+    from impactosc.core.simulate import simulate
 
     pts, info = ramp
     # 25 s per bin, 15 s kept: 80-90 points (the first bin holds only 33.0-33.125 rad/s)

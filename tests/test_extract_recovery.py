@@ -4,13 +4,13 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from impactosc.analysis.chaotic import analyse_train
-from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain, load_train
-from impactosc.files import write_run
-from impactosc.measured.extract import ExtractOptions, extract_events
-from impactosc.measured.obstacle_estimate import estimate_x_impact
-from impactosc.measured.sample_fits import estimate_noise
-from impactosc.measured.surrogate import SurrogateOptions, surrogate_record
+from impactosc.io.files import write_run
+from impactosc.records.extract import ExtractOptions, extract_events
+from impactosc.records.obstacle_estimate import estimate_x_impact
+from impactosc.records.sample_fits import estimate_noise
+from impactosc.records.surrogate import SurrogateOptions, surrogate_record
+from impactosc.statistics.impact_train import AnalysisOptions, ImpactTrain, load_train
+from impactosc.statistics.train_analysis import analyse_train
 
 # 60 s of the chaotic attractor (w = 40.86) after a 100 s transient: ~430 impacts, of every
 # kind (fast, slow grazing approaches, short and long ISIs), at the default 2 kHz.

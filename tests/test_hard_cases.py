@@ -1,6 +1,6 @@
 """Hard cases for the core, at reduced size; rule hard_cases runs them in full.
 
-Each case function of impactosc.benchmarks.hardcases measures a figure against an
+Each case function of impactosc_bench.hardcases measures a figure against an
 independent reference and states its bound (the reasons are in the function docstrings);
 these tests assert every such check. Row bounds are not re-derived here: a test fails when
 the core stops meeting a bound, and prints the offending rows.
@@ -12,8 +12,8 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.benchmarks import hardcases as hc
-from impactosc.integration.model import ModelParams
+from impactosc.model.equations import ModelParams
+from impactosc_bench import hardcases as hc
 
 
 def quiet(*args):
@@ -79,7 +79,7 @@ def test_regularisation_eps_and_stiffer_contact():
 
 @pytest.mark.slow
 def test_all_cases_full_size():
-    from impactosc.config import load_config
+    from impactosc_study.config import load_config
 
     cfg = load_config("config/config.yaml", "workflow/schemas/config.schema.yaml")
     assert_passed(hc.run_all(cfg["hard_cases"], log=quiet))
@@ -128,7 +128,7 @@ def test_coulomb_reference_breakaway_is_where_the_net_force_reaches_T():
     assert abs(p.m0e * w * w * math.sin(w * t1)) == pytest.approx(p.T, rel=1e-12)
 
 
-@pytest.mark.filterwarnings("ignore::impactosc.integration.model.UntestedParameterWarning")  # c = 500 on purpose
+@pytest.mark.filterwarnings("ignore::impactosc.model.equations.UntestedParameterWarning")  # c = 500 on purpose
 def test_coulomb_reference_rejects_overdamped():
     with pytest.raises(ValueError, match="underdamped"):
         hc.CoulombOscillator(dataclasses.replace(ModelParams(), c=500.0), 23.03)

@@ -19,15 +19,15 @@ import dataclasses
 import numpy as np
 import pytest
 
+from impactosc.core.simulate import Window, simulate
 from impactosc.identification import identify
 from impactosc.identification.least_squares import _inverse_scaled, _schur, _solve_scaled, carried_states
 from impactosc.identification.parameters import FIELDS, NAMES, fill_array, params_of, theta_of
-from impactosc.identification.shooting import Predictor
+from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import WindowSet, cut_windows, split_held_out
-from impactosc.integration.model import ModelParams
-from impactosc.integration.simulate import Window, simulate
-from impactosc.measured.records import Record
-from impactosc.measured.surrogate import SurrogateOptions, surrogate_record
+from impactosc.model.equations import ModelParams
+from impactosc.records.record import Record
+from impactosc.records.surrogate import SurrogateOptions, surrogate_record
 
 
 def test_theta_round_trip_and_core_array():
@@ -187,7 +187,7 @@ def test_branch_comparison_follows_one_of_two_coexisting_orbits():
     identified model's). Started from each state the model stays on that orbit, and a model 0.1 %
     off in kI, started from the same state, reaches the same orbit within the branch tolerance:
     the comparison the coverage makes where two continuations took different orbits."""
-    from impactosc.identification.coverage import BRANCH_TOL, _orbit_from, random_truth
+    from impactosc_study.identification_coverage import BRANCH_TOL, _orbit_from, random_truth
 
     truth = random_truth(18)
     near = dataclasses.replace(truth, kI=1.001 * truth.kI)

@@ -23,9 +23,9 @@ import numpy as np
 import pytest
 
 from impactosc.identification.choice import choose_model
-from impactosc.identification.coverage import coverage_table, identification_draw
-from impactosc.integration.model import ModelParams
-from impactosc.measured.surrogate import SurrogateOptions, surrogate_record
+from impactosc.model.equations import ModelParams
+from impactosc.records.surrogate import SurrogateOptions, surrogate_record
+from impactosc_study.identification_coverage import coverage_table, identification_draw
 
 pytestmark = pytest.mark.slow
 

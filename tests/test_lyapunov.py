@@ -1,4 +1,4 @@
-"""Lyapunov exponents of the stroboscopic map (impactosc.chaos.lyapunov) against closed forms
+"""Lyapunov exponents of the stroboscopic map (impactosc.dynamics.lyapunov) against closed forms
 and independent references."""
 
 import math
@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.chaos.lyapunov import kaplan_yorke, largest_exponent, lyapunov_spectrum, settle
-from impactosc.chaos.reading import sign_agreement, summarise_agreement
-from impactosc.periodic_orbits import shoot
-from impactosc.periodic_orbits.variational import variational_monodromy
+from impactosc.dynamics import shoot
+from impactosc.dynamics.lyapunov import kaplan_yorke, largest_exponent, lyapunov_spectrum, settle
+from impactosc.dynamics.lyapunov_reading import sign_agreement, summarise_agreement
+from impactosc.dynamics.variational import variational_monodromy
 
 
 @pytest.mark.parametrize("omega", [23.03, 40.86])

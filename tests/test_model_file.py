@@ -9,13 +9,11 @@ import pytest
 import yaml
 from test_config import CONFIG, SCHEMA  # tests/ is on sys.path (pytest's prepend import mode)
 
-from impactosc.cli import main
-from impactosc.cli_options import MODEL_NAMES
-from impactosc.config import ConfigError, nest_dotted_keys, validate_config
-from impactosc.files import read_run
-from impactosc.integration.model import ModelParams
-from impactosc.measured.record_files import read_record
-from impactosc.model_file import (
+from impactosc.cli.main import main
+from impactosc.cli.options import MODEL_NAMES
+from impactosc.io.files import read_run
+from impactosc.model.equations import ModelParams
+from impactosc.model.model_file import (
     BC_DESCRIPTION,
     FORMAT,
     PARAM_UNITS,
@@ -24,6 +22,8 @@ from impactosc.model_file import (
     resolve_model,
     write_model_file,
 )
+from impactosc.records.files import read_record
+from impactosc_study.config import ConfigError, nest_dotted_keys, validate_config
 
 RIG = ModelParams(k=1500.0, c=7.1, xI=-2.0e-3)
 
@@ -209,9 +209,9 @@ def test_dotted_top_level_keys_nest(rig):
 
 
 def test_figures_and_table_name_the_model(rig, tmp_path):
-    from impactosc.paper.table import COLUMNS, merge_tables, write_rows
-    from impactosc.plotting import model_label
-    from impactosc.plotting.bifurcation import fig02_poincare
+    from impactosc_study.figures import model_label
+    from impactosc_study.figures.bifurcation import fig02_poincare
+    from impactosc_study.paper.table import COLUMNS, merge_tables, write_rows
 
     source = {"file": str(rig), "description": f"model file {rig}"}
     assert model_label(None) == model_label({"file": None}) == "model BC"

@@ -14,9 +14,9 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.analysis.impact_train import AnalysisOptions
-from impactosc.files import read_run, write_run
-from impactosc.measured.noise_study import clean_runs, merge_levels, noise_level_rows, noise_study, realism_rows
+from impactosc.io.files import read_run, write_run
+from impactosc.statistics.impact_train import AnalysisOptions
+from impactosc_study.noise_study import clean_runs, merge_levels, noise_level_rows, noise_study, realism_rows
 
 OPTIONS = AnalysisOptions(acf_surrogates=10, ks_bootstrap=0, mixture_restarts=1, fano_windows=(0.5, 1.0, 2.0))
 SCENE = (40.86, 20.0, 12.0)  # w (rad/s), transient and duration (s)

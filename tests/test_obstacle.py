@@ -3,14 +3,14 @@
 import numpy as np
 import pytest
 
-from impactosc.integration.model import ModelParams
-from impactosc.measured.contact_window import fit_vertices, integrate_window, model_window, projected_jacobian
-from impactosc.measured.coverage import coverage_summary, x_impact_draws
-from impactosc.measured.extract import ExtractOptions, extract_events
-from impactosc.measured.noise_study import match_impacts
-from impactosc.measured.obstacle_estimate import estimate_x_impact
-from impactosc.measured.records import Record
-from impactosc.measured.surrogate import SurrogateOptions, surrogate_record
+from impactosc.model.equations import ModelParams
+from impactosc.records.contact_window import fit_vertices, integrate_window, model_window, projected_jacobian
+from impactosc.records.extract import ExtractOptions, extract_events
+from impactosc.records.obstacle_estimate import estimate_x_impact
+from impactosc.records.record import Record
+from impactosc.records.surrogate import SurrogateOptions, surrogate_record
+from impactosc_study.noise_study import match_impacts
+from impactosc_study.obstacle_coverage import coverage_summary, x_impact_draws
 
 # 60 s of the chaotic attractor (w = 40.86) after a 100 s transient at 2 kHz, ~430 impacts;
 # the noisy records are the clean one plus the surrogate's own noise draw (seed s), as

@@ -1,4 +1,4 @@
-"""Branch segments (impactosc.periodic_orbits.segments): a continued piece of model BC's
+"""Branch segments (impactosc.dynamics.branch_segments): a continued piece of model BC's
 period-1 branch finds its period doubling and its grazing as continuation events, at the
 values located independently (tests/test_bifurcation_points.py, test_orbit_grazing.py), and
 the monodromy of every continued orbit obeys Liouville's bound."""
@@ -6,8 +6,8 @@ the monodromy of every continued orbit obeys Liouville's bound."""
 import numpy as np
 import pytest
 
-from impactosc.periodic_orbits import shoot
-from impactosc.periodic_orbits.segments import trace_segment
+from impactosc.dynamics import shoot
+from impactosc.dynamics.branch_segments import trace_segment
 
 # Located by bisection of det(M + I) on orbits shot at fixed w (test_bifurcation_points.py,
 # 1e-9 rad/s) and by secant steps on the near-miss gap (test_orbit_grazing.py, 1e-9).

@@ -2,8 +2,8 @@
 
 import math
 
-from impactosc.paper.rows.bifurcation import orbit_rows
-from impactosc.periodic_orbits.table import bifurcation_table, cascade_chain, chain_ratios, multipliers_text
+from impactosc.dynamics.orbit_table import bifurcation_table, cascade_chain, chain_ratios, multipliers_text
+from impactosc_study.paper.rows.bifurcation import orbit_rows
 
 
 def _pd(w, n):

@@ -12,9 +12,9 @@ import sys
 import numpy as np
 import pytest
 
-from impactosc.benchmarks import cyrk_runs, cyrk_shim, free_flight, peers, timing_rounds
-from impactosc.benchmarks.scene import ERR_HORIZON, OMEGA
-from impactosc.integration.reference import solve_reference
+from impactosc_bench import cyrk_runs, cyrk_shim, free_flight, peers, timing_rounds
+from impactosc_bench.scene import ERR_HORIZON, OMEGA
+from impactosc_bench.scipy_reference import solve_reference
 
 
 def _row(rtol, wall, error, on, solver="CyRK DOP853", kind="scene"):

@@ -5,10 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.analysis.periodic import impact_map_numbers
-from impactosc.plotting import save_figure
-from impactosc.plotting.periodic import fig03a_impact_construction, fig05_impact_map, grazing_evidence
-from impactosc.plotting.schematic import fig01_rig
+from impactosc.statistics.periodic_train import impact_map_numbers
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.periodic import fig03a_impact_construction, fig05_impact_map, grazing_evidence
+from impactosc_study.figures.schematic import fig01_rig
 
 XI = -2.086e-3
 

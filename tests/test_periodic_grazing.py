@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.analysis.grazing import (
+from impactosc.dynamics.grazing import (
     GrazingBracket,
     Trial,
     bisect_transition,

@@ -6,11 +6,11 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.analysis.orbits import poincare_period
-from impactosc.analysis.periodic import impact_map_numbers
-from impactosc.analysis.spectra import analyse_spectrum
-from impactosc.files import write_json
-from impactosc.paper.rows.periodic import periodic_rows as table_rows
+from impactosc.io.files import write_json
+from impactosc.statistics.periodic_train import impact_map_numbers
+from impactosc.statistics.periods import poincare_period
+from impactosc.statistics.spectral_lines import analyse_spectrum
+from impactosc_study.paper.rows.periodic import periodic_rows as table_rows
 
 OMEGA = 23.03
 LEVELS = np.array([0.09034927, 0.19520570, 0.25988248])  # s
@@ -84,7 +84,7 @@ def test_write_json_maps_nan_to_null(tmp_path):
     p = tmp_path / "a.json"
     write_json(p, {"a": math.nan, "b": [1.0, np.inf], "c": np.int64(3), "d": np.bool_(True)})
     data = json.loads(p.read_text())
-    assert "git_commit" in data.pop("provenance")  # the writer's own entry (impactosc.files.provenance)
+    assert "git_commit" in data.pop("provenance")  # the writer's own entry (impactosc.io.files.provenance)
     assert data == {"a": None, "b": [1.0, None], "c": 3, "d": True}
 
 

@@ -15,18 +15,18 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from impactosc.analysis.grazing import (
+from impactosc.core.simulate import Window, simulate
+from impactosc.dynamics.grazing import (
     branch_grid,
     extrapolate_gap_zero,
     find_grazing_step,
     locate_grazing,
     sweep_summary,
 )
-from impactosc.analysis.orbits import poincare_period
-from impactosc.analysis.periodic import branch_state, impact_map_numbers
-from impactosc.analysis.spectra import analyse_spectrum
-from impactosc.integration.simulate import Window, simulate
-from impactosc.sweeps.continuation import SweepSettings, continuation
+from impactosc.dynamics.sweep import SweepSettings, continuation
+from impactosc.statistics.periodic_train import branch_state, impact_map_numbers
+from impactosc.statistics.periods import poincare_period
+from impactosc.statistics.spectral_lines import analyse_spectrum
 
 REF_PATH = Path(__file__).parent / "data" / "periodic_reference.json"
 SETTINGS = SweepSettings(n_transient=150, n_record=60, n_initial=1000)  # as config periodic.branch

@@ -8,7 +8,14 @@ import h5py
 import numpy as np
 import pytest
 
-from impactosc.files import (
+from impactosc.dynamics.maps import MapResult, load_map, save_map
+from impactosc.dynamics.sweep import (
+    SweepResult,
+    SweepSettings,
+    load_sweep,
+    save_sweep,
+)
+from impactosc.io.files import (
     DATASET_UNITS,
     FORMAT_VERSION,
     dataset_unit,
@@ -25,15 +32,8 @@ from impactosc.files import (
     write_table,
     write_text,
 )
-from impactosc.measured.record_files import read_record, read_record_set, write_record, write_record_set
-from impactosc.measured.records import Record
-from impactosc.sweeps.continuation import (
-    SweepResult,
-    SweepSettings,
-    load_sweep,
-    save_sweep,
-)
-from impactosc.sweeps.maps import MapResult, load_map, save_map
+from impactosc.records.files import read_record, read_record_set, write_record, write_record_set
+from impactosc.records.record import Record
 
 VERSION_KEYS = (
     "version",
@@ -182,9 +182,9 @@ def test_sweep_map_and_record_files_are_stamped(tmp_path):
 
 
 def test_every_dataset_name_of_the_writers_has_a_unit():
-    from impactosc.integration.simulate import _COLUMNS
-    from impactosc.sweeps.continuation import _ARRAYS, MAP_PARAMETERS
-    from impactosc.sweeps.maps import _MAP_ARRAYS, VALUE_UNITS
+    from impactosc.core.simulate import _COLUMNS
+    from impactosc.dynamics.maps import _MAP_ARRAYS, VALUE_UNITS
+    from impactosc.dynamics.sweep import _ARRAYS, MAP_PARAMETERS
 
     names = {c for cols in _COLUMNS.values() for c in cols} | set(_ARRAYS) | (set(_MAP_ARRAYS) - {"values"})
     names |= {"sigma_t", "record_omega", "n_points"}  # measured events, record-set Poincare points

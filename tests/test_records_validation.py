@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from impactosc.measured import record_csv
-from impactosc.measured.record_files import read_record, read_record_set, write_record, write_record_set
+from impactosc.records import _csv as record_csv
+from impactosc.records.files import read_record, read_record_set, write_record, write_record_set
 
 HEADER = "# units: mm\n# omega: 40.86\nt,x\n"
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import docutils.core
 import pytest
 
-from impactosc.paper.table import COLUMNS, to_html
+from impactosc_study.paper.table import COLUMNS, to_html
 
 REPORT = Path(__file__).resolve().parents[1] / "workflow" / "report"
 

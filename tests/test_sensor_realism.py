@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.measured.extract import ExtractOptions, extract_events
-from impactosc.measured.noise_study import match_impacts
-from impactosc.measured.surrogate import SurrogateOptions, butterworth_delay, sensor_samples, surrogate_record
+from impactosc.records.extract import ExtractOptions, extract_events
+from impactosc.records.surrogate import SurrogateOptions, butterworth_delay, sensor_samples, surrogate_record
+from impactosc_study.noise_study import match_impacts
 
 RATE = 2000.0
 
@@ -110,7 +110,7 @@ def test_declared_filter_delay_is_corrected(filtered):
 
 
 def test_noise_study_realism_rows():
-    from impactosc.measured.noise_study import noise_study
+    from impactosc_study.noise_study import noise_study
 
     cases = [{"quantum": 1e-6}, {"lowpass_hz": 500.0}, {"lowpass_hz": 500.0, "declare_delay": False}]
     rows = noise_study(40.86, 100.0, 10.0, [RATE], [], realism=cases, realism_noise=5e-6)

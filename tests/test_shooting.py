@@ -1,4 +1,4 @@
-"""Periodic orbits by shooting (impactosc.periodic_orbits): against the closed form of the
+"""Periodic orbits by shooting (impactosc.dynamics): against the closed form of the
 forced linear oscillator, and against the time simulation of model BC."""
 
 import math
@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.integration.simulate import simulate
-from impactosc.periodic_orbits import ShootingError, monodromy, shoot
+from impactosc.core.simulate import simulate
+from impactosc.dynamics import ShootingError, monodromy, shoot
 
 
 def linear_orbit(p, omega):

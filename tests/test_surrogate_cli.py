@@ -4,11 +4,11 @@ import h5py
 import numpy as np
 import pytest
 
-from impactosc.cli import main
-from impactosc.files import read_run
-from impactosc.measured.poincare import record_set_poincare
-from impactosc.measured.record_files import read_record, read_record_set, write_record_set
-from impactosc.measured.surrogate import (
+from impactosc.cli.main import main
+from impactosc.io.files import read_run
+from impactosc.records.files import read_record, read_record_set, write_record_set
+from impactosc.records.poincare import record_set_poincare
+from impactosc.records.surrogate import (
     LABEL,
     SurrogateOptions,
     butterworth_delay,
@@ -94,7 +94,7 @@ def test_cli_extract_rejects_bad_record(tmp_path, capsys):
 
 def test_example_extracts():
     rec = read_record("examples/record_example.csv")
-    from impactosc.measured.extract import extract_events
+    from impactosc.records.extract import extract_events
 
     ev, at = extract_events(rec)
     assert ev["impacts"]["t"].size >= 2 and at["x_impact_source"] == "record metadata"
@@ -112,10 +112,10 @@ def test_panel_label_guard():
 
 
 def test_noise_study_and_rows():
-    from impactosc.analysis.chaotic import analyse_train
-    from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain
-    from impactosc.measured.noise_study import noise_study
-    from impactosc.paper.rows.measured import measured_rows
+    from impactosc.statistics.impact_train import AnalysisOptions, ImpactTrain
+    from impactosc.statistics.train_analysis import analyse_train
+    from impactosc_study.noise_study import noise_study
+    from impactosc_study.paper.rows.measured import measured_rows
 
     o = AnalysisOptions(acf_surrogates=20, ks_bootstrap=0, mixture_restarts=1, fano_windows=(0.5, 1.0, 2.0))
     rows = noise_study(40.86, 100.0, 30.0, [2000.0], [0.0, 2e-5], analysis=o, x_impact_span=30.0, x_impact_noise=[2e-5])
@@ -150,7 +150,7 @@ def test_noise_study_and_rows():
 def test_cli_reports_estimated_x_impact(tmp_path, capsys):
     rec, _ = surrogate_record(40.86, 100.0, 20.0, SurrogateOptions(rate=2000, noise=2e-6))
     meta = {k: v for k, v in rec.meta.items() if k != "x_impact"}  # the obstacle position unknown
-    from impactosc.measured.record_files import write_record
+    from impactosc.records.files import write_record
 
     write_record(tmp_path / "r.h5", rec.t, rec.x, omega=rec.omega, meta=meta)
     assert main(["extract", str(tmp_path / "r.h5"), "--output", str(tmp_path / "e.h5")]) == 0
@@ -216,7 +216,7 @@ def test_h5_record_names_the_sample(tmp_path):
 
 
 def test_cli_contact_exponent_is_a_number_in_range_or_free(tmp_path, capsys):
-    from impactosc.cli_options import contact_exponent
+    from impactosc.cli.options import contact_exponent
 
     assert contact_exponent("free") is None and contact_exponent("1.7") == 1.7
     with pytest.raises(SystemExit):

@@ -9,10 +9,9 @@ import itertools
 import numpy as np
 import pytest
 
-from impactosc.analysis.bifurcation import classify_sweep
-from impactosc.sweeps import continuation as sweep_mod
-from impactosc.sweeps.chunks import coarse_pass, merge_chunks, plan_chunks, run_chunk, sweep_chunked
-from impactosc.sweeps.continuation import (
+from impactosc.dynamics import sweep as sweep_mod
+from impactosc.dynamics.diagram import classify_sweep
+from impactosc.dynamics.sweep import (
     CORE_ERROR,
     OK,
     STALLED,
@@ -22,6 +21,7 @@ from impactosc.sweeps.continuation import (
     omega_grid,
     save_sweep,
 )
+from impactosc.dynamics.sweep_chunks import coarse_pass, merge_chunks, plan_chunks, run_chunk, sweep_chunked
 
 SETTINGS = SweepSettings(n_transient=100, n_record=24, n_initial=300)
 GRID = omega_grid(38.0, 36.6, 29)

@@ -3,7 +3,7 @@
 The reference (tests/data/bifurcation_reference.json) is written by
 tests/data/make_bifurcation_reference.py with :func:`cascade_reading` below, so test and
 reference compute the same thing. The sweep runs 40.86 -> 36.86 rad/s in steps of 0.1 with
-the workflow's reading (impactosc.analysis.bifurcation); it crosses chaos, period 16 -> 8 -> 4 -> 2 -> 1.
+the workflow's reading (impactosc.dynamics.diagram); it crosses chaos, period 16 -> 8 -> 4 -> 2 -> 1.
 Each tolerance says why it is what it is.
 """
 
@@ -13,9 +13,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from impactosc.analysis.bifurcation import read_sweep
-from impactosc.analysis.grazing import regular_grid
-from impactosc.sweeps.continuation import SweepSettings, continuation
+from impactosc.dynamics.diagram import read_sweep
+from impactosc.dynamics.grazing import regular_grid
+from impactosc.dynamics.sweep import SweepSettings, continuation
 
 REF_PATH = Path(__file__).parent / "data" / "bifurcation_reference.json"
 SETTINGS = SweepSettings(n_transient=150, n_record=48, n_initial=600)

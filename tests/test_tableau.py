@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 
-from impactosc.integration import tableau as tab
+from impactosc.core import tableau as tab
 
 
 def test_stage_times_are_row_sums():

@@ -11,7 +11,7 @@ import pytest
 from numba import njit
 from scipy.special import binom
 
-from impactosc.benchmarks import taylor_series as ts
+from impactosc_bench import taylor_series as ts
 
 
 @njit(cache=True)
@@ -54,7 +54,7 @@ def test_sqrt_quotient_and_sine_give_their_closed_forms():
 
 @pytest.fixture(scope="module")
 def pieces():
-    from impactosc.benchmarks.taylor_pieces import pieces as make
+    from impactosc_bench.taylor_pieces import pieces as make
 
     return make()
 
@@ -64,7 +64,7 @@ def test_each_piece_reaches_scipys_end(pieces, order):
     """rtol 1e-10: the piece's end within 1e-11 s in time and 1e-11 m in x (a few hundred times
     the tolerance of its 10-20 steps at atol 1e-12, far below a wrong piece's errors: the band
     integrated in time misses by 3e-5 m, see benchmark_taylor)."""
-    from impactosc.benchmarks.taylor_pieces import OMEGA
+    from impactosc_bench.taylor_pieces import OMEGA
 
     for name, pc in pieces.items():
         p = pc.params.as_array(OMEGA)
@@ -78,7 +78,7 @@ def test_each_piece_reaches_scipys_end(pieces, order):
 
 def test_the_core_step_on_the_same_pieces_agrees(pieces):
     """The DOP853 side of the comparison runs the same equations to the same ends."""
-    from impactosc.benchmarks.taylor_pieces import _DOP853_MODE, OMEGA, _dop853_piece
+    from impactosc_bench.taylor_pieces import _DOP853_MODE, OMEGA, _dop853_piece
 
     for name, pc in pieces.items():
         mode, phase = _DOP853_MODE[pc.kind]

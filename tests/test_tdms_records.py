@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from nptdms import ChannelObject, GroupObject, RootObject, TdmsFile, TdmsWriter
 
-from impactosc.measured.record_files import read_record, write_record
-from impactosc.measured.records import phase_factor
+from impactosc.records.files import read_record, write_record
+from impactosc.records.record import phase_factor
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "record_example.tdms"
@@ -195,7 +195,7 @@ def test_example_tdms_matches_its_script(tmp_path):
 
 
 def test_example_tdms_extracts_with_the_encoder():
-    from impactosc.measured.extract import extract_events
+    from impactosc.records.extract import extract_events
 
     rec = read_record(EXAMPLE, group="rig", channel="cart", phase_channel="encoder")
     ev, at = extract_events(rec)
@@ -206,8 +206,8 @@ def test_example_tdms_extracts_with_the_encoder():
 
 
 def test_cli_extract_tdms_and_one_line_errors(tmp_path, capsys):
-    from impactosc.cli import main
-    from impactosc.files import read_run
+    from impactosc.cli.main import main
+    from impactosc.io.files import read_run
 
     out = tmp_path / "ev.h5"
     args = ["extract", str(EXAMPLE), "--group", "rig", "--channel", "cart", "--phase-channel", "encoder"]
@@ -225,7 +225,7 @@ def test_cli_extract_tdms_and_one_line_errors(tmp_path, capsys):
 def test_cli_sweep_extract_writes_the_fig02_points(tmp_path, capsys):
     import h5py
 
-    from impactosc.cli import main
+    from impactosc.cli.main import main
 
     rec = tmp_path / "sweep.h5"
     ramp = ["surrogate", "--ramp", "30", "31", "--transient", "20", "--duration", "60", "--encoder-counts", "4096"]
@@ -269,7 +269,7 @@ def test_cli_sweep_extract_writes_the_fig02_points(tmp_path, capsys):
 
 
 def test_cli_help_explains_tdms_and_sweeps(capsys):
-    from impactosc.cli import main
+    from impactosc.cli.main import main
 
     for cmd in ("extract", "sweep-extract"):
         with pytest.raises(SystemExit):

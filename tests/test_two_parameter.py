@@ -1,4 +1,4 @@
-"""Bifurcation curves in (w, xI) (impactosc.periodic_orbits.two_parameter): at the paper's xI each
+"""Bifurcation curves in (w, xI) (impactosc.dynamics.two_parameter): at the paper's xI each
 curve passes through the point the one-parameter code locates; elsewhere each agrees with a
 bisection of the same transition by time simulation alone (no shooting, no monodromy matrix):
   - period doubling: does a small alternating deviation from the period-N orbit grow or decay?
@@ -15,14 +15,14 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.integration.layout import S_V, S_X
-from impactosc.integration.model import ModelParams
-from impactosc.integration.simulate import simulate
-from impactosc.periodic_orbits import shoot
-from impactosc.periodic_orbits.arclength import continue_branch, folds, locate_fold
-from impactosc.periodic_orbits.bifurcation_points import locate
-from impactosc.periodic_orbits.grazing import locate_orbit_grazing
-from impactosc.periodic_orbits.two_parameter import CurveProblem, point_at, start_point, trace_curve
+from impactosc.core.layout import S_V, S_X
+from impactosc.core.simulate import simulate
+from impactosc.dynamics import shoot
+from impactosc.dynamics.arclength import continue_branch, folds, locate_fold
+from impactosc.dynamics.bifurcation_points import locate
+from impactosc.dynamics.orbit_grazing import locate_orbit_grazing
+from impactosc.dynamics.two_parameter import CurveProblem, point_at, start_point, trace_curve
+from impactosc.model.equations import ModelParams
 
 RTOL, ATOL = 1e-12, 1e-14
 XI = ModelParams().xI  # the paper's obstacle, -2.086 mm
@@ -323,9 +323,9 @@ def test_curves_agree_with_time_simulation_at_more_obstacles(curve, xi):
 
 def _map_rows(values):
     """Rows of the 2-D map at these obstacle positions, with the workflow's default settings."""
-    from impactosc.analysis.bifurcation import classify_sweep
-    from impactosc.analysis.grazing import regular_grid
-    from impactosc.sweeps.continuation import SweepSettings, parameter_rows
+    from impactosc.dynamics.diagram import classify_sweep
+    from impactosc.dynamics.grazing import regular_grid
+    from impactosc.dynamics.sweep import SweepSettings, parameter_rows
 
     settings = SweepSettings(n_transient=100, n_record=50, n_initial=1000)
     tables = [classify_sweep(res, x_tol=1e-6, v_tol=1e-4, isi_tol=1e-4)
@@ -339,8 +339,8 @@ def test_the_curves_separate_the_map_cells_of_different_period():
     from the paper's xI over -3..-1 mm: every check of the grazing and the doublings passes to one
     grid cell. A fold check may fail only where the two-impact orbit born at the fold is stable
     beyond the crossing and the map's row stays on another attractor (coexistence)."""
-    from impactosc.periodic_orbits.two_parameter import curve_record
-    from impactosc.periodic_orbits.two_parameter_map import curve_crossings, separation
+    from impactosc.dynamics.two_parameter import curve_record
+    from impactosc.dynamics.two_parameter_map import curve_crossings, separation
 
     values = np.array([-3.0e-3, -2.5e-3, XI, -1.5e-3, -1.0e-3])
     omega, period, impacts = _map_rows(values)

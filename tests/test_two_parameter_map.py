@@ -1,10 +1,10 @@
 """The 2-D map's cells checked against two-parameter curves, and the curve tables
-(impactosc.periodic_orbits.two_parameter_map), on a synthetic map whose answer is known."""
+(impactosc.dynamics.two_parameter_map), on a synthetic map whose answer is known."""
 
 import numpy as np
 import pytest
 
-from impactosc.periodic_orbits.two_parameter_map import (
+from impactosc.dynamics.two_parameter_map import (
     codim_two_rows,
     curve_crossings,
     orbit_types,

@@ -1,4 +1,4 @@
-"""The monodromy from the variational equations (impactosc.periodic_orbits.variational): against the
+"""The monodromy from the variational equations (impactosc.dynamics.variational): against the
 closed form of the forced linear oscillator, against the finite-difference monodromy of
 shooting.monodromy on model BC's impacting orbits, its convergence in rtol and in the window of
 the variable u = sgn(v)|v|^n3, and its image against the core's stroboscopic map."""
@@ -10,17 +10,17 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from impactosc.integration.model import ModelParams, UntestedParameterWarning
-from impactosc.integration.simulate import simulate
-from impactosc.periodic_orbits import shoot, stroboscopic_map
-from impactosc.periodic_orbits.shooting import SCALE
-from impactosc.periodic_orbits.variational import (
+from impactosc.core.simulate import simulate
+from impactosc.dynamics import shoot, stroboscopic_map
+from impactosc.dynamics.shooting import SCALE
+from impactosc.dynamics.variational import (
     V_WINDOW,
     UnsupportedTrajectory,
     _integrate,
     _Model,
     variational_monodromy,
 )
+from impactosc.model.equations import ModelParams, UntestedParameterWarning
 
 # Impacting orbits without sticking (the period-1 orbit near w = 24.5 sticks: see the last tests).
 # name: (omega, forcing periods N, Newton guess (None: the attractor reached from rest), impacts)

@@ -13,8 +13,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-from impactosc.integration.model import ModelParams
-from impactosc.model_file import write_model_file
+from impactosc.model.equations import ModelParams
+from impactosc.model.model_file import write_model_file
 
 REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = [sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile")]

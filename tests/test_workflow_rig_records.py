@@ -20,9 +20,9 @@ import h5py
 import numpy as np
 import pytest
 
-from impactosc.files import read_provenance, read_run
-from impactosc.integration.simulate import simulate
-from impactosc.measured.surrogate import SurrogateOptions, surrogate_ramp, surrogate_record
+from impactosc.core.simulate import simulate
+from impactosc.io.files import read_provenance, read_run
+from impactosc.records.surrogate import SurrogateOptions, surrogate_ramp, surrogate_record
 
 REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = [sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile")]

@@ -15,7 +15,7 @@ from pathlib import Path
 import h5py
 import pytest
 
-from impactosc.files import read_csv
+from impactosc.io.files import read_csv
 
 REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = [sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile")]

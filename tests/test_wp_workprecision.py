@@ -6,14 +6,14 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.benchmarks import cyrk_shim, wp_attractor, wp_solvers
-from impactosc.benchmarks import event_errors as ee
-from impactosc.benchmarks import speed_at_error as sae
-from impactosc.benchmarks import tolerance_statistics as ts
-from impactosc.benchmarks import workprecision as wp
-from impactosc.files import read_table, write_table
-from impactosc.integration.model import ModelParams
-from impactosc.integration.reference import solve_reference
+from impactosc.io.files import read_table, write_table
+from impactosc.model.equations import ModelParams
+from impactosc_bench import cyrk_shim, wp_attractor, wp_solvers
+from impactosc_bench import event_errors as ee
+from impactosc_bench import speed_at_error as sae
+from impactosc_bench import tolerance_statistics as ts
+from impactosc_bench import workprecision as wp
+from impactosc_bench.scipy_reference import solve_reference
 
 
 def quiet(*args):
@@ -82,7 +82,7 @@ def test_case_validation():
 
 
 def test_scipy_contestant_is_the_reference_algorithm_plus_sections():
-    """Same method and tolerances as impactosc.integration.reference.solve_reference: the same impacts
+    """Same method and tolerances as impactosc_bench.scipy_reference.solve_reference: the same impacts
     and penetrations to rounding (t_eval does not change SciPy's steps), plus Poincare points
     that agree with the core's at tight tolerance."""
     p = ModelParams()
@@ -265,8 +265,8 @@ def _with_every_metric(rows):
 
 
 def test_figure_from_synthetic_rows(tmp_path):
-    from impactosc.plotting import save_figure
-    from impactosc.plotting.work_precision import plot_work_precision
+    from impactosc_bench.work_precision_figure import plot_work_precision
+    from impactosc_study.figures import save_figure
 
     rows = _with_every_metric(_rows())
     stats = _stat_rows()
@@ -343,7 +343,7 @@ def test_attractor_columns_flag_a_run_that_stops_or_leaves():
 def test_a_peer_that_is_not_installed_is_a_row_and_a_note(monkeypatch):
     import sys
 
-    from impactosc.plotting.work_precision import unavailable_notes
+    from impactosc_bench.work_precision_figure import unavailable_notes
 
     monkeypatch.setitem(sys.modules, "CyRK", None)  # import CyRK now raises ImportError
     monkeypatch.setitem(sys.modules, "heyoka", None)
@@ -356,8 +356,8 @@ def test_a_peer_that_is_not_installed_is_a_row_and_a_note(monkeypatch):
 
 
 def test_figure_draws_peers_floors_and_failures(tmp_path):
-    from impactosc.plotting import save_figure
-    from impactosc.plotting.work_precision import plot_work_precision
+    from impactosc_bench.work_precision_figure import plot_work_precision
+    from impactosc_study.figures import save_figure
 
     rows = _with_every_metric(_peer_rows())
     rows.append(dict(rows[0], solver="CyRK Vern7", status="unavailable", note="CyRK is not installed"))
@@ -473,7 +473,7 @@ def test_budget_skips_tighter_tolerances_and_says_so(monkeypatch):
     for rt in (1e-8, 1e-10):
         assert status[("LSODA", rt)]["status"] == "skipped"
         assert status[("LSODA", rt)]["note"].startswith("time budget: rtol 1e-06 already took")
-    from impactosc.plotting.work_precision import budget_notes
+    from impactosc_bench.work_precision_figure import budget_notes
 
     assert budget_notes(rows, "chaotic") == [f"SciPy LSODA: {status[('LSODA', 1e-8)]['note']}"]
 
@@ -510,7 +510,7 @@ def test_known_long_runs_reuse_the_benchmark_table():
 def test_references_made_apart_give_the_same_sweep(tmp_path):
     """wp_reference computes the references once, beside other jobs, and wp_measure reads them
     back from JSON: the errors of every row are those of a sweep that made its own."""
-    from impactosc.files import read_json, write_json
+    from impactosc.io.files import read_json, write_json
 
     case = wp.Case("chaotic", 40.86, 100.0, 0.3)
     ref = {

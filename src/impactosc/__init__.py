@@ -11,22 +11,24 @@ __version__ = "0.1.0"
 # file of the function it caches, not to the functions it calls in other modules; keying the
 # cache directory on a hash of all of them makes any edit recompile instead of silently
 # reusing stale machine code. An explicit NUMBA_CACHE_DIR is respected.
-CORE_SOURCES = tuple(
-    f"integration/{name}.py"
-    for name in (
-        "layout",
-        "tableau",
-        "model",
-        "dop853",
-        "radau",
-        "events",
-        "sampling",
-        "pieces",
-        "time_pieces",
-        "transformed_pieces",
-        "implicit",
-        "core",
-    )
+CORE_SOURCES = (
+    "model/equations.py",
+    *(
+        f"core/{name}.py"
+        for name in (
+            "layout",
+            "tableau",
+            "dop853",
+            "radau",
+            "events",
+            "sampling",
+            "pieces",
+            "time_pieces",
+            "transformed_pieces",
+            "implicit",
+            "driver",
+        )
+    ),
 )
 
 

@@ -12,7 +12,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from test_sweep_regression import cascade_reading
 
-from impactosc.files import git_commit
+from impactosc.io.files import git_commit
 
 out = Path(__file__).with_name("bifurcation_reference.json")
 ref = {"cascade": cascade_reading(), "written_by": f"tests/data/make_bifurcation_reference.py at commit {git_commit()}"}

@@ -18,9 +18,9 @@ from pathlib import Path
 import numpy as np
 
 from impactosc import __version__
-from impactosc.analysis.chaotic import analyse_train, key_numbers
-from impactosc.analysis.impact_train import AnalysisOptions, ImpactTrain
-from impactosc.integration.simulate import simulate
+from impactosc.core.simulate import simulate
+from impactosc.statistics.impact_train import AnalysisOptions, ImpactTrain
+from impactosc.statistics.train_analysis import analyse_train, key_numbers
 
 OMEGA, TRANSIENT, DURATION = 40.86, 100.0, 100.0
 #: Statistics compared by the test (scalars of key_numbers).

@@ -2,7 +2,7 @@
 
 Run from the repository root: .venv/bin/python tests/data/make_periodic_reference.py [--full]
 The short scenes are those of tests/test_periodic_regression.py (shared through
-impactosc.analysis.periodic / impactosc.analysis.grazing, so the test and this script compute the same thing);
+impactosc.statistics.periodic_train / impactosc.dynamics.grazing, so the test and this script compute the same thing);
 --full also stores the full branch from w = 40.86 (about 40 s) for the slow test.
 """
 
@@ -14,7 +14,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from test_periodic_regression import full_branch, period4_short, short_branch
 
-from impactosc.files import git_commit
+from impactosc.io.files import git_commit
 
 out = Path(__file__).with_name("periodic_reference.json")
 ref = json.loads(out.read_text()) if out.exists() else {}

@@ -1,7 +1,7 @@
 # Basins of attraction at one w (beyond the paper): which reference attractor (the branch's
 # period-1 orbit, the period-3 orbit past the grazing) each initial state (x0, v0) at phase 0
 # settles on, the fractions with their uncertainty, and where rest (0, 0) lies
-# (impactosc.chaos.basins). Targets: basins (coarse grid, in the default build);
+# (impactosc.dynamics.basins). Targets: basins (coarse grid, in the default build);
 # opt-in: basins_fine (the same ranges on a fine grid; the workload for a cluster, docs/workflow.md).
 #
 # As the 2-D map: the grid is split into `chunks` jobs of v0 rows (basins_part, wildcard

@@ -5,7 +5,7 @@
 # opt-in: map2d (w against xI or m0e; the workload for a cluster, see workflow/profiles/slurm).
 #
 # Each sweep is split into `chunks` jobs so that -j2 keeps both cores busy: a cheap coarse
-# sequential pass (every `stride`-th w) seeds the chunks (impactosc.sweeps.continuation), then the chunks
+# sequential pass (every `stride`-th w) seeds the chunks (impactosc.dynamics.sweep), then the chunks
 # run in parallel and are merged. Simulation, reading and plotting are separate rules, so
 # restyling a figure reruns no simulation.
 

@@ -5,7 +5,7 @@
 # The core locates the events during integration, so a run file already is the event
 # file; restyling a figure reruns neither a simulation nor a statistic.
 
-from impactosc.analysis.ensemble import ensemble_runs
+from impactosc.statistics.ensemble import ensemble_runs
 
 CHAOTIC = config["chaotic"]
 CHAOTIC_CAPTIONS = "Chaotic regime (Figs 6-11)"

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import impactosc
 from snakemake.exceptions import WorkflowError
-from impactosc.config import validate_config
+from impactosc_study.config import validate_config
 
 # After validation config["model"] holds exactly the ModelParams fields (model BC's, or those of
 # the model file config model.file), and config["model_source"] says which, for figures and
@@ -102,7 +102,7 @@ def supplementary(group, name):
 
 
 def rows_file(group):
-    """A group's rows of the paper-vs-replication table (impactosc.paper.table format)."""
+    """A group's rows of the paper-vs-replication table (impactosc_study.paper.table format)."""
     return f"results/tables/{group}/paper_rows.csv"
 
 

@@ -2,12 +2,12 @@
 # 8b, 9b and 10 (lower), and a supplementary noise study.
 # Stages: record (the user's CSV, HDF5 or TDMS, read as measured.*.read says, or a surrogate =
 # model sampled like the rig, with sensor noise and a small parameter mismatch, always labelled
-# so) -> event extraction (impactosc.measured.extract, same datasets as a simulation run; Fig 2
+# so) -> event extraction (impactosc.records.extract, same datasets as a simulation run; Fig 2
 # from per-w records or from one slow-sweep record cut by its measured w,
-# impactosc.measured.sweep) -> the chaotic group's statistics and figure rules
+# impactosc.records.sweep_segments) -> the chaotic group's statistics and figure rules
 # (via config chaotic.second_train) and the bifurcation group's Fig 2 (via config
 # bifurcation.fig02.experimental).  Targets: measured_noise_study, measured_rows.
-from impactosc.measured.surrogate import panel_hooked
+from impactosc.records.surrogate import panel_hooked
 
 MEAS = config["measured"]
 MEAS_REPORT = "Measured records (experimental panels)"
@@ -90,7 +90,7 @@ rule measured_fig02_points:
 
 
 # The noise study as parallel jobs: one per noise level (every rate; the same noise draws as
-# the study in one process, impactosc.measured.noise_study), each sampling the rates' clean runs
+# the study in one process, impactosc_study.noise_study), each sampling the rates' clean runs
 # that one job simulates, and one for the sensor-realism rows (its own run, on the finer grid of
 # the anti-aliasing filter), merged into the table and the JSON the figure reads.
 MEAS_NOISE = MEAS["noise_study"]

@@ -4,7 +4,7 @@
 # another method (wp_reference, computed once per scene beside other jobs; wp_measure, one job
 # for the compiled contestants and one for SciPy's); the chaotic statistics against tolerance
 # (wp_statistics); JIT compile time apart (wp_jit); then table, speed ratios and figure.
-# hard_cases: every hard case of impactosc.benchmarks.hardcases at full length, one CSV.
+# hard_cases: every hard case of impactosc_bench.hardcases at full length, one CSV.
 # The compiled contestants' job is a timing job (threads: timing_threads: the whole machine
 # when timing.exclusive is set); SciPy's, 100-1000x slower, is never exclusive.
 WP = config["work_precision"]

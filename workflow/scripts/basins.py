@@ -14,7 +14,7 @@ import logging
 
 import numpy as np
 
-from impactosc.chaos.basins import (
+from impactosc.dynamics.basins import (
     BasinSettings,
     basin_fractions,
     class_names,
@@ -23,9 +23,9 @@ from impactosc.chaos.basins import (
     merge_basins,
     save_basins,
 )
-from impactosc.files import write_csv
-from impactosc.plotting import save_figure
-from impactosc.plotting.basins import basins_figure
+from impactosc.io.files import write_csv
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.basins import basins_figure
 
 COLUMNS = ["class", "name", "n_periods", "impacts", "cells", "fraction", "se", "median_periods", "rest"]
 

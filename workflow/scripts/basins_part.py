@@ -2,7 +2,7 @@
 
 Reads snakemake.params (basins settings, the grid of this target: n_x, n_v, chunks; model,
 solver; part k of chunks); writes snakemake.output.part (HDF5 of those rows,
-impactosc.chaos.basins format: classes, periods run, end states, the reference attractors) and
+impactosc.dynamics.basins format: classes, periods run, end states, the reference attractors) and
 a log with the CPU time.
 """
 
@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 
-from impactosc.chaos.basins import (
+from impactosc.dynamics.basins import (
     BasinGrid,
     BasinSettings,
     basin_fractions,

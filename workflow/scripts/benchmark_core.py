@@ -2,7 +2,7 @@
 
 Reads params bc (config benchmark_core: core rtols, repeats, SciPy rtols, peers, max_error);
 writes snakemake.output.csv (one row per solver and rtol, the same columns for every
-contestant; impactosc.benchmarks.core_speed.measure_core_speed), .headline (the core's fastest run at
+contestant; impactosc_bench.core_speed.measure_core_speed), .headline (the core's fastest run at
 impact-time error <= max_error, the fastest compiled peer and SciPy at the same bound, their
 time ratios; core_speed.core_speed_headline) and .md (both tables, JIT times, the SciPy ratio at each
 rtol, the peers that were skipped).
@@ -15,7 +15,8 @@ configure_logging(snakemake)
 import logging
 import math
 
-from impactosc.benchmarks.core_speed import (
+from impactosc.io.files import read_json, write_table, write_text
+from impactosc_bench.core_speed import (
     CORE,
     DURATION,
     HEADLINE_COLUMNS,
@@ -27,7 +28,6 @@ from impactosc.benchmarks.core_speed import (
     markdown_table,
     measure_core_speed,
 )
-from impactosc.files import read_json, write_table, write_text
 
 
 def scipy_ratios(rows) -> list[str]:

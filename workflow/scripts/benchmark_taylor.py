@@ -2,7 +2,7 @@
 
 Reads params.bt (config benchmark_taylor: rtols, orders, projection_rtol, repeats, inner) and
 input.headline (benchmark_core's headline: the lead over the fastest compiled peer today);
-writes output.csv (one row per piece x method x rtol; impactosc.benchmarks.taylor_pieces.measure)
+writes output.csv (one row per piece x method x rtol; impactosc_bench.taylor_pieces.measure)
 and output.md (the table, the core's time per period projected from the pieces, and a Taylor
 method in time through the friction band).
 """
@@ -14,14 +14,14 @@ configure_logging(snakemake)
 import logging
 import math
 
-from impactosc.benchmarks.taylor_pieces import (
+from impactosc.io.files import read_table, write_table, write_text
+from impactosc_bench.taylor_pieces import (
     core_per_period,
     measure_pieces,
     projection,
     taylor_markdown,
     taylor_through_the_band,
 )
-from impactosc.files import read_table, write_table, write_text
 
 bt = snakemake.params.bt
 if bt["projection_rtol"] not in bt["rtols"]:

@@ -14,7 +14,7 @@ import json
 import logging
 from pathlib import Path
 
-from impactosc.sweeps.continuation import load_sweep
+from impactosc.dynamics.sweep import load_sweep
 
 
 def main(paths, names, out):

@@ -2,7 +2,7 @@
 
 Reads snakemake.params (grid, per-w settings, model, solver, stride, chunking) and, for a
 chunk after the first, snakemake.input.seeds (the coarse pass); writes snakemake.output[0]
-(sweep HDF5, impactosc.sweeps.continuation format, with start/finish times for the benchmark) and a log.
+(sweep HDF5, impactosc.dynamics.sweep format, with start/finish times for the benchmark) and a log.
 """
 
 from _logging import configure_logging
@@ -12,9 +12,9 @@ configure_logging(snakemake)
 import logging
 import time
 
-from impactosc.analysis.grazing import regular_grid
-from impactosc.sweeps.chunks import coarse_pass, plan_chunks, run_chunk
-from impactosc.sweeps.continuation import SweepSettings, load_sweep, save_sweep
+from impactosc.dynamics.grazing import regular_grid
+from impactosc.dynamics.sweep import SweepSettings, load_sweep, save_sweep
+from impactosc.dynamics.sweep_chunks import coarse_pass, plan_chunks, run_chunk
 
 
 def main(params, seeds_path, output):

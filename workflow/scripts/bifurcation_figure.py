@@ -17,9 +17,9 @@ from pathlib import Path
 
 import h5py
 
-from impactosc.plotting import model_label, save_figure
-from impactosc.plotting.bifurcation import fig02_poincare, fig03b_arguments, fig03b_isi, marks_of, overlay_figure
-from impactosc.sweeps.continuation import load_sweep
+from impactosc.dynamics.sweep import load_sweep
+from impactosc_study.figures import model_label, save_figure
+from impactosc_study.figures.bifurcation import fig02_poincare, fig03b_arguments, fig03b_isi, marks_of, overlay_figure
 
 
 def main(inp, params, out):

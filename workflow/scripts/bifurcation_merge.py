@@ -2,7 +2,7 @@
 
 Reads snakemake.input.chunks (chunk sweep files, in order) and snakemake.input.coarse
 (the seeding pass, if the sweep was chunked; only its timing is kept); writes
-snakemake.output.sweep (impactosc.sweeps.continuation format) whose attributes list every job's start,
+snakemake.output.sweep (impactosc.dynamics.sweep format) whose attributes list every job's start,
 finish and number of w values (for the benchmark) and a log.
 """
 
@@ -14,8 +14,8 @@ import logging
 
 import numpy as np
 
-from impactosc.sweeps.chunks import merge_chunks
-from impactosc.sweeps.continuation import load_sweep, save_sweep
+from impactosc.dynamics.sweep import load_sweep, save_sweep
+from impactosc.dynamics.sweep_chunks import merge_chunks
 
 
 def main(chunk_paths, coarse_paths, name, grid, output):

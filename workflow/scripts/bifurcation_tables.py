@@ -12,11 +12,11 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.analysis.bifurcation import differing_windows, read_sweep
-from impactosc.files import read_json, write_csv, write_json
-from impactosc.paper.rows.bifurcation import bifurcation_rows as paper_rows
-from impactosc.paper.table import write_rows
-from impactosc.sweeps.continuation import load_sweep
+from impactosc.dynamics.diagram import differing_windows, read_sweep
+from impactosc.dynamics.sweep import load_sweep
+from impactosc.io.files import read_json, write_csv, write_json
+from impactosc_study.paper.rows.bifurcation import bifurcation_rows as paper_rows
+from impactosc_study.paper.table import write_rows
 
 # Float cells as Python prints them (shortest round-trip form), as these tables always were:
 # their w values are already rounded to 6 decimals by the reading, so no further rounding.

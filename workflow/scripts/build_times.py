@@ -3,7 +3,7 @@
 Reads snakemake.input.benchmarks (the benchmark file of every job of the default build) and
 snakemake.params.largest (how many of the longest jobs to list); writes snakemake.output.csv
 (one row per group and a total: jobs, wall and CPU time, share, longest job) and .md (the same,
-then the longest jobs), with impactosc.build_times.
+then the longest jobs), with impactosc_study.build_times.
 """
 
 from _logging import configure_logging
@@ -12,8 +12,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.build_times import build_times_markdown, group_table, largest_jobs, read_benchmark
-from impactosc.files import write_csv, write_text
+from impactosc.io.files import write_csv, write_text
+from impactosc_study.build_times import build_times_markdown, group_table, largest_jobs, read_benchmark
 
 jobs = [read_benchmark(path) for path in snakemake.input.benchmarks]
 groups = group_table(jobs)

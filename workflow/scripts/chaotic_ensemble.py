@@ -12,10 +12,10 @@ configure_logging(snakemake)
 import logging
 import time
 
-from impactosc.analysis.chaotic import ensemble_members
-from impactosc.analysis.ensemble import ensemble_summary, ensemble_table
-from impactosc.analysis.impact_train import AnalysisOptions
-from impactosc.files import write_csv, write_json
+from impactosc.io.files import write_csv, write_json
+from impactosc.statistics.ensemble import ensemble_summary, ensemble_table
+from impactosc.statistics.impact_train import AnalysisOptions
+from impactosc.statistics.train_analysis import ensemble_members
 
 t0 = time.perf_counter()
 members = ensemble_members(snakemake.input.runs, AnalysisOptions.from_config(snakemake.params.analysis))

@@ -2,7 +2,7 @@
 
 Reads snakemake.input.run (Figs 6, 7: the scene's run file) or snakemake.input.stats
 (Figs 8-11: statistics JSONs, model first, then an optional second train); writes
-snakemake.output.png and .pdf.  All drawing lives in impactosc.plotting.chaotic.
+snakemake.output.png and .pdf.  All drawing lives in impactosc_study.figures.chaotic.
 """
 
 from _logging import configure_logging
@@ -11,8 +11,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.plotting import save_figure
-from impactosc.plotting.chaotic import make_figure
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.chaotic import make_figure
 
 inputs = snakemake.input
 # a Snakemake Namedlist: `in` looks at its values, .keys() at its names

@@ -11,11 +11,11 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.analysis.chaotic import mixture_table
-from impactosc.analysis.spectra import trajectory_spectrum
-from impactosc.files import read_json, read_run, write_csv
-from impactosc.paper.rows.chaotic import chaotic_rows as paper_rows
-from impactosc.paper.table import write_rows
+from impactosc.io.files import read_json, read_run, write_csv
+from impactosc.statistics.spectral_lines import trajectory_spectrum
+from impactosc.statistics.train_analysis import mixture_table
+from impactosc_study.paper.rows.chaotic import chaotic_rows as paper_rows
+from impactosc_study.paper.table import write_rows
 
 model = read_json(snakemake.input.model[0])
 ensemble = read_json(snakemake.input.ensemble)

@@ -1,7 +1,7 @@
 """Statistics of one impact train (model run or measured/surrogate record).
 
 Reads snakemake.input.events (HDF5 run-file contract) and the analysis options in
-snakemake.params.analysis; writes snakemake.output.json (impactosc.analysis.chaotic.analyse_train).
+snakemake.params.analysis; writes snakemake.output.json (impactosc.statistics.train_analysis.analyse_train).
 """
 
 from _logging import configure_logging
@@ -11,9 +11,9 @@ configure_logging(snakemake)
 import logging
 import time
 
-from impactosc.analysis.chaotic import analyse_train
-from impactosc.analysis.impact_train import AnalysisOptions, load_train
-from impactosc.files import write_json
+from impactosc.io.files import write_json
+from impactosc.statistics.impact_train import AnalysisOptions, load_train
+from impactosc.statistics.train_analysis import analyse_train
 
 t0 = time.perf_counter()
 train = load_train(snakemake.input.events, label=snakemake.params.label)

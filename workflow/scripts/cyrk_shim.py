@@ -1,4 +1,4 @@
-"""Build the CyRK shim of the compiled peers once (impactosc.benchmarks.cyrk_shim), before the
+"""Build the CyRK shim of the compiled peers once (impactosc_bench.cyrk_shim), before the
 timing jobs need it. Reads nothing; writes snakemake.output.marker (JSON: built, the seconds it
 took, or why the peers cannot run here: a missing peers extra is a note, not a failure; the
 timing jobs then report the peers as unavailable).
@@ -11,8 +11,8 @@ configure_logging(snakemake)
 import logging
 import time
 
-from impactosc.benchmarks.cyrk_shim import PeerUnavailable, load_cyrk_shim
-from impactosc.files import write_json
+from impactosc.io.files import write_json
+from impactosc_bench.cyrk_shim import PeerUnavailable, load_cyrk_shim
 
 
 def main(marker):

@@ -7,8 +7,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.plotting import save_figure
-from impactosc.plotting.schematic import fig01_rig
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.schematic import fig01_rig
 
 save_figure(fig01_rig(), snakemake.output.png, snakemake.output.pdf)
 logging.info(f"wrote {snakemake.output.png} and {snakemake.output.pdf}")

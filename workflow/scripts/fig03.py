@@ -14,12 +14,12 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 
-from impactosc.files import read_run
-from impactosc.plotting import apply_style, save_figure
-from impactosc.plotting.bifurcation import fig03b_arguments, fig03b_isi
-from impactosc.plotting.periodic import fig03a_impact_construction
-from impactosc.plotting.style import DOUBLE
-from impactosc.sweeps.continuation import load_sweep
+from impactosc.dynamics.sweep import load_sweep
+from impactosc.io.files import read_run
+from impactosc_study.figures import apply_style, save_figure
+from impactosc_study.figures.bifurcation import fig03b_arguments, fig03b_isi
+from impactosc_study.figures.periodic import fig03a_impact_construction
+from impactosc_study.figures.style import DOUBLE
 
 
 def main(inp, params, out):

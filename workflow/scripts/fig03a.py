@@ -10,9 +10,9 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import read_run
-from impactosc.plotting import save_figure
-from impactosc.plotting.periodic import fig03a_impact_construction
+from impactosc.io.files import read_run
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.periodic import fig03a_impact_construction
 
 events, attrs, traj = read_run(snakemake.input.run)
 if traj is None:

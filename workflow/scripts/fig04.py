@@ -12,9 +12,9 @@ configure_logging(snakemake)
 import json
 import logging
 
-from impactosc.files import read_run
-from impactosc.plotting import save_figure
-from impactosc.plotting.periodic import fig04_grazing_portraits
+from impactosc.io.files import read_run
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.periodic import fig04_grazing_portraits
 
 with open(snakemake.input.spectrum) as f:
     spectrum = json.load(f)

@@ -13,9 +13,9 @@ import logging
 
 import numpy as np
 
-from impactosc.files import read_run
-from impactosc.plotting import save_figure
-from impactosc.plotting.periodic import fig05_impact_map
+from impactosc.io.files import read_run
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.periodic import fig05_impact_map
 
 events, attrs, _ = read_run(snakemake.input.run)
 with open(snakemake.input.stats) as f:

@@ -10,8 +10,8 @@ configure_logging(snakemake)
 import json
 import logging
 
-from impactosc.plotting import save_figure
-from impactosc.plotting.periodic import grazing_evidence
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.periodic import grazing_evidence
 
 with open(snakemake.input.stats) as f:
     stats = json.load(f)

@@ -11,8 +11,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.analysis.grazing import grazing_summary_file
-from impactosc.files import write_json
+from impactosc.dynamics.grazing import grazing_summary_file
+from impactosc.io.files import write_json
 
 write_json(
     snakemake.output.stats,

@@ -2,7 +2,7 @@
 
 Reads snakemake.params (model, the hard_cases config); writes snakemake.output.csv (one row
 per check: case, check, measured, bound, unit, passed, detail; see
-impactosc.benchmarks.hardcases.run_all) and a log of every measurement.
+impactosc_bench.hardcases.run_all) and a log of every measurement.
 """
 
 from _logging import configure_logging
@@ -11,8 +11,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.benchmarks.hardcases import run_all
-from impactosc.files import write_table
+from impactosc.io.files import write_table
+from impactosc_bench.hardcases import run_all
 
 
 def main(hc, out):

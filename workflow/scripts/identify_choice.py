@@ -10,8 +10,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import read_json, write_table, write_text
 from impactosc.identification.choice import choice_markdown, rank
+from impactosc.io.files import read_json, write_table, write_text
 
 rows = rank([read_json(path)["row"] for path in snakemake.input.parts])
 write_table(snakemake.output.csv, rows, sources=list(snakemake.input.parts))

@@ -11,9 +11,9 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import write_json
 from impactosc.identification.choice import candidates, fit_candidate
 from impactosc.identification.report import configured_inputs
+from impactosc.io.files import write_json
 
 p = snakemake.params
 g = p.identification

@@ -10,8 +10,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import read_json, write_table, write_text
-from impactosc.identification.coverage import coverage_markdown, coverage_table
+from impactosc.io.files import read_json, write_table, write_text
+from impactosc_study.identification_coverage import coverage_markdown, coverage_table
 
 draws = [row for path in snakemake.input.parts for row in read_json(path)["draws"]]
 table = coverage_table(draws)

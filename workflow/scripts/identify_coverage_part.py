@@ -1,7 +1,7 @@
 """One part of the identification coverage study: draws part, part + parts, ... of the seeds.
 
 Reads snakemake.params.coverage (identification.coverage) and wildcards.part; writes
-snakemake.output.json with one row per draw (impactosc.identification.coverage.identification_draw).
+snakemake.output.json with one row per draw (impactosc_study.identification_coverage.identification_draw).
 """
 
 from _logging import configure_logging
@@ -12,8 +12,8 @@ import logging
 
 import numpy as np
 
-from impactosc.files import write_json
-from impactosc.identification.coverage import identification_draw
+from impactosc.io.files import write_json
+from impactosc_study.identification_coverage import identification_draw
 
 c = snakemake.params.coverage
 part = int(snakemake.wildcards.part)

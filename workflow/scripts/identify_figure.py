@@ -2,7 +2,7 @@
 
 Reads snakemake.input.windows (impactosc.identification.report.write_fit_windows) and
 snakemake.input.csv (the parameter table); writes snakemake.output.png and .pdf (drawing in
-impactosc.plotting.identification).
+impactosc_study.figures.identification).
 """
 
 from _logging import configure_logging
@@ -11,10 +11,10 @@ configure_logging(snakemake)
 
 import math
 
-from impactosc.files import read_table
 from impactosc.identification.report import read_fit_windows
-from impactosc.plotting import save_figure
-from impactosc.plotting.identification import identification_figure
+from impactosc.io.files import read_table
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.identification import identification_figure
 
 win = read_fit_windows(snakemake.input.windows)
 rows = read_table(snakemake.input.csv)

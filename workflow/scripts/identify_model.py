@@ -3,7 +3,7 @@
 Reads snakemake.input.records (record files or record sets; read as params.identification.read
 says), params.identification (mass, stages), params.model (the stated model: start of nothing but
 the fixed values and m), params.solver; writes snakemake.output.model (the model file,
-impactosc.model_file), .windows (fitted windows for the figure), .csv and .md (parameter table).
+impactosc.model.model_file), .windows (fitted windows for the figure), .csv and .md (parameter table).
 """
 
 from _logging import configure_logging
@@ -12,7 +12,6 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import write_table, write_text
 from impactosc.identification import identify
 from impactosc.identification.report import (
     configured_inputs,
@@ -21,6 +20,7 @@ from impactosc.identification.report import (
     write_fit_windows,
     write_identified_model,
 )
+from impactosc.io.files import write_table, write_text
 
 p = snakemake.params
 g = p.identification

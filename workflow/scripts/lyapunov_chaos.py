@@ -12,10 +12,10 @@ import logging
 
 import numpy as np
 
-from impactosc.chaos.lyapunov import kaplan_yorke
-from impactosc.files import read_json, write_json, write_text
-from impactosc.plotting import save_figure
-from impactosc.plotting.lyapunov import convergence_figure
+from impactosc.dynamics.lyapunov import kaplan_yorke
+from impactosc.io.files import read_json, write_json, write_text
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.lyapunov import convergence_figure
 
 
 def main(inp, out):

@@ -16,10 +16,10 @@ import time
 
 import numpy as np
 
-from impactosc.chaos.lyapunov import RTOL, STEP, exponents_along
-from impactosc.files import read_json, write_json
-from impactosc.integration.model import ModelParams
-from impactosc.periodic_orbits.variational import variational_monodromy
+from impactosc.dynamics.lyapunov import RTOL, STEP, exponents_along
+from impactosc.dynamics.variational import variational_monodromy
+from impactosc.io.files import read_json, write_json
+from impactosc.model.equations import ModelParams
 
 
 def main(inp, params, out):

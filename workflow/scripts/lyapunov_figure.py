@@ -11,10 +11,10 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import read_csv
-from impactosc.plotting import save_figure
-from impactosc.plotting.lyapunov import diagram_with_exponent
-from impactosc.sweeps.continuation import load_sweep
+from impactosc.dynamics.sweep import load_sweep
+from impactosc.io.files import read_csv
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.lyapunov import diagram_with_exponent
 
 
 def main(inp, params, out):

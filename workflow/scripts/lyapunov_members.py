@@ -15,9 +15,9 @@ configure_logging(snakemake)
 import logging
 import time
 
-from impactosc.chaos.lyapunov import lyapunov_spectrum, settle
-from impactosc.files import write_json
-from impactosc.integration.model import ModelParams
+from impactosc.dynamics.lyapunov import lyapunov_spectrum, settle
+from impactosc.io.files import write_json
+from impactosc.model.equations import ModelParams
 
 
 def run_member(c: dict, model: ModelParams, x0: float, output: str) -> None:

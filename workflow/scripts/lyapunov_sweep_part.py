@@ -15,10 +15,10 @@ import time
 
 import numpy as np
 
-from impactosc.chaos.lyapunov import largest_exponent
-from impactosc.files import write_csv
-from impactosc.integration.model import ModelParams
-from impactosc.sweeps.continuation import load_sweep
+from impactosc.dynamics.lyapunov import largest_exponent
+from impactosc.dynamics.sweep import load_sweep
+from impactosc.io.files import write_csv
+from impactosc.model.equations import ModelParams
 
 
 def main(inp, params, out):

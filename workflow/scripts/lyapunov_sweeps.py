@@ -10,8 +10,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.chaos.reading import sign_agreement, summarise_agreement
-from impactosc.files import read_csv, read_json, write_csv, write_text
+from impactosc.dynamics.lyapunov_reading import sign_agreement, summarise_agreement
+from impactosc.io.files import read_csv, read_json, write_csv, write_text
 
 
 def main(inp, params, out):

@@ -10,9 +10,9 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.plotting import save_figure
-from impactosc.plotting.bifurcation import map2d_figure
-from impactosc.sweeps.maps import load_map, merge_maps, save_map
+from impactosc.dynamics.maps import load_map, merge_maps, save_map
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.bifurcation import map2d_figure
 
 UNITS = {"xI": (1e3, "mm"), "m0e": (1e3, "g m")}
 

@@ -11,12 +11,12 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import read_json, write_csv, write_text
-from impactosc.paper.table import to_markdown
-from impactosc.periodic_orbits.two_parameter_map import SEPARATION_COLUMNS, UNITS, separation
-from impactosc.plotting import save_figure
-from impactosc.plotting.bifurcation import map2d_curves_figure
-from impactosc.sweeps.maps import load_map
+from impactosc.dynamics.maps import load_map
+from impactosc.dynamics.two_parameter_map import SEPARATION_COLUMNS, UNITS, separation
+from impactosc.io.files import read_json, write_csv, write_text
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.bifurcation import map2d_curves_figure
+from impactosc_study.paper.table import to_markdown
 
 
 def main(inp, params, out):

@@ -1,7 +1,7 @@
 """One job of the 2-D map: a group of rows (parameter values), each a continuation in w.
 
 Reads snakemake.params (map settings, per-w settings, model, solver, reading, part k of
-n); writes snakemake.output.part (map HDF5 of those rows, impactosc.sweeps.maps format) and a log.
+n); writes snakemake.output.part (map HDF5 of those rows, impactosc.dynamics.maps format) and a log.
 """
 
 from _logging import configure_logging
@@ -13,10 +13,10 @@ import time
 
 import numpy as np
 
-from impactosc.analysis.bifurcation import classify_sweep
-from impactosc.analysis.grazing import regular_grid
-from impactosc.sweeps.continuation import SweepSettings, parameter_rows
-from impactosc.sweeps.maps import MapResult, save_map
+from impactosc.dynamics.diagram import classify_sweep
+from impactosc.dynamics.grazing import regular_grid
+from impactosc.dynamics.maps import MapResult, save_map
+from impactosc.dynamics.sweep import SweepSettings, parameter_rows
 
 
 def main(params, output):

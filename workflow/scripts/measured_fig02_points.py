@@ -1,11 +1,11 @@
 """Measured Poincare points for the Fig 2 left panel: per-w records, or one slow-sweep record.
 
-Reads snakemake.input.records: a record set (HDF5 or CSV manifest, impactosc.measured.record_files),
+Reads snakemake.input.records: a record set (HDF5 or CSV manifest, impactosc.records.files),
 or, when snakemake.params.segments is set (config measured.fig02.sweep_record), one record of
 a slow sweep of w with an encoder phase (read as snakemake.params.reader says), cut into
-segments of quasi-constant measured w (impactosc.measured.sweep).  Writes
+segments of quasi-constant measured w (impactosc.records.sweep_segments).  Writes
 snakemake.output.points, HDF5 with flat datasets omega (rad/s) and x (m) (plus the segment
-datasets of a sweep), stamped with units and provenance (impactosc.files.stamp_h5).
+datasets of a sweep), stamped with units and provenance (impactosc.io.files.stamp_h5).
 """
 
 from _logging import configure_logging
@@ -16,10 +16,10 @@ import logging
 
 import h5py
 
-from impactosc.files import atomic_write, check_writable, stamp_h5
-from impactosc.measured.poincare import record_set_poincare
-from impactosc.measured.record_files import read_record, read_record_set
-from impactosc.measured.sweep import sweep_segments, write_sweep_points
+from impactosc.io.files import atomic_write, check_writable, stamp_h5
+from impactosc.records.files import read_record, read_record_set
+from impactosc.records.poincare import record_set_poincare
+from impactosc.records.sweep_segments import sweep_segments, write_sweep_points
 
 p = snakemake.params
 if p.segments:

@@ -1,7 +1,7 @@
 """Each sampling rate's clean run of the noise study (rule measured_noise_clean).
 
 Reads snakemake.params (rates; surrogate: chaos scene, mismatch; model, solver); writes one run
-file per rate to snakemake.output.runs, in the order of the rates (impactosc.files run files:
+file per rate to snakemake.output.runs, in the order of the rates (impactosc.io.files run files:
 the exact events and the trajectory on the rate's sampling grid, not compressed: temporary
 files that every noise level's job reads, measured_noise_level.py, instead of simulating them).
 """
@@ -13,9 +13,9 @@ configure_logging(snakemake)
 import logging
 import time
 
-from impactosc.files import write_run
-from impactosc.integration.model import ModelParams
-from impactosc.measured.noise_study import clean_runs
+from impactosc.io.files import write_run
+from impactosc.model.equations import ModelParams
+from impactosc_study.noise_study import clean_runs
 
 p = snakemake.params
 c = p.surrogate["chaos"]

@@ -1,7 +1,7 @@
 """Draw the noise-study figure.
 
-Reads snakemake.input.json (rows of impactosc.measured.noise_study.noise_study); writes
-snakemake.output.png and .pdf (drawing in impactosc.plotting.measured).
+Reads snakemake.input.json (rows of impactosc_study.noise_study.noise_study); writes
+snakemake.output.png and .pdf (drawing in impactosc_study.figures.measured).
 """
 
 from _logging import configure_logging
@@ -10,9 +10,9 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import read_json
-from impactosc.plotting import save_figure
-from impactosc.plotting.measured import noise_study_figure
+from impactosc.io.files import read_json
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.measured import noise_study_figure
 
 rows = read_json(snakemake.input.json)["rows"]
 fig = noise_study_figure(rows, snakemake.params.density_rate)

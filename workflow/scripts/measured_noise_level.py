@@ -15,10 +15,10 @@ configure_logging(snakemake)
 import logging
 import time
 
-from impactosc.analysis.impact_train import AnalysisOptions
-from impactosc.files import read_run, write_csv, write_json
-from impactosc.integration.model import ModelParams
-from impactosc.measured.noise_study import TABLE_COLUMNS, noise_level_rows
+from impactosc.io.files import read_run, write_csv, write_json
+from impactosc.model.equations import ModelParams
+from impactosc.statistics.impact_train import AnalysisOptions
+from impactosc_study.noise_study import TABLE_COLUMNS, noise_level_rows
 
 p = snakemake.params
 c = p.surrogate["chaos"]

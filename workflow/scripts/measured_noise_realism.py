@@ -12,9 +12,9 @@ configure_logging(snakemake)
 import logging
 import time
 
-from impactosc.files import write_csv, write_json
-from impactosc.integration.model import ModelParams
-from impactosc.measured.noise_study import TABLE_COLUMNS, realism_rows
+from impactosc.io.files import write_csv, write_json
+from impactosc.model.equations import ModelParams
+from impactosc_study.noise_study import TABLE_COLUMNS, realism_rows
 
 p = snakemake.params
 c = p.surrogate["chaos"]

@@ -5,7 +5,7 @@ Reads snakemake.input.level_json and .level_csv (the rows of each noise level, i
 the levels), .realism_json and .realism_csv (the sensor-realism rows; empty when none are
 configured) and snakemake.params.rates; writes snakemake.output.csv (one row per rate x noise x
 extraction method, then one per sensor-realism case) and .json (the same rows with ISI kernel
-densities, for the figure), in the order impactosc.measured.noise_study.noise_study gives them.
+densities, for the figure), in the order impactosc_study.noise_study.noise_study gives them.
 The table's cells are copied as the parts wrote them, so each number is formatted once.
 """
 
@@ -15,8 +15,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import read_csv, read_json, write_csv, write_json
-from impactosc.measured.noise_study import TABLE_COLUMNS, merge_levels
+from impactosc.io.files import read_csv, read_json, write_csv, write_json
+from impactosc_study.noise_study import TABLE_COLUMNS, merge_levels
 
 i = snakemake.input
 n_rates = len(snakemake.params.rates)

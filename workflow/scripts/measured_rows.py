@@ -10,9 +10,9 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import read_json
-from impactosc.paper.rows.measured import measured_rows
-from impactosc.paper.table import write_rows
+from impactosc.io.files import read_json
+from impactosc_study.paper.rows.measured import measured_rows
+from impactosc_study.paper.table import write_rows
 
 rows = measured_rows(
     read_json(snakemake.input.second[0]),

@@ -1,7 +1,7 @@
 """Merge the coverage study's noise levels (rule measured_x_impact_coverage).
 
 Reads snakemake.input.parts (JSON draws per noise level); writes snakemake.output.csv (one
-row per level: impactosc.measured.coverage.coverage_summary) and .draws (every draw).
+row per level: impactosc_study.obstacle_coverage.coverage_summary) and .draws (every draw).
 """
 
 from _logging import configure_logging
@@ -10,8 +10,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import read_json, write_csv
-from impactosc.measured.coverage import coverage_summary
+from impactosc.io.files import read_json, write_csv
+from impactosc_study.obstacle_coverage import coverage_summary
 
 levels = [read_json(path)["draws"] for path in snakemake.input.parts]
 summaries = [coverage_summary(rows) for rows in levels]

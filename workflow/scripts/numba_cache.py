@@ -1,7 +1,7 @@
 """Compile the numba core once into the shared cache before parallel jobs start.
 
 Reads nothing; writes snakemake.output.marker (JSON): the seconds it took, timed as
-impactosc.benchmarks.core_speed.JIT_PROBE times them (import, then compile or load), and
+impactosc_bench.core_speed.JIT_PROBE times them (import, then compile or load), and
 whether the core was compiled (an empty cache: that is the cold JIT time, which wp_jit
 then reports instead of compiling a second time) or loaded from the cache.
 """
@@ -17,9 +17,9 @@ configure_logging(globals().get("snakemake"))  # None when run by hand
 import logging
 import sys
 
-from impactosc.files import write_json
-from impactosc.integration.core import run
-from impactosc.integration.simulate import warm_up
+from impactosc.core.driver import run
+from impactosc.core.simulate import warm_up
+from impactosc.io.files import write_json
 
 
 def main(marker: str) -> None:

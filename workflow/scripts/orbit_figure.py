@@ -11,10 +11,10 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import read_json
-from impactosc.plotting import save_figure
-from impactosc.plotting.orbits import orbit_figure
-from impactosc.sweeps.continuation import load_sweep
+from impactosc.dynamics.sweep import load_sweep
+from impactosc.io.files import read_json
+from impactosc_study.figures import save_figure
+from impactosc_study.figures.orbits import orbit_figure
 
 
 def main(inp, params, out):

@@ -13,9 +13,9 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import read_json, write_json
-from impactosc.integration.model import ModelParams
-from impactosc.periodic_orbits.segments import seed_from_rest, trace_segment
+from impactosc.dynamics.branch_segments import seed_from_rest, trace_segment
+from impactosc.io.files import read_json, write_json
+from impactosc.model.equations import ModelParams
 
 NEAR = 0.5  # rad/s: a parent's doubling farther than this from `near` is not the one meant
 

@@ -12,10 +12,10 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import read_csv, read_json, write_csv, write_text
-from impactosc.paper.rows.bifurcation import orbit_rows
-from impactosc.paper.table import to_markdown, write_rows
-from impactosc.periodic_orbits.table import bifurcation_table, cascade_chain, chain_ratios, multipliers_text
+from impactosc.dynamics.orbit_table import bifurcation_table, cascade_chain, chain_ratios, multipliers_text
+from impactosc.io.files import read_csv, read_json, write_csv, write_text
+from impactosc_study.paper.rows.bifurcation import orbit_rows
+from impactosc_study.paper.table import to_markdown, write_rows
 
 
 def period1_grazings(segments):

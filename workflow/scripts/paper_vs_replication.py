@@ -8,7 +8,7 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.paper.table import merge_tables
+from impactosc_study.paper.table import merge_tables
 
 out = snakemake.output
 rows = merge_tables(snakemake.input.rows, out.csv, out.md, out.html, model=snakemake.params.model["description"])

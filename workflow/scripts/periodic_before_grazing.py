@@ -11,11 +11,11 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.analysis.periodic import branch_state
-from impactosc.files import write_run
-from impactosc.integration.model import ModelParams
-from impactosc.integration.simulate import Window, simulate
-from impactosc.sweeps.continuation import load_sweep
+from impactosc.core.simulate import Window, simulate
+from impactosc.dynamics.sweep import load_sweep
+from impactosc.io.files import write_run
+from impactosc.model.equations import ModelParams
+from impactosc.statistics.periodic_train import branch_state
 
 
 def main(branch: str, scene: dict, model: dict, solver: dict, out: str):

@@ -1,7 +1,7 @@
 """Follow the attractor with decreasing w and bracket the grazing w by bisection.
 
 Reads snakemake.params (branch grid and lengths, grazing tolerance, model, solver); writes
-snakemake.output.branch (sweep HDF5, impactosc.sweeps.continuation format, branch order) and
+snakemake.output.branch (sweep HDF5, impactosc.dynamics.sweep format, branch order) and
 snakemake.output.bisection (JSON: the bracket and every bisection trial), and a log.
 """
 
@@ -11,10 +11,10 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.analysis.grazing import branch_grid, locate_grazing
-from impactosc.files import write_json
-from impactosc.integration.model import ModelParams
-from impactosc.sweeps.continuation import SweepSettings, continuation, save_sweep
+from impactosc.dynamics.grazing import branch_grid, locate_grazing
+from impactosc.dynamics.sweep import SweepSettings, continuation, save_sweep
+from impactosc.io.files import write_json
+from impactosc.model.equations import ModelParams
 
 
 def main(branch: dict, grazing: dict, model: dict, solver: dict, out_branch: str, out_bisection: str):

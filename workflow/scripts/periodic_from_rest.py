@@ -1,7 +1,7 @@
 """Run every w of a grid from rest (x = v = 0 at t = 0) around the grazing.
 
 Reads snakemake.params (from_rest grid and transient, branch record length, model,
-solver); writes snakemake.output.sweep (sweep HDF5, impactosc.sweeps.continuation format) and a log.
+solver); writes snakemake.output.sweep (sweep HDF5, impactosc.dynamics.sweep format) and a log.
 """
 
 from _logging import configure_logging
@@ -10,9 +10,9 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.analysis.grazing import regular_grid, scan_from_rest
-from impactosc.integration.model import ModelParams
-from impactosc.sweeps.continuation import SweepSettings, save_sweep
+from impactosc.dynamics.grazing import regular_grid, scan_from_rest
+from impactosc.dynamics.sweep import SweepSettings, save_sweep
+from impactosc.model.equations import ModelParams
 
 
 def main(scan: dict, n_record: int, model: dict, solver: dict, out: str):

@@ -2,7 +2,7 @@
 
 Reads snakemake.input.stats (results/stats/periodic/periodic.json), .before
 (results/stats/periodic/before_grazing.json) and .grazing
-(results/stats/periodic/grazing.json); writes snakemake.output.rows (CSV, impactosc.paper.table format).
+(results/stats/periodic/grazing.json); writes snakemake.output.rows (CSV, impactosc_study.paper.table format).
 """
 
 from _logging import configure_logging
@@ -12,8 +12,8 @@ configure_logging(snakemake)
 import json
 import logging
 
-from impactosc.paper.rows.periodic import periodic_rows as table_rows
-from impactosc.paper.table import write_rows
+from impactosc_study.paper.rows.periodic import periodic_rows as table_rows
+from impactosc_study.paper.table import write_rows
 
 with open(snakemake.input.stats) as f:
     stats = json.load(f)

@@ -2,7 +2,7 @@
 
 Reads every snakemake.input (run files; the input names become the keys of the output) and
 snakemake.params.spectrum (peak-finder options); writes snakemake.output.stats (JSON of
-impactosc.analysis.periodic.run_summary per input) and, when params.spectrum_of names an input,
+impactosc.statistics.periodic_train.run_summary per input) and, when params.spectrum_of names an input,
 snakemake.output.spectrum (its spectrum of x with lines and labels, JSON; Fig 4c).
 """
 
@@ -12,8 +12,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.analysis.periodic import run_summary
-from impactosc.files import write_json
+from impactosc.io.files import write_json
+from impactosc.statistics.periodic_train import run_summary
 
 opts = snakemake.params.spectrum
 spectrum_of = snakemake.params.get("spectrum_of")

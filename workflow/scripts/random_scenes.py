@@ -11,8 +11,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.benchmarks.random_scenes import BOUND, BOUND_X, summarise_scenes
-from impactosc.files import read_csv, write_csv, write_text
+from impactosc.io.files import read_csv, write_csv, write_text
+from impactosc_bench.random_scenes import BOUND, BOUND_X, summarise_scenes
 
 rows = [r for path in snakemake.input.parts for r in read_csv(path, numbers=True)]
 for r in rows:

@@ -11,8 +11,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.benchmarks.random_scenes import compare_scene, draw_scene
-from impactosc.files import write_csv
+from impactosc.io.files import write_csv
+from impactosc_bench.random_scenes import compare_scene, draw_scene
 
 rs = snakemake.params.rs
 part = int(snakemake.wildcards.part)

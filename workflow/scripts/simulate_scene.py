@@ -12,9 +12,9 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import write_run
-from impactosc.integration.model import ModelParams
-from impactosc.integration.simulate import Window, simulate
+from impactosc.core.simulate import Window, simulate
+from impactosc.io.files import write_run
+from impactosc.model.equations import ModelParams
 
 
 def run_scene(model: dict, solver: dict, scene: dict, output: str) -> None:

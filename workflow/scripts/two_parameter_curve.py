@@ -14,9 +14,9 @@ configure_logging(snakemake)
 import logging
 import time
 
-from impactosc.files import read_json, write_json
-from impactosc.integration.model import ModelParams
-from impactosc.periodic_orbits.two_parameter import CurveProblem, curve_record, start_point, trace_curve
+from impactosc.dynamics.two_parameter import CurveProblem, curve_record, start_point, trace_curve
+from impactosc.io.files import read_json, write_json
+from impactosc.model.equations import ModelParams
 
 NEAR = 0.5  # rad/s: a located point farther than this from `near` is not the one meant
 

@@ -11,15 +11,15 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import read_json, write_csv, write_text
-from impactosc.paper.table import to_markdown
-from impactosc.periodic_orbits.two_parameter_map import (
+from impactosc.dynamics.two_parameter_map import (
     CODIM_COLUMNS,
     POINT_COLUMNS,
     codim_two_rows,
     point_rows,
     summary_rows,
 )
+from impactosc.io.files import read_json, write_csv, write_text
+from impactosc_study.paper.table import to_markdown
 
 
 def _md(rows, empty, columns=None):

@@ -12,11 +12,11 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.benchmarks.speed_at_error import speed_at_error_headline
-from impactosc.benchmarks.tolerance_statistics import statistics_summary
-from impactosc.files import read_json, read_table, write_table
-from impactosc.plotting import save_figure
-from impactosc.plotting.work_precision import plot_work_precision
+from impactosc.io.files import read_json, read_table, write_table
+from impactosc_bench.speed_at_error import speed_at_error_headline
+from impactosc_bench.tolerance_statistics import statistics_summary
+from impactosc_bench.work_precision_figure import plot_work_precision
+from impactosc_study.figures import save_figure
 
 
 def _stats_rows(rows):

@@ -12,8 +12,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.benchmarks.core_speed import jit_times
-from impactosc.files import read_json, write_json
+from impactosc.io.files import read_json, write_json
+from impactosc_bench.core_speed import jit_times
 
 
 def main(cold, marker, out):

@@ -8,7 +8,7 @@ snakemake.params (model, the work_precision config, the scene's name and entry);
 writes snakemake.output.csv (one row per solver and tolerance: wall time, RHS evaluations,
 errors against the reference, for the core and the peers the 500 s attractor check; a row
 per peer that is not installed and heyoka's free-flight floor; see
-impactosc.benchmarks.workprecision.sweep_case) and a log.
+impactosc_bench.workprecision.sweep_case) and a log.
 """
 
 from _logging import configure_logging
@@ -18,11 +18,11 @@ configure_logging(snakemake)
 import logging
 import math
 
-from impactosc.benchmarks.workprecision import Case, sweep_case
-from impactosc.benchmarks.wp_attractor import known_long_runs
-from impactosc.benchmarks.wp_solvers import CORE, peer_solvers
-from impactosc.files import read_json, read_table, write_table
-from impactosc.integration.model import ModelParams
+from impactosc.io.files import read_json, read_table, write_table
+from impactosc.model.equations import ModelParams
+from impactosc_bench.workprecision import Case, sweep_case
+from impactosc_bench.wp_attractor import known_long_runs
+from impactosc_bench.wp_solvers import CORE, peer_solvers
 
 
 def main(model, wp, name, contestants, entry, reference, benchmark, out):

@@ -2,7 +2,7 @@
 primary and check reference runs from each, and the reference uncertainty.
 
 Reads snakemake.params (model, the scene's entry, work_precision.reference); writes
-snakemake.output.json (impactosc.benchmarks.workprecision.reference_set), which
+snakemake.output.json (impactosc_bench.workprecision.reference_set), which
 wp_measure measures every contestant against. Not a timing rule: it runs beside other jobs.
 """
 
@@ -13,9 +13,9 @@ configure_logging(snakemake)
 import logging
 import time
 
-from impactosc.benchmarks.workprecision import Case, reference_set
-from impactosc.files import write_json
-from impactosc.integration.model import ModelParams
+from impactosc.io.files import write_json
+from impactosc.model.equations import ModelParams
+from impactosc_bench.workprecision import Case, reference_set
 
 
 def main(model, name, entry, ref, out):

@@ -1,7 +1,7 @@
 """Rows of the paper-vs-replication table from the hard cases and the work-precision run.
 
 Reads snakemake.input (hard_cases.csv, the statistics summary and the speed headline);
-writes snakemake.output.rows (impactosc.paper.table.write_rows format).
+writes snakemake.output.rows (impactosc_study.paper.table.write_rows format).
 """
 
 from _logging import configure_logging
@@ -10,9 +10,9 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.files import read_table
-from impactosc.paper.rows.numerics import numerics_rows as paper_rows
-from impactosc.paper.table import write_rows
+from impactosc.io.files import read_table
+from impactosc_study.paper.rows.numerics import numerics_rows as paper_rows
+from impactosc_study.paper.table import write_rows
 
 
 def main(hard, summary, headline, out, command):

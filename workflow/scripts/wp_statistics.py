@@ -2,7 +2,7 @@
 
 Reads snakemake.params (model, the chaotic scene, work_precision.statistics, atol ratio,
 the chaotic group's analysis options); writes snakemake.output.csv (rows of kind "sweep"
-and "ensemble", see impactosc.benchmarks.tolerance_statistics.statistics_convergence) and a log.
+and "ensemble", see impactosc_bench.tolerance_statistics.statistics_convergence) and a log.
 """
 
 from _logging import configure_logging
@@ -11,10 +11,10 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.analysis.impact_train import AnalysisOptions
-from impactosc.benchmarks.tolerance_statistics import statistics_convergence
-from impactosc.files import write_table
-from impactosc.integration.model import ModelParams
+from impactosc.io.files import write_table
+from impactosc.model.equations import ModelParams
+from impactosc.statistics.impact_train import AnalysisOptions
+from impactosc_bench.tolerance_statistics import statistics_convergence
 
 
 def main(model, scene, stats, atol_ratio, analysis, out):

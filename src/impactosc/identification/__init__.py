@@ -2,7 +2,7 @@
 
 Where each piece lives: :mod:`.parameters` (what is fitted, per unit mass), :mod:`.windows`
 (records cut into the windows of multiple shooting, the forcing's phase of each),
-:mod:`.shooting` (the core's prediction of every window and its sensitivities),
+:mod:`.window_predictions` (the core's prediction of every window and its sensitivities),
 :mod:`.least_squares` (Levenberg-Marquardt with each window's state eliminated),
 :mod:`.start` (start values from the contact fit and the free flight), :mod:`.identify` (the
 driver), :mod:`.choice` (which contact law and friction the records support) and

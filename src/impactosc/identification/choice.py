@@ -25,10 +25,10 @@ import numpy as np
 from impactosc.identification.identify import STAGES, identify
 from impactosc.identification.least_squares import fit_states
 from impactosc.identification.parameters import NAMES
-from impactosc.identification.shooting import Predictor
 from impactosc.identification.start import start_values
+from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import cut_windows, split_held_out
-from impactosc.integration.model import ModelParams, UntestedParameterWarning
+from impactosc.model.equations import ModelParams, UntestedParameterWarning
 
 __all__ = ["CONTACT_LAWS", "FRICTION", "candidates", "fit_candidate", "rank", "choose_model", "choice_markdown"]
 
@@ -61,7 +61,7 @@ def candidates() -> list[tuple[str, str]]:
 
 def fit_candidate(records, law, friction, *, base=None, start=None, every=4, stages=STAGES, rtol=1e-10, progress=None):
     """One candidate fitted on the records' windows outside the held-out blocks: its row."""
-    from impactosc.measured.sample_fits import estimate_noise
+    from impactosc.records.sample_fits import estimate_noise
 
     base = base or ModelParams()
     if start is None:
@@ -121,7 +121,7 @@ def choose_model(
     records, *, base: ModelParams | None = None, every: int = 4, stages=STAGES, rtol: float = 1e-10, progress=None
 ):
     """Fit every (contact law, friction) candidate; one row each, best BIC first (:func:`rank`)."""
-    from impactosc.measured.sample_fits import estimate_noise
+    from impactosc.records.sample_fits import estimate_noise
 
     records = list(records)
     say = progress or (lambda msg: None)

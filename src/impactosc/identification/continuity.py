@@ -28,7 +28,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from impactosc.identification.least_squares import FitResult, _window_rss
-from impactosc.identification.shooting import Predictor
+from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import WindowSet
 
 __all__ = ["links", "fit_continuous", "GAP_LIMIT"]

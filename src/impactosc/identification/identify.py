@@ -26,11 +26,11 @@ import numpy as np
 from impactosc.identification.continuity import fit_continuous, links
 from impactosc.identification.least_squares import FitResult, carried_states, fit, fit_states
 from impactosc.identification.parameters import LOWER, NAMES, UNITS, UPPER, params_of, theta_of
-from impactosc.identification.shooting import Predictor
 from impactosc.identification.start import start_values
+from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import WindowSet, check_forcing_phase, cut_windows
-from impactosc.integration.model import ModelParams
-from impactosc.measured.sample_fits import estimate_noise
+from impactosc.model.equations import ModelParams
+from impactosc.records.sample_fits import estimate_noise
 
 __all__ = ["Identification", "identify", "STAGES", "UNPINNED"]
 

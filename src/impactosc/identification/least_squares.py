@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from impactosc.identification.shooting import STATE_STEPS, Predictor
+from impactosc.identification.window_predictions import STATE_STEPS, Predictor
 
 __all__ = ["FitResult", "carried_states", "fit_states", "fit"]
 

@@ -17,8 +17,8 @@ import dataclasses
 
 import numpy as np
 
-from impactosc.integration.layout import P_B, P_C, P_K, P_KI, P_M0E, P_N3, P_T, P_XI
-from impactosc.integration.model import ModelParams
+from impactosc.core.layout import P_B, P_C, P_K, P_KI, P_M0E, P_N3, P_T, P_XI
+from impactosc.model.equations import ModelParams
 
 __all__ = [
     "NAMES",

@@ -2,7 +2,7 @@
 
 Why here and not in the driver: the fit works in theta (per unit mass); a user reads ModelParams
 fields with their units, and the model file is how the model travels to every command and the
-workflow (:mod:`impactosc.model_file`).
+workflow (:mod:`impactosc.model.model_file`).
 """
 
 from __future__ import annotations
@@ -14,10 +14,10 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from impactosc.files import atomic_write, stamp_h5
 from impactosc.identification.identify import Identification
 from impactosc.identification.parameters import FIELDS, NAMES, PER_MASS
-from impactosc.model_file import PARAM_UNITS, write_model_file
+from impactosc.io.files import atomic_write, stamp_h5
+from impactosc.model.model_file import PARAM_UNITS, write_model_file
 
 __all__ = [
     "configured_inputs",
@@ -163,8 +163,8 @@ def configured_inputs(section: dict, model: dict, paths) -> tuple:
     configured mass, and the record files read as ``section["read"]`` says."""
     import dataclasses
 
-    from impactosc.integration.model import ModelParams
-    from impactosc.measured.record_files import read_records
+    from impactosc.model.equations import ModelParams
+    from impactosc.records.files import read_records
 
     base = ModelParams(**model)
     if section["mass"] is not None:

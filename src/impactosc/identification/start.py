@@ -1,10 +1,10 @@
 """Start values of the identification: the contact fit and a linear fit of the free flight.
 
 Why these: both are cheap and need no trajectory.  The obstacle's contact fit
-(:func:`impactosc.measured.obstacle_estimate.estimate_x_impact`, method "contact") already estimates xI,
+(:func:`impactosc.records.obstacle_estimate.estimate_x_impact`, method "contact") already estimates xI,
 kI/m, b and n3 from the samples around the turning points; the free flight is linear in k/m,
 c/m, T/m and m0e/m once the acceleration is estimated from the samples (as
-:func:`impactosc.measured.obstacle.free_flight_law` does for one record: a = (m0e/m) w^2 sin(phi)
+:func:`impactosc.records.obstacle.free_flight_law` does for one record: a = (m0e/m) w^2 sin(phi)
 - (k/m) x - (c/m) v - (T/m) sgn(v) + a0, least squares over every sample well below the obstacle,
 here over all records at once).
 Multiple shooting then starts within a few per cent of its answer.
@@ -35,7 +35,7 @@ class StartValues(dict):
 
 def _contact(records, sigma):
     """The contact fit on each record that has one; (weighted xI, sigma, K, b, n3) or reason."""
-    from impactosc.measured.obstacle_estimate import estimate_x_impact
+    from impactosc.records.obstacle_estimate import estimate_x_impact
 
     fits, reasons = [], []
     for rec in records:
@@ -102,7 +102,7 @@ def _free_flight(records, level, half_t=10e-3):
 
 def start_values(records, base, *, sigma) -> StartValues:
     """theta0 for the records, the base model's value wherever the records say nothing."""
-    from impactosc.integration.model import ModelParams
+    from impactosc.model.equations import ModelParams
 
     base = base or ModelParams()
     theta = theta_of(base)

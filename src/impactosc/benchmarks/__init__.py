@@ -1,1 +1,0 @@
-"""Benchmarks: speed of the core, work-precision, hard cases (workflow targets, not unit tests)."""

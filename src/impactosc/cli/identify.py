@@ -1,0 +1,276 @@
+"""``impactosc identify``: a rig's model from its records (see ``impactosc identify --help``).
+
+Why a module of its own: the command has many checks of its own (outputs, fixed quantities,
+mass) and a summary; :mod:`impactosc.cli.main` only registers it and dispatches to it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import sys
+import warnings
+
+from impactosc.cli.options import (
+    RECORD_FORMATS,
+    add_model_options,
+    add_record_options,
+    finite_number,
+    model_from_args,
+    read_options,
+)
+from impactosc.identification.windows import check_forcing_phase
+
+IDENTIFY_EPILOG = """
+What is fitted: k/m, c/m, T/m, m0e/m, kI/m, b, n3 and xI, per unit mass because a displacement
+record sees only forces over m. Not identifiable: the mass (--mass, else the stated model's m,
+scales the ratios into N/m, N s/m, ...); eps (friction regularisation) and the Hertz exponents
+n1 = n2 keep the stated model's values. A quantity the records do not pin (no impacts: kI/m, b,
+n3) is fixed at the stated value, and the summary says why.
+The model file (impactosc-model/1, YAML) holds every parameter with its unit and standard error,
+the fixed ones and why, the correlation of the fitted ones, the records (with sha256), the fit's
+residual and the package version; --model FILE gives it to every command, and the workflow takes
+it with --config model_file=FILE.
+Examples:
+  impactosc identify examples/record_example.tdms --group rig --channel cart --phase-channel encoder --output rig.yaml
+  impactosc identify run1.h5 run2.h5 --mass 9.1 --fix T/m=0 --table rig.md --output rig.yaml
+  impactosc simulate --omega 40.86 --transient 100 --duration 400 --model rig.yaml --output rig_chaos.h5
+"""
+
+
+def _add_identify_parser(sub) -> None:
+    """The identify command's options (records, stated model, what is fixed, outputs)."""
+    from impactosc.identification.identify import STAGES
+    from impactosc.identification.parameters import NAMES, UNITS
+
+    idp = sub.add_parser(
+        "identify",
+        help="identify the model's parameters from displacement records and write a model file",
+        description="Fit model BC's parameters per unit mass to displacement records by multiple shooting: "
+        "the records are cut into windows of a few forcing periods, each window's start state is fitted with "
+        "the parameters and the core integrates every window; standard errors come from the Jacobian of the "
+        "residuals. Each record needs the forcing's phase: an encoder channel (--phase-channel) or omega in "
+        "its metadata (t = 0 at the forcing's phase 0).",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=RECORD_FORMATS + IDENTIFY_EPILOG,
+    )
+    add_record_options(idp, many=True)
+    idp.add_argument("--output", required=True, metavar="MODEL.yaml", help="model file to write (atomically)")
+    idp.add_argument(
+        "--mass",
+        type=finite_number,
+        metavar="KG",
+        help="the cart's mass, kg (default: the stated model's m); not identifiable from displacement, it "
+        "turns the fitted ratios into the model's parameters",
+    )
+    idp.add_argument(
+        "--fix",
+        action="append",
+        default=[],
+        metavar="NAME[=VALUE]",
+        help="keep a fitted quantity fixed at VALUE (per unit mass, in "
+        + ", ".join(f"{nm} {u}" for nm, u in zip(NAMES, UNITS))
+        + ") or, without VALUE, at the stated model's value; repeatable, e.g. --fix b=0 (Hertz contact) "
+        "--fix T/m=0 (no dry friction)",
+    )
+    idp.add_argument(
+        "--stages",
+        type=finite_number,
+        nargs="+",
+        default=STAGES,
+        metavar="P",
+        help="window lengths of the successive fits, forcing periods; each starts from the one before, the "
+        f"last gives the estimate and its errors (default {' '.join(f'{p:g}' for p in STAGES)})",
+    )
+    idp.add_argument("--table", metavar="FILE", help="also write the parameter table (.csv or .md)")
+    idp.add_argument(
+        "--choose-model",
+        metavar="FILE",
+        help="also compare the contact laws (Hertz b = 0, Hunt-Crossley n3 = 1, model BC) with and without "
+        "dry friction on held-out windows and write the ranked table (.md or .csv); six more fits, about six "
+        "times as long",
+    )
+    idp.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    add_model_options(
+        idp,
+        "The stated model: m (unless --mass), eps, n1, n2 and the value of every quantity fixed (--fix) or not "
+        "identifiable from the records; model BC's, or those of --model, then each --param.",
+    )
+
+
+def _progress(args, command: str):
+    """A progress callback printing to stderr, or a silent one with --quiet."""
+    if args.quiet:
+        return lambda msg: None
+    return lambda msg: print(f"impactosc {command}: {msg}", file=sys.stderr, flush=True)
+
+
+def _stated_model(args):
+    """(ModelParams, description) of --model / --param, with the mass of --mass."""
+    import dataclasses
+
+    params, source = model_from_args(args)
+    if args.mass is not None:
+        try:
+            params = dataclasses.replace(params, m=args.mass)
+        except ValueError as exc:
+            raise ValueError(f"--mass {args.mass:g}: {exc}") from None
+        source += f", m = {args.mass:g} kg (--mass)"
+    return params, source
+
+
+def _fixed_quantities(items, base) -> dict:
+    """name -> value (None: the stated model's) of the --fix items; errors name the item."""
+    import dataclasses
+
+    from impactosc.identification.parameters import FIELDS, NAMES, PER_MASS
+    from impactosc.io.names import closest_name
+
+    fixed = {}
+    for item in items:
+        name, eq, text = (part.strip() for part in item.partition("="))
+        if name not in NAMES:
+            guess = NAMES[FIELDS.index(name)] if name in FIELDS else closest_name(name, NAMES)
+            hint = f"did you mean {guess!r}?" if guess else f"choose from {' '.join(NAMES)}"
+            raise ValueError(f"--fix {item}: unknown quantity {name!r} ({hint})")
+        value = None
+        if eq:
+            try:
+                value = finite_number(text)
+            except argparse.ArgumentTypeError as exc:
+                raise ValueError(f"--fix {item}: {exc}") from None
+            field = FIELDS[NAMES.index(name)]
+            scaled = value * (base.m if PER_MASS[NAMES.index(name)] else 1.0)
+            try:
+                dataclasses.replace(base, **{field: scaled})
+            except ValueError as exc:
+                raise ValueError(f"--fix {item} ({field} = {scaled:.6g} at m = {base.m:g} kg): {exc}") from None
+        fixed[name] = value
+    return fixed
+
+
+def _check_identify_outputs(args) -> None:
+    """Refuse unknown table formats, clashing or unwritable outputs before any fitting."""
+    from pathlib import Path
+
+    from impactosc.io.files import check_writable
+
+    paths = [args.output]
+    for option, path in (("--table", args.table), ("--choose-model", args.choose_model)):
+        if path is not None:
+            if Path(path).suffix.lower() not in (".csv", ".md"):
+                raise ValueError(f"{option} {path}: the table is written as .csv or .md")
+            paths.append(path)
+    if len({Path(path).resolve() for path in paths}) < len(paths):
+        raise ValueError("--output, --table and --choose-model name the same file")
+    for path in paths:
+        check_writable(path)
+
+
+def _write_rows(path, rows, markdown: str, sources) -> None:
+    """A table as Markdown (.md) or CSV."""
+    from impactosc.io.files import write_table, write_text
+
+    if str(path).lower().endswith(".md"):
+        write_text(path, markdown)
+    else:
+        write_table(path, rows, sources=sources)
+
+
+def _identify_summary(args, ident, rows, source: str, choice) -> str:
+    """What was written and identified: residual, every parameter with its error, what was fixed and why."""
+    p = ident.params
+    lines = [
+        f"{args.output}: model identified from {len(ident.records)} record(s) in {ident.seconds:.1f} s; "
+        f"residual rms {ident.noise * 1e6:.3f} um ({ident.windows.size} windows of {ident.periods:g} forcing "
+        f"periods, {'converged' if ident.fit.converged else 'NOT converged'})"
+    ]
+    for r in rows:
+        value = f"{r['field']:<4} = {r['field_value']:.6g}"
+        unit = "" if r["unit"] == "-" else f" {r['unit']}"
+        if r["status"] == "fitted":
+            lines.append(f"  {value} +- {r['field_stderr']:.2g}{unit}")
+        else:
+            lines.append(f"  {value}{unit}, fixed: {r['status']}")
+    lines.append(f"  m    = {p.m:.6g} kg, given ({source}): the mass is not identifiable from displacement")
+    lines.append(f"  eps = {p.eps:g} m/s, n1 = {p.n1:g}, n2 = {p.n2:g}: fixed at the stated model's values")
+    if args.table:
+        lines.append(f"{args.table}: parameter table")
+    if choice:
+        lines.append(
+            f"{args.choose_model}: the records support {choice[0]['law']}, {choice[0]['friction']} "
+            f"(smallest BIC of {len(choice)} candidates)"
+        )
+    return "\n".join(lines)
+
+
+@contextlib.contextmanager
+def _warning_lines(command: str):
+    """Each warning once, on one line of stderr ('impactosc COMMAND: warning: ...'), not with the
+    library's source line."""
+    seen = set()
+
+    def show(message, *_):
+        if str(message) not in seen:
+            seen.add(str(message))
+            print(f"impactosc {command}: warning: {message}", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        warnings.showwarning = show
+        yield
+
+
+def _identify(args) -> int:
+    with _warning_lines("identify"):
+        return _identify_run(args)
+
+
+def _identify_run(args) -> int:
+    from impactosc.identification import identify
+    from impactosc.identification.choice import candidates, choice_markdown, choose_model
+    from impactosc.identification.report import parameter_markdown, parameter_table, write_identified_model
+    from impactosc.records.files import read_records
+
+    _check_identify_outputs(args)
+    if not all(periods > 0 for periods in args.stages):
+        raise ValueError(f"--stages: window lengths must be > 0 forcing periods, got {args.stages}")
+    base, source = _stated_model(args)
+    fixed = _fixed_quantities(args.fix, base)
+    records = read_records(args.record, **read_options(args))
+    check_forcing_phase(records)  # before any fitting: a clear error, not a failed fit
+    say = _progress(args, "identify")
+    stages = tuple(args.stages)
+    ident = identify(records, base=base, fixed=fixed, stages=stages, progress=say)
+    for item in args.fix:
+        ident.fixed[item.partition("=")[0].strip()] = f"held fixed (--fix {item})"
+    choice = None
+    if args.choose_model:
+        say(
+            f"model choice: {len(candidates())} candidate fits (contact law x dry friction), each about as long "
+            f"as the identification ({ident.seconds:.0f} s)"
+        )
+        with warnings.catch_warnings():  # candidates the records reject stray far out: their fit says so
+            warnings.simplefilter("ignore")
+            choice = choose_model(records, base=base, stages=stages, progress=say)
+        if not any(row["n_held_out"] for row in choice):
+            print(
+                "impactosc identify: warning: the records are too short to hold blocks of windows out of the fits; "
+                "the model choice rests on AIC and BIC alone",
+                file=sys.stderr,
+            )
+    # written only now: an error or an interrupt above leaves no output behind
+    write_identified_model(args.output, ident)
+    rows = parameter_table(ident)
+    if args.table:
+        _write_rows(args.table, rows, parameter_markdown(rows, ident), args.record)
+    if choice:
+        _write_rows(args.choose_model, choice, choice_markdown(choice), args.record)
+    print(_identify_summary(args, ident, rows, source, choice))
+    if not ident.fit.converged:
+        print(
+            "impactosc identify: warning: the last stage did not converge; the model file is written but its "
+            "values and errors are not an estimate (is the forcing's phase right? try an encoder channel, "
+            "shorter --stages or longer records)",
+            file=sys.stderr,
+        )
+    return 0

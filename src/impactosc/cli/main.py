@@ -1,0 +1,228 @@
+"""Command line: ``impactosc simulate|extract|sweep-extract|surrogate|identify|config-docs ...`` (see ``impactosc <command> --help``)."""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+
+from impactosc.cli.identify import _identify
+from impactosc.cli.options import model_from_args, read_record_args
+from impactosc.cli.parser import build_parser
+
+
+def _config_docs(args) -> int:
+    from impactosc_study.config_docs import write
+
+    if write(args.schema, args.output, check=args.check):
+        print(f"{args.output}: up to date with {args.schema}")
+        return 0
+    if args.check:
+        print(
+            f"impactosc config-docs: {args.output} is out of date with {args.schema}; "
+            "run `impactosc config-docs` to regenerate it",
+            file=sys.stderr,
+        )
+        return 1
+    print(f"{args.output}: written from {args.schema}")
+    return 0
+
+
+def _extract(args) -> int:
+    from impactosc.io.files import check_writable, write_run
+    from impactosc.records.extract import ExtractOptions, extract_events
+
+    check_writable(args.output)
+    x_impact, x_impact_source = _model_x_impact(args) if args.x_impact is None else (args.x_impact, None)
+    rec = read_record_args(args, omega=args.omega)
+    options = ExtractOptions(
+        noise=args.noise,
+        x_impact_method=args.x_impact_method,
+        contact_exponent=args.contact_exponent,
+        delay=args.sensor_delay,
+    )
+    if x_impact is None and "x_impact" not in rec.meta and args.x_impact_method == "contact":
+        minutes = (rec.t[-1] - rec.t[0]) / 60.0
+        print(
+            f"{args.record}: no x_impact given; fitting the contact law to the record's turning points "
+            f"(about {5 * minutes * (rec.t.size / (rec.t[-1] - rec.t[0])) / 2000:.0f} s for {minutes:.1g} min of record)",
+            file=sys.stderr,
+        )
+    events, attrs = extract_events(rec, x_impact, options)
+    if x_impact_source:
+        attrs["x_impact_source"] = x_impact_source
+    write_run(args.output, events, attrs, sources=[args.record])
+    section = ""
+    if "poincare" in events:
+        section = f"; {events['poincare']['t'].size} Poincare points ({attrs['poincare_phase_source']}"
+        if "omega_measured_median" in attrs:
+            section += f", measured w {attrs['omega_measured_min']:.5g}..{attrs['omega_measured_max']:.5g} rad/s"
+        section += ")"
+    print(
+        f"{args.output}: {attrs['n_impacts']} impacts in [{attrs['t_start']:g}, {attrs['t_stop']:g}] s; "
+        f"x_impact = {attrs['x_impact']:.6g} m ({attrs['x_impact_source']}); noise {attrs['noise_sigma']:.3g} m; "
+        f"timing uncertainty median {attrs['timing_sigma_median']:.3g} s, max {attrs['timing_sigma_max']:.3g} s "
+        f"(sample interval {attrs['sample_interval']:.3g} s){section}"
+    )
+    return 0
+
+
+def _model_x_impact(args) -> tuple[float | None, str | None]:
+    """(xI, where from) of the model when --model or --param states xI (a model file's own xI,
+    not model BC's filling in for it), else (None, None): the record or the estimate decides."""
+    if args.model is None and not args.param:
+        return None, None
+    from impactosc.model.model_file import read_model_file
+
+    params, source = model_from_args(args)
+    by_param = any(item.partition("=")[0].strip() == "xI" for item in args.param)
+    if by_param or (args.model is not None and "xI" not in read_model_file(args.model).defaulted):
+        return params.xI, f"the model's xI, {source}"
+    return None, None
+
+
+def _sweep_extract(args) -> int:
+    from impactosc.io.files import check_writable
+    from impactosc.records.sweep_segments import sweep_segments, write_sweep_points
+
+    check_writable(args.output)
+    rec = read_record_args(args)
+    points, info = sweep_segments(rec, args.bin_width, args.settle, min_points=args.min_points)
+    write_sweep_points(args.output, points, info, label=args.label or rec.label, sources=[args.record])
+    print(
+        f"{args.output}: {info['n_segments']} segments of w {points['record_omega'].min():.4g}.."
+        f"{points['record_omega'].max():.4g} rad/s, {points['x'].size} Poincare points "
+        f"(of {info['n_points_total']}; {info['n_points_settling']} discarded while settling, "
+        f"{info['n_segments_dropped']} segments with fewer than {info['min_points']} points dropped)"
+    )
+    return 0
+
+
+def _parse_mismatch(text):
+    out = {}
+    for item in filter(None, (s.strip() for s in text.split(","))):
+        if "=" not in item:
+            raise ValueError(f"mismatch item {item!r} must read name=relative_change")
+        k, v = item.split("=", 1)
+        try:
+            out[k.strip()] = float(v)
+        except ValueError:
+            raise ValueError(f"mismatch value {v!r} of {k} is not a number") from None
+    return out
+
+
+def _surrogate(args) -> int:
+    from impactosc.io.files import check_writable
+    from impactosc.records.files import write_record
+    from impactosc.records.surrogate import REALISM_FIELDS, SurrogateOptions, surrogate_ramp, surrogate_record
+
+    check_writable(args.output)
+    params, source = model_from_args(args)
+    opts = SurrogateOptions(
+        rate=args.rate,
+        noise=args.noise,
+        mismatch=_parse_mismatch(args.mismatch),
+        seed=args.seed,
+        **{name: getattr(args, name) for name in REALISM_FIELDS},  # the options' dests are the field names
+    )
+    if args.ramp is None:
+        if args.encoder_counts is not None:
+            raise ValueError("--encoder-counts goes with --ramp (a constant-w record has no phase channel)")
+        rec, _ = surrogate_record(args.omega, args.transient, args.duration, opts, params=params)
+        meta = dict(rec.meta, model_source=source)
+        write_record(args.output, rec.t, rec.x, omega=rec.omega, meta=meta, units=args.units)
+        print(f"{args.output}: surrogate record, {rec.t.size} samples at {args.rate:g} Hz, noise {args.noise:g} m")
+        return 0
+    w0, w1 = args.ramp
+    if not (w0 > 0 and w1 > 0 and args.transient >= 0 and args.duration > 0):
+        raise ValueError("--ramp needs W_START, W_STOP > 0 rad/s, --transient >= 0 s and --duration > 0 s")
+    n_initial = round(args.transient * w0 / (2 * math.pi))  # whole periods: the ramp starts at phase 0
+    rec, _ = surrogate_ramp(
+        w0, w1, args.duration, opts, n_initial=n_initial, encoder_counts=args.encoder_counts, params=params
+    )
+    meta = dict(rec.meta, model_source=source)
+    write_record(args.output, rec.t, rec.x, meta=meta, units=args.units, phase=rec.phase)
+    print(
+        f"{args.output}: surrogate sweep record, w {w0:g} -> {w1:g} rad/s in {args.duration:g} s "
+        f"({abs(w1 - w0) / args.duration:.3g} rad/s^2), {rec.t.size} samples at {args.rate:g} Hz with phase, "
+        f"noise {args.noise:g} m"
+    )
+    return 0
+
+
+def _simulate(args) -> int:
+    from impactosc.core.simulate import Window, simulate, warm_up
+    from impactosc.io.files import check_writable, write_run
+
+    record = tuple(e.strip() for e in args.events.split(",") if e.strip())
+    window = Window(*args.window) if args.window else None
+    check_writable(args.output)
+    # validate everything before compiling or integrating
+    from impactosc.core.simulate import _validate
+
+    _validate(args.omega, args.transient, args.duration, args.x0, args.v0, args.rtol, args.atol, window)
+    if args.step_budget < 100:
+        raise ValueError(f"--step-budget must be >= 100 step attempts per forcing period, got {args.step_budget:g}")
+    params, source = model_from_args(args)
+    jit = warm_up()
+    last = [time.perf_counter()]
+
+    def progress(t, t_end, n_imp):
+        now = time.perf_counter()
+        if not args.quiet and now - last[0] > 2.0:
+            print(f"impactosc: t = {t:.1f} / {t_end:.1f} s, {n_imp} impacts", file=sys.stderr, flush=True)
+            last[0] = now
+
+    res = simulate(
+        args.omega,
+        args.transient,
+        args.duration,
+        x0=args.x0,
+        v0=args.v0,
+        rtol=args.rtol,
+        atol=args.atol,
+        window=window,
+        record=record,
+        progress=progress,
+        step_budget=args.step_budget,
+        params=params,
+    )
+    res.attrs["jit_and_load_time"] = jit
+    res.attrs["model_source"] = source
+    write_run(args.output, res.events, res.attrs, res.trajectory)
+    n_imp = len(res.events["impacts"]["t"]) if "impacts" in res.events else 0
+    print(
+        f"{args.output}: {n_imp} impacts in [{args.transient:g}, {args.transient + args.duration:g}] s, "
+        f"wall time {res.attrs['wall_time']:.3f} s ({res.attrs['n_steps']} steps)"
+    )
+    return 0
+
+
+COMMANDS = {
+    "simulate": _simulate,
+    "extract": _extract,
+    "sweep-extract": _sweep_extract,
+    "surrogate": _surrogate,
+    "identify": _identify,
+    "config-docs": _config_docs,
+}
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return COMMANDS[args.command](args)
+    except (ValueError, FileNotFoundError, OSError) as exc:
+        print(f"impactosc {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except RuntimeError as exc:  # the core stopped (StallError: where and why), nothing written
+        print(f"impactosc {args.command}: error: {exc}; nothing written", file=sys.stderr)
+        return 3
+    except KeyboardInterrupt:
+        print(f"impactosc {args.command}: interrupted, nothing written", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

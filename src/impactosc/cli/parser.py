@@ -1,0 +1,283 @@
+"""The command line's parsers: one function per command, each with its help and examples."""
+
+from __future__ import annotations
+
+import argparse
+
+from impactosc import __version__
+from impactosc.cli.identify import _add_identify_parser
+from impactosc.cli.options import RECORD_FORMATS, add_model_options, add_record_options, contact_exponent, finite_number
+
+EPILOG = """\
+Units: SI throughout (s, m, m/s, rad/s). Model parameters are model BC of the paper
+(m=8.735 kg, k=1418.9 N/m, xI=-2.086e-3 m, ...; see impactosc.model.equations.ModelParams)
+unless --model / --param change them; the run file's attributes record every parameter
+(param_*) and where they came from (model_source).
+Examples (the chaotic scene of the paper, ~2875 impacts; the same with a rig's model file):
+  impactosc simulate --omega 40.86 --transient 100 --duration 400 --output chaos.h5
+  impactosc simulate --omega 40.86 --transient 100 --duration 400 --model rig.yaml --param k=1500 --output rig.h5
+"""
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="impactosc",
+        description="Forced impacting oscillator (model BC): event-exact simulation and impact statistics.",
+    )
+    parser.add_argument("--version", action="version", version=f"impactosc {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True)
+    _add_simulate_parser(sub)
+    _add_extract_parser(sub)
+    _add_sweep_extract_parser(sub)
+    _add_surrogate_parser(sub)
+    _add_identify_parser(sub)
+    _add_config_docs_parser(sub)
+    return parser
+
+
+def _add_simulate_parser(sub) -> None:
+    """The simulate command: integrate the model and write its events."""
+    from impactosc.core.layout import DEFAULT_STEP_BUDGET
+    from impactosc.core.simulate import ALL_EVENTS, DEFAULT_ATOL, DEFAULT_RTOL
+
+    sim = sub.add_parser(
+        "simulate",
+        help="integrate the model (model BC, or a model file) and write its events to an HDF5 run file",
+        description="Integrate the model from (x0, v0) at t = 0 up to TRANSIENT + DURATION and write "
+        "the events with t >= TRANSIENT (impact onsets, deepest penetrations, near misses, Poincare "
+        "points at t = 2 pi i / omega) and an optional trajectory window to an HDF5 file.",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    sim.add_argument("--omega", type=finite_number, required=True, help="forcing frequency w in rad/s (> 0)")
+    sim.add_argument("--transient", type=finite_number, required=True, help="time discarded before recording, s (>= 0)")
+    sim.add_argument("--duration", type=finite_number, required=True, help="recorded time after the transient, s (> 0)")
+    sim.add_argument("--x0", type=finite_number, default=0.0, help="initial displacement at t = 0, m (default 0)")
+    sim.add_argument("--v0", type=finite_number, default=0.0, help="initial velocity at t = 0, m/s (default 0)")
+    sim.add_argument(
+        "--rtol", type=finite_number, default=DEFAULT_RTOL, help=f"relative tolerance (default {DEFAULT_RTOL:g})"
+    )
+    sim.add_argument(
+        "--atol",
+        type=finite_number,
+        default=DEFAULT_ATOL,
+        help=f"absolute tolerance, m and m/s (default {DEFAULT_ATOL:g})",
+    )
+    sim.add_argument(
+        "--window",
+        type=finite_number,
+        nargs=3,
+        metavar=("T1", "T2", "DT"),
+        help="also store x, v sampled at t = T1, T1+DT, ... <= T2 (absolute times, s)",
+    )
+    sim.add_argument(
+        "--events",
+        default=",".join(ALL_EVENTS),
+        help=f"comma-separated events to store (default: all of {','.join(ALL_EVENTS)})",
+    )
+    sim.add_argument("--output", required=True, help="HDF5 file to write (written atomically)")
+    sim.add_argument(
+        "--step-budget",
+        type=finite_number,
+        default=DEFAULT_STEP_BUDGET,
+        metavar="N",
+        help="watchdog: step attempts allowed per forcing period of progress; a run that spends "
+        f"them without advancing one period stops with an error naming where (default {DEFAULT_STEP_BUDGET:g}, "
+        "~10^4 times what the chaotic scene needs)",
+    )
+    sim.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    add_model_options(sim, "The parameters of the run: model BC's, or those of --model, then each --param.")
+
+
+def _add_extract_parser(sub) -> None:
+    """The extract command: events from a measured record."""
+    ext = sub.add_parser(
+        "extract",
+        help="extract impact events from a measured (or surrogate) displacement record",
+        description="Read a record (CSV, HDF5 or TDMS; see below), validate it, and write the same event "
+        "datasets as 'simulate' (impacts/t, impacts/v, penetrations/t, penetrations/h, poincare/* when omega "
+        "or a phase channel is known; poincare/omega = w measured by the encoder) to an HDF5 file. Impacts "
+        "are upward crossings of XI with hysteresis; their times are interpolated below the sample interval "
+        "and their uncertainties stored in impacts/sigma_t.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=RECORD_FORMATS
+        + "\nExamples:\n  impactosc extract examples/record_example.csv --x-impact=-2.086e-3 --output events.h5\n"
+        "  impactosc extract examples/record_example.tdms --group rig --channel cart --phase-channel encoder "
+        "--output events.h5\n"
+        "XI, in order of precedence: --x-impact; the model's xI when --model or --param states it (a model "
+        "file identified on the rig); the record's x_impact metadata; else estimated from the record's "
+        "turning points near the obstacle (--x-impact-method) and printed with its sigma.",
+    )
+    add_record_options(ext)
+    ext.add_argument(
+        "--x-impact",
+        type=finite_number,
+        help="obstacle position XI, m (write --x-impact=-2.086e-3 for negative values; default: the model's xI "
+        "when --model or --param states it, else record metadata, else estimated)",
+    )
+    ext.add_argument(
+        "--x-impact-method",
+        choices=("contact", "curvature"),
+        default="contact",
+        help="how XI is estimated when it is not given: 'contact' fits the contact law to the samples around "
+        "every turning point (unbiased within 1.5 um at 5-10 um noise, with a stated sigma; default), "
+        "'curvature' is the older estimate from the turning points' curvature (8-16 um too low, no sigma)",
+    )
+    ext.add_argument(
+        "--contact-exponent",
+        type=contact_exponent,
+        default=1.5,
+        metavar="E",
+        help="exponent of the contact force in that fit: a number (default 1.5, Hertz, model BC's law) or "
+        "'free' to fit it too when the rig's law is not known (a wider, honest sigma: 7-9 um per 30 s at 5 um noise)",
+    )
+    ext.add_argument("--output", required=True, help="HDF5 events file to write (atomically)")
+    ext.add_argument("--omega", type=finite_number, help="nominal forcing frequency, rad/s (overrides the record's)")
+    ext.add_argument("--noise", type=finite_number, help="sensor-noise std, m (default: estimated from the record)")
+    ext.add_argument(
+        "--sensor-delay",
+        type=finite_number,
+        metavar="S",
+        help="delay of the sensor chain, s (an anti-aliasing filter's group delay), subtracted from the sample "
+        "times (default: the record's sensor_delay metadata, else 0)",
+    )
+    add_model_options(
+        ext,
+        "The model's obstacle position xI is XI when --x-impact is not given and the model file states xI "
+        "(or --param xI=... sets it); no other parameter is used here.",
+    )
+
+
+def _add_sweep_extract_parser(sub) -> None:
+    """The sweep-extract command: Poincare points of a rig's sweep records."""
+    swe = sub.add_parser(
+        "sweep-extract",
+        help="cut a slow-sweep record (w drifting, one file) into the Poincare points of the Fig 2 panel",
+        description="Read a record whose forcing frequency was swept slowly (a whole experimental "
+        "bifurcation diagram in one file) with its encoder phase; take the Poincare points where the "
+        "phase crosses 2 pi i, measure w at each from the phase, cut the record into segments of "
+        "quasi-constant w (bins BIN_WIDTH wide, centred on multiples of it, with hysteresis at the edges), "
+        "discard the first SETTLE s of each segment, and write the points (datasets omega = the segment's "
+        "median measured w, and x, as the workflow's Fig 2 experimental panel reads them; plus t, "
+        "point_omega, and per segment record_omega, n_points, segment_start, segment_stop, omega_spread) "
+        "to an HDF5 file. See impactosc.records.sweep_segments.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=RECORD_FORMATS + "\nExample (the surrogate sweep of docs/measured.md):\n"
+        "  impactosc sweep-extract sweep.h5 --bin-width 0.25 --settle 10 --output fig02_experimental.h5\n"
+        "Choose SETTLE a few relaxation times of the rig (model BC: 2.6 s from its damping alone) and "
+        "BIN_WIDTH so that each segment keeps at least MIN_POINTS forcing periods after it.",
+    )
+    add_record_options(swe)
+    swe.add_argument(
+        "--bin-width",
+        type=finite_number,
+        default=0.25,
+        help="width of the w bins, rad/s (default 0.25, the stepped sweep's step)",
+    )
+    swe.add_argument(
+        "--settle",
+        type=finite_number,
+        default=10.0,
+        help="time discarded at the start of each segment, s (default 10: about 4 relaxation times of model BC)",
+    )
+    swe.add_argument("--min-points", type=int, default=5, help="fewest Poincare points a kept segment has (default 5)")
+    swe.add_argument("--label", help="panel label stored with the points (default: the record's label)")
+    swe.add_argument("--output", required=True, help="HDF5 points file to write (atomically)")
+
+
+def _add_surrogate_parser(sub) -> None:
+    """The surrogate command: a synthetic record of the model, sampled like the rig."""
+    sur = sub.add_parser(
+        "surrogate",
+        help="write a surrogate record: the model sampled like the rig, plus sensor noise",
+        description="Simulate the model (model BC, or --model / --param) at OMEGA, sample x at RATE Hz on "
+        "[TRANSIENT, TRANSIENT + DURATION], add white Gaussian noise of std NOISE and write it in the measured-record format (.csv or .h5), "
+        "labelled 'surrogate (model + noise)'. With --ramp instead of --omega: a slow sweep in one record, "
+        "w ramped linearly from W_START to W_STOP over DURATION after TRANSIENT s at W_START, with the "
+        "forcing phase (column/dataset 'phase', rad) as an encoder measures it. The core takes w as a "
+        "constant of a run, so the ramp is chained one-period runs (state and phase continuous, w stepping "
+        "by dw/dt times a period); see impactosc.records.surrogate.surrogate_driven.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="Examples:\n  impactosc surrogate --omega 40.86 --transient 100 --duration 400 --output rec.h5\n"
+        "  impactosc surrogate --ramp 20 45 --transient 200 --duration 2500 --encoder-counts 4096 --output sweep.h5",
+    )
+    what = sur.add_mutually_exclusive_group(required=True)
+    what.add_argument("--omega", type=finite_number, help="forcing frequency w in rad/s (> 0)")
+    what.add_argument(
+        "--ramp",
+        type=finite_number,
+        nargs=2,
+        metavar=("W_START", "W_STOP"),
+        help="sweep w linearly from W_START to W_STOP rad/s over DURATION (0.01 rad/s^2 is quasi-stationary)",
+    )
+    sur.add_argument(
+        "--encoder-counts",
+        type=int,
+        metavar="N",
+        help="with --ramp: phase read by an encoder of N counts per revolution (default: exact phase)",
+    )
+    sur.add_argument("--transient", type=finite_number, required=True, help="time discarded before sampling, s")
+    sur.add_argument("--duration", type=finite_number, required=True, help="sampled time, s")
+    sur.add_argument("--rate", type=finite_number, default=2000.0, help="sample rate, Hz (default 2000)")
+    sur.add_argument("--noise", type=finite_number, default=5e-6, help="sensor-noise std, m (default 5e-6)")
+    sur.add_argument(
+        "--mismatch",
+        default="",
+        help="relative parameter changes applied to the model, e.g. 'c=0.02,T=-0.05' (default none)",
+    )
+    sur.add_argument("--seed", type=int, default=0, help="noise seed (default 0)")
+    real = sur.add_argument_group(
+        "sensor realism (all off by default; see impactosc.records.surrogate.SurrogateOptions)"
+    )
+    real.add_argument(
+        "--lowpass",
+        dest="lowpass_hz",
+        type=finite_number,
+        default=0.0,
+        metavar="HZ",
+        help="causal Butterworth anti-aliasing filter with this cutoff; its delay is written to the record's "
+        "metadata as sensor_delay and extraction subtracts it",
+    )
+    real.add_argument("--lowpass-order", type=int, default=4, help="order of that filter (default 4)")
+    real.add_argument("--drift", type=finite_number, default=0.0, metavar="M", help="std of a slow zero drift, m")
+    real.add_argument(
+        "--drift-time",
+        type=finite_number,
+        default=10.0,
+        metavar="S",
+        help="correlation time of the drift, s (default 10)",
+    )
+    real.add_argument(
+        "--clock-jitter", type=finite_number, default=0.0, metavar="S", help="std of sample-time errors, s"
+    )
+    real.add_argument(
+        "--quantum", type=finite_number, default=0.0, metavar="M", help="ADC step, m (every sample rounded)"
+    )
+    sur.add_argument("--units", choices=("m", "mm", "um"), default="m", help="CSV displacement units (default m)")
+    sur.add_argument("--output", required=True, help="record file to write (.csv or .h5)")
+    add_model_options(
+        sur,
+        "The parameters the record is drawn from, before --mismatch: model BC's, or those of --model, then each "
+        "--param; the record's metadata names them (model_source).",
+    )
+
+
+def _add_config_docs_parser(sub) -> None:
+    """The config-docs command: the config reference from the schema."""
+    doc = sub.add_parser(
+        "config-docs",
+        help="write config/README.md (every config key) from the config schema",
+        description="Render the JSON schema of the workflow config as a Markdown reference: per section a "
+        "table of dotted key, type, default, allowed values and description. Run from the repository root.",
+        epilog="Example:\n  impactosc config-docs --check   # exit 1 if config/README.md is out of date",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    doc.add_argument(
+        "--schema",
+        default="workflow/schemas/config.schema.yaml",
+        help="config schema (default workflow/schemas/config.schema.yaml)",
+    )
+    doc.add_argument("--output", default="config/README.md", help="Markdown file to write (default config/README.md)")
+    doc.add_argument(
+        "--check", action="store_true", help="write nothing; exit 1 if OUTPUT differs from the schema's rendering"
+    )

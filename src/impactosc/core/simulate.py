@@ -1,0 +1,296 @@
+"""Python API of the core: run one scene and get its events (no Snakemake needed).
+
+The numba core runs in chunks of a bounded number of steps, so long runs report progress
+and memory stays bounded by the event arrays; the full integrator state is carried over
+between chunks, so chunking changes nothing.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from impactosc.core import driver as core
+from impactosc.core.layout import (
+    C_ATTEMPTS,
+    C_BY_MODE,
+    C_DENSE,
+    C_DIP,
+    C_FALLBACK,
+    C_NEWTON,
+    C_REJECT,
+    C_RHS,
+    C_SLOW_STEPS,
+    C_SLOW_TRANSIT,
+    C_STEPS,
+    C_STICK,
+    C_STIFF,
+    C_TRANSFORMED,
+    DEFAULT_STEP_BUDGET,
+    EVENT_NAMES,
+    IMPACT,
+    MODE_KEYS,
+    MODE_NAMES,
+    N_COUNT,
+    PHASE_NAMES,
+    RUNNING,
+    S_H,
+    S_MODE,
+    S_PHASE,
+    S_SLOW,
+    S_STATUS,
+    S_T,
+    S_TSLOW,
+    S_V,
+    S_X,
+    SLOW_FRICTION,
+    SLOW_STIFF,
+    STALLED,
+    STATUS_NAMES,
+    record_flags,
+)
+from impactosc.model.equations import ModelParams
+
+ALL_EVENTS = EVENT_NAMES
+DEFAULT_RTOL = 1e-10
+DEFAULT_ATOL = 1e-12
+SOLVER_NAME = "DOP853 (explicit, dense output) + Radau IIA-5 (sticking phases), event-split"
+
+
+class StallError(RuntimeError):
+    """The core stopped before the end of the run (watchdog or step-size underflow).
+
+    The message names where: time, piece (vector field, variable, implicit or not), state
+    and step size; ``state`` holds the same as a dict for programs.
+    """
+
+    def __init__(self, message: str, state: dict):
+        super().__init__(message)
+        self.state = state
+
+
+def _stall_error(st, cnt, t_end: float, budget: float) -> StallError:
+    status = int(st[S_STATUS])
+    slow = int(st[S_SLOW])
+    piece = PHASE_NAMES[int(st[S_PHASE])]
+    if slow == SLOW_FRICTION:
+        piece += ", implicit (friction band)"
+    elif slow == SLOW_STIFF:
+        piece += ", implicit (stiff creep)"
+    else:
+        piece += f", explicit in {MODE_NAMES[int(st[S_MODE])]}"
+    state = dict(
+        status=STATUS_NAMES[status],
+        t=float(st[S_T]),
+        t_end=t_end,
+        piece=piece,
+        x=float(st[S_X]),
+        v=float(st[S_V]),
+        step=float(st[S_H]),
+        attempts=int(cnt[C_ATTEMPTS]),
+    )
+    why = STATUS_NAMES[status]
+    if status == STALLED:
+        why = f"stalled: {budget:.3g} step attempts without advancing one forcing period"
+    return StallError(
+        f"core {why} at t = {state['t']:.12g} s of {t_end:.6g} s in {piece}: "
+        f"x = {state['x']:.9g} m, v = {state['v']:.6g} m/s, step {state['step']:.3g} "
+        f"after {state['attempts']} step attempts",
+        state,
+    )
+
+
+@dataclass(frozen=True)
+class Window:
+    """Trajectory samples at t = start + j*dt (absolute time, s) for start <= t <= stop."""
+
+    start: float
+    stop: float
+    dt: float
+
+    def __post_init__(self):
+        for name in ("start", "stop", "dt"):
+            if not math.isfinite(getattr(self, name)):
+                raise ValueError(f"window {name} must be finite")
+        if self.dt <= 0:
+            raise ValueError(f"window dt must be > 0, got {self.dt}")
+        if self.stop < self.start:
+            raise ValueError(f"window stop ({self.stop}) is before its start ({self.start})")
+
+    @property
+    def n(self) -> int:
+        n = int(math.floor((self.stop - self.start) / self.dt)) + 1
+        while n > 1 and self.start + (n - 1) * self.dt > self.stop:  # rounding at the end
+            n -= 1
+        return n
+
+
+@dataclass
+class SimulationResult:
+    """Events with t >= transient, optional trajectory window, and run metadata."""
+
+    events: dict  # name -> dict of arrays, e.g. events["impacts"]["t"]
+    trajectory: dict | None
+    attrs: dict
+    final_state: np.ndarray = field(repr=False)
+
+    @property
+    def impact_times(self) -> np.ndarray:
+        return self.events["impacts"]["t"]
+
+
+_COLUMNS = {
+    "impacts": ("t", "v"),
+    "penetrations": ("t", "h"),
+    "near_misses": ("t", "gap"),
+    "poincare": ("t", "x", "v"),
+}
+
+
+def _validate(omega, transient, duration, x0, v0, rtol, atol, window):
+    checks = {
+        "omega": omega,
+        "transient": transient,
+        "duration": duration,
+        "x0": x0,
+        "v0": v0,
+        "rtol": rtol,
+        "atol": atol,
+    }
+    for name, value in checks.items():
+        if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value):
+            raise ValueError(f"{name} must be a finite number, got {value!r}")
+    if omega <= 0:
+        raise ValueError(f"omega must be > 0 rad/s, got {omega}")
+    if transient < 0:
+        raise ValueError(f"transient must be >= 0 s, got {transient}")
+    if duration <= 0:
+        raise ValueError(f"duration must be > 0 s, got {duration}")
+    if not 0 < rtol < 1:
+        raise ValueError(f"rtol must be in (0, 1), got {rtol}")
+    if atol <= 0:
+        raise ValueError(f"atol must be > 0, got {atol}")
+    if window is not None and (window.start < 0 or window.stop > transient + duration):
+        raise ValueError(
+            f"window [{window.start}, {window.stop}] s must lie inside the run [0, {transient + duration}] s"
+        )
+
+
+def warm_up() -> float:
+    """Compile (or load from the on-disk cache) the core; returns the seconds it took."""
+    t0 = time.perf_counter()
+    simulate(0.1, 0.0, 1e-3, x0=-2e-3, record=ALL_EVENTS, window=Window(0.0, 1e-3, 1e-4), _timing_only=True)
+    return time.perf_counter() - t0
+
+
+def simulate(
+    omega: float,
+    transient: float,
+    duration: float,
+    *,
+    x0: float = 0.0,
+    v0: float = 0.0,
+    params: ModelParams | None = None,
+    rtol: float = DEFAULT_RTOL,
+    atol: float = DEFAULT_ATOL,
+    window: Window | None = None,
+    record: Iterable[str] = ALL_EVENTS,
+    chunk_steps: int = 200_000,
+    step_budget: float = DEFAULT_STEP_BUDGET,
+    progress: Callable[[float, float, int], None] | None = None,
+    _timing_only: bool = False,
+) -> SimulationResult:
+    """Integrate model BC from (x0, v0) at t = 0 to transient + duration.
+
+    Only the events named in `record` (subset of impacts, penetrations, near_misses,
+    poincare) with t >= transient are stored, plus the optional trajectory `window`.
+    The core runs in calls of at most `chunk_steps` steps (the state carries over exactly,
+    so this changes nothing but the memory held and the progress granularity);
+    `progress(t, t_end, n_impacts)` is called after each.
+
+    Never hangs: a run that spends `step_budget` step attempts without advancing one
+    forcing period raises :class:`StallError` naming where it stuck (as does a step-size
+    underflow); the default budget is ~10^4 times what the chaotic scene needs.
+    """
+    params = params or ModelParams()
+    record = tuple(record)
+    unknown = set(record) - set(ALL_EVENTS)
+    if unknown:
+        raise ValueError(f"unknown event kind(s) {sorted(unknown)}; choose from {list(ALL_EVENTS)}")
+    _validate(omega, transient, duration, x0, v0, rtol, atol, window)
+    if not step_budget >= 100:
+        raise ValueError(f"step_budget must be >= 100 step attempts per forcing period, got {step_budget!r}")
+    flags = record_flags(record)
+
+    p = params.as_array(float(omega))
+    period = 2.0 * math.pi / omega
+    t_end = float(transient) + float(duration)
+    st = core.initial_state(p, 0.0, float(x0), float(v0), period, params.cut_velocity, float(step_budget))
+    cnt = np.zeros(N_COUNT, dtype=np.int64)
+    ev = np.empty((1024, 4))
+    n_ev = 0
+    if window is not None:
+        win_x = np.full(window.n, np.nan)
+        win_v = np.full(window.n, np.nan)
+        win_t0, win_dt = float(window.start), float(window.dt)
+    else:
+        win_x = win_v = np.empty(0)
+        win_t0, win_dt = 0.0, 1.0
+
+    rs = core.run_settings(t_end, float(transient), float(rtol), float(atol), flags, period, win_t0, win_dt)
+    wall = 0.0
+    while st[S_T] < t_end:
+        t0 = time.perf_counter()
+        ev, n_ev = core.run(p, st, cnt, rs, ev, n_ev, win_x, win_v, int(chunk_steps))
+        wall += time.perf_counter() - t0
+        if st[S_STATUS] != RUNNING:
+            raise _stall_error(st, cnt, t_end, step_budget)
+        if progress is not None:
+            n_imp = int(np.count_nonzero(ev[:n_ev, 0] == IMPACT))
+            progress(float(st[S_T]), t_end, n_imp)
+
+    ev = ev[:n_ev]
+    events = {}
+    for kind, name in enumerate(ALL_EVENTS):
+        if name not in record:
+            continue
+        rows = ev[ev[:, 0] == kind]
+        events[name] = {col: np.ascontiguousarray(rows[:, 1 + i]) for i, col in enumerate(_COLUMNS[name])}
+    trajectory = None
+    if window is not None:
+        trajectory = {"t": win_t0 + win_dt * np.arange(window.n), "x": win_x, "v": win_v}
+
+    attrs = {f"param_{k}": v for k, v in params.to_dict().items()}
+    attrs.update(
+        omega=float(omega),
+        transient=float(transient),
+        duration=float(duration),
+        x0=float(x0),
+        v0=float(v0),
+        solver=SOLVER_NAME,
+        rtol=float(rtol),
+        atol=float(atol),
+        n_steps=int(cnt[C_STEPS]),
+        n_rejected=int(cnt[C_REJECT]),
+        n_rhs=int(cnt[C_RHS]),
+        n_implicit_steps=int(cnt[C_SLOW_STEPS]),
+        n_stick=int(cnt[C_STICK]),
+        n_slow_reversal=int(cnt[C_SLOW_TRANSIT]),
+        time_implicit=float(st[S_TSLOW]),
+        n_dense=int(cnt[C_DENSE]),
+        n_dip_checks=int(cnt[C_DIP]),
+        n_newton=int(cnt[C_NEWTON]),
+        n_transformed_steps=int(cnt[C_TRANSFORMED]),
+        n_fallback=int(cnt[C_FALLBACK]),
+        n_stiff=int(cnt[C_STIFF]),
+        n_attempts=int(cnt[C_ATTEMPTS]),
+        **{f"n_attempts_{name}": int(cnt[C_BY_MODE + mode]) for mode, name in enumerate(MODE_KEYS)},
+        step_budget=float(step_budget),
+        wall_time=wall,
+        recorded=",".join(record),
+    )
+    return SimulationResult(events=events, trajectory=trajectory, attrs=attrs, final_state=st.copy())

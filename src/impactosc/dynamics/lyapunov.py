@@ -1,0 +1,165 @@
+"""Lyapunov exponents of the stroboscopic map P (one forcing period), through the core.
+
+Why: the paper calls the w = 40.86 regime chaotic; the exponents measure it. The tangent map of
+one period is P's Jacobian at the current Poincare point, taken by central differences of the
+core (the same construction as the shooting's monodromy, which agrees with the variational
+equations to 1e-9 of |M| on impacting orbits: periodic_orbits.variational). Differences of the
+map step over the model's hard spots instead of integrating through them: the infinite slope
+d|v|^n3/dv at the deepest penetration and the friction band's slope T/eps are inside the core's
+pieces (its own variables there), and the map's derivative is finite. The tangent vectors are
+re-orthonormalised every period (QR, Benettin et al. 1980), and the exponents are the means of
+log |R_ii|.
+
+Checks: the forced linear oscillator has both exponents -c/(2m) per second (closed form); the
+sum of the two is the mean of log |det J| per period, which Liouville's formula makes the time
+average of the divergence -(c + friction slope + contact damping slope)/m of the vector field:
+measured independently by the variational equations (periodic_orbits.variational, SciPy) on the
+same Poincare points (tests/test_lyapunov.py, the workflow's lyapunov table).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from impactosc.core.layout import S_V, S_X
+from impactosc.core.simulate import simulate
+from impactosc.dynamics.shooting import SCALE, stroboscopic_map
+
+__all__ = [
+    "LyapunovRun",
+    "exponents_along",
+    "kaplan_yorke",
+    "largest_exponent",
+    "lyapunov_spectrum",
+    "map_jacobian",
+    "settle",
+]
+
+STEP = 1e-5  # difference step relative to SCALE (10 nm, 1 um/s): far above the core's error at rtol 1e-12
+RTOL, ATOL = 1e-12, 1e-14
+
+
+def map_jacobian(y, omega: float, params=None, *, step: float = STEP, rtol: float = RTOL, atol: float = ATOL):
+    """(P(y), dP/dy) by second-order central differences (five runs of one period)."""
+    y = np.asarray(y, float)
+    image = stroboscopic_map(y, omega, 1, params, rtol=rtol, atol=atol)
+    J = np.empty((2, 2))
+    for j in range(2):
+        e = np.zeros(2)
+        e[j] = step * SCALE[j]
+        plus = stroboscopic_map(y + e, omega, 1, params, rtol=rtol, atol=atol)
+        minus = stroboscopic_map(y - e, omega, 1, params, rtol=rtol, atol=atol)
+        J[:, j] = (plus - minus) / (2 * e[j])
+    return image, J
+
+
+def settle(y, omega: float, seconds: float, params=None, *, rtol: float = RTOL, atol: float = ATOL) -> np.ndarray:
+    """The Poincare point after whole forcing periods covering `seconds` from y (phase 0)."""
+    periods = max(0, math.ceil(seconds * omega / (2 * math.pi) - 1e-9))
+    if periods == 0:
+        return np.asarray(y, float)
+    run = simulate(omega, 0.0, periods * 2 * math.pi / omega, x0=float(y[0]), v0=float(y[1]), params=params,
+                   rtol=rtol, atol=atol, record=())  # fmt: skip
+    return np.array([run.final_state[S_X], run.final_state[S_V]])
+
+
+def _scaled(J: np.ndarray) -> np.ndarray:
+    """J in units of SCALE (x / 1 mm, v / 0.1 m/s). The exponents do not depend on the units,
+    but a finite run's estimate carries a term ~ log(condition of the eigenvectors) / n: in SI
+    units (m against m/s, a factor ~w apart) that term is ~7 / n, scaled it is ~1 / n."""
+    return J * SCALE[None, :] / SCALE[:, None]
+
+
+@dataclass(frozen=True)
+class LyapunovRun:
+    """Exponents of the stroboscopic map along one run of `n` periods from `start`."""
+
+    omega: float
+    start: np.ndarray  # the Poincare point the tangent run started from
+    exponents: np.ndarray  # (2,), per forcing period (largest first)
+    running: np.ndarray  # (n, 2): the estimate after each period
+    log_det: np.ndarray  # (n,): log |det J| of each period (its mean is the exponents' sum)
+    points: np.ndarray  # (n, 2): the Poincare point at the start of each period
+
+    @property
+    def per_second(self) -> np.ndarray:
+        return self.exponents * self.omega / (2 * math.pi)
+
+    @property
+    def kaplan_yorke(self) -> float:
+        return kaplan_yorke(self.exponents)
+
+
+def lyapunov_spectrum(y0, omega: float, n_periods: int, params=None, *, step=STEP, rtol=RTOL, atol=ATOL, log=None):
+    """Both exponents of P by QR re-orthonormalisation every period, from the Poincare point y0
+    (on the attractor: settle first). `log(k, estimate)` is called every 10 % of the run."""
+    if int(n_periods) < 1:
+        raise ValueError(f"n_periods must be >= 1, got {n_periods}")
+    y = np.asarray(y0, float)
+    if y.shape != (2,) or not np.all(np.isfinite(y)):
+        raise ValueError(f"y0 must be a finite (x, v), got {y0!r}")
+    n = int(n_periods)
+    Q, sums = np.eye(2), np.zeros(2)
+    running, log_det, points = np.empty((n, 2)), np.empty(n), np.empty((n, 2))
+    for k in range(n):
+        points[k] = y
+        y, J = map_jacobian(y, omega, params, step=step, rtol=rtol, atol=atol)
+        Q, R = np.linalg.qr(_scaled(J) @ Q)
+        d = np.abs(np.diag(R))
+        sums += np.log(d)
+        log_det[k] = math.log(abs(np.linalg.det(J)))
+        running[k] = sums / (k + 1)
+        if log and (k + 1) % max(1, n // 10) == 0:
+            log(k + 1, running[k])
+    order = np.argsort(-running[-1])
+    return LyapunovRun(float(omega), np.asarray(y0, float), running[-1][order], running[:, order], log_det, points)
+
+
+def exponents_along(points, omega: float, params=None, *, step=STEP, rtol=RTOL, atol=ATOL) -> np.ndarray:
+    """Both exponents per period from the Jacobians at given Poincare points (consecutive points
+    of one run): the tangent numerics (step, tolerance) compared on the same points, which a
+    rerun cannot do (a chaotic run with other numerics follows another trajectory)."""
+    Q, sums = np.eye(2), np.zeros(2)
+    for y in np.asarray(points, float):
+        _, J = map_jacobian(y, omega, params, step=step, rtol=rtol, atol=atol)
+        Q, R = np.linalg.qr(_scaled(J) @ Q)
+        sums += np.log(np.abs(np.diag(R)))
+    return np.sort(sums / len(points))[::-1]
+
+
+def largest_exponent(
+    y0, omega: float, n_periods: int, params=None, *, n_discard: int = 0, step=STEP, rtol=1e-10, atol=1e-12
+) -> float:
+    """The largest exponent per period from one tangent vector (two runs per period: the map
+    and a forward difference along the vector, renormalised every period), counted after
+    `n_discard` periods in which the vector turns towards the most unstable direction (without
+    them a short run near a bifurcation, where lambda1 is near 0, reads the vector's transient
+    growth as a positive exponent). Cheaper than the spectrum, for every w of a sweep."""
+    y = np.asarray(y0, float)
+    q = np.array([1.0, 1.0]) / math.sqrt(2)  # in units of SCALE
+    total = 0.0
+    for k in range(int(n_discard) + int(n_periods)):
+        image = stroboscopic_map(y, omega, 1, params, rtol=rtol, atol=atol)
+        moved = stroboscopic_map(y + step * q * SCALE, omega, 1, params, rtol=rtol, atol=atol)
+        d = (moved - image) / (step * SCALE)
+        growth = float(np.linalg.norm(d))
+        if not math.isfinite(growth) or growth == 0.0:
+            return math.nan
+        if k >= n_discard:
+            total += math.log(growth)
+        q, y = d / growth, image
+    return total / int(n_periods)
+
+
+def kaplan_yorke(exponents) -> float:
+    """Kaplan-Yorke dimension of a two-dimensional map's attractor: 0 for a stable orbit
+    (lambda1 < 0), 1 + lambda1 / |lambda2| when lambda1 >= 0 > lambda1 + lambda2, else 2."""
+    l1, l2 = sorted(np.asarray(exponents, float), reverse=True)
+    if l1 < 0:
+        return 0.0
+    if l1 + l2 >= 0:
+        return 2.0
+    return 1.0 + l1 / abs(l2)

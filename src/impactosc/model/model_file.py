@@ -1,0 +1,298 @@
+"""Model files: the one way a model of a rig travels between commands, the workflow and people.
+
+Why a file: model BC was identified on one rig; another rig has its own parameters, their
+standard errors, the records they came from and the code that fitted them. A YAML file
+(``format: impactosc-model/1``) holds all of it, readable and diffable, and every command
+line, the Python API and the workflow config read it through :func:`read_model_file`. Layout::
+
+    format: impactosc-model/1
+    name: rig 3, March                       # free text, optional
+    parameters:                              # each ModelParams field: a number, or a mapping
+      m:  {value: 8.735, unit: kg, fixed: true, note: given (mass is not identifiable)}
+      k:  {value: 1418.9, unit: N/m, stderr: 3.1}
+      xI: -2.086e-3                          # a plain number is a value in SI units
+    correlation: {names: [k/m, c/m], matrix: [[1.0, 0.2], [0.2, 1.0]]}   # optional
+    records: [{path: run3.tdms, sha256: ..., omega: 40.86}]              # optional
+    fit: {chi2_dof: 1.02, n_windows: 40}                                  # optional, free
+    package_version: 0.1.0                   # written by write_model_file, with git_commit
+    created: 2025-03-01T12:00:00+00:00       # and this timestamp
+
+A parameter the file leaves out takes model BC's value (:attr:`ModelFile.defaulted` names
+them). Values are SI in the units of :data:`PARAM_UNITS`; a unit that differs is refused,
+not converted.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import datetime
+import math
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from impactosc import __version__
+from impactosc.io.files import atomic_write, git_commit
+from impactosc.io.names import closest_name
+from impactosc.model.equations import ModelParams
+
+FORMAT = "impactosc-model/1"
+
+#: Unit of every ModelParams field, as a model file writes it ("-": dimensionless).
+PARAM_UNITS = {
+    "m": "kg",
+    "m0e": "kg m",
+    "k": "N/m",
+    "c": "N s/m",
+    "T": "N",
+    "eps": "m/s",
+    "kI": "N/m^1.5",
+    "b": "(s/m)^n3",
+    "n1": "-",
+    "n2": "-",
+    "n3": "-",
+    "xI": "m",
+}
+
+NAMES = [f.name for f in dataclasses.fields(ModelParams)]
+BC_DESCRIPTION = "model BC (paper)"
+_TOP_KEYS = (
+    "format",
+    "name",
+    "parameters",
+    "correlation",
+    "records",
+    "fit",
+    "package_version",
+    "git_commit",
+    "created",
+)
+_ENTRY_KEYS = ("value", "unit", "stderr", "fixed", "note")
+
+
+@dataclasses.dataclass(frozen=True)
+class ModelFile:
+    """A model file as read: the parameters, their standard errors, the fixed ones (name ->
+    why), everything else of the file (meta), its path and the parameters it left out."""
+
+    params: ModelParams
+    stderr: dict
+    fixed: dict
+    meta: dict
+    path: str
+    defaulted: tuple = ()
+
+    @property
+    def correlation(self) -> tuple[list, np.ndarray] | None:
+        """(names, matrix) of the parameters' correlation, when the file has one."""
+        corr = self.meta.get("correlation")
+        return None if corr is None else (list(corr["names"]), np.asarray(corr["matrix"], dtype=float))
+
+
+def _unknown(key, names, what: str = "key", absent=()) -> str:
+    """'unknown <what> (did you mean ...?)', or the known names when none is close."""
+    guess = closest_name(key, names, absent)
+    return f"unknown {what}" + (f" (did you mean {guess!r}?)" if guess else f"; known: {', '.join(names)}")
+
+
+def _number(value, where: str) -> float:
+    """A finite float from a YAML value (strings such as '1e-6', which YAML 1.1 does not
+    read as a number, included); ValueError naming `where` otherwise."""
+    try:
+        if isinstance(value, bool):
+            raise ValueError
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{where}: {value!r} is not a number") from None
+    if not math.isfinite(number):
+        raise ValueError(f"{where}: {value!r} is not a finite number")
+    return number
+
+
+def _plain(obj):
+    """Plain Python types for yaml.safe_dump: numpy arrays and scalars, tuples and paths."""
+    if isinstance(obj, dict):
+        return {str(k): _plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple, np.ndarray)):
+        return [_plain(v) for v in obj]
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, Path):
+        return str(obj)
+    return obj
+
+
+def _check_names(names, what: str) -> None:
+    for name in names:
+        if name not in NAMES:
+            raise ValueError(f"{what}: {name!r}: " + _unknown(name, NAMES, "parameter"))
+
+
+def write_model_file(
+    path,
+    params: ModelParams,
+    *,
+    stderr: dict | None = None,
+    fixed: dict | None = None,
+    correlation: tuple[list[str], np.ndarray] | None = None,
+    records: list[dict] | None = None,
+    fit: dict | None = None,
+    name: str | None = None,
+) -> Path:
+    """Write `params` as a model file (atomically), with each parameter's unit, its standard
+    error (`stderr`: name -> value), whether it was held fixed (`fixed`: name -> why), the
+    correlation of the fitted quantities (names, matrix), the `records` it was identified
+    from, free `fit` diagnostics, and the package version, git commit and time."""
+    stderr, fixed = dict(stderr or {}), dict(fixed or {})
+    _check_names(stderr, "stderr")
+    _check_names(fixed, "fixed")
+    parameters = {}
+    for key in NAMES:
+        entry = {"value": float(getattr(params, key)), "unit": PARAM_UNITS[key]}
+        if key in stderr:
+            entry["stderr"] = _number(stderr[key], f"stderr of {key}")
+        if key in fixed:
+            entry["fixed"] = True
+            if fixed[key]:
+                entry["note"] = str(fixed[key])
+        parameters[key] = entry
+    doc = {"format": FORMAT}
+    if name is not None:
+        doc["name"] = str(name)
+    doc["parameters"] = parameters
+    if correlation is not None:
+        names, matrix = list(correlation[0]), np.asarray(correlation[1], dtype=float)
+        if matrix.shape != (len(names), len(names)):
+            raise ValueError(f"correlation: matrix of shape {matrix.shape} for {len(names)} names")
+        doc["correlation"] = {"names": [str(n) for n in names], "matrix": matrix.tolist()}
+    if records is not None:
+        doc["records"] = _plain(list(records))
+    if fit is not None:
+        doc["fit"] = _plain(dict(fit))
+    doc["package_version"] = __version__
+    commit = git_commit()
+    if commit != "unknown":
+        doc["git_commit"] = commit
+    doc["created"] = datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
+    text = yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=120, allow_unicode=True)
+    path = Path(path)
+    with atomic_write(path) as tmp:
+        Path(tmp).write_text(text, encoding="utf-8")
+    return path
+
+
+def _load(path: Path) -> dict:
+    """The file's YAML mapping, checked for its format line and known top-level keys."""
+    if not path.is_file():
+        raise FileNotFoundError(f"model file {path} does not exist")
+    try:
+        doc = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except (yaml.YAMLError, UnicodeDecodeError) as exc:
+        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise ValueError(f"model file {path}: not YAML ({first})") from None
+    if not isinstance(doc, dict):
+        raise ValueError(f"model file {path}: not a model file (a YAML mapping starting with 'format: {FORMAT}')")
+    if "format" not in doc:
+        raise ValueError(f"model file {path}: format: missing (a model file starts with 'format: {FORMAT}')")
+    if doc["format"] != FORMAT:
+        raise ValueError(f"model file {path}: format: {doc['format']!r} is not {FORMAT!r}")
+    for key in doc:
+        if key not in _TOP_KEYS:
+            raise ValueError(f"model file {path}: {key}: " + _unknown(key, _TOP_KEYS))
+    if not isinstance(doc.get("parameters", {}), dict):
+        raise ValueError(f"model file {path}: parameters: a mapping of parameter name -> value, not a list or value")
+    return doc
+
+
+def _entry(key: str, entry, path: Path) -> tuple[float, float | None, str | None]:
+    """(value, stderr, note-if-fixed) of one parameter, plain number or mapping."""
+    where = f"model file {path}: parameters.{key}"
+    if not isinstance(entry, dict):
+        return _number(entry, where), None, None
+    for sub in entry:
+        if sub not in _ENTRY_KEYS:
+            raise ValueError(f"{where}.{sub}: " + _unknown(sub, _ENTRY_KEYS))
+    if "value" not in entry:
+        raise ValueError(f"{where}.value: missing (write {key}: {{value: ..., unit: {PARAM_UNITS[key]}}})")
+    value = _number(entry["value"], f"{where}.value")
+    unit = entry.get("unit")
+    if unit is not None and " ".join(str(unit).split()) != PARAM_UNITS[key]:
+        raise ValueError(f"{where}.unit: {unit!r}, but {key} is in {PARAM_UNITS[key]!r} (values are SI, not converted)")
+    stderr = _number(entry["stderr"], f"{where}.stderr") if entry.get("stderr") is not None else None
+    if stderr is not None and stderr < 0:
+        raise ValueError(f"{where}.stderr: {stderr} is negative")
+    if not isinstance(entry.get("fixed", False), bool):
+        raise ValueError(f"{where}.fixed: {entry['fixed']!r} is not true or false")
+    note = str(entry.get("note") or "") if entry.get("fixed") else None
+    return value, stderr, note
+
+
+def read_model_file(path) -> ModelFile:
+    """Read and check a model file; ValueError or FileNotFoundError naming the file and key."""
+    path = Path(path)
+    doc = _load(path)
+    values, stderr, fixed = {}, {}, {}
+    given = doc.get("parameters") or {}
+    for key, entry in given.items():
+        if key not in NAMES:
+            absent = [n for n in NAMES if n not in given]
+            raise ValueError(f"model file {path}: parameters.{key}: " + _unknown(key, NAMES, "parameter", absent))
+        values[key], err, note = _entry(key, entry, path)
+        if err is not None:
+            stderr[key] = err
+        if note is not None:
+            fixed[key] = note
+    try:
+        params = ModelParams(**values)
+    except ValueError as exc:
+        bad = next((k for k in values if f"parameter {k} " in str(exc)), None)
+        raise ValueError(
+            f"model file {path}: parameters.{bad}: {exc}" if bad else f"model file {path}: {exc}"
+        ) from None
+    meta = {k: v for k, v in doc.items() if k not in ("format", "parameters")}
+    defaulted = tuple(k for k in NAMES if k not in values)
+    return ModelFile(params, stderr, fixed, meta, str(path), defaulted)
+
+
+def _override(item: str) -> tuple[str, float]:
+    """(name, value) of one NAME=VALUE item, errors naming the item."""
+    if "=" not in item:
+        raise ValueError(f"parameter override {item!r}: write NAME=VALUE, e.g. k=1500")
+    name, text = (s.strip() for s in item.split("=", 1))
+    if name not in NAMES:
+        raise ValueError(f"parameter override {item!r}: " + _unknown(name, NAMES, f"parameter {name!r}"))
+    return name, _number(text, f"parameter override {item!r}")
+
+
+def apply_overrides(params: ModelParams, items) -> ModelParams:
+    """`params` with each ``NAME=VALUE`` of `items` set (later items win)."""
+    changes = {}
+    for item in items:
+        name, value = _override(item)
+        try:
+            dataclasses.replace(params, **{name: value})
+        except ValueError as exc:
+            raise ValueError(f"parameter override {item!r}: {exc}") from None
+        changes[name] = value
+    return dataclasses.replace(params, **changes) if changes else params
+
+
+def resolve_model(file=None, overrides=()) -> tuple[ModelParams, str]:
+    """The model a command or the workflow uses, and what it is: model BC, or the model file,
+    then the overrides; e.g. ("model file rig.yaml (eps from model BC) + k=1500")."""
+    if file is None:
+        params, source = ModelParams(), BC_DESCRIPTION
+    else:
+        model = read_model_file(file)
+        params, source = model.params, f"model file {file}"
+        if len(model.defaulted) > len(NAMES) // 2:
+            given = [k for k in NAMES if k not in model.defaulted]
+            source += f" ({', '.join(given) or 'no parameter'}; the rest from model BC)"
+        elif model.defaulted:
+            source += f" ({', '.join(model.defaulted)} from model BC)"
+    overrides = list(overrides)
+    if overrides:
+        params = apply_overrides(params, overrides)
+        source += " + " + ", ".join("=".join(s.strip() for s in item.split("=", 1)) for item in overrides)
+    return params, source

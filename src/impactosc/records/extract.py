@@ -1,0 +1,359 @@
+"""Impact events from a sampled, noisy displacement record (the rig's path to the statistics).
+
+Why: the model's events are located exactly on the integrator's dense output; a measured
+record only has samples (1-5 kHz) with sensor noise.  This module turns a
+:class:`impactosc.records.record.Record` into the same event datasets as ``impactosc simulate``
+(``impacts/t, v``; ``penetrations/t, h``; ``poincare/t, x, v`` when omega is known), so
+every downstream rule treats a record and a simulation alike.
+
+Method
+------
+* Noise level sigma: robust (MAD) scale of the second difference of the samples divided
+  by sqrt(6) (white noise of std sigma gives a second difference of std sigma sqrt(6); the
+  smooth motion contributes a |x''| dt^2 that is small at kHz rates;
+  :func:`impactosc.records.sample_fits.estimate_noise`).
+* Impact onset = upward crossing of x_impact with hysteresis: a crossing counts only when
+  the signal has been below ``x_impact - hysteresis`` since the previous one
+  (default hysteresis 5 sigma), so sensor noise around the obstacle level cannot produce
+  chatter of false impacts; and a crossing is confirmed only when the contact then rises
+  ``confirm_sigmas`` (default 3) noise std above x_impact (a near miss lifted by noise is
+  not an impact).
+* Sub-sample time: a quadratic least-squares fit through the ``fit_points`` free-flight
+  samples ending at the last sample below x_impact, solved for x = x_impact (the samples
+  after the crossing are in contact and follow a different law).  The fit's covariance
+  gives the timing uncertainty of each impact, sigma_t = sigma_x(fit) / |v|; when the last
+  sample below x_impact lies within 3 sigma of it (slow grazing approach, or a contact
+  sample pushed down by noise), sigma_t is at least the time the signal spent in that band.
+* Penetration H_j: vertex of a quadratic fit through the samples around the largest sample
+  of each contact (not the raw maximum sample, which is biased up by noise and down by
+  sampling).
+* Poincare points: x and v from a local quadratic fit (Savitzky-Golay) at the section
+  times: where the measured forcing phase (an encoder on the unbalance, ``Record.phase``)
+  crosses 2 pi i, timed by a straight-line fit of the phase through the samples around the
+  crossing; else at t_i = 2 pi i / omega (the nominal w).  The rig's motor speed is not
+  exactly nominal: an error dw slides the nominal section by dw t_i / w of a period after
+  t_i, so after a few hundred periods the nominal points are no longer on the section.  The
+  encoder also gives w(t): 4 pi over the time between the neighbouring crossings
+  (:mod:`impactosc.records.poincare`).
+
+When x_impact is not known, :func:`impactosc.records.obstacle_estimate.estimate_x_impact`
+estimates it from the record.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from impactosc.records.obstacle_estimate import estimate_x_impact
+from impactosc.records.poincare import poincare_attrs, poincare_points
+from impactosc.records.record import Record
+from impactosc.records.sample_fits import estimate_noise, quadratic_fits
+
+__all__ = [
+    "ExtractOptions",
+    "crossing_time_crb",
+    "extract_events",
+]
+
+#: Contact-force exponents the obstacle fit allows, given or fitted (soft to stiff contacts).
+CONTACT_EXPONENT_RANGE = (1.0, 2.5)
+
+
+@dataclass(frozen=True)
+class ExtractOptions:
+    """Settings of :func:`extract_events`.
+
+    noise : float or None
+        Sensor noise std (m); None estimates it from the record.
+    hysteresis : float or None
+        Re-arming distance below x_impact (m); None = ``hysteresis_sigmas`` * noise, at
+        least 1e-7 m.  0 (with confirm_sigmas = 0) gives the naive threshold crossing, for
+        comparison only.
+    hysteresis_sigmas : float
+    fit_points : int
+        Free-flight samples in the crossing fit (>= 3).
+    peak_half_width : int
+        Samples either side of a contact's largest sample in the penetration fit (>= 1).
+    confirm_sigmas : float
+        A crossing counts only if the contact's largest sample exceeds x_impact by this
+        many noise std (penetrations shallower than the noise are not resolvable; this
+        keeps near misses lifted above the obstacle by noise out).
+    x_impact_method : str
+        How :func:`impactosc.records.obstacle_estimate.estimate_x_impact` estimates x_impact when it is neither given nor in the
+        record's metadata: "contact" (fit of the contact law, default) or "curvature" (the
+        earlier, 8-16 um low estimate).
+    contact_exponent : float or None
+        Exponent of the contact force in that fit: 1.5 (Hertz, model BC's; default) or None to
+        fit it as well (a rig whose contact law is not known; a wider, honest sigma).
+    delay : float or None
+        Delay of the sensor chain (s; an anti-aliasing filter's group delay), subtracted from
+        every sample time before extraction, so that impact, penetration and Poincare times
+        are those of the motion.  None: the record's metadata ``sensor_delay`` (the surrogate
+        declares its filter's), else 0.
+    """
+
+    noise: float | None = None
+    hysteresis: float | None = None
+    hysteresis_sigmas: float = 5.0
+    fit_points: int = 5
+    peak_half_width: int = 2
+    confirm_sigmas: float = 3.0
+    x_impact_method: str = "contact"
+    contact_exponent: float | None = 1.5
+    delay: float | None = None
+
+    def __post_init__(self):
+        if self.delay is not None and not (math.isfinite(self.delay) and self.delay >= 0):
+            raise ValueError(f"delay must be >= 0 s, got {self.delay}")
+        if self.x_impact_method not in ("contact", "curvature"):
+            raise ValueError(f"x_impact_method must be 'contact' or 'curvature', got {self.x_impact_method!r}")
+        lo, hi = CONTACT_EXPONENT_RANGE
+        if self.contact_exponent is not None and not lo <= self.contact_exponent <= hi:
+            raise ValueError(
+                f"contact_exponent must be in [{lo:g}, {hi:g}] or None (fitted), got {self.contact_exponent}"
+            )
+        if self.fit_points < 3:
+            raise ValueError(f"fit_points must be >= 3, got {self.fit_points}")
+        if self.peak_half_width < 1:
+            raise ValueError(f"peak_half_width must be >= 1, got {self.peak_half_width}")
+        for name in ("noise", "hysteresis"):
+            v = getattr(self, name)
+            if v is not None and (not math.isfinite(v) or v < 0):
+                raise ValueError(f"{name} must be >= 0 m, got {v}")
+        for name in ("hysteresis_sigmas", "confirm_sigmas"):
+            if not getattr(self, name) >= 0:
+                raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
+
+
+def crossing_time_crb(sigma, v, u, n):
+    """Cramer-Rao bound (std, s) of the crossing time from the quadratic fit of the timing step.
+
+    Model: the n free-flight samples before the crossing, equally spaced by dt, are
+    x_k = c0 + c1 s_k + c2 s_k^2 + e_k with white Gaussian noise e_k of std sigma.  The crossing
+    time s* solves c0 + c1 s* + c2 s*^2 = x_impact.  The model is linear in c, so its Fisher
+    information is A^T A / sigma^2 (A: the design matrix) and, for any unbiased estimator of s*,
+
+        var(s*) >= sigma^2 g^T (A^T A)^-1 g / v^2,   g = (1, s*, s*^2),  v = c1 + 2 c2 s*,
+
+    which is also the delta-method variance of the least-squares root (so the fit attains the
+    bound to first order in sigma / (v dt)).  With orthogonal polynomials on n equally spaced
+    samples, g^T (A^T A)^-1 g (the fitted curve's variance at s*, in units of sigma^2) is
+
+        L(u, n) = 1/n + 12 u^2 / (n (n^2 - 1)) + 180 (u^2 - (n^2 - 1)/12)^2 / (n (n^2 - 1) (n^2 - 4)),
+
+    u = (t* - mean of the fit's sample times) / dt, so  sigma_t >= sqrt(L(u, n)) sigma / |v|.
+    The crossing lies between the last fit sample (u = (n-1)/2) and the next (u = (n+1)/2):
+    for the default n = 5, sqrt(L) runs from 0.94 to 2.14 (1.45 at mid-interval).  For a
+    fixed n the bound does not depend on the sample rate (a faster card puts the n samples
+    closer together); it scales as the noise over the impact velocity.  Arrays broadcast.
+    """
+    n = np.asarray(n, dtype=float)
+    u2 = np.asarray(u, dtype=float) ** 2
+    L = 1 / n + 12 * u2 / (n * (n * n - 1)) + 180 * (u2 - (n * n - 1) / 12) ** 2 / (n * (n * n - 1) * (n * n - 4))
+    return np.sqrt(L) * np.asarray(sigma, dtype=float) / np.abs(np.asarray(v, dtype=float))
+
+
+def _crossings(t, x, i, xi, n, sigma):
+    """Sub-sample times, velocities, sigma_t and Cramer-Rao bounds of the upward crossings
+    between samples i and i+1 (i: the onsets in order; each fit ends at i).
+
+    Fitted root: real roots in (-dt, 2 dt) with positive slope, the one closest to the linear
+    interpolation; without such a root (or with fewer than 3 samples) the linear
+    interpolation itself.  The bound (:func:`crossing_time_crb`, the fit's delta-method std
+    before the dwell-band floor below) is nan where the linear interpolation is used.
+    """
+    dt = t[i + 1] - t[i]
+    lin = t[i] + dt * (xi - x[i]) / (x[i + 1] - x[i])
+    v_lin = (x[i + 1] - x[i]) / dt
+    st = np.divide(sigma, np.abs(v_lin), out=dt.copy(), where=v_lin != 0)
+    tc, v = lin.copy(), v_lin.copy()
+    f = np.flatnonzero(i >= 2)  # at least 3 samples in the fit window
+    fi = i[f]
+    c, cov = quadratic_fits(t, x, np.maximum(0, fi - n + 1), fi + 1, t[fi])
+    a, b, cc = c[:, 2], c[:, 1], c[:, 0] - xi
+    # both roots in the numerically stable form (no cancellation in b +- sqrt(disc); q = 0
+    # only for the double root 0); a == 0 leaves the linear root
+    disc = b * b - 4 * a * cc
+    real = (disc >= 0) | (a == 0)
+    q = -0.5 * (b + np.copysign(np.sqrt(np.where(real, disc, 0.0)), b))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        roots = np.where(
+            (a == 0)[:, None],
+            (-cc / b)[:, None],
+            np.stack([q / a, np.where(q != 0, cc / q, 0.0)], axis=1),
+        )
+    slope = b[:, None] + 2 * a[:, None] * roots
+    ok = real[:, None] & (roots > -dt[f, None]) & (roots < 2 * dt[f, None]) & (slope > 0)
+    dist = np.where(ok, np.abs(roots - (lin[f] - t[fi])[:, None]), np.inf)
+    pick = np.argmin(dist, axis=1)
+    has = ok.any(axis=1)
+    f, fi, s, vf = f[has], fi[has], roots[has, pick[has]], slope[has, pick[has]]
+    g = np.stack([np.ones_like(s), s, s * s], axis=1)
+    var = np.einsum("mj,mj->m", np.einsum("mi,mij->mj", g, cov[has]), g)
+    stf = sigma * np.sqrt(np.maximum(var, 0.0)) / vf
+    crb = np.full(i.size, np.nan)
+    crb[f] = stf
+    # the signal dwells within 3 sigma below x_impact before the crossing (a slow, grazing
+    # approach, or a contact sample pushed down by noise): the crossing is only known to
+    # within that dwell time, back to the last sample below the band (or the record start)
+    below = np.flatnonzero(x <= xi - 3 * sigma)
+    last = np.searchsorted(below, fi, side="right") - 1
+    k0 = np.where(last >= 0, below[np.maximum(last, 0)], 0)
+    stf = np.where(x[fi] > xi - 3 * sigma, np.maximum(stf, t[fi + 1] - t[k0]), stf)
+    tc[f], v[f], st[f] = t[fi] + s, vf, stf
+    # fitted roots of adjacent crossings can overlap (only without hysteresis): keep the
+    # order with the linear interpolation inside [t_i, t_i+1] (sequential: each onset is
+    # compared with the previous one's final time)
+    overlap = np.zeros(i.size, bool)
+    prev = -math.inf
+    for k, tk in enumerate(tc.tolist()):
+        overlap[k] = tk <= prev
+        prev = float(lin[k]) if overlap[k] else tk
+    st = np.abs(st)
+    return (
+        np.where(overlap, lin, tc),
+        np.where(overlap, v_lin, v),
+        np.where(overlap, np.maximum(st, dt), st),
+        np.where(overlap, np.nan, np.abs(crb)),
+    )
+
+
+def _segment_argmax(x, start, stop):
+    """Index of the (first) largest sample of x in each of the disjoint ranges [start, stop)."""
+    size = stop - start
+    if not size.size:
+        return np.empty(0, int)
+    offset = np.cumsum(size) - size  # where each range starts in the gathered samples
+    seg = np.repeat(np.arange(size.size), size)
+    pos = np.arange(size.sum()) - offset[seg] + start[seg]
+    is_top = x[pos] == np.maximum.reduceat(x[pos], offset)[seg]
+    hits = np.flatnonzero(is_top)
+    return pos[hits[np.unique(seg[hits], return_index=True)[1]]]
+
+
+def _peaks(t, x, j, half):
+    """Vertex (time, value) of a quadratic through samples j-half..j+half (arrays of j).
+
+    The sample itself where the window has fewer than 3 samples, the fit is not a maximum
+    (noise-dominated) or the vertex lies outside the window.
+    """
+    lo, hi = np.maximum(0, j - half), np.minimum(x.size, j + half + 1)
+    tp, xp = t[j].copy(), x[j].copy()
+    f = np.flatnonzero(hi - lo >= 3)
+    c, _ = quadratic_fits(t, x, lo[f], hi[f], t[j[f]])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = -c[:, 1] / (2 * c[:, 2])
+    use = (c[:, 2] < 0) & (np.abs(s) <= (t[hi[f] - 1] - t[lo[f]]) / 2)
+    f, c, s = f[use], c[use], s[use]
+    tp[f], xp[f] = t[j[f]] + s, c[:, 0] + c[:, 1] * s + c[:, 2] * s * s
+    return tp, xp
+
+
+def extract_events(
+    record: Record, x_impact: float | None = None, options: ExtractOptions | None = None
+) -> tuple[dict, dict]:
+    """Events of a record in the run-file contract, and the attributes describing them.
+
+    Returns ``(events, attrs)`` for :func:`impactosc.io.files.write_run`.  attrs hold x_impact
+    (and how it was obtained), the noise level, hysteresis, sample interval, the timing
+    uncertainty (median and maximum of the per-impact sigma_t), t_start/t_stop (the
+    record's span) and omega when known; with Poincare points, ``poincare_phase_source``
+    ("encoder" or "nominal omega") and, from the encoder, the measured w's median and range.
+    """
+    o = options or ExtractOptions()
+    delay, delay_source = o.delay, "given"
+    if delay is None:
+        try:
+            delay, delay_source = float(record.meta.get("sensor_delay", 0.0)), "record metadata"
+        except ValueError:
+            raise ValueError(
+                f"{record.path}: sensor_delay {record.meta['sensor_delay']!r} is not a number (seconds)"
+            ) from None
+    if delay:
+        # every time of the motion is the sample time minus the sensor's delay
+        record = dataclasses.replace(record, t=record.t - delay)
+    t, x = record.t, record.x
+    dt = record.dt
+    sigma = o.noise if o.noise is not None else estimate_noise(x)
+    attrs = {
+        "source": "record",
+        "record": str(record.path),
+        "label": record.label,
+        "t_start": float(t[0]),
+        "t_stop": float(t[-1]),
+        "sample_interval": dt,
+        "noise_sigma": sigma,
+        "noise_source": "given" if o.noise is not None else "estimated (MAD of 2nd difference)",
+    }
+    if delay:
+        attrs.update(sensor_delay=delay, sensor_delay_source=delay_source)
+    if x_impact is None and "x_impact" in record.meta:
+        x_impact, how = float(record.meta["x_impact"]), "record metadata"
+    elif x_impact is None:
+        x_impact, det = estimate_x_impact(record, method=o.x_impact_method, noise=sigma, exponent=o.contact_exponent)
+        if det["method"] == "contact":
+            how = (
+                f"estimated by fitting the contact law to {det['n_windows']} turning points "
+                f"({det['n_contacts']} in contact; impactosc.records.extract.estimate_x_impact, "
+                f"+- {det['sigma'] * 1e6:.2g} um"
+                + (f"; contact exponent fitted: {det['exponent']:.3f}" if det["exponent_fitted"] else "")
+                + ")"
+            )
+        else:
+            how = (
+                f"estimated from the curvature of {det['n_contacts']} contact turning points "
+                f"(of {det['n_maxima']}; impactosc.records.extract.estimate_x_impact)"
+            )
+        attrs.update(x_impact_method=det["method"], x_impact_sigma=det["sigma"])
+        if det.get("exponent_fitted"):
+            attrs.update(contact_exponent=det["exponent"], contact_exponent_sigma=det["exponent_sigma"])
+    else:
+        how = "given"
+    x_impact = float(x_impact)
+    attrs.update(x_impact=x_impact, x_impact_source=how)
+    hyst = o.hysteresis if o.hysteresis is not None else max(o.hysteresis_sigmas * sigma, 1e-7)
+    attrs["hysteresis"] = hyst
+    if record.omega is not None:
+        attrs["omega"] = record.omega
+
+    above = x >= x_impact
+    armed_level = x < x_impact - hyst if hyst > 0 else ~above
+    # hysteresis state machine (after each onset, wait for the next arming sample, then for
+    # the next sample at/above x_impact), in closed form: an onset is a sample at/above
+    # x_impact whose nearest earlier armed-or-above sample is an armed one
+    n = x.size
+    arm_idx = np.flatnonzero(armed_level)
+    marked = np.flatnonzero(armed_level | above)
+    is_up = above[marked]
+    onsets = marked[1:][is_up[1:] & ~is_up[:-1]] - 1
+    imp_t, imp_v, imp_s, imp_crb = _crossings(t, x, onsets, x_impact, o.fit_points, sigma)
+    # each contact runs from its onset to the next re-arming sample (or the record's end);
+    # a contact that never rose clearly above the obstacle (a near miss lifted by noise, or
+    # a contact shallower than the noise) is not resolvable from this record
+    k = np.searchsorted(arm_idx, onsets + 1)
+    stop = np.append(arm_idx, n)[k]
+    j = _segment_argmax(x, onsets + 1, stop)
+    confirm = o.confirm_sigmas * sigma
+    keep = np.flatnonzero(x[j] >= x_impact + confirm)
+    pen_t, pen_x = _peaks(t, x, j[keep], o.peak_half_width)
+    pen_h = np.maximum(pen_x - x_impact, 0.0)
+    attrs["n_unconfirmed"] = int(len(onsets) - keep.size)
+    attrs["confirm_level"] = confirm
+    events = {
+        "impacts": {"t": imp_t[keep], "v": imp_v[keep], "sigma_t": imp_s[keep], "crb_t": imp_crb[keep]},
+        "penetrations": {"t": pen_t, "h": pen_h},
+    }
+    if record.omega is not None or record.phase is not None:
+        events["poincare"] = poincare_points(record)
+        attrs.update(poincare_attrs(record, events["poincare"]))
+    s = events["impacts"]["sigma_t"]
+    attrs["n_impacts"] = int(s.size)
+    attrs["timing_sigma_median"] = float(np.median(s)) if s.size else float("nan")
+    attrs["timing_sigma_max"] = float(np.max(s)) if s.size else float("nan")
+    crb = events["impacts"]["crb_t"]
+    attrs["timing_crb_median"] = float(np.nanmedian(crb)) if np.isfinite(crb).any() else float("nan")
+    return events, attrs

@@ -1,0 +1,1 @@
+"""Benchmarks and validation: speed of the core, work-precision, hard cases (workflow targets, not unit tests)."""

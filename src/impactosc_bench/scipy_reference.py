@@ -1,0 +1,174 @@
+"""Independent reference solutions with SciPy ``solve_ivp`` (for tests and benchmarks).
+
+The model is integrated piece by piece: every contact onset and exit (and the
+Hunt-Crossley cut) is a terminal event, so no step of the reference straddles the
+switching surface; penetrations are SciPy's own non-terminal v = 0 events inside
+contact. Nothing here shares code with the numba core except the model parameters.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from impactosc.model.equations import ModelParams
+
+
+class ReferenceBudgetExceeded(RuntimeError):
+    """The reference spent more right-hand-side evaluations than it was allowed."""
+
+
+def model_forces(p: ModelParams, omega: float):
+    """(external(t, x, v), contact(x, v)): model BC's forces in plain Python, independent of the
+    numba core, for the SciPy references."""
+
+    def external(t, x, v):
+        fr = p.T * v / math.sqrt(v * v + p.eps * p.eps)
+        return p.m0e * omega * omega * math.sin(omega * t) - p.k * x - p.c * v - fr
+
+    def contact(x, v):
+        h = x - p.xI
+        if h <= 0:
+            return 0.0
+        br = h**p.n1 + p.b * h**p.n2 * math.copysign(abs(v) ** p.n3, v)
+        return p.kI * br if br > 0 else 0.0
+
+    return external, contact
+
+
+def _piece_setups(p: ModelParams, omega: float, method: str, max_nfev) -> dict:
+    """Right-hand side and events of each piece kind ("free", "contact", "cut") for
+    ``solve_ivp``; the right-hand sides count their calls and raise
+    :class:`ReferenceBudgetExceeded` past ``max_nfev`` (None: no limit)."""
+    external, contact = model_forces(p, omega)
+    vcut = p.cut_velocity
+
+    calls = [0]
+    limit = math.inf if max_nfev is None else max_nfev
+
+    def counted(t):
+        calls[0] += 1
+        if calls[0] > limit:
+            raise ReferenceBudgetExceeded(f"SciPy {method}: more than {max_nfev} evaluations, stuck at t = {t:.12g} s")
+
+    def rhs_free(t, y):
+        counted(t)
+        return [y[1], external(t, y[0], y[1]) / p.m]
+
+    def rhs_contact(t, y):
+        counted(t)
+        return [y[1], (external(t, y[0], y[1]) - contact(y[0], y[1])) / p.m]
+
+    def ev_onset(t, y):
+        return y[0] - p.xI
+
+    ev_onset.terminal, ev_onset.direction = True, 1
+
+    def ev_exit(t, y):
+        return y[0] - p.xI
+
+    ev_exit.terminal, ev_exit.direction = True, -1
+
+    def ev_cut(t, y):
+        return y[1] + vcut
+
+    ev_cut.terminal, ev_cut.direction = True, 0
+
+    def ev_vzero(t, y):
+        return y[1]
+
+    ev_vzero.terminal, ev_vzero.direction = False, -1
+
+    return {
+        "free": (rhs_free, (ev_onset,)),
+        "contact": (rhs_contact, (ev_exit, ev_cut, ev_vzero)),
+        "cut": (rhs_free, (ev_exit, ev_cut)),
+    }
+
+
+def solve_reference(
+    omega,
+    t_end,
+    *,
+    x0=0.0,
+    v0=0.0,
+    params=None,
+    method="DOP853",
+    rtol=1e-13,
+    atol=1e-15,
+    max_pieces=1_000_000,
+    poincare=False,
+    max_nfev=None,
+):
+    """Impact onsets (t, v) and penetrations (t, h) of model BC on [0, t_end] with SciPy.
+
+    Returns a dict with arrays impacts_t, impacts_v, penetrations_t, penetrations_h and the
+    counters nfev, n_pieces, wall_time. With ``poincare`` also poincare_t|x|v: SciPy's dense
+    output at t_i = 2 pi i / w (``t_eval``, which does not change SciPy's steps).
+    With ``max_nfev`` the run raises :class:`ReferenceBudgetExceeded` after that many
+    right-hand-side evaluations (an explicit method pinned by a stiff creep never ends).
+    """
+    p = params or ModelParams()
+    vcut = p.cut_velocity
+    setups = _piece_setups(p, omega, method, max_nfev)
+
+    t, y = 0.0, np.array([x0, v0], float)
+    mode = "contact" if y[0] >= p.xI and y[1] > -vcut else ("cut" if y[0] >= p.xI else "free")
+    period = 2 * math.pi / omega
+    sections = period * np.arange(1, int(math.floor(t_end / period * (1 + 1e-14))) + 1) if poincare else None
+    imp_t, imp_v, pen_t, pen_h, pc_t, pc_x, pc_v = [], [], [], [], [], [], []
+    nfev = 0
+    pieces = 0
+    wall = time.perf_counter()
+    while t < t_end:
+        if pieces >= max_pieces:
+            raise RuntimeError(f"SciPy {method}: more than {max_pieces} pieces before t = {t_end} s")
+        pieces += 1
+        fun, events = setups[mode]
+        t_eval = sections[sections > t] if poincare else None
+        sol = solve_ivp(fun, (t, t_end), y, method=method, rtol=rtol, atol=atol, events=events, t_eval=t_eval)
+        nfev += sol.nfev
+        if sol.status == -1:
+            raise RuntimeError(f"SciPy {method} failed at t={t}: {sol.message}")
+        if poincare and len(sol.t):  # (with an empty t_eval SciPy returns an empty y)
+            pc_t.extend(sol.t)
+            pc_x.extend(sol.y[0])
+            pc_v.extend(sol.y[1])
+        if mode == "contact":
+            for te, ye in zip(sol.t_events[2], sol.y_events[2]):
+                if te <= t:  # SciPy reports v = 0 at the start of a piece that starts at rest
+                    continue
+                pen_t.append(te)
+                pen_h.append(ye[0] - p.xI)
+        if sol.status == 0:
+            break
+        n_terminal = 2 if mode != "free" else 1
+        k = min((k for k in range(n_terminal) if len(sol.t_events[k])), key=lambda k: sol.t_events[k][-1])
+        t = float(sol.t_events[k][-1])
+        y = np.array(sol.y_events[k][-1], float)
+        if mode == "free":  # onset
+            y[0] = p.xI
+            imp_t.append(t)
+            imp_v.append(y[1])
+            mode = "contact" if y[1] > -vcut else "cut"
+        elif k == 0:  # exit
+            y[0] = p.xI
+            mode = "free"
+        else:  # crossing the Hunt-Crossley cut
+            y[1] = -vcut
+            mode = "cut" if mode == "contact" else "contact"
+    out = {
+        "impacts_t": np.array(imp_t),
+        "impacts_v": np.array(imp_v),
+        "penetrations_t": np.array(pen_t),
+        "penetrations_h": np.array(pen_h),
+        "nfev": nfev,
+        "n_pieces": pieces,
+        "wall_time": time.perf_counter() - wall,
+    }
+    if poincare:
+        out.update(poincare_t=np.array(pc_t), poincare_x=np.array(pc_x), poincare_v=np.array(pc_v))
+    return out

@@ -1,0 +1,120 @@
+"""The chaotic train's statistics against the core's tolerance: for a chaotic attractor the
+trajectory cannot converge in tolerance, its statistics must; they are compared with the
+spread of an ensemble of realisations (other tolerances and starts), in standard deviations."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from impactosc.core.simulate import simulate, warm_up
+from impactosc.model.equations import ModelParams
+from impactosc.statistics.impact_train import ImpactTrain
+from impactosc.statistics.train_analysis import analyse_train, key_numbers
+
+STAT_KEYS = ("n_impacts", "cv2_paper", "cv2", "isi_first_maximum", "isi_last_maximum")
+
+
+def train_statistics(times, t_start, t_stop, omega, options=None) -> dict:
+    """The numbers the chaotic group reports (impactosc.statistics.train_analysis): counts, C_V^2, maxima."""
+    train = ImpactTrain(times, t_start, t_stop, omega=omega)
+    k = key_numbers(analyse_train(train, options, parts=("stationarity", "variability", "isi_density")))
+    return {
+        "n_impacts": k["n_impacts"],
+        "window_counts": k["window_counts"],
+        "cv2_paper": k["cv2_paper"],
+        "cv2": k["cv2"],
+        "isi_first_maximum": k["isi_first_maximum"],
+        "isi_last_maximum": k["isi_last_maximum"],
+    }
+
+
+def statistics_convergence(
+    omega,
+    transient,
+    duration,
+    rtols,
+    atol_ratio,
+    ensemble_x0,
+    ensemble_rtol,
+    params: ModelParams,
+    options=None,
+    log=print,
+) -> list[dict]:
+    """The chaotic scene's statistics at each tolerance, and an ensemble that fixes their
+    converged value and spread: runs at `ensemble_rtol` from the perturbed starts x(0) in
+    `ensemble_x0` (each an independent realisation of the attractor).
+    """
+    warm_up()
+    rows = []
+    runs = [("sweep", r, 0.0) for r in rtols] + [("ensemble", ensemble_rtol, x0) for x0 in ensemble_x0]
+    for kind, rtol, x0 in runs:
+        t0 = time.perf_counter()
+        res = simulate(
+            omega, transient, duration, x0=x0, params=params, rtol=rtol, atol=rtol * atol_ratio, record=("impacts",)
+        )
+        wall = time.perf_counter() - t0
+        s = train_statistics(res.events["impacts"]["t"], transient, transient + duration, omega, options)
+        rows.append(
+            {
+                "kind": kind,
+                "rtol": rtol,
+                "atol": rtol * atol_ratio,
+                "x0": x0,
+                "wall_time": wall,
+                "rhs_evals": res.attrs["n_rhs"],
+                **s,
+            }
+        )
+        log(
+            f"statistics {kind} rtol {rtol:g} x0 {x0:g}: {wall:.3f} s, {s['n_impacts']} impacts, "
+            f"C_V^2 {s['cv2_paper']:.4f} s"
+        )
+    return rows
+
+
+def zscores(stats: dict, ensemble: list[dict]) -> dict:
+    """(value - ensemble mean) / ensemble std for each statistic in STAT_KEYS, and for the
+    window counts the largest |z| over the windows against the pooled ensemble windows
+    (the train is stationary, so every window shares one distribution; pooling gives a
+    far steadier spread than per-window estimates from a dozen runs)."""
+    if len(ensemble) < 3:
+        raise ValueError(f"the ensemble needs >= 3 runs for a spread, got {len(ensemble)}")
+    z = {}
+    for k in STAT_KEYS:
+        vals = np.array([e[k] for e in ensemble], float)
+        sd = vals.std(ddof=1)
+        z[k] = (stats[k] - vals.mean()) / sd if sd > 0 else math.nan
+    wc = np.concatenate([np.asarray(e["window_counts"], float) for e in ensemble])
+    z["window_counts"] = float(np.max(np.abs(np.asarray(stats["window_counts"], float) - wc.mean()) / wc.std(ddof=1)))
+    return z
+
+
+def statistics_summary(rows: list[dict], n_sigma: float = 3.0) -> list[dict]:
+    """Each sweep row against the ensemble: z-scores (see :func:`zscores`) and whether all
+    lie within n_sigma, i.e. the statistics have converged to within the sampling noise."""
+    ens = [r for r in rows if r["kind"] == "ensemble"]
+    if len(ens) < 3:
+        raise ValueError(f"the ensemble needs >= 3 runs for a spread, got {len(ens)}")
+    mean = {k: float(np.mean([r[k] for r in ens])) for k in STAT_KEYS}
+    std = {k: float(np.std([r[k] for r in ens], ddof=1)) for k in STAT_KEYS}
+    out = []
+    for r in rows:
+        if r["kind"] != "sweep":
+            continue
+        z = zscores(r, ens)
+        worst = max(abs(v) for v in z.values())
+        out.append(
+            {
+                "rtol": r["rtol"],
+                "wall_time": r["wall_time"],
+                **{k: r[k] for k in STAT_KEYS},
+                **{f"z_{k}": v for k, v in z.items()},
+                "converged": bool(worst <= n_sigma),
+                **{f"ensemble_mean_{k}": mean[k] for k in STAT_KEYS},
+                **{f"ensemble_std_{k}": std[k] for k in STAT_KEYS},
+            }
+        )
+    return out

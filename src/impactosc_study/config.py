@@ -1,0 +1,245 @@
+"""Load and validate the workflow configuration against its JSON schema.
+
+Errors name the offending key as a dotted path (``model.m: -1 is less than or equal to
+the minimum of 0``) so a user sees at once what to fix; a misspelt key is named as unknown
+with the closest valid key (``model.kl: unknown key (did you mean 'kI'?)``) rather than as
+the required key it hides. Defaults from the schema are filled in so scripts can rely on
+every key being present.
+
+The model section either sets parameters of model BC one by one or names a model file
+(``model: {file: rig.yaml}``, :mod:`impactosc.model.model_file`) whose parameters replace it; either
+way ``config["model"]`` ends up holding exactly the ModelParams fields, and
+``config["model_source"]`` says where they came from, for figures and tables to name.
+"""
+
+from __future__ import annotations
+
+import copy
+import re
+from pathlib import Path
+
+import jsonschema
+import yaml
+
+from impactosc.io.names import closest_name
+
+
+class ConfigError(ValueError):
+    """The configuration does not match its schema."""
+
+
+def _path(error) -> str:
+    return ".".join(str(p) for p in error.absolute_path) or "(top level)"
+
+
+def _unknown_keys(error):
+    """(dotted key, message, suggestion) per key an ``additionalProperties: false`` forbids."""
+    props = error.schema.get("properties", {})
+    patterns = error.schema.get("patternProperties", {})
+    names = list(props)
+    absent = [n for n in names if n not in error.instance]
+    prefix = ".".join(str(p) for p in error.absolute_path)
+    out = []
+    for key in error.instance:
+        if key in props or any(re.search(p, str(key)) for p in patterns):
+            continue
+        guess = closest_name(str(key), names, absent)
+        hint = f" (did you mean {guess!r}?)" if guess else f"; valid keys: {', '.join(names) or '(none)'}"
+        out.append((f"{prefix}.{key}" if prefix else str(key), "unknown key" + hint, guess))
+    return out
+
+
+def _flatten(error):
+    """Replace a oneOf/anyOf error by its branch's errors when only one branch fits the value's
+    type and that branch has unknown keys, so a typo inside an optional object is named too."""
+    if error.validator not in ("oneOf", "anyOf") or not error.context:
+        return [error]
+    branches = {}
+    for sub in error.context:
+        branches.setdefault(sub.relative_schema_path[0], []).append(sub)
+    fitting = [
+        errs for errs in branches.values() if not any(e.validator == "type" and not e.relative_path for e in errs)
+    ]
+    if len(fitting) == 1 and any(
+        e.validator == "additionalProperties" and e.validator_value is False for e in fitting[0]
+    ):
+        return [f for e in fitting[0] for f in _flatten(e)]
+    return [error]
+
+
+def _messages(errors) -> list:
+    """One ``path: message`` line per error, unknown keys named with a suggestion."""
+    unknown = {
+        id(e): _unknown_keys(e) for e in errors if e.validator == "additionalProperties" and e.validator_value is False
+    }
+    suggested = {(tuple(e.absolute_path), guess) for e in errors for _, _, guess in unknown.get(id(e), ()) if guess}
+    lines = []
+    for error in errors:
+        if id(error) in unknown:
+            lines += [f"  {key}: {msg}" for key, msg, _ in unknown[id(error)]]
+            continue
+        if error.validator == "required":
+            # the missing key was named as the suggestion for a misspelt one: say it once
+            missing = [k for k in error.validator_value if error.message == f"{k!r} is a required property"]
+            if missing and (tuple(error.absolute_path), missing[0]) in suggested:
+                continue
+        lines.append(f"  {_path(error)}: {error.message}")
+    return lines
+
+
+def _fill_defaults(schema: dict, instance):
+    if not isinstance(instance, dict):
+        return
+    for key, sub in schema.get("properties", {}).items():
+        if key not in instance and "default" in sub:
+            instance[key] = copy.deepcopy(sub["default"])
+        if key in instance:
+            _fill_defaults(sub, instance[key])
+    extra = schema.get("additionalProperties")
+    if isinstance(extra, dict):
+        for key in instance:
+            if key not in schema.get("properties", {}):
+                _fill_defaults(extra, instance[key])
+
+
+def nest_dotted_keys(config: dict) -> dict:
+    """A copy of `config` with each dotted top-level key nested (``{"a.b": 1}`` ->
+    ``{"a": {"b": 1}}``), as a config file or the Snakemake API may give an override; the
+    dotted key wins over a nested one of the same name."""
+    out = copy.deepcopy(config)
+    for key in [k for k in out if isinstance(k, str) and "." in k]:
+        value = out.pop(key)
+        *parents, last = key.split(".")
+        node = out
+        for i, part in enumerate(parents):
+            if not isinstance(node.get(part), dict):
+                if part in node:
+                    where = ".".join(parents[: i + 1])
+                    raise ConfigError(
+                        f"invalid configuration:\n  {key}: {where} is not a section (it is {node[part]!r})"
+                    )
+                node[part] = {}
+            node = node[part]
+        node[last] = value
+    return out
+
+
+def _model_from_file(model: dict) -> dict:
+    """config["model_source"], and config["model"] replaced by the parameters of the model file
+    `model["file"]` when one is named (other keys beside it must equal the file's values)."""
+    if model.get("file") is None:
+        model.pop("file", None)
+        return {"file": None, "description": "model BC (paper)"}  # model_file.BC_DESCRIPTION
+    from impactosc.model.model_file import (
+        resolve_model,  # only here: it imports numba, which the plotting jobs do without
+    )
+
+    path = model.pop("file")
+    try:
+        params, description = resolve_model(path)
+    except (ValueError, FileNotFoundError) as exc:
+        raise ConfigError(f"invalid configuration:\n  model.file: {exc}") from None
+    values = params.to_dict()
+    clash = [f"{k} = {v!r} (the file: {values[k]!r})" for k, v in model.items() if v != values[k]]
+    if clash:
+        raise ConfigError(
+            f"invalid configuration:\n  model.file: the parameters of {path} replace model's, but model also sets "
+            f"{'; '.join(clash)}: it is ambiguous which should win; remove them, or change the file"
+        )
+    model.clear()
+    model.update(values)
+    return {"file": str(path), "description": description}
+
+
+def validate_config(config: dict, schema_path) -> dict:
+    """Return a validated copy of `config` with schema defaults filled in, dotted top-level
+    keys nested, and the model of ``model.file`` (if any) in place of the model section."""
+    schema = yaml.safe_load(Path(schema_path).read_text())
+    config = nest_dotted_keys(config)
+    if "model_file" in config:  # the command line's spelling: --config model_file=rig.yaml
+        config.setdefault("model", {})["file"] = config.pop("model_file")
+    validator = jsonschema.Draft202012Validator(schema)
+    errors = [f for e in validator.iter_errors(config) for f in _flatten(e)]
+    errors.sort(key=lambda e: list(e.absolute_path))
+    if errors:
+        raise ConfigError("invalid configuration:\n" + "\n".join(_messages(errors)))
+    config["model_source"] = _model_from_file(config.setdefault("model", {}))
+    _fill_defaults(schema, config)
+    for name, scene in config["scenes"].items():
+        win = scene.get("window")
+        end = scene["transient"] + scene["duration"]
+        if win and not (win["start"] <= win["stop"] <= end):
+            raise ConfigError(
+                f"invalid configuration:\n  scenes.{name}.window: [start, stop] must satisfy "
+                f"start <= stop <= transient + duration = {end}"
+            )
+    _check_orbit_segments(config.get("periodic_orbits", {}).get("segments", {}))
+    _check_two_parameter(config)
+    study = config.get("measured", {}).get("noise_study", {})
+    stray = sorted(set(study.get("x_impact_noise", [])) - set(study.get("noise", [])))
+    if stray:
+        raise ConfigError(
+            f"invalid configuration:\n  measured.noise_study.x_impact_noise: {stray} not among "
+            f"measured.noise_study.noise {study['noise']}"
+        )
+    return config
+
+
+def _check_orbit_segments(segments: dict) -> None:
+    """Each doubled segment names an existing parent, without a cycle; each w_range is ordered."""
+    for name, seg in segments.items():
+        where = f"invalid configuration:\n  periodic_orbits.segments.{name}"
+        lo, hi = seg["w_range"]
+        if not lo < hi:
+            raise ConfigError(f"{where}.w_range: must be [lo, hi] with lo < hi, got {seg['w_range']}")
+        if "seed" in seg and not lo <= seg["seed"]["omega"] <= hi:
+            raise ConfigError(f"{where}.seed.omega: {seg['seed']['omega']} lies outside w_range {seg['w_range']}")
+        seen, parent = {name}, seg.get("doubling_of", {}).get("segment")
+        while parent is not None:
+            if parent not in segments:
+                raise ConfigError(
+                    f"{where}.doubling_of.segment: no segment named {parent!r} (segments: {', '.join(segments)})"
+                )
+            if parent in seen:
+                raise ConfigError(f"{where}.doubling_of: the chain of parents comes back to {parent!r}")
+            seen.add(parent)
+            parent = segments[parent].get("doubling_of", {}).get("segment")
+
+
+def _check_two_parameter(config: dict) -> None:
+    """The curves start at the model's value of the parameter, inside an ordered range; they are
+    drawn over the 2-D map, so both use the same parameter; each names an existing segment."""
+    two = config.get("two_parameter", {})
+    where = "invalid configuration:\n  two_parameter"
+    name, (lo, hi) = two["parameter"], two["values"]
+    if not lo < hi:
+        raise ConfigError(f"{where}.values: must be [lo, hi] with lo < hi, got {two['values']}")
+    own = config["model"].get(name)
+    if own is not None and not lo <= own <= hi:
+        raise ConfigError(
+            f"{where}.values: {two['values']} must contain the model's {name} = {own} (where every curve starts)"
+        )
+    if not two["w_range"][0] < two["w_range"][1]:
+        raise ConfigError(f"{where}.w_range: must be [lo, hi] with lo < hi, got {two['w_range']}")
+    if not two["ds"] > two["ds_min"]:
+        raise ConfigError(f"{where}.ds: must exceed ds_min = {two['ds_min']}, got {two['ds']}")
+    drawn_over = config["bifurcation"]["map2d"]["parameter"]
+    if name != drawn_over:
+        raise ConfigError(
+            f"{where}.parameter: {name} differs from bifurcation.map2d.parameter {drawn_over} (the map the "
+            "curves are drawn over); set both to the same parameter"
+        )
+    segments = config.get("periodic_orbits", {}).get("segments", {})
+    for curve, spec in two["curves"].items():
+        if spec["segment"] not in segments:
+            raise ConfigError(
+                f"{where}.curves.{curve}.segment: no segment named {spec['segment']!r} in periodic_orbits.segments "
+                f"({', '.join(segments) or 'none'})"
+            )
+
+
+def load_config(path, schema_path) -> dict:
+    path = Path(path)
+    if not path.is_file():
+        raise ConfigError(f"configuration file {path} does not exist")
+    return validate_config(yaml.safe_load(path.read_text()) or {}, schema_path)

@@ -1,0 +1,445 @@
+"""Noise study: how sampling rate, sensor noise and sensor imperfections change the impact
+train extracted from a record, scored against the surrogate's exact events.
+
+Why a module of its own: the surrogate (:mod:`impactosc.records.surrogate`) makes records;
+this scores what extraction (:mod:`impactosc.records.extract`) recovers from them -- missed and
+extra impacts, timing error against the stated sigma and the Cramer-Rao bound, penetration
+error, the obstacle estimate, and the train's statistics (C_V^2, ISI modes, ACF peaks).
+
+The study is one function (:func:`noise_study`) and, for a workflow that runs it as parallel
+jobs, its parts: each rate's clean run (:func:`clean_runs`, simulated once and shared by the
+levels), the rows of one noise level at every rate (:func:`noise_level_rows`, the same noise
+draws as the whole study), the sensor-realism rows (:func:`realism_rows`), and
+:func:`merge_levels`, which puts the levels' rows back in the study's order.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from impactosc.core.simulate import Window, simulate
+from impactosc.records.extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
+from impactosc.records.record import Record
+from impactosc.records.surrogate import (
+    REALISM_FIELDS,
+    SurrogateOptions,
+    mismatched_params,
+    sample_run,
+    sensor_samples,
+    surrogate_meta,
+    surrogate_record,
+    surrogate_run,
+)
+from impactosc.statistics.impact_train import ImpactTrain
+from impactosc.statistics.train_analysis import analyse_train
+
+__all__ = [
+    "TABLE_COLUMNS",
+    "clean_runs",
+    "match_impacts",
+    "merge_levels",
+    "noise_level_rows",
+    "noise_study",
+    "realism_rows",
+]
+
+# Columns of the study's table (the rows also carry the ISI kernel densities, kept for the figure)
+TABLE_COLUMNS = [
+    "rate_hz",
+    "noise_m",
+    "method",
+    "n_true",
+    "n_found",
+    "missed",
+    "extra",
+    "timing_rms_s",
+    "timing_bias_s",
+    "timing_max_z",
+    "frac_beyond_5sigma",
+    "sigma_t_median_s",
+    "timing_err_median_s",
+    "timing_crb_median_s",
+    "timing_crb_ratio",
+    "penetration_bias_m",
+    "penetration_err_median_m",
+    "x_impact_err_m",
+    "x_impact_sigma_m",
+    "sensor_delay_s",
+    "noise_estimate_m",
+    "cv2_paper",
+    "cv2",
+    "isi_n_modes",
+    "isi_maxima",
+    "isi_valley_ratio",
+    "acf_n_significant",
+    "note",
+    "x_impact_note",
+]
+
+
+def match_impacts(true_t, found_t):
+    """Nearest-neighbour one-to-one matching of found to true impact times (both sorted).
+
+    A found time is matched to its nearest true one if it lies within half the gap to that
+    one's neighbours; a true time claimed twice keeps its first claimant.  Returns (indices into
+    found_t, indices into true_t) of the pairs: the rest of found_t are extra, of true_t missed.
+    """
+    if found_t.size == 0 or true_t.size == 0:
+        return np.empty(0, int), np.empty(0, int)
+    j = np.clip(np.searchsorted(true_t, found_t), 1, true_t.size - 1)
+    near = np.where(np.abs(true_t[j] - found_t) < np.abs(true_t[j - 1] - found_t), j, j - 1)
+    half = np.minimum(np.diff(true_t, prepend=-np.inf), np.diff(true_t, append=np.inf))[near] / 2
+    ok = np.abs(found_t - true_t[near]) < half
+    found, true = np.flatnonzero(ok), near[ok]
+    _, first = np.unique(true, return_index=True)  # a true impact claimed twice counts once
+    return found[first], true[first]
+
+
+def _train_numbers(times, t0, t1, omega, analysis):
+    """Scalars of the noise study from :func:`impactosc.statistics.train_analysis.analyse_train`."""
+    a = analyse_train(ImpactTrain(times, t0, t1, omega=omega), analysis, ("variability", "isi_density", "acf"))
+    d = a["isi_density"]
+    g, dens, mx = np.asarray(d["kde_grid"]), np.asarray(d["kde_density"]), np.asarray(d["maxima"])
+    valley = float("nan")
+    if mx.size >= 2:
+        # depth of the bimodality: density minimum between the outer maxima / lower maximum
+        inside = (g > mx[0]) & (g < mx[-1])
+        valley = float(dens[inside].min() / min(np.interp(mx[0], g, dens), np.interp(mx[-1], g, dens)))
+    return {
+        "cv2_paper": a["variability"]["cv2_paper"],
+        "cv2": a["variability"]["cv2"],
+        "isi_n_modes": int(d["n_modes"]),
+        "isi_maxima": " ".join(f"{m:.4f}" for m in mx),
+        "isi_valley_ratio": valley,
+        "acf_n_significant": int(a["acf"]["n_significant"]),
+        "kde_grid": g,
+        "kde_density": dens,
+    }
+
+
+def _extraction_row(rec, x_impact, truth, opts: ExtractOptions) -> tuple[dict, np.ndarray]:
+    """Extract the events of rec with the known x_impact and score them against the truth.
+
+    Returns (columns, extracted impact times).  Timing: rms error, largest |error| / stated
+    sigma_t, the median |error| against the median Cramer-Rao bound of the matched impacts and
+    ``timing_crb_ratio`` = median(|error| / bound) / 0.6745 (1 when every impact is timed with
+    the bound's precision: |error| / bound is then half-normal, median 0.6745).  Penetration:
+    median error and median |error| of the depths of the matched impacts.
+    """
+    T, Ht = truth["impacts"]["t"], truth["penetrations"]["h"]
+    ev, at = extract_events(rec, x_impact, opts)
+    E, s, crb = ev["impacts"]["t"], ev["impacts"]["sigma_t"], ev["impacts"]["crb_t"]
+    fi, ti = match_impacts(T, E)
+    err = E[fi] - T[ti]
+    nan = float("nan")
+    row = {
+        "n_true": T.size,
+        "n_found": E.size,
+        "missed": T.size - ti.size,
+        "extra": E.size - fi.size,
+        "timing_rms_s": float(np.sqrt(np.mean(err**2))) if err.size else nan,
+        "timing_bias_s": float(np.median(err)) if err.size else nan,
+        "timing_max_z": float(np.max(np.abs(err) / s[fi])) if err.size else nan,
+        "frac_beyond_5sigma": float(np.mean(np.abs(err) > 5 * s[fi])) if err.size else nan,
+        "sigma_t_median_s": at["timing_sigma_median"],
+        "noise_estimate_m": at["noise_sigma"],
+    }
+    c = crb[fi]
+    ok = np.isfinite(c) & (c > 0)
+    if ok.any():
+        row.update(
+            timing_err_median_s=float(np.median(np.abs(err[ok]))),
+            timing_crb_median_s=float(np.median(c[ok])),
+            timing_crb_ratio=float(np.median(np.abs(err[ok]) / c[ok]) / 0.6745),
+        )
+    if Ht.size == T.size and ti.size:
+        dh = ev["penetrations"]["h"][fi] - Ht[ti]
+        row.update(penetration_bias_m=float(np.median(dh)), penetration_err_median_m=float(np.median(np.abs(dh))))
+    return row, E
+
+
+def _x_impact_columns(rec, span, x_true) -> dict:
+    """Error and stated sigma of estimate_x_impact on the first ``span`` s of rec (nothing if span is 0)."""
+    if not span:
+        return {}
+    n = int(np.searchsorted(rec.t, rec.t[0] + span, side="right"))
+    part = Record(rec.t[:n], rec.x[:n], rec.omega, {}, rec.path)
+    try:
+        est, det = estimate_x_impact(part)
+    except ValueError as exc:
+        return {"x_impact_note": str(exc)}
+    return {"x_impact_err_m": est - x_true, "x_impact_sigma_m": det["sigma"]}
+
+
+def _realism_name(case: dict) -> str:
+    """Method label of a realism row, e.g. 'realism: low-pass 500 Hz order 4, delay corrected'."""
+    parts = []
+    if case.get("quantum"):
+        parts.append(f"ADC step {case['quantum'] * 1e6:g} um")
+    if case.get("lowpass_hz"):
+        how = "delay corrected" if case.get("declare_delay", True) else "delay not declared"
+        parts.append(f"low-pass {case['lowpass_hz']:g} Hz order {case.get('lowpass_order', 4)}, {how}")
+    if case.get("drift"):
+        parts.append(f"zero drift {case['drift'] * 1e6:g} um over {case.get('drift_time', 10.0):g} s")
+    if case.get("clock_jitter"):
+        parts.append(f"clock jitter {case['clock_jitter'] * 1e6:g} us")
+    return "realism: " + ("; ".join(parts) or "none")
+
+
+def noise_study(
+    omega,
+    transient,
+    duration,
+    rates,
+    noises,
+    *,
+    analysis=None,
+    mismatch=None,
+    seed=0,
+    params=None,
+    rtol=1e-10,
+    atol=1e-12,
+    x_impact_span=0.0,
+    x_impact_noise=(),
+    realism=None,
+    realism_noise=5e-6,
+    realism_rate=None,
+):
+    """How sampling rate, sensor noise and sensor imperfections change the extracted train.
+
+    For each rate one simulation is sampled; for each noise level white noise is added,
+    events are extracted twice (with hysteresis, and naive threshold crossing for
+    comparison) and matched to the exact events.  Returns a list of row dicts (one per
+    rate x noise x method, plus the exact train per rate) with the counts (true, found,
+    missed, extra), the timing error (rms, median = bias, max |error| / stated sigma_t), the
+    median stated sigma_t, the timing error against the Cramer-Rao bound
+    (:func:`_extraction_row`), the penetration-depth error, and C_V^2 (paper and
+    dimensionless), ISI modes / valley depth and significant ACF-spectrum peaks; the ISI
+    kernel densities are returned under ``kde`` per row.
+
+    x_impact_span : s; when > 0, the hysteresis row of every rate x noise also gets the error
+        and stated sigma of :func:`estimate_x_impact` on the first x_impact_span s of the record
+        (only at the noise levels in ``x_impact_noise`` when it is not empty).
+    realism : list of dicts of :class:`SurrogateOptions` realism fields (lowpass_hz,
+        lowpass_order, drift, drift_time, clock_jitter, quantum), one extra row each at
+        ``realism_noise`` and ``realism_rate`` (default: the first rate), method
+        ``"realism: ..."``, plus a ``"realism: none"`` row with the same noise draws.  A case
+        with ``declare_delay: false`` drops the filter's sensor_delay from the record's metadata
+        (the delay is then not corrected: its timing bias shows).
+    """
+    _check_x_impact_noise(noises, x_impact_noise)
+    common = dict(mismatch=mismatch, seed=seed, params=params, rtol=rtol, atol=atol)
+    out = []
+    for rate in rates:
+        rec0, truth = _clean_record(omega, transient, duration, rate, **common)
+        out.append(_exact_row(rate, rec0, truth, omega, analysis))
+        for noise, x in zip(noises, _noisy_samples(rec0.x, noises, seed)):
+            out.extend(_level_rows(rate, noise, rec0, truth, x, omega, analysis, x_impact_span, x_impact_noise))
+    if realism:
+        out.extend(
+            realism_rows(
+                omega,
+                transient,
+                duration,
+                float(realism_rate or rates[0]),
+                realism_noise,
+                realism,
+                x_impact_span=x_impact_span,
+                **common,
+            )
+        )
+    return out
+
+
+def noise_level_rows(
+    omega,
+    transient,
+    duration,
+    rates,
+    noises,
+    level,
+    *,
+    analysis=None,
+    mismatch=None,
+    seed=0,
+    params=None,
+    rtol=1e-10,
+    atol=1e-12,
+    x_impact_span=0.0,
+    x_impact_noise=(),
+    runs=None,
+):
+    """The rows of :func:`noise_study` for noise level ``noises[level]`` at every rate, alone.
+
+    Why: a workflow runs one job per level. Each rate's clean record is sampled from its clean
+    run (the same record as the study's: the simulation is deterministic) and the noise is the
+    study's own draw: one generator seeded with ``seed`` per rate gives the levels their noise
+    in turn, so the levels before this one are drawn and discarded. Level 0 also gives each
+    rate's exact-events row. Rows are grouped by rate, in the order of ``rates``:
+    :func:`merge_levels` relies on it.
+
+    runs : each rate's clean run as an (events, trajectory) pair, in the order of ``rates``
+        (from :func:`clean_runs`, or read back from the run files a workflow writes once for
+        every level's job); None: simulated here.
+    """
+    _check_x_impact_noise(noises, x_impact_noise)
+    if runs is not None and len(runs) != len(rates):
+        raise ValueError(f"{len(runs)} clean runs for {len(rates)} rates")
+    noise = noises[level]
+    out = []
+    for rate, run in zip(rates, runs or [None] * len(rates)):
+        rec0, truth = _clean_record(
+            omega, transient, duration, rate, mismatch=mismatch, seed=seed, params=params, rtol=rtol, atol=atol, run=run
+        )
+        if level == 0:
+            out.append(_exact_row(rate, rec0, truth, omega, analysis))
+        x = next(itertools.islice(_noisy_samples(rec0.x, noises, seed), level, None))
+        out.extend(_level_rows(rate, noise, rec0, truth, x, omega, analysis, x_impact_span, x_impact_noise))
+    return out
+
+
+def merge_levels(levels, n_rates):
+    """Rows of every level (a list per level, each from :func:`noise_level_rows` or the same rows
+    in another form, e.g. the table's cells) in the order of :func:`noise_study`: rate by rate,
+    and within a rate level by level. A level's rows come in ``n_rates`` equal groups."""
+    blocks = []
+    for i, rows in enumerate(levels):
+        if len(rows) % n_rates:
+            raise ValueError(f"noise level {i}: {len(rows)} rows do not split into {n_rates} rates")
+        k = len(rows) // n_rates
+        blocks.append([rows[j * k : (j + 1) * k] for j in range(n_rates)])
+    return [row for j in range(n_rates) for block in blocks for row in block[j]]
+
+
+def _check_x_impact_noise(noises, x_impact_noise):
+    """x_impact_noise must name levels of the study (an estimate at a level not studied is a typo)."""
+    stray = sorted(set(x_impact_noise) - set(noises))
+    if stray:
+        raise ValueError(f"x_impact_noise {stray} not among the study's noise levels {list(noises)}")
+
+
+def clean_runs(omega, transient, duration, rates, *, mismatch=None, params=None, rtol=1e-10, atol=1e-12):
+    """Each rate's clean run (:func:`impactosc.records.surrogate.surrogate_run`: exact events
+    and trajectory) for ``noise_level_rows(runs=...)``: simulated once, every level samples it."""
+    return [
+        surrogate_run(omega, transient, duration, _clean_options(rate, mismatch), params=params, rtol=rtol, atol=atol)
+        for rate in rates
+    ]
+
+
+def _clean_options(rate, mismatch, seed=0):
+    """The surrogate's sensor at rate without noise (the study adds its own)."""
+    return SurrogateOptions(rate=float(rate), noise=0.0, mismatch=mismatch or {}, seed=seed)
+
+
+def _clean_record(omega, transient, duration, rate, *, mismatch, seed, params, rtol, atol, run=None):
+    """The surrogate record sampled at rate without noise, and its exact events (the truth);
+    sampled from ``run`` (a clean run's (events, trajectory)) when given, else simulated."""
+    base = _clean_options(rate, mismatch, seed)
+    if run is None:
+        return surrogate_record(omega, transient, duration, base, params=params, rtol=rtol, atol=atol)
+    events, trajectory = run
+    return sample_run(trajectory, omega, base, params=params), events
+
+
+def _exact_row(rate, rec0, truth, omega, analysis) -> dict:
+    """The row of the exact events of a rate's record: the statistics the extraction aims at."""
+    T = truth["impacts"]["t"]
+    exact = _train_numbers(T, float(rec0.t[0]), float(rec0.t[-1]), omega, analysis)
+    return {
+        "rate_hz": rate,
+        "noise_m": 0.0,
+        "method": "exact events",
+        "n_true": T.size,
+        "n_found": T.size,
+        "missed": 0,
+        "extra": 0,
+        **exact,
+    }
+
+
+def _noisy_samples(x, noises, seed):
+    """x plus white noise of each level in turn, from one generator seeded with seed: a level's
+    draw follows those of the levels before it (a level of zero draws nothing)."""
+    rng = np.random.default_rng(seed)
+    for noise in noises:
+        yield x + (rng.normal(0, noise, x.size) if noise > 0 else 0.0)
+
+
+def _level_rows(rate, noise, rec0, truth, x, omega, analysis, x_impact_span, x_impact_noise) -> list[dict]:
+    """The rows of one (rate, noise): events extracted with hysteresis and by naive threshold
+    crossing, scored against the truth; the hysteresis row also gets the obstacle estimate at
+    the levels of x_impact_noise (at every level when it is empty)."""
+    # no omega: the study needs the impacts, not the Poincare points (the costliest
+    # part of extraction left); the noise is estimated once for both methods
+    rec = Record(rec0.t, x, None, rec0.meta, rec0.path)
+    sigma = estimate_noise(x)
+    t0, t1 = float(rec0.t[0]), float(rec0.t[-1])
+    x_true = rec0.meta["x_impact"]
+    out = []
+    for method, opts in (
+        ("hysteresis", ExtractOptions(noise=sigma)),
+        ("naive threshold", ExtractOptions(noise=sigma, hysteresis=0.0, confirm_sigmas=0.0)),
+    ):
+        cols, E = _extraction_row(rec, x_true, truth, opts)
+        row = {"rate_hz": rate, "noise_m": noise, "method": method, **cols}
+        if method == "hysteresis" and (not x_impact_noise or noise in x_impact_noise):
+            row.update(_x_impact_columns(Record(rec0.t, x, omega, {}, rec0.path), x_impact_span, x_true))
+        try:
+            row.update(_train_numbers(E, t0, t1, omega, analysis))
+        except ValueError as exc:  # e.g. too few impacts left: say so in the table
+            row["note"] = str(exc)
+        out.append(row)
+    return out
+
+
+def realism_rows(
+    omega,
+    transient,
+    duration,
+    rate,
+    noise,
+    cases,
+    *,
+    mismatch=None,
+    seed=0,
+    params=None,
+    rtol=1e-10,
+    atol=1e-12,
+    x_impact_span=0.0,
+):
+    """Rows of :func:`noise_study` for the sensor-realism cases (one simulation on the fine grid):
+    a ``"realism: none"`` row, then one per case, all with the same noise draws."""
+    for case in cases:
+        unknown = set(case) - set(REALISM_FIELDS) - {"declare_delay"}
+        if unknown:
+            raise ValueError(f"unknown realism option(s) {sorted(unknown)}; known: {list(REALISM_FIELDS)}")
+    p = mismatched_params(params, mismatch or {})
+    # the fine grid of the anti-aliasing filter when a case has one
+    k = SurrogateOptions(rate=rate, lowpass_hz=0.25 * rate).oversample if any(c.get("lowpass_hz") for c in cases) else 1
+    win = Window(float(transient), float(transient) + float(duration), 1.0 / (rate * k))
+    res = simulate(
+        omega, transient, duration, params=p, rtol=rtol, atol=atol, window=win, record=("impacts", "penetrations")
+    )
+    truth, traj = res.events, res.trajectory
+    coarse = {name: traj[name][::k] for name in ("t", "x", "v")}
+    t = coarse["t"]
+    out = []
+    for case in [{}, *cases]:
+        fields = {f: case[f] for f in REALISM_FIELDS if f in case}
+        o = SurrogateOptions(rate=rate, noise=noise, mismatch=mismatch or {}, seed=seed, **fields)
+        x = sensor_samples(traj if o.oversample > 1 else coarse, o, np.random.default_rng(seed))
+        meta = surrogate_meta(o, p)
+        if not case.get("declare_delay", True):
+            meta.pop("sensor_delay", None)
+        rec = Record(t, x, None, meta, "<surrogate>")
+        cols, _ = _extraction_row(rec, p.xI, truth, ExtractOptions(noise=estimate_noise(x)))
+        row = {"rate_hz": rate, "noise_m": noise, "method": _realism_name(case), **cols}
+        if o.lowpass_hz > 0:  # the filter's delay, corrected or not (see the method)
+            row["sensor_delay_s"] = o.sensor_delay
+        xrec = Record(t - meta.get("sensor_delay", 0.0), x, omega, {}, "<surrogate>")
+        row.update(_x_impact_columns(xrec, x_impact_span, p.xI))
+        out.append(row)
+    return out
