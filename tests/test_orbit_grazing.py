@@ -1,5 +1,5 @@
 """The grazing of model BC's period-1 orbit as a continuation event
-(impactosc.dynamics.orbit_grazing): where the smallest near-miss gap reaches zero."""
+(impactosc.dynamics.grazing): where the smallest near-miss gap reaches zero."""
 
 import math
 
@@ -7,7 +7,7 @@ import pytest
 
 from impactosc.core.simulate import simulate
 from impactosc.dynamics import shoot
-from impactosc.dynamics.orbit_grazing import locate_orbit_grazing, orbit_events
+from impactosc.dynamics.grazing import locate_orbit_grazing, orbit_events
 
 # Located with gap floors 1e-8, 1e-9 and 1e-10 m from two different pairs of starting orbits
 # (23.3 and 23.2, 23.1 and 23.06 rad/s): all six agree to 4e-13 rad/s (floor 1e-6 was 2e-8 off);

@@ -16,14 +16,8 @@ import numpy as np
 import pytest
 
 from impactosc.core.simulate import Window, simulate
-from impactosc.dynamics.grazing import (
-    branch_grid,
-    extrapolate_gap_zero,
-    find_grazing_step,
-    locate_grazing,
-    sweep_summary,
-)
-from impactosc.dynamics.sweep import SweepSettings, continuation
+from impactosc.dynamics.grazing import extrapolate_gap_zero, find_grazing_step, locate_grazing, sweep_summary
+from impactosc.dynamics.sweep import SweepSettings, branch_grid, continuation
 from impactosc.statistics.periodic_train import branch_state, impact_map_numbers
 from impactosc.statistics.periods import poincare_period
 from impactosc.statistics.spectral_lines import analyse_spectrum

@@ -14,8 +14,7 @@ import numpy as np
 import pytest
 
 from impactosc.dynamics.diagram import read_sweep
-from impactosc.dynamics.grazing import regular_grid
-from impactosc.dynamics.sweep import SweepSettings, continuation
+from impactosc.dynamics.sweep import SweepSettings, continuation, regular_grid
 
 REF_PATH = Path(__file__).parent / "data" / "bifurcation_reference.json"
 SETTINGS = SweepSettings(n_transient=150, n_record=48, n_initial=600)

@@ -20,7 +20,7 @@ from impactosc.core.simulate import simulate
 from impactosc.dynamics import shoot
 from impactosc.dynamics.arclength import continue_branch, folds, locate_fold
 from impactosc.dynamics.bifurcation_points import locate
-from impactosc.dynamics.orbit_grazing import locate_orbit_grazing
+from impactosc.dynamics.grazing import locate_orbit_grazing
 from impactosc.dynamics.two_parameter import CurveProblem, point_at, start_point, trace_curve
 from impactosc.model.equations import ModelParams
 
@@ -324,8 +324,7 @@ def test_curves_agree_with_time_simulation_at_more_obstacles(curve, xi):
 def _map_rows(values):
     """Rows of the 2-D map at these obstacle positions, with the workflow's default settings."""
     from impactosc.dynamics.diagram import classify_sweep
-    from impactosc.dynamics.grazing import regular_grid
-    from impactosc.dynamics.sweep import SweepSettings, parameter_rows
+    from impactosc.dynamics.sweep import SweepSettings, parameter_rows, regular_grid
 
     settings = SweepSettings(n_transient=100, n_record=50, n_initial=1000)
     tables = [classify_sweep(res, x_tol=1e-6, v_tol=1e-4, isi_tol=1e-4)

@@ -12,8 +12,7 @@ configure_logging(snakemake)
 import logging
 import time
 
-from impactosc.dynamics.grazing import regular_grid
-from impactosc.dynamics.sweep import SweepSettings, load_sweep, save_sweep
+from impactosc.dynamics.sweep import SweepSettings, load_sweep, regular_grid, save_sweep
 from impactosc.dynamics.sweep_chunks import coarse_pass, plan_chunks, run_chunk
 
 

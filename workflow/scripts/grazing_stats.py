@@ -11,8 +11,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.dynamics.grazing import grazing_summary_file
 from impactosc.io.files import write_json
+from impactosc_study.grazing_evidence import grazing_summary_file
 
 write_json(
     snakemake.output.stats,

@@ -14,9 +14,8 @@ import time
 import numpy as np
 
 from impactosc.dynamics.diagram import classify_sweep
-from impactosc.dynamics.grazing import regular_grid
 from impactosc.dynamics.maps import MapResult, save_map
-from impactosc.dynamics.sweep import SweepSettings, parameter_rows
+from impactosc.dynamics.sweep import SweepSettings, parameter_rows, regular_grid
 
 
 def main(params, output):

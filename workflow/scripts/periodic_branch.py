@@ -11,8 +11,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.dynamics.grazing import branch_grid, locate_grazing
-from impactosc.dynamics.sweep import SweepSettings, continuation, save_sweep
+from impactosc.dynamics.grazing import locate_grazing
+from impactosc.dynamics.sweep import SweepSettings, branch_grid, continuation, save_sweep
 from impactosc.io.files import write_json
 from impactosc.model.equations import ModelParams
 

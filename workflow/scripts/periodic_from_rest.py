@@ -10,8 +10,8 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.dynamics.grazing import regular_grid, scan_from_rest
-from impactosc.dynamics.sweep import SweepSettings, save_sweep
+from impactosc.dynamics.grazing import scan_from_rest
+from impactosc.dynamics.sweep import SweepSettings, regular_grid, save_sweep
 from impactosc.model.equations import ModelParams
 
 

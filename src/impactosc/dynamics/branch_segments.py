@@ -26,7 +26,7 @@ import numpy as np
 from impactosc.core.simulate import simulate
 from impactosc.dynamics.arclength import BranchPoint, branch_points, locate_fold, switch_at_period_doubling
 from impactosc.dynamics.bifurcation_points import TEST_FUNCTIONS, locate
-from impactosc.dynamics.orbit_grazing import locate_orbit_grazing
+from impactosc.dynamics.grazing import locate_orbit_grazing
 from impactosc.dynamics.shooting import ATOL, RTOL, PeriodicOrbit, ShootingError, shoot
 from impactosc.model.equations import ModelParams
 

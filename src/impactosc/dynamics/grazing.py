@@ -16,6 +16,16 @@ synthetic gap curves; :func:`model_trial` and :func:`locate_grazing` bind them t
 
 A second locator, :func:`grazing_by_clearance_secant`, finds where the clearance of one
 orbit's near miss is zero (a secant in w), for runs that must set the depth or gap itself.
+
+A third, :func:`locate_orbit_grazing`, treats the grazing of a periodic orbit (stable or not)
+as a continuation event. At a grazing the orbit touches the obstacle with zero velocity; there
+the stroboscopic map is not smooth (a square-root singularity of the new low-velocity impact),
+so no test function of the monodromy matrix sees it. Along a branch followed in w, the smallest
+gap between the obstacle and the orbit's free-flight maxima falls linearly to zero; past it the
+near miss has become an impact. Bisection on "the orbit still has that near miss" locates it.
+
+The paper's grazing claim (the attractor at its two w values, the evidence table) is the
+study's: :mod:`impactosc_study.grazing_evidence`.
 """
 
 from __future__ import annotations
@@ -27,11 +37,9 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from impactosc.core.simulate import Window, simulate
-from impactosc.dynamics.sweep import continuation, load_sweep
+from impactosc.dynamics.shooting import ATOL, DEFAULT_STEP, RTOL, SCALE, PeriodicOrbit, ShootingError, shoot
+from impactosc.dynamics.sweep import continuation
 from impactosc.dynamics.sweep_chunks import merge_chunks
-from impactosc.io.files import read_json
-from impactosc.statistics.periods import poincare_period
-from impactosc_study.paper.numbers import GRAZING
 
 __all__ = [
     "Trial",
@@ -43,13 +51,11 @@ __all__ = [
     "sweep_summary",
     "model_trial",
     "locate_grazing",
-    "branch_grid",
-    "grazing_statistics",
     "scan_from_rest",
-    "regular_grid",
-    "grazing_summary_file",
     "settle_orbit",
     "grazing_by_clearance_secant",
+    "locate_orbit_grazing",
+    "orbit_events",
 ]
 
 
@@ -285,90 +291,6 @@ def locate_grazing(branch, settings, tol: float) -> GrazingBracket:
     )
 
 
-def branch_grid(start: float, fine_from: float, stop: float, coarse_step: float, fine_step: float) -> np.ndarray:
-    """Decreasing w grid: start, start - coarse_step, ... (> fine_from), then fine_from to stop by fine_step.
-
-    Why: the paper follows the attractor down from w = 40.86; only the neighbourhood of
-    the grazing needs fine steps. Grid points are start - i*step rounded to 1e-9 rad/s, so
-    round values such as 23.05 and 23.03 are hit exactly when they lie on the fine grid.
-    """
-    vals = {"start": start, "fine_from": fine_from, "stop": stop, "coarse_step": coarse_step, "fine_step": fine_step}
-    for name, value in vals.items():
-        if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value) or value <= 0:
-            raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    if not start >= fine_from > stop:
-        raise ValueError(f"need start >= fine_from > stop (a decreasing branch), got {start}, {fine_from}, {stop}")
-    n_c = int(math.floor((start - fine_from) / coarse_step * (1 + 1e-12)))
-    coarse = np.round(start - coarse_step * np.arange(n_c + 1), 9)
-    coarse = coarse[coarse > fine_from + 1e-9]
-    n_f = int(math.floor((fine_from - stop) / fine_step * (1 + 1e-12)))
-    fine = np.round(fine_from - fine_step * np.arange(n_f + 1), 9)
-    return np.concatenate([coarse, fine])
-
-
-def _attractor_at(summary: dict, omega: float, periods=None) -> dict | None:
-    w = np.asarray(summary["omega"])
-    i = int(np.argmin(np.abs(w - omega)))
-    if abs(w[i] - omega) > 1e-9:
-        return None
-    out = {k: float(np.asarray(summary[k])[i]) for k in ("impacts_per_period", "min_gap", "min_impact_v")}
-    if periods is not None:
-        out["period"] = int(periods[i])
-    return out
-
-
-def grazing_statistics(
-    branch: dict,
-    bracket: dict,
-    from_rest: dict,
-    paper_omegas=GRAZING["omegas"],
-    n_fit: int = 5,
-    branch_periods=None,
-    rest_periods=None,
-) -> dict:
-    """Everything the grazing claim rests on, as a JSON-ready dict.
-
-    branch / from_rest: per-w summaries (:func:`sweep_summary`), branch in branch order;
-    bracket: :meth:`GrazingBracket.to_dict`. Adds the straight-line gap extrapolation, the
-    attractor at each paper w on the branch and from rest, where w_g sits relative to the
-    paper's w values, and the from-rest grid points on either side of the attractor switch.
-    """
-    i = find_grazing_step(branch["omega"], branch["min_gap"], branch["impacts_per_period"])
-    fit = extrapolate_gap_zero(branch["omega"][: i + 1], branch["min_gap"][: i + 1], n_fit)
-    wg = 0.5 * (bracket["omega_miss"] + bracket["omega_contact"])
-    ref = float(branch["impacts_per_period"][i])
-    pre = float(np.asarray(branch["omega"])[i])
-    out = {
-        "omega_g": wg,
-        "bracket": bracket,
-        "branch_step": {
-            "omega_miss": pre,
-            "omega_contact": float(branch["omega"][i + 1]),
-            "impacts_per_period_before": ref,
-            "impacts_per_period_after": float(branch["impacts_per_period"][i + 1]),
-        },
-        "gap_fit": fit.to_dict(),
-        "fit_minus_bracket": fit.omega_zero - wg,
-        "fit_inside_bracket": bool(
-            min(bracket["omega_miss"], bracket["omega_contact"])
-            <= fit.omega_zero
-            <= max(bracket["omega_miss"], bracket["omega_contact"])
-        ),
-        "paper_omegas": list(map(float, paper_omegas)),
-        "between_paper_omegas": bool(min(paper_omegas) < wg < max(paper_omegas)),
-        "branch_at_paper_omegas": {f"{w:g}": _attractor_at(branch, w, branch_periods) for w in paper_omegas},
-        "from_rest_at_paper_omegas": {f"{w:g}": _attractor_at(from_rest, w, rest_periods) for w in paper_omegas},
-    }
-    # from rest: which grid points land on the pre-grazing orbit (ref impacts per period
-    # with a near miss) and which on something else
-    rw = np.asarray(from_rest["omega"])
-    on_pre = np.isclose(np.asarray(from_rest["impacts_per_period"]), ref, atol=1e-9) & np.isfinite(
-        np.asarray(from_rest["min_gap"])
-    )
-    out["from_rest_on_pre_grazing_orbit"] = {"omega": rw[on_pre].tolist(), "other": rw[~on_pre].tolist()}
-    return out
-
-
 def scan_from_rest(omegas, settings, transient: float, progress=None):
     """Each w started from rest (x = v = 0 at t = 0): the attractor a single scene reaches.
 
@@ -386,47 +308,6 @@ def scan_from_rest(omegas, settings, transient: float, progress=None):
         if progress is not None:
             progress(k, len(omegas), float(w))
     return merge_chunks(parts)
-
-
-def regular_grid(start: float, stop: float, step: float) -> np.ndarray:
-    """start, start +/- step, ... up to stop inclusive, rounded to 1e-9 (hits round values exactly)."""
-    for name, value in (("start", start), ("stop", stop), ("step", step)):
-        if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value) or value <= 0:
-            raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    n = int(math.floor(abs(stop - start) / step * (1 + 1e-12)))
-    return np.round(start + math.copysign(step, stop - start) * np.arange(n + 1), 9)
-
-
-def grazing_summary_file(
-    branch_path, bisection_path, from_rest_path, paper_omegas=GRAZING["omegas"], n_fit: int = 5
-) -> dict:
-    """:func:`grazing_statistics` from the workflow's files, plus the per-w arrays to plot.
-
-    Each per-w summary gets the Poincare period of the recorded attractor (forcing
-    periods, 0 = none up to half the record: chaotic or unsettled).
-    """
-    branch, _ = load_sweep(branch_path)
-    rest, _ = load_sweep(from_rest_path)
-    bracket = read_json(bisection_path)
-    summaries = {}
-    for name, sweep in (("branch", branch), ("from_rest", rest)):
-        s = sweep_summary(sweep)
-        s["period"] = np.array([poincare_period(x, v) for x, v in zip(sweep.poincare_x, sweep.poincare_v)])
-        summaries[name] = s
-    for t in bracket["trials"]:  # JSON null -> NaN
-        for k in ("min_gap", "min_impact_v"):
-            t[k] = math.nan if t[k] is None else t[k]
-    out = grazing_statistics(
-        summaries["branch"],
-        bracket,
-        summaries["from_rest"],
-        paper_omegas,
-        n_fit,
-        summaries["branch"]["period"],
-        summaries["from_rest"]["period"],
-    )
-    out["per_w"] = {name: {k: np.asarray(v).tolist() for k, v in s.items()} for name, s in summaries.items()}
-    return out
 
 
 # ---------------------------------------------------------------- grazing of an orbit, by secant
@@ -496,3 +377,59 @@ def grazing_by_clearance_secant(
         if abs(g_n) < tol:
             return w_n, slope, s_n
     raise RuntimeError(f"grazing secant did not converge: |g| = {abs(g_b):.3g} m at w = {w_b}")
+
+
+def orbit_events(orbit: PeriodicOrbit, params=None) -> dict:
+    """Impacts per orbit and the smallest near-miss gap (m; inf without a near miss) of one
+    period of the orbit, from the core run over it."""
+    run = simulate(
+        orbit.omega, 0.0, orbit.n_periods * 2 * math.pi / orbit.omega, x0=orbit.x0, v0=orbit.v0,
+        params=params, rtol=RTOL, atol=ATOL, record=("impacts", "near_misses"),
+    )  # fmt: skip
+    gaps = run.events["near_misses"]["gap"]
+    return {"impacts": int(run.events["impacts"]["t"].size), "min_gap": float(gaps.min()) if gaps.size else math.inf}
+
+
+def locate_orbit_grazing(
+    a: PeriodicOrbit, b: PeriodicOrbit, params=None, *, gap_floor: float = 1e-9, max_steps: int = 30
+):
+    """w where the smallest near-miss gap of a branch reaches zero, from two of its orbits
+    (`a`, `b`, both with the near miss): secant steps on gap(w) = 0, each new orbit shot from
+    the last, until the gap is below `gap_floor`; then the parabola through the last three
+    points gives the grazing. Near the obstacle each orbit is shot with difference steps of
+    1e-3 of the current gap, so that the monodromy's perturbed orbits miss the obstacle too
+    (with the default 0.1 um they reach it once the gap is below 0.2 um, and the branch's
+    Newton stalls). On model BC's period-1 branch, floors 1e-6, 1e-7, 1e-8 and 1e-9 m give
+    23.04412235, 23.044122337, 23.044122336048 and 23.044122336048 rad/s, and two different
+    starting pairs agree to 2e-8, 1e-9, 4e-13 and 4e-15 rad/s at those floors.
+    Returns (w at zero gap, the orbit nearest to it, its gap in m)."""
+    pts = [(o, orbit_events(o, params)["min_gap"]) for o in (a, b)]
+    if not all(math.isfinite(g) and g > 0 for _, g in pts):
+        raise ValueError("both orbits must have a near miss (a finite, positive gap) to follow to a grazing")
+    for _ in range(max_steps):
+        (o1, g1), (o2, g2) = pts[-2], pts[-1]
+        w_zero = o2.omega - g2 * (o2.omega - o1.omega) / (g2 - g1)
+        if g2 < gap_floor:
+            return _quadratic_zero(pts[-3:], w_zero), o2, g2
+        # aim at half the floor's gap rather than at zero, so the next orbit stays shootable
+        w_next = o2.omega + (w_zero - o2.omega) * (1 - 0.5 * gap_floor / g2)
+        # difference steps well inside the gap, so that the monodromy's perturbed orbits miss
+        # the obstacle too (1e-3 of it: the map is still resolved, the core's error is 1e-14 m)
+        step = min(DEFAULT_STEP, 1e-3 * g2 / SCALE[0])
+        o3 = shoot([o2.x0, o2.v0], w_next, o2.n_periods, params, step=step)
+        g3 = orbit_events(o3, params)["min_gap"]
+        if not (math.isfinite(g3) and g3 > 0):
+            raise ShootingError(f"the near miss vanished at w = {w_next} before the gap fell below {gap_floor} m")
+        pts.append((o3, g3))
+    raise ShootingError(f"grazing: the gap did not fall below {gap_floor} m in {max_steps} steps")
+
+
+def _quadratic_zero(pts, w_linear: float) -> float:
+    """Root nearest `w_linear` of the parabola through (w, gap) of the last three points (the
+    straight line's root where there are only two)."""
+    if len(pts) < 3:
+        return w_linear
+    w = np.array([o.omega for o, _ in pts])
+    roots = np.roots(np.polyfit(w - w_linear, [g for _, g in pts], 2))
+    real = roots[np.isreal(roots)].real
+    return float(w_linear + real[np.argmin(np.abs(real))]) if real.size else w_linear

@@ -32,6 +32,8 @@ __all__ = [
     "SweepSettings",
     "SweepResult",
     "omega_grid",
+    "regular_grid",
+    "branch_grid",
     "continuation",
     "save_sweep",
     "load_sweep",
@@ -422,3 +424,33 @@ def parameter_rows(omegas, settings: SweepSettings, parameter: str, values, prog
         yield float(value), continuation(w, row_settings)
         if progress is not None:
             progress(k, vals.size, float(value))
+
+
+def branch_grid(start: float, fine_from: float, stop: float, coarse_step: float, fine_step: float) -> np.ndarray:
+    """Decreasing w grid: start, start - coarse_step, ... (> fine_from), then fine_from to stop by fine_step.
+
+    Why: the paper follows the attractor down from w = 40.86; only the neighbourhood of
+    the grazing needs fine steps. Grid points are start - i*step rounded to 1e-9 rad/s, so
+    round values such as 23.05 and 23.03 are hit exactly when they lie on the fine grid.
+    """
+    vals = {"start": start, "fine_from": fine_from, "stop": stop, "coarse_step": coarse_step, "fine_step": fine_step}
+    for name, value in vals.items():
+        if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value) or value <= 0:
+            raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    if not start >= fine_from > stop:
+        raise ValueError(f"need start >= fine_from > stop (a decreasing branch), got {start}, {fine_from}, {stop}")
+    n_c = int(math.floor((start - fine_from) / coarse_step * (1 + 1e-12)))
+    coarse = np.round(start - coarse_step * np.arange(n_c + 1), 9)
+    coarse = coarse[coarse > fine_from + 1e-9]
+    n_f = int(math.floor((fine_from - stop) / fine_step * (1 + 1e-12)))
+    fine = np.round(fine_from - fine_step * np.arange(n_f + 1), 9)
+    return np.concatenate([coarse, fine])
+
+
+def regular_grid(start: float, stop: float, step: float) -> np.ndarray:
+    """start, start +/- step, ... up to stop inclusive, rounded to 1e-9 (hits round values exactly)."""
+    for name, value in (("start", start), ("stop", stop), ("step", step)):
+        if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value) or value <= 0:
+            raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    n = int(math.floor(abs(stop - start) / step * (1 + 1e-12)))
+    return np.round(start + math.copysign(step, stop - start) * np.arange(n + 1), 9)
