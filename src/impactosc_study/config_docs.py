@@ -7,7 +7,9 @@ when it no longer matches the schema.
 
 from __future__ import annotations
 
+import argparse
 import re
+import sys
 from pathlib import Path
 
 import yaml
@@ -221,3 +223,39 @@ def write(schema_path=SCHEMA, output=OUTPUT, check: bool = False) -> bool:
         return current == text
     path.write_text(text, encoding="utf-8")
     return False
+
+
+def _add_config_docs_parser(sub) -> None:
+    """The config-docs command: the config reference from the schema."""
+    doc = sub.add_parser(
+        "config-docs",
+        help="write config/README.md (every config key) from the config schema",
+        description="Render the JSON schema of the workflow config as a Markdown reference: per section a "
+        "table of dotted key, type, default, allowed values and description. Run from the repository root.",
+        epilog="Example:\n  impactosc config-docs --check   # exit 1 if config/README.md is out of date",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    doc.add_argument(
+        "--schema",
+        default="workflow/schemas/config.schema.yaml",
+        help="config schema (default workflow/schemas/config.schema.yaml)",
+    )
+    doc.add_argument("--output", default="config/README.md", help="Markdown file to write (default config/README.md)")
+    doc.add_argument(
+        "--check", action="store_true", help="write nothing; exit 1 if OUTPUT differs from the schema's rendering"
+    )
+
+
+def _config_docs(args) -> int:
+    if write(args.schema, args.output, check=args.check):
+        print(f"{args.output}: up to date with {args.schema}")
+        return 0
+    if args.check:
+        print(
+            f"impactosc config-docs: {args.output} is out of date with {args.schema}; "
+            "run `impactosc config-docs` to regenerate it",
+            file=sys.stderr,
+        )
+        return 1
+    print(f"{args.output}: written from {args.schema}")
+    return 0

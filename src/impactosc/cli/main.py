@@ -11,23 +11,6 @@ from impactosc.cli.options import model_from_args, read_record_args
 from impactosc.cli.parser import build_parser
 
 
-def _config_docs(args) -> int:
-    from impactosc_study.config_docs import write
-
-    if write(args.schema, args.output, check=args.check):
-        print(f"{args.output}: up to date with {args.schema}")
-        return 0
-    if args.check:
-        print(
-            f"impactosc config-docs: {args.output} is out of date with {args.schema}; "
-            "run `impactosc config-docs` to regenerate it",
-            file=sys.stderr,
-        )
-        return 1
-    print(f"{args.output}: written from {args.schema}")
-    return 0
-
-
 def _extract(args) -> int:
     from impactosc.io.files import check_writable, write_run
     from impactosc.records.extract import ExtractOptions, extract_events
@@ -204,7 +187,7 @@ COMMANDS = {
     "sweep-extract": _sweep_extract,
     "surrogate": _surrogate,
     "identify": _identify,
-    "config-docs": _config_docs,
+    "config-docs": __import__("impactosc_study.config_docs", fromlist=["_config_docs"])._config_docs,
 }
 
 

@@ -31,6 +31,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_sweep_extract_parser(sub)
     _add_surrogate_parser(sub)
     _add_identify_parser(sub)
+    from impactosc_study.config_docs import _add_config_docs_parser
+
     _add_config_docs_parser(sub)
     return parser
 
@@ -259,25 +261,4 @@ def _add_surrogate_parser(sub) -> None:
         sur,
         "The parameters the record is drawn from, before --mismatch: model BC's, or those of --model, then each "
         "--param; the record's metadata names them (model_source).",
-    )
-
-
-def _add_config_docs_parser(sub) -> None:
-    """The config-docs command: the config reference from the schema."""
-    doc = sub.add_parser(
-        "config-docs",
-        help="write config/README.md (every config key) from the config schema",
-        description="Render the JSON schema of the workflow config as a Markdown reference: per section a "
-        "table of dotted key, type, default, allowed values and description. Run from the repository root.",
-        epilog="Example:\n  impactosc config-docs --check   # exit 1 if config/README.md is out of date",
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
-    doc.add_argument(
-        "--schema",
-        default="workflow/schemas/config.schema.yaml",
-        help="config schema (default workflow/schemas/config.schema.yaml)",
-    )
-    doc.add_argument("--output", default="config/README.md", help="Markdown file to write (default config/README.md)")
-    doc.add_argument(
-        "--check", action="store_true", help="write nothing; exit 1 if OUTPUT differs from the schema's rendering"
     )
