@@ -16,7 +16,7 @@ UV := $(UV_VENV)/bin/uv
 # extra arguments of the workflow run, e.g. make SNAKEMAKE_ARGS='fig05 --configfile my.yaml'
 SNAKEMAKE_ARGS ?=
 
-.PHONY: all install lock test test-slow report lint docs format check-cluster check-slurm clean
+.PHONY: all install lock test test-slow report lint docs config-docs format check-cluster check-slurm clean
 
 # A build killed part-way resumes with a plain `make`: a lock left by a dead Snakemake is removed
 # (never one a live Snakemake holds, workflow/unlock_stale.py) and incomplete outputs are redone.
@@ -74,6 +74,10 @@ lint: install
 # docstring (docs/hooks.py), fails the build. make test builds it too.
 docs: install
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --quiet
+
+# config/README.md, every key of the workflow config, rendered from its schema (a test checks it is current)
+config-docs: install
+	$(BIN)/python -m impactosc_study.config_docs
 
 format: install
 	$(BIN)/ruff format .

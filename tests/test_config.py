@@ -8,9 +8,9 @@ from pathlib import Path
 import pytest
 import yaml
 
-from impactosc.cli.main import main
 from impactosc.model.equations import ModelParams
 from impactosc_study.config import ConfigError, load_config, validate_config
+from impactosc_study.config_docs import main as config_docs_main
 from impactosc_study.config_docs import render_file
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -102,7 +102,7 @@ def test_missing_required_key_is_reported(config):
 
 def test_config_readme_is_the_schema_rendered():
     assert README.read_text(encoding="utf-8") == render_file(SCHEMA), (
-        "config/README.md is out of date with the schema; regenerate it with `impactosc config-docs` "
+        "config/README.md is out of date with the schema; regenerate it with `make config-docs` "
         "(from the repository root)"
     )
 
@@ -121,10 +121,10 @@ def test_config_docs_lists_nested_and_map_keys(tmp_path, capsys):
         assert row in text, row
     out = tmp_path / "README.md"
     out.write_text("stale\n")
-    assert main(["config-docs", "--schema", str(SCHEMA), "--output", str(out), "--check"]) == 1
-    assert main(["config-docs", "--schema", str(SCHEMA), "--output", str(out)]) == 0
+    assert config_docs_main(["--schema", str(SCHEMA), "--output", str(out), "--check"]) == 1
+    assert config_docs_main(["--schema", str(SCHEMA), "--output", str(out)]) == 0
     assert out.read_text(encoding="utf-8") == text
-    assert main(["config-docs", "--schema", str(SCHEMA), "--output", str(out), "--check"]) == 0
+    assert config_docs_main(["--schema", str(SCHEMA), "--output", str(out), "--check"]) == 0
     capsys.readouterr()
 
 

@@ -1,8 +1,9 @@
 """Render the config schema as Markdown (config/README.md), so users read every key, its type,
 default, range and meaning in one place while the schema stays the single source of truth.
 
-``impactosc config-docs`` writes the file; ``impactosc config-docs --check`` (and a test) fail
-when it no longer matches the schema.
+``python -m impactosc_study.config_docs`` (or ``make config-docs``) writes the file; with
+``--check`` (and in a test) it fails when the file no longer matches the schema. The command
+belongs to the study, not to the library's ``impactosc`` command: the schema is the workflow's.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ import yaml
 
 SCHEMA = "workflow/schemas/config.schema.yaml"
 OUTPUT = "config/README.md"
-COMMAND = "impactosc config-docs"
+COMMAND = "python -m impactosc_study.config_docs"
 NAME = "<name>"  # placeholder of a user-chosen key in a map (scenes, sweeps, ...)
 
 
@@ -225,37 +226,38 @@ def write(schema_path=SCHEMA, output=OUTPUT, check: bool = False) -> bool:
     return False
 
 
-def _add_config_docs_parser(sub) -> None:
-    """The config-docs command: the config reference from the schema."""
-    doc = sub.add_parser(
-        "config-docs",
-        help="write config/README.md (every config key) from the config schema",
+def build_parser() -> argparse.ArgumentParser:
+    """The command's parser: the config reference from the schema."""
+    doc = argparse.ArgumentParser(
+        prog=COMMAND,
         description="Render the JSON schema of the workflow config as a Markdown reference: per section a "
         "table of dotted key, type, default, allowed values and description. Run from the repository root.",
-        epilog="Example:\n  impactosc config-docs --check   # exit 1 if config/README.md is out of date",
+        epilog=f"Example:\n  {COMMAND} --check   # exit 1 if config/README.md is out of date",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    doc.add_argument(
-        "--schema",
-        default="workflow/schemas/config.schema.yaml",
-        help="config schema (default workflow/schemas/config.schema.yaml)",
-    )
-    doc.add_argument("--output", default="config/README.md", help="Markdown file to write (default config/README.md)")
+    doc.add_argument("--schema", default=SCHEMA, help=f"config schema (default {SCHEMA})")
+    doc.add_argument("--output", default=OUTPUT, help=f"Markdown file to write (default {OUTPUT})")
     doc.add_argument(
         "--check", action="store_true", help="write nothing; exit 1 if OUTPUT differs from the schema's rendering"
     )
+    return doc
 
 
-def _config_docs(args) -> int:
+def main(argv=None) -> int:
+    """Write (or with --check, compare) config/README.md; the exit status says whether it was current."""
+    args = build_parser().parse_args(argv)
     if write(args.schema, args.output, check=args.check):
         print(f"{args.output}: up to date with {args.schema}")
         return 0
     if args.check:
         print(
-            f"impactosc config-docs: {args.output} is out of date with {args.schema}; "
-            "run `impactosc config-docs` to regenerate it",
+            f"{COMMAND}: {args.output} is out of date with {args.schema}; run `{COMMAND}` to regenerate it",
             file=sys.stderr,
         )
         return 1
     print(f"{args.output}: written from {args.schema}")
     return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,4 +1,4 @@
-"""Command line: ``impactosc simulate|extract|sweep-extract|surrogate|identify|config-docs ...`` (see ``impactosc <command> --help``)."""
+"""Command line: ``impactosc simulate|extract|sweep-extract|surrogate|identify ...`` (see ``impactosc <command> --help``)."""
 
 from __future__ import annotations
 
@@ -187,7 +187,6 @@ COMMANDS = {
     "sweep-extract": _sweep_extract,
     "surrogate": _surrogate,
     "identify": _identify,
-    "config-docs": __import__("impactosc_study.config_docs", fromlist=["_config_docs"])._config_docs,
 }
 
 

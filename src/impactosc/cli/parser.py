@@ -31,9 +31,6 @@ def build_parser() -> argparse.ArgumentParser:
     _add_sweep_extract_parser(sub)
     _add_surrogate_parser(sub)
     _add_identify_parser(sub)
-    from impactosc_study.config_docs import _add_config_docs_parser
-
-    _add_config_docs_parser(sub)
     return parser
 
 
