@@ -62,8 +62,11 @@ lock: $(UV)
 test: lint docs
 	$(BIN)/python -m pytest
 
-# The checks make test runs before the tests: format, lint, a dry run of the whole workflow
+# The checks make test runs before the tests: format, lint, the import contract (pyproject's
+# [tool.importlinter]: the library never imports the study or the benchmarks, no layer imports
+# a higher one), a dry run of the whole workflow
 lint: install
+	$(BIN)/lint-imports --no-cache --no-logo
 	$(BIN)/ruff format --check --quiet .
 	$(BIN)/ruff check --quiet .
 	$(BIN)/snakefmt --check Snakefile workflow/rules
