@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.core.simulate import simulate
+from impactosc.core.simulation import simulate
 from impactosc.dynamics import shoot
 from impactosc.dynamics.cascade import cascade, feigenbaum_ratios
 

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from impactosc.core.simulate import Window, simulate
+from impactosc.core.simulation import Window, simulate
 from impactosc.io.files import read_json, write_json, write_run
 from impactosc.statistics import train_analysis as ch
 from impactosc.statistics.ensemble import ensemble_summary

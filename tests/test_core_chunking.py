@@ -3,7 +3,7 @@ transformed-piece variables, is carried over between calls of the core)."""
 
 import numpy as np
 
-from impactosc.core.simulate import Window, simulate
+from impactosc.core.simulation import Window, simulate
 
 
 def test_chunking_changes_nothing():

@@ -16,7 +16,7 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.core.simulate import simulate
+from impactosc.core.simulation import simulate
 from impactosc.model.equations import ModelParams
 
 OMEGA = 23.03

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.core.simulate import Window, simulate
+from impactosc.core.simulation import Window, simulate
 
 
 def closed_form(p, omega, t, x0, v0):

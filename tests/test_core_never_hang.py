@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from impactosc.cli.main import main
-from impactosc.core.simulate import StallError, simulate
+from impactosc.core.simulation import StallError, simulate
 from impactosc.dynamics.sweep import STALLED, SweepSettings, continuation
 from impactosc.model.equations import ModelParams, UntestedParameterWarning
 from impactosc_bench.random_scenes import (

@@ -10,7 +10,7 @@ scattered states.
 import numpy as np
 import pytest
 
-from impactosc.core.simulate import simulate
+from impactosc.core.simulation import simulate
 
 
 def test_degenerate_friction_band_falls_back_to_time_stepping():

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from impactosc.core.simulate import simulate
+from impactosc.core.simulation import simulate
 from impactosc.statistics import distinct_levels, window_counts
 
 

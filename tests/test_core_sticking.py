@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from impactosc.core.simulate import Window, simulate
+from impactosc.core.simulation import Window, simulate
 from impactosc.model.equations import ModelParams
 
 P = dataclasses.replace(ModelParams(), T=3.0, xI=1.0, m0e=0.05)

@@ -10,7 +10,7 @@ tolerance is tightened.
 import numpy as np
 import pytest
 
-from impactosc.core.simulate import simulate
+from impactosc.core.simulation import simulate
 from impactosc_bench.scipy_reference import solve_reference
 
 CASES = {"periodic": (23.03, 10.0), "chaotic": (40.86, 1.5)}

@@ -101,7 +101,7 @@ def _stepped_record(levels, seconds, rate=1000.0, jitter=0.0, seed=1):
 
 
 def test_sweep_segments_bins_settle_and_hysteresis():
-    from impactosc.records.sweep_segments import sweep_segments
+    from impactosc.records.slow_sweep import sweep_segments
 
     # steps of w up and back down: one segment per step, the way back kept apart
     rec = _stepped_record([30.0, 30.5, 31.0, 30.5], 20.0)
@@ -131,15 +131,15 @@ def test_sweep_segments_bins_settle_and_hysteresis():
 def ramp():
     """w ramped 33 -> 38.5 rad/s in 550 s (0.01 rad/s^2, the rate of a 20 -> 45 sweep in 2500 s):
     period 1 up to the doubling at 37.28 rad/s, period 2 beyond; 2 kHz, 5 um noise, 4096-count encoder."""
+    from impactosc.records.slow_sweep import sweep_segments
     from impactosc.records.surrogate import surrogate_ramp
-    from impactosc.records.sweep_segments import sweep_segments
 
     rec, _ = surrogate_ramp(33.0, 38.5, 550.0, SurrogateOptions(rate=2000, noise=5e-6), encoder_counts=4096)
     return sweep_segments(rec, 0.25, 10.0)
 
 
 def test_sweep_record_segments_match_the_attractor(ramp):
-    from impactosc.core.simulate import simulate
+    from impactosc.core.simulation import simulate
 
     pts, info = ramp
     # 25 s per bin, 15 s kept: 80-90 points (the first bin holds only 33.0-33.125 rad/s)

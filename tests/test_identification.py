@@ -19,10 +19,10 @@ import dataclasses
 import numpy as np
 import pytest
 
-from impactosc.core.simulate import Window, simulate
-from impactosc.identification import identify
+from impactosc.core.simulation import Window, simulate
 from impactosc.identification.least_squares import _inverse_scaled, _schur, _solve_scaled, carried_states
 from impactosc.identification.parameters import FIELDS, NAMES, fill_array, params_of, theta_of
+from impactosc.identification.staged_fit import identify
 from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import WindowSet, cut_windows, split_held_out
 from impactosc.model.equations import ModelParams

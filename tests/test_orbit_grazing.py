@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from impactosc.core.simulate import simulate
+from impactosc.core.simulation import simulate
 from impactosc.dynamics import shoot
 from impactosc.dynamics.grazing import locate_orbit_grazing, orbit_events
 

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from impactosc.core.simulate import Window, simulate
+from impactosc.core.simulation import Window, simulate
 from impactosc.dynamics.grazing import extrapolate_gap_zero, find_grazing_step, locate_grazing, sweep_summary
 from impactosc.dynamics.sweep import SweepSettings, branch_grid, continuation
 from impactosc.statistics.periodic_train import branch_state, impact_map_numbers

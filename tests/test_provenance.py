@@ -182,7 +182,7 @@ def test_sweep_map_and_record_files_are_stamped(tmp_path):
 
 
 def test_every_dataset_name_of_the_writers_has_a_unit():
-    from impactosc.core.simulate import _COLUMNS
+    from impactosc.core.simulation import _COLUMNS
     from impactosc.dynamics.maps import _MAP_ARRAYS, VALUE_UNITS
     from impactosc.dynamics.sweep import _ARRAYS, MAP_PARAMETERS
 

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from impactosc.core.layout import S_V, S_X
-from impactosc.core.simulate import simulate
+from impactosc.core.simulation import simulate
 from impactosc.dynamics import shoot
 from impactosc.dynamics.arclength import continue_branch, folds, locate_fold
 from impactosc.dynamics.bifurcation_points import locate

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from impactosc.core.simulate import simulate
+from impactosc.core.simulation import simulate
 from impactosc.dynamics import shoot, stroboscopic_map
 from impactosc.dynamics.shooting import SCALE
 from impactosc.dynamics.variational import (

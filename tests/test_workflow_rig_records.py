@@ -20,7 +20,7 @@ import h5py
 import numpy as np
 import pytest
 
-from impactosc.core.simulate import simulate
+from impactosc.core.simulation import simulate
 from impactosc.io.files import read_provenance, read_run
 from impactosc.records.surrogate import SurrogateOptions, surrogate_ramp, surrogate_record
 

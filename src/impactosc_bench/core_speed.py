@@ -39,7 +39,7 @@ import time
 
 import numpy as np
 
-from impactosc.core.simulate import StallError, simulate, warm_up
+from impactosc.core.simulation import StallError, simulate, warm_up
 from impactosc.model.equations import ModelParams
 from impactosc_bench.scene import DURATION, ERR_HORIZON, OMEGA, TRANSIENT, impact_error
 from impactosc_bench.scipy_reference import solve_reference
@@ -61,7 +61,7 @@ MAX_ERROR = 2.5e-9  # s: impact-time error over 1.5 s at which the headline comp
 
 
 JIT_PROBE = (
-    "import time; t=time.perf_counter(); from impactosc.core.simulate import warm_up; "
+    "import time; t=time.perf_counter(); from impactosc.core.simulation import warm_up; "
     "warm_up(); print(time.perf_counter()-t)"
 )
 

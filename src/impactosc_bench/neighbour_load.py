@@ -22,9 +22,7 @@ import time
 from impactosc_bench.core_speed import run_core_from_rest
 from impactosc_bench.cyrk_runs import run_cyrk
 
-NEIGHBOUR = (
-    "from impactosc.core.simulate import simulate\nwhile True:\n    simulate(40.86, 0.0, 2000.0, record=('impacts',))\n"
-)
+NEIGHBOUR = "from impactosc.core.simulation import simulate\nwhile True:\n    simulate(40.86, 0.0, 2000.0, record=('impacts',))\n"
 CONTESTANTS = {
     "core": lambda: run_core_from_rest(1e-10, 1e-12).wall_time,
     "CyRK Vern7": lambda: run_cyrk("Vern7", 500.0, 1e-10, 1e-12).wall_time,

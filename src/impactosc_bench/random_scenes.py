@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from impactosc.core.simulate import StallError, simulate
+from impactosc.core.simulation import StallError, simulate
 from impactosc.model.equations import ModelParams
 from impactosc_bench.scipy_reference import ReferenceBudgetExceeded, solve_reference
 

@@ -234,7 +234,7 @@ MODE_PIECE = {
 def core_per_period(rtol: float, repeats: int = 3) -> dict:
     """The core on the chaotic scene (500 s): median wall time per forcing period (us) and its
     step attempts per period in each variable."""
-    from impactosc.core.simulate import simulate, warm_up
+    from impactosc.core.simulation import simulate, warm_up
 
     warm_up()
     periods = 500.0 * OMEGA / (2 * math.pi)

@@ -77,7 +77,7 @@ class PeerRun:
 
 def reference_impact_count(rtol: float = CORE_RTOL, atol: float = CORE_ATOL) -> int:
     """Impacts in 100-500 s of the project's core on the scene: the attractor's count."""
-    from impactosc.core.simulate import simulate
+    from impactosc.core.simulation import simulate
 
     res = simulate(OMEGA, TRANSIENT, DURATION, rtol=rtol, atol=atol, record=("impacts",))
     return len(res.events["impacts"]["t"])

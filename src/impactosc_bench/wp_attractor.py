@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from impactosc.core.simulate import StallError, simulate
+from impactosc.core.simulation import StallError, simulate
 from impactosc_bench import cyrk_runs
 from impactosc_bench.scene import DURATION, TRANSIENT
 from impactosc_bench.timing_rounds import on_attractor

@@ -13,7 +13,7 @@ import time
 
 import numpy as np
 
-from impactosc.core.simulate import simulate
+from impactosc.core.simulation import simulate
 from impactosc_bench import cyrk_runs, cyrk_shim
 from impactosc_bench.scipy_reference import solve_reference
 

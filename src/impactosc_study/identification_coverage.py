@@ -22,8 +22,8 @@ import math
 
 import numpy as np
 
-from impactosc.identification.identify import identify
 from impactosc.identification.parameters import NAMES, theta_of
+from impactosc.identification.staged_fit import identify
 from impactosc.model.equations import ModelParams
 from impactosc.records.surrogate import SurrogateOptions, surrogate_record
 
@@ -54,7 +54,7 @@ def random_truth(seed: int, spread: float = 0.3, base: ModelParams | None = None
 def _orbit_from(params: ModelParams, omega: float, x0: float, v0: float, period: int, n_transient: int) -> np.ndarray:
     """The sorted Poincare points of the period-``period`` orbit that ``params`` reaches from the
     section state (x0, v0) after ``n_transient`` forcing periods."""
-    from impactosc.core.simulate import simulate
+    from impactosc.core.simulation import simulate
 
     t_period = 2 * math.pi / omega
     r = simulate(

@@ -19,7 +19,7 @@ import itertools
 
 import numpy as np
 
-from impactosc.core.simulate import Window, simulate
+from impactosc.core.simulation import Window, simulate
 from impactosc.records.extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
 from impactosc.records.record import Record
 from impactosc.records.surrogate import (

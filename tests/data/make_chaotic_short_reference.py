@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from impactosc import __version__
-from impactosc.core.simulate import simulate
+from impactosc.core.simulation import simulate
 from impactosc.statistics.impact_train import AnalysisOptions, ImpactTrain
 from impactosc.statistics.train_analysis import analyse_train, key_numbers
 

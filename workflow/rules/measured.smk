@@ -4,7 +4,7 @@
 # model sampled like the rig, with sensor noise and a small parameter mismatch, always labelled
 # so) -> event extraction (impactosc.records.extract, same datasets as a simulation run; Fig 2
 # from per-w records or from one slow-sweep record cut by its measured w,
-# impactosc.records.sweep_segments) -> the chaotic group's statistics and figure rules
+# impactosc.records.slow_sweep) -> the chaotic group's statistics and figure rules
 # (via config chaotic.second_train) and the bifurcation group's Fig 2 (via config
 # bifurcation.fig02.experimental).  Targets: measured_noise_study, measured_rows.
 from impactosc.records.surrogate import panel_hooked

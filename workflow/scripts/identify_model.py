@@ -12,7 +12,6 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.identification import identify
 from impactosc.identification.report import (
     configured_inputs,
     parameter_markdown,
@@ -20,6 +19,7 @@ from impactosc.identification.report import (
     write_fit_windows,
     write_identified_model,
 )
+from impactosc.identification.staged_fit import identify
 from impactosc.io.files import write_table, write_text
 
 p = snakemake.params

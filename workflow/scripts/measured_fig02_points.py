@@ -3,7 +3,7 @@
 Reads snakemake.input.records: a record set (HDF5 or CSV manifest, impactosc.records.files),
 or, when snakemake.params.segments is set (config measured.fig02.sweep_record), one record of
 a slow sweep of w with an encoder phase (read as snakemake.params.reader says), cut into
-segments of quasi-constant measured w (impactosc.records.sweep_segments).  Writes
+segments of quasi-constant measured w (impactosc.records.slow_sweep).  Writes
 snakemake.output.points, HDF5 with flat datasets omega (rad/s) and x (m) (plus the segment
 datasets of a sweep), stamped with units and provenance (impactosc.io.files.stamp_h5).
 """
@@ -19,7 +19,7 @@ import h5py
 from impactosc.io.files import atomic_write, check_writable, stamp_h5
 from impactosc.records.files import read_record, read_record_set
 from impactosc.records.poincare import record_set_poincare
-from impactosc.records.sweep_segments import sweep_segments, write_sweep_points
+from impactosc.records.slow_sweep import sweep_segments, write_sweep_points
 
 p = snakemake.params
 if p.segments:

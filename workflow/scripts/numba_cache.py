@@ -18,7 +18,7 @@ import logging
 import sys
 
 from impactosc.core.driver import run
-from impactosc.core.simulate import warm_up
+from impactosc.core.simulation import warm_up
 from impactosc.io.files import write_json
 
 

@@ -12,7 +12,7 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.core.simulate import Window, simulate
+from impactosc.core.simulation import Window, simulate
 from impactosc.io.files import write_run
 from impactosc.model.equations import ModelParams
 

@@ -40,8 +40,8 @@ Examples:
 
 def _add_identify_parser(sub) -> None:
     """The identify command's options (records, stated model, what is fixed, outputs)."""
-    from impactosc.identification.identify import STAGES
     from impactosc.identification.parameters import NAMES, UNITS
+    from impactosc.identification.staged_fit import STAGES
 
     idp = sub.add_parser(
         "identify",
@@ -226,9 +226,9 @@ def _identify(args) -> int:
 
 
 def _identify_run(args) -> int:
-    from impactosc.identification import identify
     from impactosc.identification.choice import candidates, choice_markdown, choose_model
     from impactosc.identification.report import parameter_markdown, parameter_table, write_identified_model
+    from impactosc.identification.staged_fit import identify
     from impactosc.records.files import read_records
 
     _check_identify_outputs(args)

@@ -66,7 +66,7 @@ def _model_x_impact(args) -> tuple[float | None, str | None]:
 
 def _sweep_extract(args) -> int:
     from impactosc.io.files import check_writable
-    from impactosc.records.sweep_segments import sweep_segments, write_sweep_points
+    from impactosc.records.slow_sweep import sweep_segments, write_sweep_points
 
     check_writable(args.output)
     rec = read_record_args(args)
@@ -134,14 +134,14 @@ def _surrogate(args) -> int:
 
 
 def _simulate(args) -> int:
-    from impactosc.core.simulate import Window, simulate, warm_up
+    from impactosc.core.simulation import Window, simulate, warm_up
     from impactosc.io.files import check_writable, write_run
 
     record = tuple(e.strip() for e in args.events.split(",") if e.strip())
     window = Window(*args.window) if args.window else None
     check_writable(args.output)
     # validate everything before compiling or integrating
-    from impactosc.core.simulate import _validate
+    from impactosc.core.simulation import _validate
 
     _validate(args.omega, args.transient, args.duration, args.x0, args.v0, args.rtol, args.atol, window)
     if args.step_budget < 100:

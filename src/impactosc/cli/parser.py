@@ -37,7 +37,7 @@ def build_parser() -> argparse.ArgumentParser:
 def _add_simulate_parser(sub) -> None:
     """The simulate command: integrate the model and write its events."""
     from impactosc.core.layout import DEFAULT_STEP_BUDGET
-    from impactosc.core.simulate import ALL_EVENTS, DEFAULT_ATOL, DEFAULT_RTOL
+    from impactosc.core.simulation import ALL_EVENTS, DEFAULT_ATOL, DEFAULT_RTOL
 
     sim = sub.add_parser(
         "simulate",
@@ -159,7 +159,7 @@ def _add_sweep_extract_parser(sub) -> None:
         "discard the first SETTLE s of each segment, and write the points (datasets omega = the segment's "
         "median measured w, and x, as the workflow's Fig 2 experimental panel reads them; plus t, "
         "point_omega, and per segment record_omega, n_points, segment_start, segment_stop, omega_spread) "
-        "to an HDF5 file. See impactosc.records.sweep_segments.",
+        "to an HDF5 file. See impactosc.records.slow_sweep.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog=RECORD_FORMATS + "\nExample (the surrogate sweep of docs/measured.md):\n"
         "  impactosc sweep-extract sweep.h5 --bin-width 0.25 --settle 10 --output fig02_experimental.h5\n"

@@ -30,7 +30,7 @@ import h5py
 import numpy as np
 
 from impactosc.core.layout import S_V, S_X
-from impactosc.core.simulate import DEFAULT_ATOL, DEFAULT_RTOL, StallError, simulate
+from impactosc.core.simulation import DEFAULT_ATOL, DEFAULT_RTOL, StallError, simulate
 from impactosc.dynamics.branch_segments import orbit_sample, seed_from_rest
 from impactosc.dynamics.shooting import shoot
 from impactosc.io.files import atomic_write, check_writable, stamp_h5

@@ -23,7 +23,7 @@ import time
 
 import numpy as np
 
-from impactosc.core.simulate import simulate
+from impactosc.core.simulation import simulate
 from impactosc.dynamics.arclength import BranchPoint, branch_points, locate_fold, switch_at_period_doubling
 from impactosc.dynamics.bifurcation_points import TEST_FUNCTIONS, locate
 from impactosc.dynamics.grazing import locate_orbit_grazing

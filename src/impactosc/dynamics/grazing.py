@@ -36,7 +36,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from impactosc.core.simulate import Window, simulate
+from impactosc.core.simulation import Window, simulate
 from impactosc.dynamics.shooting import ATOL, DEFAULT_STEP, RTOL, SCALE, PeriodicOrbit, ShootingError, shoot
 from impactosc.dynamics.sweep import continuation
 from impactosc.dynamics.sweep_chunks import merge_chunks

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from impactosc.core.layout import S_V, S_X
-from impactosc.core.simulate import simulate
+from impactosc.core.simulation import simulate
 from impactosc.dynamics.shooting import SCALE, stroboscopic_map
 
 __all__ = [

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from impactosc.core.layout import S_V, S_X
-from impactosc.core.simulate import simulate
+from impactosc.core.simulation import simulate
 from impactosc.model.equations import ModelParams
 
 __all__ = ["PeriodicOrbit", "ShootingError", "stroboscopic_map", "monodromy", "shoot"]

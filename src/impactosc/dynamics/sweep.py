@@ -24,7 +24,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from impactosc.core.simulate import DEFAULT_ATOL, DEFAULT_RTOL, StallError, simulate
+from impactosc.core.simulation import DEFAULT_ATOL, DEFAULT_RTOL, StallError, simulate
 from impactosc.io.files import atomic_write, check_writable, stamp_h5
 from impactosc.model.equations import ModelParams
 

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from impactosc.core.simulate import simulate
+from impactosc.core.simulation import simulate
 from impactosc.dynamics.arclength import _tangent
 from impactosc.dynamics.bifurcation_points import TEST_FUNCTIONS
 from impactosc.dynamics.shooting import (

@@ -9,7 +9,7 @@ driver), :mod:`.choice` (which contact law and friction the records support) and
 :mod:`.coverage` (the standard errors checked on surrogates of known truth).
 """
 
-from impactosc.identification.identify import Identification, identify
 from impactosc.identification.parameters import NAMES
+from impactosc.identification.staged_fit import Identification, identify
 
 __all__ = ["Identification", "identify", "NAMES"]

@@ -22,9 +22,9 @@ import warnings
 
 import numpy as np
 
-from impactosc.identification.identify import STAGES, identify
 from impactosc.identification.least_squares import fit_states
 from impactosc.identification.parameters import NAMES
+from impactosc.identification.staged_fit import STAGES, identify
 from impactosc.identification.start import start_values
 from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import cut_windows, split_held_out

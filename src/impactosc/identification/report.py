@@ -14,8 +14,8 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from impactosc.identification.identify import Identification
 from impactosc.identification.parameters import FIELDS, NAMES, PER_MASS
+from impactosc.identification.staged_fit import Identification
 from impactosc.io.files import atomic_write, stamp_h5
 from impactosc.model.model_file import PARAM_UNITS, write_model_file
 

@@ -5,7 +5,7 @@ Why a module: the rig's motor speed is not exactly nominal, so the section of a 
 found on its own phase channel, where it has one; the points of one record make the model's
 ``poincare`` dataset (:func:`impactosc.records.extract.extract_events`), those of a record set
 the experimental panel of Fig 2 (:func:`record_set_poincare`), and the phase crossings cut a
-slow-sweep record by its measured w (:mod:`impactosc.records.sweep_segments`).
+slow-sweep record by its measured w (:mod:`impactosc.records.slow_sweep`).
 """
 
 from __future__ import annotations

@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from impactosc.core.simulate import Window, simulate
+from impactosc.core.simulation import Window, simulate
 from impactosc.model.equations import ModelParams
 from impactosc.records.record import Record
 
@@ -437,7 +437,7 @@ def surrogate_ramp(start, stop, duration, options: SurrogateOptions | None = Non
     with an encoder phase; ``n_initial`` periods at ``start`` discarded first.  Slow enough to
     be quasi-stationary when dw/dt times the relaxation time (0.9 s measured) moves the
     attractor by little: at 0.01 rad/s^2 (25 rad/s in 2500 s) the lag is below 6 um on the
-    flat parts of the period-1 branch, 45 um on its steep part (:mod:`impactosc.records.sweep_segments`).
+    flat parts of the period-1 branch, 45 um on its steep part (:mod:`impactosc.records.slow_sweep`).
     Keywords as :func:`surrogate_driven`; returns (record, truth)."""
     rec, truth = surrogate_driven(ramp_omegas(start, stop, duration), options, n_initial=n_initial, **kwargs)
     meta = dict(rec.meta, surrogate_ramp=f"{float(start):g} -> {float(stop):g} rad/s in {float(duration):g} s")

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from impactosc.core.simulate import warm_up
+from impactosc.core.simulation import warm_up
 from impactosc.model.equations import ModelParams
 from impactosc_bench.hardcases.chaos import long_run_case, regularisation_case
 from impactosc_bench.hardcases.checks import row

@@ -16,7 +16,7 @@ import time
 import numpy as np
 from scipy.optimize import brentq
 
-from impactosc.core.simulate import Window, simulate
+from impactosc.core.simulation import Window, simulate
 from impactosc.model.equations import ModelParams
 from impactosc_bench.hardcases.checks import row
 
