@@ -32,8 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
-from impactosc.io.files import atomic_write
-from impactosc.records.surrogate import SurrogateOptions, surrogate_driven
+from impactosc.io import atomic_write
+from impactosc.records import SurrogateOptions, surrogate_driven
 
 NOMINAL_OMEGA = 40.86
 RATE = 2000.0

@@ -1,4 +1,13 @@
-"""impactosc: forced impacting oscillator (model BC) and the statistics of its impact events."""
+"""impactosc: forced impacting oscillator (model BC) and the statistics of its impact events.
+
+The public API, imported on first use (``import impactosc`` loads neither numba nor SciPy)::
+
+    from impactosc import ModelParams, simulate
+    run = simulate(40.86, transient=100.0, duration=400.0)
+
+Each subpackage lists its own public names: model, core, dynamics, statistics, records,
+identification, io (and cli, the command line).
+"""
 
 import hashlib
 import os
@@ -52,3 +61,52 @@ if os.environ.get("NUMBA_CACHE_DIR", "") in ("", os.environ.get(_AUTO_CACHE_DIR)
         from numba.core import config as _numba_config
 
         _numba_config.CACHE_DIR = os.environ["NUMBA_CACHE_DIR"]
+
+
+from impactosc._lazy import export
+
+# The most used names of each subpackage, by the subpackage that lists them (one home each).
+export(
+    globals(),
+    {
+        **dict.fromkeys(["ModelParams", "read_model_file", "write_model_file", "resolve_model"], "impactosc.model"),
+        **dict.fromkeys(["simulate", "SimulationResult", "Window", "StallError", "warm_up"], "impactosc.core"),
+        **dict.fromkeys(
+            [
+                "SweepSettings",
+                "continuation",
+                "load_sweep",
+                "read_sweep",
+                "shoot",
+                "PeriodicOrbit",
+                "seed_from_rest",
+                "continue_branch",
+                "locate",
+                "trace_curve",
+                "locate_grazing",
+                "locate_orbit_grazing",
+                "lyapunov_spectrum",
+                "classify_state",
+            ],
+            "impactosc.dynamics",
+        ),
+        **dict.fromkeys(
+            ["ImpactTrain", "AnalysisOptions", "analyse_train", "inter_impact_intervals"], "impactosc.statistics"
+        ),
+        **dict.fromkeys(
+            [
+                "Record",
+                "read_record",
+                "write_record",
+                "ExtractOptions",
+                "extract_events",
+                "estimate_x_impact",
+                "SurrogateOptions",
+                "surrogate_record",
+            ],
+            "impactosc.records",
+        ),
+        **dict.fromkeys(["identify", "Identification", "choose_model"], "impactosc.identification"),
+        **dict.fromkeys(["read_run", "write_run"], "impactosc.io"),
+    },
+)

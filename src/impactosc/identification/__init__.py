@@ -4,12 +4,19 @@ Where each piece lives: :mod:`.parameters` (what is fitted, per unit mass), :mod
 (records cut into the windows of multiple shooting, the forcing's phase of each),
 :mod:`.window_predictions` (the core's prediction of every window and its sensitivities),
 :mod:`.least_squares` (Levenberg-Marquardt with each window's state eliminated),
-:mod:`.start` (start values from the contact fit and the free flight), :mod:`.identify` (the
-driver), :mod:`.choice` (which contact law and friction the records support) and
+:mod:`.start` (start values from the contact fit and the free flight), :mod:`.staged_fit`
+(the driver), :mod:`.choice` (which contact law and friction the records support) and
 :mod:`.coverage` (the standard errors checked on surrogates of known truth).
 """
 
-from impactosc.identification.parameters import NAMES
-from impactosc.identification.staged_fit import Identification, identify
+from impactosc._lazy import export
 
-__all__ = ["Identification", "identify", "NAMES"]
+export(
+    globals(),
+    {
+        "Identification": "impactosc.identification.staged_fit",
+        "identify": "impactosc.identification.staged_fit",
+        "NAMES": "impactosc.identification.parameters",
+        "choose_model": "impactosc.identification.choice",
+    },
+)

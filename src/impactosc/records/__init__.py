@@ -1,2 +1,27 @@
-"""Measured records: reading and validating them, extracting impact events from sampled
-displacement, and the labelled surrogate (the model sampled like a rig)."""
+"""Measured records: reading and writing them (CSV, HDF5, TDMS), extracting impact events from
+sampled displacement, the obstacle's position, and the labelled surrogate (the model sampled
+like a rig)."""
+
+from impactosc._lazy import export
+
+export(
+    globals(),
+    {
+        "Record": "impactosc.records.record",
+        "record_from_samples": "impactosc.records.record",
+        "read_record": "impactosc.records.files",
+        "write_record": "impactosc.records.files",
+        "read_records": "impactosc.records.files",
+        "read_record_set": "impactosc.records.files",
+        "write_record_set": "impactosc.records.files",
+        "ExtractOptions": "impactosc.records.extract",
+        "extract_events": "impactosc.records.extract",
+        "estimate_x_impact": "impactosc.records.obstacle_estimate",
+        "poincare_points": "impactosc.records.poincare",
+        "sweep_segments": "impactosc.records.slow_sweep",
+        "SurrogateOptions": "impactosc.records.surrogate",
+        "surrogate_record": "impactosc.records.surrogate",
+        "surrogate_run": "impactosc.records.surrogate",
+        "surrogate_driven": "impactosc.records.surrogate",
+    },
+)

@@ -15,98 +15,66 @@ density      relative-frequency histogram, kernel density, density maxima (Figs 
 mixture      1-/2-component gaussian/lognormal/gamma mixtures, BIC ranking
 poisson      KS test of the ISIs against the exponential law
 spectrum     amplitude spectrum, peaks, combination-frequency labels (Figs 4c, 6b)
+impact_train an impact train and the options of its analysis
+train_analysis  every statistic of one train at once (analyse_train: Figs 6-11, any source)
+periods      period of a Poincare sequence, impacts per orbit
+periodic_train  the periodic regime's numbers (Figs 3a, 4, 5)
+spectral_lines  the lines of a displacement spectrum (Figs 4c, 6b)
+ensemble     the ensemble of realisations of a chaotic train and the spread of its numbers
 
 scipy.signal and scipy.stats are imported inside the functions that call them: importing them
 costs 1-2 s, which every workflow job importing this package would pay, most of them for nothing.
 """
 
-from impactosc.statistics.acf import (
-    ACFSpectrum,
-    Autocorrelation,
-    acf_spectrum,
-    autocorrelation,
-    shuffled_autocorrelations,
-)
-from impactosc.statistics.counts import EqualRateTest, counts_in_windows, equal_rate_test, window_counts
-from impactosc.statistics.density import (
-    DensityMaxima,
-    Histogram,
-    KernelDensity,
-    density_maxima,
-    kernel_density,
-    relative_frequency_histogram,
-)
-from impactosc.statistics.intervals import DistinctLevels, distinct_levels, inter_impact_intervals, return_map
-from impactosc.statistics.mixture import FAMILIES, MixtureFit, MixtureSelection, fit_mixture, select_mixture
-from impactosc.statistics.poisson import ExponentialKSTest, exponential_ks_test
-from impactosc.statistics.spectrum import (
-    PAPER_COMBINATIONS,
-    CombinationLabel,
-    SecondaryFrequency,
-    SpectralPeaks,
-    Spectrum,
-    amplitude_spectrum,
-    estimate_secondary_frequency,
-    find_peaks_spectrum,
-    label_combinations,
-)
-from impactosc.statistics.variability import (
-    FanoCurve,
-    RunningStatistic,
-    cv2_paper_running,
-    cv2_running,
-    fano_curve,
-    fano_factor,
-)
+from impactosc._lazy import export
 
-__all__ = [
-    # intervals
-    "DistinctLevels",
-    "inter_impact_intervals",
-    "return_map",
-    "distinct_levels",
-    # counts
-    "EqualRateTest",
-    "counts_in_windows",
-    "window_counts",
-    "equal_rate_test",
-    # variability
-    "RunningStatistic",
-    "FanoCurve",
-    "cv2_paper_running",
-    "cv2_running",
-    "fano_factor",
-    "fano_curve",
-    # acf
-    "Autocorrelation",
-    "ACFSpectrum",
-    "autocorrelation",
-    "shuffled_autocorrelations",
-    "acf_spectrum",
-    # density
-    "Histogram",
-    "KernelDensity",
-    "DensityMaxima",
-    "relative_frequency_histogram",
-    "kernel_density",
-    "density_maxima",
-    # mixture
-    "FAMILIES",
-    "MixtureFit",
-    "MixtureSelection",
-    "fit_mixture",
-    "select_mixture",
-    # poisson
-    "ExponentialKSTest",
-    "exponential_ks_test",
-    # spectrum
-    "PAPER_COMBINATIONS",
-    "Spectrum",
-    "SpectralPeaks",
-    "CombinationLabel",
-    "SecondaryFrequency",
-    "amplitude_spectrum",
-    "find_peaks_spectrum",
-    "label_combinations",
-    "estimate_secondary_frequency",
-]
+export(
+    globals(),
+    {
+        "DistinctLevels": "impactosc.statistics.intervals",
+        "inter_impact_intervals": "impactosc.statistics.intervals",
+        "return_map": "impactosc.statistics.intervals",
+        "distinct_levels": "impactosc.statistics.intervals",
+        "EqualRateTest": "impactosc.statistics.counts",
+        "counts_in_windows": "impactosc.statistics.counts",
+        "window_counts": "impactosc.statistics.counts",
+        "equal_rate_test": "impactosc.statistics.counts",
+        "RunningStatistic": "impactosc.statistics.variability",
+        "FanoCurve": "impactosc.statistics.variability",
+        "cv2_paper_running": "impactosc.statistics.variability",
+        "cv2_running": "impactosc.statistics.variability",
+        "fano_factor": "impactosc.statistics.variability",
+        "fano_curve": "impactosc.statistics.variability",
+        "Autocorrelation": "impactosc.statistics.acf",
+        "ACFSpectrum": "impactosc.statistics.acf",
+        "autocorrelation": "impactosc.statistics.acf",
+        "shuffled_autocorrelations": "impactosc.statistics.acf",
+        "acf_spectrum": "impactosc.statistics.acf",
+        "Histogram": "impactosc.statistics.density",
+        "KernelDensity": "impactosc.statistics.density",
+        "DensityMaxima": "impactosc.statistics.density",
+        "relative_frequency_histogram": "impactosc.statistics.density",
+        "kernel_density": "impactosc.statistics.density",
+        "density_maxima": "impactosc.statistics.density",
+        "FAMILIES": "impactosc.statistics.mixture",
+        "MixtureFit": "impactosc.statistics.mixture",
+        "MixtureSelection": "impactosc.statistics.mixture",
+        "fit_mixture": "impactosc.statistics.mixture",
+        "select_mixture": "impactosc.statistics.mixture",
+        "ExponentialKSTest": "impactosc.statistics.poisson",
+        "exponential_ks_test": "impactosc.statistics.poisson",
+        "PAPER_COMBINATIONS": "impactosc.statistics.spectrum",
+        "Spectrum": "impactosc.statistics.spectrum",
+        "SpectralPeaks": "impactosc.statistics.spectrum",
+        "CombinationLabel": "impactosc.statistics.spectrum",
+        "SecondaryFrequency": "impactosc.statistics.spectrum",
+        "amplitude_spectrum": "impactosc.statistics.spectrum",
+        "find_peaks_spectrum": "impactosc.statistics.spectrum",
+        "label_combinations": "impactosc.statistics.spectrum",
+        "estimate_secondary_frequency": "impactosc.statistics.spectrum",
+        "ImpactTrain": "impactosc.statistics.impact_train",
+        "AnalysisOptions": "impactosc.statistics.impact_train",
+        "load_train": "impactosc.statistics.impact_train",
+        "analyse_train": "impactosc.statistics.train_analysis",
+    },
+)
