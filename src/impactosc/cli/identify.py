@@ -20,6 +20,7 @@ from impactosc.cli.options import (
     read_options,
 )
 from impactosc.identification.windows import check_forcing_phase
+from impactosc.io.names import split_assignment
 
 IDENTIFY_EPILOG = """
 What is fitted: k/m, c/m, T/m, m0e/m, kI/m, b, n3 and xI, per unit mass because a displacement
@@ -128,13 +129,13 @@ def _fixed_quantities(items, base) -> dict:
 
     fixed = {}
     for item in items:
-        name, eq, text = (part.strip() for part in item.partition("="))
+        name, text = split_assignment(item)
         if name not in NAMES:
             guess = NAMES[FIELDS.index(name)] if name in FIELDS else closest_name(name, NAMES)
             hint = f"did you mean {guess!r}?" if guess else f"choose from {' '.join(NAMES)}"
             raise ValueError(f"--fix {item}: unknown quantity {name!r} ({hint})")
         value = None
-        if eq:
+        if text is not None:
             try:
                 value = finite_number(text)
             except argparse.ArgumentTypeError as exc:
@@ -242,7 +243,7 @@ def _identify_run(args) -> int:
     stages = tuple(args.stages)
     ident = identify(records, base=base, fixed=fixed, stages=stages, progress=say)
     for item in args.fix:
-        ident.fixed[item.partition("=")[0].strip()] = f"held fixed (--fix {item})"
+        ident.fixed[split_assignment(item)[0]] = f"held fixed (--fix {item})"
     choice = None
     if args.choose_model:
         say(

@@ -9,6 +9,7 @@ import time
 from impactosc.cli.identify import _identify
 from impactosc.cli.options import model_from_args, read_record_args
 from impactosc.cli.parser import build_parser
+from impactosc.io.names import split_assignment
 
 
 def _extract(args) -> int:
@@ -58,7 +59,7 @@ def _model_x_impact(args) -> tuple[float | None, str | None]:
     from impactosc.model.model_file import read_model_file
 
     params, source = model_from_args(args)
-    by_param = any(item.partition("=")[0].strip() == "xI" for item in args.param)
+    by_param = any(split_assignment(item)[0] == "xI" for item in args.param)
     if by_param or (args.model is not None and "xI" not in read_model_file(args.model).defaulted):
         return params.xI, f"the model's xI, {source}"
     return None, None
@@ -84,11 +85,11 @@ def _sweep_extract(args) -> int:
 def _parse_mismatch(text):
     out = {}
     for item in filter(None, (s.strip() for s in text.split(","))):
-        if "=" not in item:
+        k, v = split_assignment(item)
+        if v is None:
             raise ValueError(f"mismatch item {item!r} must read name=relative_change")
-        k, v = item.split("=", 1)
         try:
-            out[k.strip()] = float(v)
+            out[k] = float(v)
         except ValueError:
             raise ValueError(f"mismatch value {v!r} of {k} is not a number") from None
     return out

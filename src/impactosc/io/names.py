@@ -1,5 +1,6 @@
-"""The closest valid name to a misspelt one, so that the workflow config, model files and
-command-line overrides answer a typo the same way ("unknown key (did you mean 'kI'?)")."""
+"""Names a user types: the closest valid name to a misspelt one, so that the workflow config, model files and
+command-line overrides answer a typo the same way ("unknown key (did you mean 'kI'?)"), and the
+one reading of NAME=VALUE items."""
 
 from __future__ import annotations
 
@@ -16,3 +17,11 @@ def closest_name(key: str, names, absent=()) -> str | None:
         if match:
             return folded[match[0]]
     return None
+
+
+def split_assignment(item) -> tuple[str, str | None]:
+    """(name, value text) of one ``NAME=VALUE`` item, both stripped; the value is None where the
+    item has no ``=`` (a bare NAME, which some options allow and others refuse with their own
+    message). The one reading of NAME=VALUE for every option and override that takes it."""
+    name, eq, text = (part.strip() for part in str(item).partition("="))
+    return name, (text if eq else None)

@@ -34,7 +34,7 @@ import yaml
 
 from impactosc import __version__
 from impactosc.io.files import atomic_write, git_commit
-from impactosc.io.names import closest_name
+from impactosc.io.names import closest_name, split_assignment
 from impactosc.model.equations import ModelParams
 
 FORMAT = "impactosc-model/1"
@@ -257,9 +257,9 @@ def read_model_file(path) -> ModelFile:
 
 def _override(item: str) -> tuple[str, float]:
     """(name, value) of one NAME=VALUE item, errors naming the item."""
-    if "=" not in item:
+    name, text = split_assignment(item)
+    if text is None:
         raise ValueError(f"parameter override {item!r}: write NAME=VALUE, e.g. k=1500")
-    name, text = (s.strip() for s in item.split("=", 1))
     if name not in NAMES:
         raise ValueError(f"parameter override {item!r}: " + _unknown(name, NAMES, f"parameter {name!r}"))
     return name, _number(text, f"parameter override {item!r}")
@@ -294,5 +294,5 @@ def resolve_model(file=None, overrides=()) -> tuple[ModelParams, str]:
     overrides = list(overrides)
     if overrides:
         params = apply_overrides(params, overrides)
-        source += " + " + ", ".join("=".join(s.strip() for s in item.split("=", 1)) for item in overrides)
+        source += " + " + ", ".join("=".join(split_assignment(item)) for item in overrides)
     return params, source
