@@ -1,11 +1,11 @@
-"""The command line's parsers: one function per command, each with its help and examples."""
+"""The command line's parsers, all of them: one function per command, each with its help and
+examples (the commands themselves run in cli.main and, for identify, cli.identify)."""
 
 from __future__ import annotations
 
 import argparse
 
 from impactosc import __version__
-from impactosc.cli.identify import _add_identify_parser
 from impactosc.cli.options import RECORD_FORMATS, add_model_options, add_record_options, contact_exponent, finite_number
 
 EPILOG = """\
@@ -258,4 +258,81 @@ def _add_surrogate_parser(sub) -> None:
         sur,
         "The parameters the record is drawn from, before --mismatch: model BC's, or those of --model, then each "
         "--param; the record's metadata names them (model_source).",
+    )
+
+
+IDENTIFY_EPILOG = """
+What is fitted: k/m, c/m, T/m, m0e/m, kI/m, b, n3 and xI, per unit mass because a displacement
+record sees only forces over m. Not identifiable: the mass (--mass, else the stated model's m,
+scales the ratios into N/m, N s/m, ...); eps (friction regularisation) and the Hertz exponents
+n1 = n2 keep the stated model's values. A quantity the records do not pin (no impacts: kI/m, b,
+n3) is fixed at the stated value, and the summary says why.
+The model file (impactosc-model/1, YAML) holds every parameter with its unit and standard error,
+the fixed ones and why, the correlation of the fitted ones, the records (with sha256), the fit's
+residual and the package version; --model FILE gives it to every command, and the workflow takes
+it with --config model_file=FILE.
+Examples:
+  impactosc identify examples/record_example.tdms --group rig --channel cart --phase-channel encoder --output rig.yaml
+  impactosc identify run1.h5 run2.h5 --mass 9.1 --fix T/m=0 --table rig.md --output rig.yaml
+  impactosc simulate --omega 40.86 --transient 100 --duration 400 --model rig.yaml --output rig_chaos.h5
+"""
+
+
+def _add_identify_parser(sub) -> None:
+    """The identify command's options (records, stated model, what is fixed, outputs)."""
+    from impactosc.identification.parameters import NAMES, UNITS
+    from impactosc.identification.staged_fit import STAGES
+
+    idp = sub.add_parser(
+        "identify",
+        help="identify the model's parameters from displacement records and write a model file",
+        description="Fit model BC's parameters per unit mass to displacement records by multiple shooting: "
+        "the records are cut into windows of a few forcing periods, each window's start state is fitted with "
+        "the parameters and the core integrates every window; standard errors come from the Jacobian of the "
+        "residuals. Each record needs the forcing's phase: an encoder channel (--phase-channel) or omega in "
+        "its metadata (t = 0 at the forcing's phase 0).",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=RECORD_FORMATS + IDENTIFY_EPILOG,
+    )
+    add_record_options(idp, many=True)
+    idp.add_argument("--output", required=True, metavar="MODEL.yaml", help="model file to write (atomically)")
+    idp.add_argument(
+        "--mass",
+        type=finite_number,
+        metavar="KG",
+        help="the cart's mass, kg (default: the stated model's m); not identifiable from displacement, it "
+        "turns the fitted ratios into the model's parameters",
+    )
+    idp.add_argument(
+        "--fix",
+        action="append",
+        default=[],
+        metavar="NAME[=VALUE]",
+        help="keep a fitted quantity fixed at VALUE (per unit mass, in "
+        + ", ".join(f"{nm} {u}" for nm, u in zip(NAMES, UNITS))
+        + ") or, without VALUE, at the stated model's value; repeatable, e.g. --fix b=0 (Hertz contact) "
+        "--fix T/m=0 (no dry friction)",
+    )
+    idp.add_argument(
+        "--stages",
+        type=finite_number,
+        nargs="+",
+        default=STAGES,
+        metavar="P",
+        help="window lengths of the successive fits, forcing periods; each starts from the one before, the "
+        f"last gives the estimate and its errors (default {' '.join(f'{p:g}' for p in STAGES)})",
+    )
+    idp.add_argument("--table", metavar="FILE", help="also write the parameter table (.csv or .md)")
+    idp.add_argument(
+        "--choose-model",
+        metavar="FILE",
+        help="also compare the contact laws (Hertz b = 0, Hunt-Crossley n3 = 1, model BC) with and without "
+        "dry friction on held-out windows and write the ranked table (.md or .csv); six more fits, about six "
+        "times as long",
+    )
+    idp.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    add_model_options(
+        idp,
+        "The stated model: m (unless --mass), eps, n1, n2 and the value of every quantity fixed (--fix) or not "
+        "identifiable from the records; model BC's, or those of --model, then each --param.",
     )
