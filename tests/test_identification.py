@@ -187,7 +187,7 @@ def test_branch_comparison_follows_one_of_two_coexisting_orbits():
     identified model's). Started from each state the model stays on that orbit, and a model 0.1 %
     off in kI, started from the same state, reaches the same orbit within the branch tolerance:
     the comparison the coverage makes where two continuations took different orbits."""
-    from impactosc_study.identification_coverage import BRANCH_TOL, _orbit_from, random_truth
+    from impactosc_study.coverage import BRANCH_TOL, _orbit_from, random_truth
 
     truth = random_truth(18)
     near = dataclasses.replace(truth, kI=1.001 * truth.kI)

@@ -25,7 +25,7 @@ import pytest
 from impactosc.identification.choice import choose_model
 from impactosc.model.equations import ModelParams
 from impactosc.records.surrogate import SurrogateOptions, surrogate_record
-from impactosc_study.identification_coverage import coverage_table, identification_draw
+from impactosc_study.coverage import coverage_table, identification_draw
 
 pytestmark = pytest.mark.slow
 

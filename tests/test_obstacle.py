@@ -9,8 +9,8 @@ from impactosc.records.extract import ExtractOptions, extract_events
 from impactosc.records.obstacle_estimate import estimate_x_impact
 from impactosc.records.record import Record
 from impactosc.records.surrogate import SurrogateOptions, surrogate_record
+from impactosc_study.coverage import coverage_summary, x_impact_draws
 from impactosc_study.noise_study import match_impacts
-from impactosc_study.obstacle_coverage import coverage_summary, x_impact_draws
 
 # 60 s of the chaotic attractor (w = 40.86) after a 100 s transient at 2 kHz, ~430 impacts;
 # the noisy records are the clean one plus the surrogate's own noise draw (seed s), as

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from impactosc_study.obstacle_coverage import coverage_summary, x_impact_draws
+from impactosc_study.coverage import coverage_summary, x_impact_draws
 
 
 def test_summary_of_known_draws():

@@ -11,7 +11,7 @@ configure_logging(snakemake)
 import logging
 
 from impactosc.io.files import read_json, write_table, write_text
-from impactosc_study.identification_coverage import coverage_markdown, coverage_table
+from impactosc_study.coverage import coverage_markdown, coverage_table
 
 draws = [row for path in snakemake.input.parts for row in read_json(path)["draws"]]
 table = coverage_table(draws)

@@ -1,7 +1,7 @@
 """One part of the identification coverage study: draws part, part + parts, ... of the seeds.
 
 Reads snakemake.params.coverage (identification.coverage) and wildcards.part; writes
-snakemake.output.json with one row per draw (impactosc_study.identification_coverage.identification_draw).
+snakemake.output.json with one row per draw (impactosc_study.coverage.identification_draw).
 """
 
 from _logging import configure_logging
@@ -13,7 +13,7 @@ import logging
 import numpy as np
 
 from impactosc.io.files import write_json
-from impactosc_study.identification_coverage import identification_draw
+from impactosc_study.coverage import identification_draw
 
 c = snakemake.params.coverage
 part = int(snakemake.wildcards.part)

@@ -1,7 +1,7 @@
 """Merge the coverage study's noise levels (rule measured_x_impact_coverage).
 
 Reads snakemake.input.parts (JSON draws per noise level); writes snakemake.output.csv (one
-row per level: impactosc_study.obstacle_coverage.coverage_summary) and .draws (every draw).
+row per level: impactosc_study.coverage.coverage_summary) and .draws (every draw).
 """
 
 from _logging import configure_logging
@@ -11,7 +11,7 @@ configure_logging(snakemake)
 import logging
 
 from impactosc.io.files import read_json, write_csv
-from impactosc_study.obstacle_coverage import coverage_summary
+from impactosc_study.coverage import coverage_summary
 
 levels = [read_json(path)["draws"] for path in snakemake.input.parts]
 summaries = [coverage_summary(rows) for rows in levels]

@@ -2,7 +2,7 @@
 
 Reads snakemake.params (coverage: noise levels, contact exponents, duration, segment, seeds;
 surrogate: chaos scene, rate, mismatch); writes snakemake.output.json with the draws of
-impactosc_study.obstacle_coverage.x_impact_draws for (exponent, noise) pair number wildcards.level.
+impactosc_study.coverage.x_impact_draws for (exponent, noise) pair number wildcards.level.
 """
 
 from _logging import configure_logging
@@ -13,7 +13,7 @@ import logging
 
 from impactosc.io.files import write_json
 from impactosc.model.equations import ModelParams
-from impactosc_study.obstacle_coverage import coverage_summary, x_impact_draws
+from impactosc_study.coverage import coverage_summary, x_impact_draws
 
 p = snakemake.params
 cov, sur = p.coverage, p.surrogate

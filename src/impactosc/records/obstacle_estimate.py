@@ -3,7 +3,7 @@
 Why a module: a rig's record gives the motion but not where the obstacle is, and event
 extraction needs it; the estimate (the contact law fitted to the turning points near the
 obstacle, :mod:`impactosc.records.obstacle`, started from the curvature of those turning
-points) is also what the coverage study (:mod:`impactosc_study.obstacle_coverage`) and the
+points) is also what the coverage study (:mod:`impactosc_study.coverage`) and the
 identification's start check.
 """
 
@@ -43,7 +43,7 @@ def estimate_x_impact(
     measured on the rest of the record (:func:`impactosc.records.obstacle.fit_contact_law`,
     whose docstring gives the method).  The curvature estimate below is its starting point.
     On the model's chaotic attractor (w = 40.86, 2 kHz, c + 1 %; 6 segments of 60 s x 5 noise
-    seeds, :mod:`impactosc_study.obstacle_coverage`, target measured_x_impact_coverage) the error is
+    seeds, :mod:`impactosc_study.coverage`, target measured_x_impact_coverage) the error is
     -0.03 +- 0.12 um at 5 um noise and +0.08 +- 0.22 um at 10 um (mean +- its standard error; sd
     0.63 and 1.22 um against a median stated sigma of 0.65 and 1.26 um); the stated sigma, from
     the fit covariance, holds the truth within 1 sigma in 22/30 and 20/30 draws, within 2 sigma
