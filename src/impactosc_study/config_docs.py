@@ -226,7 +226,7 @@ def write(schema_path=SCHEMA, output=OUTPUT, check: bool = False) -> bool:
     return False
 
 
-def build_parser() -> argparse.ArgumentParser:
+def _parser() -> argparse.ArgumentParser:
     """The command's parser: the config reference from the schema."""
     doc = argparse.ArgumentParser(
         prog=COMMAND,
@@ -245,7 +245,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     """Write (or with --check, compare) config/README.md; the exit status says whether it was current."""
-    args = build_parser().parse_args(argv)
+    args = _parser().parse_args(argv)
     if write(args.schema, args.output, check=args.check):
         print(f"{args.output}: up to date with {args.schema}")
         return 0
