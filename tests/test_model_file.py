@@ -22,7 +22,7 @@ from impactosc.model.model_file import (
     resolve_model,
     write_model_file,
 )
-from impactosc.records.files import read_record
+from impactosc.records.formats import read_record
 from impactosc_study.config import ConfigError, nest_dotted_keys, validate_config
 
 RIG = ModelParams(k=1500.0, c=7.1, xI=-2.0e-3)

@@ -32,7 +32,7 @@ from impactosc.io.files import (
     write_table,
     write_text,
 )
-from impactosc.records.files import read_record, read_record_set, write_record, write_record_set
+from impactosc.records.formats import read_record, read_record_set, write_record, write_record_set
 from impactosc.records.record import Record
 
 VERSION_KEYS = (

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from impactosc.records import _csv as record_csv
-from impactosc.records.files import read_record, read_record_set, write_record, write_record_set
+from impactosc.records.formats import read_record, read_record_set, write_record, write_record_set
 
 HEADER = "# units: mm\n# omega: 40.86\nt,x\n"
 

@@ -6,7 +6,7 @@ import pytest
 
 from impactosc.cli.main import main
 from impactosc.io.files import read_run
-from impactosc.records.files import read_record, read_record_set, write_record_set
+from impactosc.records.formats import read_record, read_record_set, write_record_set
 from impactosc.records.poincare import record_set_poincare
 from impactosc.records.surrogate import (
     LABEL,
@@ -150,7 +150,7 @@ def test_noise_study_and_rows():
 def test_cli_reports_estimated_x_impact(tmp_path, capsys):
     rec, _ = surrogate_record(40.86, 100.0, 20.0, SurrogateOptions(rate=2000, noise=2e-6))
     meta = {k: v for k, v in rec.meta.items() if k != "x_impact"}  # the obstacle position unknown
-    from impactosc.records.files import write_record
+    from impactosc.records.formats import write_record
 
     write_record(tmp_path / "r.h5", rec.t, rec.x, omega=rec.omega, meta=meta)
     assert main(["extract", str(tmp_path / "r.h5"), "--output", str(tmp_path / "e.h5")]) == 0

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from nptdms import ChannelObject, GroupObject, RootObject, TdmsFile, TdmsWriter
 
-from impactosc.records.files import read_record, write_record
+from impactosc.records.formats import read_record, write_record
 from impactosc.records.record import phase_factor
 
 ROOT = Path(__file__).resolve().parents[1]

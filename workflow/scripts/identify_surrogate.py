@@ -2,7 +2,7 @@
 
 Reads snakemake.params (identification.surrogate: w values, transient, duration; surrogate:
 measured.surrogate's rate, noise, mismatch, seed; model; solver); writes snakemake.output.records,
-a record set (one record per w, impactosc.records.files.write_record_set), each labelled
+a record set (one record per w, impactosc.records.formats.write_record_set), each labelled
 "surrogate (model + noise)". The sensor-realism options are left out: the identified model has
 no sensor chain, so a filter's delay would only bias it.
 """
@@ -14,7 +14,7 @@ configure_logging(snakemake)
 import logging
 
 from impactosc.model.equations import ModelParams
-from impactosc.records.files import write_record_set
+from impactosc.records.formats import write_record_set
 from impactosc.records.surrogate import SurrogateOptions, surrogate_record
 
 p = snakemake.params

@@ -1,6 +1,6 @@
 """Extract impact events from one record (measured or surrogate).
 
-Reads snakemake.input.record (impactosc.records.files format; a TDMS record's group and
+Reads snakemake.input.record (impactosc.records.formats format; a TDMS record's group and
 channels from snakemake.params.reader), x_impact and noise from snakemake.params (None:
 metadata / estimated); writes snakemake.output.events in the
 run-file contract (impactosc.io.files) so the chaotic statistics treat it like a simulation.
@@ -14,7 +14,7 @@ import logging
 
 from impactosc.io.files import write_run
 from impactosc.records.extract import ExtractOptions, extract_events
-from impactosc.records.files import read_record
+from impactosc.records.formats import read_record
 
 p = snakemake.params
 rec = read_record(snakemake.input.record, **p.reader)

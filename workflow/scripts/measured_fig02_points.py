@@ -1,6 +1,6 @@
 """Measured Poincare points for the Fig 2 left panel: per-w records, or one slow-sweep record.
 
-Reads snakemake.input.records: a record set (HDF5 or CSV manifest, impactosc.records.files),
+Reads snakemake.input.records: a record set (HDF5 or CSV manifest, impactosc.records.formats),
 or, when snakemake.params.segments is set (config measured.fig02.sweep_record), one record of
 a slow sweep of w with an encoder phase (read as snakemake.params.reader says), cut into
 segments of quasi-constant measured w (impactosc.records.slow_sweep).  Writes
@@ -17,7 +17,7 @@ import logging
 import h5py
 
 from impactosc.io.files import atomic_write, check_writable, stamp_h5
-from impactosc.records.files import read_record, read_record_set
+from impactosc.records.formats import read_record, read_record_set
 from impactosc.records.poincare import record_set_poincare
 from impactosc.records.slow_sweep import sweep_segments, write_sweep_points
 

@@ -2,7 +2,7 @@
 
 wildcards.kind 'chaos': one record of the chaotic regime (snakemake.params.surrogate.chaos);
 'sweep': a record set, one short record per w of an increasing sweep (.sweep).  Writes
-snakemake.output.record in the measured-record format (impactosc.records.files).
+snakemake.output.record in the measured-record format (impactosc.records.formats).
 """
 
 from _logging import configure_logging
@@ -15,7 +15,7 @@ import time
 import numpy as np
 
 from impactosc.model.equations import ModelParams
-from impactosc.records.files import write_record, write_record_set
+from impactosc.records.formats import write_record, write_record_set
 from impactosc.records.surrogate import REALISM_FIELDS, SurrogateOptions, surrogate_record, surrogate_sweep
 
 p = snakemake.params

@@ -151,7 +151,7 @@ def _identify_run(args) -> int:
     from impactosc.identification.choice import candidates, choice_markdown, choose_model
     from impactosc.identification.report import parameter_markdown, parameter_table, write_identified_model
     from impactosc.identification.staged_fit import identify
-    from impactosc.records.files import read_records
+    from impactosc.records.formats import read_records
 
     _check_identify_outputs(args)
     if not all(periods > 0 for periods in args.stages):

@@ -97,7 +97,7 @@ def _parse_mismatch(text):
 
 def _surrogate(args) -> int:
     from impactosc.io.files import check_writable
-    from impactosc.records.files import write_record
+    from impactosc.records.formats import write_record
     from impactosc.records.surrogate import REALISM_FIELDS, SurrogateOptions, surrogate_ramp, surrogate_record
 
     check_writable(args.output)

@@ -36,7 +36,7 @@ def contact_exponent(text: str) -> float | None:
 
 
 RECORD_FORMATS = """\
-Record formats (impactosc.records.files):
+Record formats (impactosc.records.formats):
   .csv   '# key: value' metadata block (units, omega, x_impact ...), then a header; columns
          chosen with --column; a column named 'phase' (or --phase-channel) is the phase
   .h5    record/t, record/x (m), optional record/phase (rad), metadata as attributes
@@ -137,6 +137,6 @@ def read_options(args) -> dict:
 
 
 def read_record_args(args, omega=None):
-    from impactosc.records.files import read_record
+    from impactosc.records.formats import read_record
 
     return read_record(args.record, omega=omega, **read_options(args))

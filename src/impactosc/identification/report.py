@@ -164,7 +164,7 @@ def configured_inputs(section: dict, model: dict, paths) -> tuple:
     import dataclasses
 
     from impactosc.model.equations import ModelParams
-    from impactosc.records.files import read_records
+    from impactosc.records.formats import read_records
 
     base = ModelParams(**model)
     if section["mass"] is not None:

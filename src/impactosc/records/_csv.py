@@ -3,7 +3,7 @@
 Why a module: a record of an hour at kHz rates is millions of lines, so the samples are read
 by one ``np.loadtxt`` call; where numpy refuses the block (a malformed line), a line-by-line
 parser reads it again to name the line and the problem.  The format is described in
-:mod:`impactosc.records.files`.
+:mod:`impactosc.records.formats`.
 """
 
 from __future__ import annotations

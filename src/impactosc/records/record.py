@@ -5,7 +5,7 @@ own record (or the clearly labelled surrogate of :mod:`impactosc.records.surroga
 workflow as a :class:`Record`, is checked here, and then goes through exactly the event extraction
 (:mod:`impactosc.records.extract`) and statistics used for the model.  The files a record is
 read from and written to (CSV, HDF5 and record sets; TDMS read) are
-:mod:`impactosc.records.files`; every reader ends in :func:`record_from_samples`, so
+:mod:`impactosc.records.formats`; every reader ends in :func:`record_from_samples`, so
 each format is checked alike.
 
 One record: uniformly sampled time (s) and displacement (declared in m, mm or um; held in m),
