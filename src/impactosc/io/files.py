@@ -1,8 +1,13 @@
-"""Every file the package writes or reads: atomically written text, JSON, CSV and HDF5 run files.
+"""How the package writes and reads files: atomically written text, JSON, CSV tables, HDF5 run
+files, and the provenance and units every file carries.
 
 Why one module: each format is written in exactly one way, so a number looks the same in
 every table and an interrupted job never leaves a file that looks complete (everything is
-written under a temporary name in the target directory and renamed into place).
+written under a temporary name in the target directory and renamed into place). A result with
+a file of its own is written beside its type, through these helpers: sweeps
+(:mod:`impactosc.dynamics.sweep`), 2-D maps (:mod:`impactosc.dynamics.maps`), basins
+(:mod:`impactosc.dynamics.basins`), records (:mod:`impactosc.records.formats`) and model files
+(:mod:`impactosc.model.model_file`).
 
 HDF5 run files are the contract between the simulation and every downstream rule.
 Layout (stable; measured records written by other tools follow it too):
