@@ -246,6 +246,14 @@ def list_problems(markdown: str) -> list[str]:
     return problems
 
 
+def math_in_headings(markdown: str) -> list[str]:
+    """Headings with math: the table of contents would show the LaTeX source."""
+    text = re.sub(r"^ *(```|~~~).*?^ *\1", "", markdown, flags=re.M | re.S)
+    return [
+        f"math in a heading (the table of contents shows it raw): {h}" for h in re.findall(r"^#+ .*\$.*$", text, re.M)
+    ]
+
+
 # --- API docstrings ----------------------------------------------------------------------
 
 
@@ -268,7 +276,7 @@ def on_page_markdown(markdown, page, config, files):
         for name in undocumented(module_name):
             log.warning(f"{page.file.src_path}: {name} has no docstring")
     markdown = INCLUDE.sub(_include, markdown)
-    for problem in list_problems(markdown):
+    for problem in list_problems(markdown) + math_in_headings(markdown):
         log.warning(f"{page.file.src_path}: {problem}")
     prefix = "../" * page.file.src_uri.count("/")
     markdown = GALLERY_MARK.sub(lambda m: gallery_markdown(figures_dir(), prefix), markdown)

@@ -48,6 +48,11 @@ def test_no_math_left_raw(page):
     assert "arithmatex" not in html
 
 
+def test_math_in_a_heading_is_caught():
+    assert len(hooks.math_in_headings("## Chaos at $\\omega = 40.86$\n\n```\n# $HOME\n```\n")) == 1
+    assert all(hooks.math_in_headings(page.read_text()) == [] for page in PAGES)
+
+
 def test_raw_dollar_is_caught():
     # an unclosed $ is no math for arithmatex: the build must see it
     html = _render("The cost is $x + 1 dollars.\n\nIn code `$HOME` it is fine.")
