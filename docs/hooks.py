@@ -215,7 +215,7 @@ def raw_dollars(page_html: str) -> list[str]:
 # --- lists -------------------------------------------------------------------------------
 
 LIST_ITEM = re.compile(r"^( *)(?:[-*+]|\d+\.) +\S")
-FENCE = re.compile(r"^ *(```|~~~)")
+FENCE = re.compile(r"^ *(```|~~~|\$\$ *$)")  # code, and display math
 
 
 def list_problems(markdown: str) -> list[str]:

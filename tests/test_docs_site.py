@@ -67,6 +67,7 @@ def test_list_after_a_paragraph_is_caught():
     assert "4 spaces" in hooks.list_problems(nested)[0]
     assert hooks.list_problems("- **Tests:**\n    - nested\n") == []
     assert hooks.list_problems("```\ntext\n- in code\n```\n") == []
+    assert hooks.list_problems("$$\nx\n+ y\n$$\n") == []
     # and Python-Markdown really renders the flagged form as one paragraph
     assert "<ul>" not in markdown.markdown(bad) and "<ul>" in markdown.markdown("Results:\n\n- one\n")
 
