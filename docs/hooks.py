@@ -47,15 +47,16 @@ GALLERY = [
     ),
     (
         "Periodic orbits, grazing and basins",
-        ["grazing", "bifurcation_overlay", "fig02_orbits", "fig03b_orbits", "basins"],
+        ["grazing", "bifurcation_overlay", "fig02_orbits", "fig03b_orbits", "basins", "basins_fine"],
     ),
     ("Lyapunov exponents", ["lyapunov_chaos", "fig02_lyapunov", "fig03b_lyapunov"]),
     ("Two parameters (opt-in)", ["map2d", "map2d_curves"]),
     ("Records and identification", ["measured_noise_study", "identify"]),
     ("Speed against accuracy", ["work_precision"]),
 ]
-# The Snakemake target that draws a figure, where it is not the figure's own name
+# The Snakemake target that draws a figure, and its caption, where they are not the figure's name
 TARGETS = {"measured_noise_study": "measured_noise_figure", "identify": "identify_figure"}
+CAPTION_OF = {"basins_fine": "basins"}
 SITE_FIGURES = "figures"  # where the PNGs go in the site
 
 
@@ -133,7 +134,7 @@ def caption_html(name: str) -> str:
     """The caption workflow/report/NAME.rst (reStructuredText) as an HTML fragment."""
     import docutils.core
 
-    text = (CAPTIONS / f"{name}.rst").read_text(encoding="utf-8")
+    text = (CAPTIONS / f"{CAPTION_OF.get(name, name)}.rst").read_text(encoding="utf-8")
     parts = docutils.core.publish_parts(text, writer="html5", settings_overrides={"report_level": 5})
     return re.sub(r'<span class="docutils literal">(.*?)</span>', r"<code>\1</code>", parts["fragment"], flags=re.S)
 
@@ -145,7 +146,7 @@ def _title(name: str) -> str:
 
 def gallery_markdown(directory: Path, prefix: str = "") -> str:
     """Every figure with its caption; a figure not built names the command that builds it."""
-    listed = [name for _, names in GALLERY for name in names]
+    listed = [CAPTION_OF.get(name, name) for _, names in GALLERY for name in names]
     others = sorted(p.stem for p in CAPTIONS.glob("*.rst") if p.stem not in listed and p.stem not in NOT_FIGURES)
     sections = GALLERY + ([("Other figures", others)] if others else [])
     built = {name: find_figure(name, directory) for _, names in sections for name in names}
