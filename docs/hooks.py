@@ -222,28 +222,31 @@ FENCE = re.compile(r"^ *(```|~~~|\$\$ *$)")  # code, and display math
 def list_problems(markdown: str) -> list[str]:
     """Lists that Python-Markdown does not render as lists.
 
-    A list item right after a paragraph line (no blank line between) continues the paragraph;
-    a nested item indented by 1-3 spaces is a sibling, not a sub-list.
+    A list item right after a paragraph line (no blank line between) continues the paragraph,
+    also inside a list, after a list item's second paragraph; a nested item indented by 1-3
+    spaces is a sibling, not a sub-list.
     """
     problems = []
-    in_fence, in_list, prev = False, False, ""
+    in_fence, in_list, block = False, False, None  # block: None (after a blank), item, paragraph, other
     for number, line in enumerate(markdown.splitlines(), 1):
-        if FENCE.match(line):
-            in_fence = not in_fence
-        if in_fence or FENCE.match(line):
-            prev = line
+        if FENCE.match(line) or in_fence:
+            in_fence = in_fence != bool(FENCE.match(line))
+            block = "other"
             continue
         item = LIST_ITEM.match(line)
         if item:
-            block_start = prev.lstrip().startswith(("#", "|", "!!!", "<", "{{")) or not prev.strip()
-            if not in_list and not block_start:
+            if block == "paragraph":
                 problems.append(f"line {number}: a list right after a paragraph needs a blank line: {line.strip()}")
             if in_list and 0 < len(item.group(1)) < 4:
                 problems.append(f"line {number}: a nested list needs 4 spaces of indentation: {line.strip()}")
-            in_list = True
-        elif line.strip() and not prev.strip() and not line.startswith(" "):
-            in_list = False
-        prev = line
+            in_list, block = True, "item"
+        elif not line.strip():
+            block = None
+        elif line.lstrip().startswith(("#", "!!!", "<", "{{")):
+            block = "other"
+        elif block in (None, "other"):
+            in_list = in_list and line.startswith(" ")
+            block = "paragraph"
     return problems
 
 

@@ -68,6 +68,9 @@ def test_list_after_a_paragraph_is_caught():
     assert hooks.list_problems("- **Tests:**\n    - nested\n") == []
     assert hooks.list_problems("```\ntext\n- in code\n```\n") == []
     assert hooks.list_problems("$$\nx\n+ y\n$$\n") == []
+    # a list item's second paragraph swallows the next item too
+    second = "- a\n\n    more on a\n- b\n"
+    assert len(hooks.list_problems(second)) == 1 and markdown.markdown(second).count("<li>") == 1
     # and Python-Markdown really renders the flagged form as one paragraph
     assert "<ul>" not in markdown.markdown(bad) and "<ul>" in markdown.markdown("Results:\n\n- one\n")
 
