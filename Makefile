@@ -76,7 +76,7 @@ lint: install
 # The documentation site into site/, strict: a broken link or reference, or public API without a
 # docstring (docs/hooks.py), fails the build. make test builds it too.
 docs: install
-	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --quiet
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
 
 # config/README.md, every key of the workflow config, rendered from its schema (a test checks it is current)
 config-docs: install

@@ -1,9 +1,18 @@
-"""MkDocs hooks: generated tables in the pages, and public API without a docstring as an error.
+"""MkDocs hooks: generated tables and figures in the pages, math as MathML, and checks.
 
 * ``{{ generated: results/tables/X.md }}`` is replaced by that file when the workflow has
   written it (headings demoted below the page's), else by a note naming the target that makes
   it: numbers on these pages come from the workflow's own tables, never copied by hand.
+* ``{{ figure: GROUP/NAME.png by COMMAND }}`` shows a figure of the study's figures directory,
+  ``{{ gallery }}`` every figure with its caption (``workflow/report/NAME.rst``, the captions of
+  ``snakemake --report``); the PNGs are copied into the site at build time, none is committed.
+  Before a build the page says which command makes them.
 * ``{{ include: PATH }}`` inserts a file of the repository (the changelog, the config reference).
+* ``$...$`` and ``$$...$$`` (found by pymdownx.arithmatex) become MathML at build time: no
+  JavaScript, no CDN. A ``$`` left in a page's text outside code fails the build.
+* A list right after a paragraph line renders as one paragraph ("text - a - b") in
+  Python-Markdown, and a nested list indented by less than 4 spaces renders flat: both fail the
+  build, with the line.
 * Every public function and class of a module the API page documents (``::: module``) must have
   a docstring; a missing one is logged as a warning, which ``mkdocs build --strict`` turns into a
   failed build.
@@ -11,6 +20,7 @@
 
 from __future__ import annotations
 
+import html
 import importlib
 import inspect
 import logging
@@ -21,7 +31,54 @@ ROOT = Path(__file__).resolve().parent.parent
 log = logging.getLogger("mkdocs.plugins.impactosc")
 GENERATED = re.compile(r"\{\{\s*generated:\s*(\S+?)(?:\s+by\s+(.+?))?\s*\}\}")
 INCLUDE = re.compile(r"\{\{\s*include:\s*(\S+?)\s*\}\}")
+FIGURE = re.compile(r"\{\{\s*figure:\s*(\S+?)(?:\s+by\s+(.+?))?\s*\}\}")
+GALLERY_MARK = re.compile(r"\{\{\s*gallery\s*\}\}")
 API = re.compile(r"^::: ([\w.]+)", re.M)
+
+STUDY = "paper"
+CAPTIONS = ROOT / "workflow" / "report"
+# The gallery's order: each caption workflow/report/NAME.rst belongs to the figure NAME.png of
+# the study's figures directory (top level or a group's folder). Captions that are no figure:
+NOT_FIGURES = {"workflow", "paper_vs_replication"}
+GALLERY = [
+    (
+        "The paper's figures",
+        ["fig01", "fig02", "fig03", "fig03a", "fig03b", *(f"fig{n:02d}" for n in range(4, 12))],
+    ),
+    (
+        "Periodic orbits, grazing and basins",
+        ["grazing", "bifurcation_overlay", "fig02_orbits", "fig03b_orbits", "basins", "basins_fine"],
+    ),
+    ("Lyapunov exponents", ["lyapunov_chaos", "fig02_lyapunov", "fig03b_lyapunov"]),
+    ("Two parameters (opt-in)", ["map2d", "map2d_curves"]),
+    ("Records and identification", ["measured_noise_study", "identify"]),
+    ("Speed against accuracy", ["work_precision"]),
+]
+# The Snakemake target that draws a figure, and its caption, where they are not the figure's name
+TARGETS = {"measured_noise_study": "measured_noise_figure", "identify": "identify_figure"}
+CAPTION_OF = {"basins_fine": "basins"}
+SITE_FIGURES = "figures"  # where the PNGs go in the site
+
+
+def figures_dir(root: Path | None = None) -> Path:
+    """The study's figures directory: results/<study>/figures, or results/figures of older builds."""
+    root = root or ROOT
+    new = root / "results" / STUDY / "figures"
+    return new if new.is_dir() else root / "results" / "figures"
+
+
+def _resolve(path: str, root: Path = ROOT) -> Path:
+    """A results path as the build wrote it: under results/<study>/ or, for older builds, results/."""
+    parts = Path(path).parts
+    candidates = [Path(path)]
+    if parts[:1] == ("results",) and parts[1:2] != (STUDY,):
+        candidates.insert(0, Path("results", STUDY, *parts[1:]))
+    elif parts[:2] == ("results", STUDY):
+        candidates.append(Path("results", *parts[2:]))
+    for candidate in candidates:
+        if (root / candidate).exists():
+            return root / candidate
+    return root / candidates[0]
 
 
 def _demote(text: str) -> str:
@@ -42,13 +99,16 @@ def _csv_table(file: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _not_built(what: str, how: str) -> str:
+    return f'!!! note "Not built yet"\n    {what} is written {how}; build it and rebuild the docs to see it here.\n'
+
+
 def _generated(match: re.Match) -> str:
     path, target = match.group(1), match.group(2)
-    file = ROOT / path
+    file = _resolve(path)
     if file.is_file():
         return _csv_table(file) if file.suffix == ".csv" else _demote(file.read_text(encoding="utf-8"))
-    how = f" by `{target}`" if target else " by the workflow"
-    return f'!!! note "Not built yet"\n    `{path}` is written{how}; build it and rebuild the docs to see it here.\n'
+    return _not_built(f"`{path}`", f"by `{target}`" if target else "by the workflow")
 
 
 def _include(match: re.Match) -> str:
@@ -57,6 +117,148 @@ def _include(match: re.Match) -> str:
         log.warning(f"include: {match.group(1)} does not exist")
         return ""
     return _demote(file.read_text(encoding="utf-8"))
+
+
+# --- figures -----------------------------------------------------------------------------
+
+
+def find_figure(name: str, directory: Path) -> Path | None:
+    """NAME.png at the top of the figures directory or in one of its groups' folders."""
+    for png in [directory / f"{name}.png", *sorted(directory.glob(f"*/{name}.png"))]:
+        if png.is_file():
+            return png
+    return None
+
+
+def caption_html(name: str) -> str:
+    """The caption workflow/report/NAME.rst (reStructuredText) as an HTML fragment."""
+    import docutils.core
+
+    text = (CAPTIONS / f"{CAPTION_OF.get(name, name)}.rst").read_text(encoding="utf-8")
+    parts = docutils.core.publish_parts(text, writer="html5", settings_overrides={"report_level": 5})
+    return re.sub(r'<span class="docutils literal">(.*?)</span>', r"<code>\1</code>", parts["fragment"], flags=re.S)
+
+
+def _title(name: str) -> str:
+    match = re.fullmatch(r"fig(\d\d)([ab]?)", name)
+    return f"Fig. {int(match.group(1))}{match.group(2)} (`{name}`)" if match else f"`{name}`"
+
+
+def gallery_markdown(directory: Path, prefix: str = "") -> str:
+    """Every figure with its caption; a figure not built names the command that builds it."""
+    listed = [CAPTION_OF.get(name, name) for _, names in GALLERY for name in names]
+    others = sorted(p.stem for p in CAPTIONS.glob("*.rst") if p.stem not in listed and p.stem not in NOT_FIGURES)
+    sections = GALLERY + ([("Other figures", others)] if others else [])
+    built = {name: find_figure(name, directory) for _, names in sections for name in names}
+    out = []
+    if not any(built.values()):
+        out.append(
+            '!!! note "No figure is built yet"\n'
+            f"    The figures appear here after `make` (the whole workflow; `results/{STUDY}/figures/` has none yet)\n"
+            "    and a rebuild of these pages with `make docs`. One figure alone, e.g. Fig. 4:\n"
+            "    `.venv/bin/snakemake -j2 fig04`. The captions below say what each figure will show.\n"
+        )
+    for title, names in sections:
+        out.append(f"## {title}\n")
+        for name in names:
+            out.append(f"### {_title(name)}\n")
+            png = built[name]
+            if png is None:
+                out.append(f"*Not built yet:* `.venv/bin/snakemake -j2 {TARGETS.get(name, name)}`\n")
+            else:
+                out.append(f"![{name}]({prefix}{SITE_FIGURES}/{png.relative_to(directory).as_posix()})\n")
+            out.append(f'<div class="figure-caption">\n{caption_html(name)}\n</div>\n')
+    return "\n".join(out)
+
+
+def _figure(match: re.Match, prefix: str) -> str:
+    path, command = match.group(1), match.group(2)
+    if (figures_dir() / path).is_file():
+        return f"![{Path(path).stem}]({prefix}{SITE_FIGURES}/{path})"
+    return _not_built(f"The figure `{path}`", f"by `{command}`" if command else "by the workflow")
+
+
+def on_files(files, config):
+    """The built PNGs of the study into the site, under figures/ (copied at build time)."""
+    from mkdocs.structure.files import File
+
+    directory = figures_dir()
+    for png in sorted(directory.rglob("*.png")) if directory.is_dir() else []:
+        uri = f"{SITE_FIGURES}/{png.relative_to(directory).as_posix()}"
+        files.append(File.generated(config, uri, abs_src_path=str(png)))
+    return files
+
+
+# --- math --------------------------------------------------------------------------------
+
+MATH = re.compile(r'<(span|div) class="arithmatex">\\[(\[](.*?)\\[)\]]</\1>', re.S)
+CODE = re.compile(r"<(pre|code)\b.*?</\1>", re.S)
+
+
+def mathml(page_html: str) -> str:
+    """The math pymdownx.arithmatex marked (generic mode) as MathML: inline and display."""
+    from latex2mathml.converter import convert
+
+    def one(match: re.Match) -> str:
+        display = "block" if match.group(1) == "div" else "inline"
+        return convert(html.unescape(match.group(2)).strip(), display=display)
+
+    return MATH.sub(one, page_html)
+
+
+def raw_dollars(page_html: str) -> list[str]:
+    """Text with a ``$`` outside code and math: math the conversion did not catch."""
+    text = re.sub(r"<math\b.*?</math>", "", CODE.sub("", page_html), flags=re.S)
+    text = re.sub(r"<[^>]+>", " ", text)
+    return [line.strip() for line in text.splitlines() if "$" in line]
+
+
+# --- lists -------------------------------------------------------------------------------
+
+LIST_ITEM = re.compile(r"^( *)(?:[-*+]|\d+\.) +\S")
+FENCE = re.compile(r"^ *(```|~~~|\$\$ *$)")  # code, and display math
+
+
+def list_problems(markdown: str) -> list[str]:
+    """Lists that Python-Markdown does not render as lists.
+
+    A list item right after a paragraph line (no blank line between) continues the paragraph,
+    also inside a list, after a list item's second paragraph; a nested item indented by 1-3
+    spaces is a sibling, not a sub-list.
+    """
+    problems = []
+    in_fence, in_list, block = False, False, None  # block: None (after a blank), item, paragraph, other
+    for number, line in enumerate(markdown.splitlines(), 1):
+        if FENCE.match(line) or in_fence:
+            in_fence = in_fence != bool(FENCE.match(line))
+            block = "other"
+            continue
+        item = LIST_ITEM.match(line)
+        if item:
+            if block == "paragraph":
+                problems.append(f"line {number}: a list right after a paragraph needs a blank line: {line.strip()}")
+            if in_list and 0 < len(item.group(1)) < 4:
+                problems.append(f"line {number}: a nested list needs 4 spaces of indentation: {line.strip()}")
+            in_list, block = True, "item"
+        elif not line.strip():
+            block = None
+        elif line.lstrip().startswith(("#", "!!!", "<", "{{")):
+            block = "other"
+        elif block in (None, "other"):
+            in_list = in_list and line.startswith(" ")
+            block = "paragraph"
+    return problems
+
+
+def math_in_headings(markdown: str) -> list[str]:
+    """Headings with math: the table of contents would show the LaTeX source."""
+    text = re.sub(r"^ *(```|~~~).*?^ *\1", "", markdown, flags=re.M | re.S)
+    return [
+        f"math in a heading (the table of contents shows it raw): {h}" for h in re.findall(r"^#+ .*\$.*$", text, re.M)
+    ]
+
+
+# --- API docstrings ----------------------------------------------------------------------
 
 
 def undocumented(module_name: str) -> list[str]:
@@ -73,9 +275,22 @@ def undocumented(module_name: str) -> list[str]:
 
 
 def on_page_markdown(markdown, page, config, files):
-    """Insert generated tables and included files; check the API page's docstrings."""
+    """Insert generated tables, figures and included files; check lists and API docstrings."""
     for module_name in API.findall(markdown):
         for name in undocumented(module_name):
             log.warning(f"{page.file.src_path}: {name} has no docstring")
-    markdown = GENERATED.sub(_generated, markdown)
-    return INCLUDE.sub(_include, markdown)
+    markdown = INCLUDE.sub(_include, markdown)
+    for problem in list_problems(markdown) + math_in_headings(markdown):
+        log.warning(f"{page.file.src_path}: {problem}")
+    prefix = "../" * page.file.src_uri.count("/")
+    markdown = GALLERY_MARK.sub(lambda m: gallery_markdown(figures_dir(), prefix), markdown)
+    markdown = FIGURE.sub(lambda m: _figure(m, prefix), markdown)
+    return GENERATED.sub(_generated, markdown)
+
+
+def on_page_content(html_text, page, config, files):
+    """Math as MathML; a ``$`` left in the text fails the build."""
+    html_text = mathml(html_text)
+    for line in raw_dollars(html_text):
+        log.warning(f"{page.file.src_path}: unconverted $ in: {line[:120]}")
+    return html_text
