@@ -9,7 +9,7 @@ import pytest
 import yaml
 
 from impactosc.cli.main import main
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_study.config import ConfigError, load_config, validate_config
 from impactosc_study.config_docs import render_file
 

@@ -30,8 +30,9 @@ import numpy as np
 from numba import njit
 
 from impactosc.core import dop853
-from impactosc.core.layout import CONTACT, FREE, TIME, UVEL, WVEL
-from impactosc.model.equations import ModelParams
+from impactosc.core.layout import TIME, UVEL, WVEL
+from impactosc.model.equations import CONTACT, FREE
+from impactosc.model.parameters import ModelParams
 from impactosc_bench.scipy_reference import model_forces
 from impactosc_bench.taylor_series import BAND_PIECE, PIECE_NAMES, TIME_PIECE, TURN_PIECE, integrate_piece
 

@@ -25,7 +25,7 @@ import math
 import numpy as np
 from numba import njit
 
-from impactosc.core.layout import P_B, P_C, P_EPS, P_K, P_KI, P_M, P_M0E, P_N3, P_OMEGA, P_T, P_XI
+from impactosc.model.parameters import P_B, P_C, P_EPS, P_K, P_KI, P_M, P_M0E, P_N3, P_OMEGA, P_T, P_XI
 
 SAFETY = 0.9  # of the step at which the last two terms reach the tolerance
 MAX_STEPS = 1_000_000  # a loop that has not arrived by then returns with the count (never hangs)

@@ -24,7 +24,7 @@ import numpy as np
 
 from impactosc.identification.identify import identify
 from impactosc.identification.parameters import NAMES, theta_of
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc.records.surrogate import SurrogateOptions, surrogate_record
 
 __all__ = [

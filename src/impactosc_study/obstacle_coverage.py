@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc.records.obstacle_estimate import estimate_x_impact
 from impactosc.records.record import Record
 from impactosc.records.surrogate import SurrogateOptions, surrogate_record

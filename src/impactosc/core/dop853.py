@@ -16,8 +16,9 @@ import numpy as np
 from numba import njit
 
 from impactosc.core import tableau as tab
-from impactosc.core.layout import P_EPS, P_XI, SQRTH, TIME, WVEL
+from impactosc.core.layout import SQRTH, TIME, WVEL
 from impactosc.model.equations import accel, accel_vn
+from impactosc.model.parameters import P_EPS, P_XI
 
 A = np.ascontiguousarray(tab.A)
 B = np.ascontiguousarray(tab.B)

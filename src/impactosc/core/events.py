@@ -18,19 +18,8 @@ from impactosc.core.layout import (
     C_SLOW_TRANSIT,
     C_STICK,
     C_STIFF,
-    CONTACT,
-    CUT,
-    FREE,
     IMPACT,
     NEAR_MISS,
-    P_B,
-    P_EPS,
-    P_KI,
-    P_M,
-    P_N2,
-    P_N3,
-    P_T,
-    P_XI,
     PENETRATION,
     POINCARE,
     R_FLAGS,
@@ -57,7 +46,8 @@ from impactosc.core.layout import (
     TIME,
     WVEL,
 )
-from impactosc.model.equations import accel, damping_rate, stick_force
+from impactosc.model.equations import CONTACT, CUT, FREE, accel, damping_rate, stick_force
+from impactosc.model.parameters import P_B, P_EPS, P_KI, P_M, P_N2, P_N3, P_T, P_XI
 
 SLOW_FACTOR = 1.5  # v = 0 with |net force| < 1.5 T: stick or slow reversal -> implicit phase
 STIFF_ENTER = 4.0  # h |da/dv| above this: explicit steps are held by stability, not accuracy ...

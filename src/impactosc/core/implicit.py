@@ -15,12 +15,6 @@ from impactosc.core.events import EV_V, EV_X_DOWN, EV_X_UP, STIFF_EXIT, apply_ev
 from impactosc.core.layout import (
     C_REJECT,
     C_SLOW_STEPS,
-    CONTACT,
-    FREE,
-    P_EPS,
-    P_M,
-    P_T,
-    P_XI,
     R_ATOL,
     R_PERIOD,
     R_RTOL,
@@ -43,7 +37,8 @@ from impactosc.core.layout import (
 )
 from impactosc.core.pieces import BAND, start_piece, store
 from impactosc.core.sampling import sample_hermite, window_due
-from impactosc.model.equations import damping_rate
+from impactosc.model.equations import CONTACT, FREE, damping_rate
+from impactosc.model.parameters import P_EPS, P_M, P_T, P_XI
 
 
 @njit(cache=True)

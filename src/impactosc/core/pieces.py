@@ -26,7 +26,6 @@ from numba import njit
 from impactosc.core import dop853
 from impactosc.core.layout import (
     C_RHS,
-    P_N3,
     S_ERRACC,
     S_H,
     S_HACC,
@@ -42,6 +41,7 @@ from impactosc.core.layout import (
     S_X,
     TIME,
 )
+from impactosc.model.parameters import P_N3
 
 BAND = 100.0  # the implicit phase ends when |v| > BAND * eps (friction slope then < 1e-6 T/eps)
 U_BAND = 1e3  # free flight with |v| < U_BAND * eps, heading for v = 0, runs in s = asinh(v/eps)

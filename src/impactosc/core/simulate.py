@@ -36,7 +36,6 @@ from impactosc.core.layout import (
     MODE_KEYS,
     MODE_NAMES,
     N_COUNT,
-    PHASE_NAMES,
     RUNNING,
     S_H,
     S_MODE,
@@ -53,7 +52,8 @@ from impactosc.core.layout import (
     STATUS_NAMES,
     record_flags,
 )
-from impactosc.model.equations import ModelParams
+from impactosc.model.equations import PHASE_NAMES
+from impactosc.model.parameters import ModelParams
 
 ALL_EVENTS = EVENT_NAMES
 DEFAULT_RTOL = 1e-10

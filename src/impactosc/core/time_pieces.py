@@ -35,13 +35,6 @@ from impactosc.core.layout import (
     C_REJECT,
     C_RHS,
     C_STEPS,
-    CONTACT,
-    CUT,
-    FREE,
-    P_EPS,
-    P_M,
-    P_T,
-    P_XI,
     R_ATOL,
     R_RTOL,
     S_H,
@@ -62,6 +55,8 @@ from impactosc.core.layout import (
 )
 from impactosc.core.pieces import BAND, U_BAND, accepted_step_factor, inverse_n3, start_piece, store
 from impactosc.core.sampling import bisect, sample_window, window_due
+from impactosc.model.equations import CONTACT, CUT, FREE
+from impactosc.model.parameters import P_EPS, P_M, P_T, P_XI
 
 DIP_SAMPLES = 32
 RESTART_FRACTION = 1e-3  # first step after an event, as a fraction of the step that held it

@@ -37,11 +37,6 @@ from impactosc.core.layout import (
     C_RHS,
     C_STEPS,
     C_TRANSFORMED,
-    CONTACT,
-    FREE,
-    P_EPS,
-    P_N3,
-    P_XI,
     R_ATOL,
     R_PERIOD,
     R_RTOL,
@@ -69,7 +64,8 @@ from impactosc.core.layout import (
 )
 from impactosc.core.pieces import BAND, U_BAND, accepted_step_factor, inverse_n3, start_piece, store
 from impactosc.core.sampling import bisect, sample_window, window_due
-from impactosc.model.equations import accel, stick_force
+from impactosc.model.equations import CONTACT, FREE, accel, stick_force
+from impactosc.model.parameters import P_EPS, P_N3, P_XI
 
 # Each transformed variable is regular at one end of its stretch and singular at the other
 # (sqrt(h) at v = 0, |v|^n3 at h = 0): stepping away from a singular point is cheap

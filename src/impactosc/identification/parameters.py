@@ -17,8 +17,7 @@ import dataclasses
 
 import numpy as np
 
-from impactosc.core.layout import P_B, P_C, P_K, P_KI, P_M0E, P_N3, P_T, P_XI
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import P_B, P_C, P_K, P_KI, P_M0E, P_N3, P_T, P_XI, ModelParams
 
 __all__ = [
     "NAMES",

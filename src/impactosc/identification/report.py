@@ -163,7 +163,7 @@ def configured_inputs(section: dict, model: dict, paths) -> tuple:
     configured mass, and the record files read as ``section["read"]`` says."""
     import dataclasses
 
-    from impactosc.model.equations import ModelParams
+    from impactosc.model.parameters import ModelParams
     from impactosc.records.files import read_records
 
     base = ModelParams(**model)

@@ -35,7 +35,7 @@ import yaml
 from impactosc import __version__
 from impactosc.io.files import atomic_write, git_commit
 from impactosc.io.names import closest_name
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 FORMAT = "impactosc-model/1"
 
