@@ -15,13 +15,12 @@ from impactosc.io.files import read_run
 from impactosc.model.model_file import (
     BC_DESCRIPTION,
     FORMAT,
-    PARAM_UNITS,
     apply_overrides,
     read_model_file,
     resolve_model,
     write_model_file,
 )
-from impactosc.model.parameters import ModelParams
+from impactosc.model.parameters import PARAM_UNITS, ModelParams
 from impactosc.records.files import read_record
 from impactosc_study.config import ConfigError, nest_dotted_keys, validate_config
 

@@ -17,7 +17,8 @@ import numpy as np
 from impactosc.identification.identify import Identification
 from impactosc.identification.parameters import FIELDS, NAMES, PER_MASS
 from impactosc.io.files import atomic_write, stamp_h5
-from impactosc.model.model_file import PARAM_UNITS, write_model_file
+from impactosc.model.model_file import write_model_file
+from impactosc.model.parameters import PARAM_UNITS
 
 __all__ = [
     "configured_inputs",

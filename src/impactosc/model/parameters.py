@@ -1,9 +1,10 @@
-"""Model BC's parameters (paper eq. 1): their values, the ranges the tests cover, and their
-indices in the parameter array the numba core reads.
+"""Model BC's parameters (paper eq. 1): their names, units and meanings (:data:`PARAMETERS`),
+their values (the defaults of :class:`ModelParams`, written nowhere else), the ranges the
+tests cover, and their indices in the parameter array the numba core reads.
 
 The parameters travel into the numba core as one float64 array ``p`` (indices P_*, in the
-order of the ModelParams fields), so compiled functions never close over Python objects and
-stay cacheable on disk.
+order of :data:`PARAMETERS`, then the forcing frequency), so compiled functions never close
+over Python objects and stay cacheable on disk.
 """
 
 from __future__ import annotations
@@ -14,7 +15,26 @@ from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 
-# --- index into the parameter array p (ModelParams.as_array) -------------------------------
+#: Every parameter of the model, in the order of the ModelParams fields and of the array p:
+#: (name, SI unit as a model file writes it, "-" when dimensionless; meaning).
+PARAMETERS = (
+    ("m", "kg", "moving mass"),
+    ("m0e", "kg m", "unbalance m0 e"),
+    ("k", "N/m", "spring stiffness"),
+    ("c", "N s/m", "viscous damping"),
+    ("T", "N", "dry-friction level"),
+    ("eps", "m/s", "friction regularisation velocity"),
+    ("kI", "N/m^1.5", "contact stiffness"),
+    ("b", "(s/m)^n3", "Hunt-Crossley damping factor"),
+    ("n1", "-", "elastic exponent"),
+    ("n2", "-", "damping penetration exponent"),
+    ("n3", "-", "damping velocity exponent"),
+    ("xI", "m", "obstacle position (contact when x >= xI)"),
+)
+#: Unit of every parameter (from PARAMETERS).
+PARAM_UNITS = {name: unit for name, unit, _ in PARAMETERS}
+
+# --- index into the parameter array p (ModelParams.as_array): PARAMETERS, then w -----------
 (P_M, P_M0E, P_K, P_C, P_T, P_EPS, P_KI, P_B, P_N1, P_N2, P_N3, P_XI, P_OMEGA) = range(13)
 N_PARAMS = 13
 
@@ -44,20 +64,22 @@ class UntestedParameterWarning(UserWarning):
 
 @dataclass(frozen=True)
 class ModelParams:
-    """Physical parameters of model BC (SI units). Defaults are the paper's values."""
+    """Physical parameters of the model (SI units; units and meanings in :data:`PARAMETERS`).
 
-    m: float = 8.735  # kg, moving mass
-    m0e: float = 0.01805  # kg m, unbalance
-    k: float = 1418.9  # N/m, spring stiffness
-    c: float = 6.6511  # N s/m, viscous damping
-    T: float = 0.63133  # N, dry-friction level
-    eps: float = 1e-6  # m/s, friction regularisation velocity
-    kI: float = 2.3983e8  # N/m^1.5, contact stiffness
-    b: float = 0.8485  # (s/m)^n3, Hunt-Crossley damping factor
+    The defaults are model BC, the paper's values: the one place they are written."""
+
+    m: float = 8.735
+    m0e: float = 0.01805
+    k: float = 1418.9
+    c: float = 6.6511
+    T: float = 0.63133
+    eps: float = 1e-6
+    kI: float = 2.3983e8
+    b: float = 0.8485
     n1: float = 1.5
     n2: float = 1.5
     n3: float = 0.18667
-    xI: float = -2.086e-3  # m, obstacle position
+    xI: float = -2.086e-3
 
     def __post_init__(self):
         for f in fields(self):
@@ -98,3 +120,12 @@ class ModelParams:
         if self.b == 0 or self.n3 == 0:
             return math.inf
         return self.b ** (-1.0 / self.n3)
+
+
+def model_bc_summary(names=("m", "k", "xI")) -> str:
+    """Model BC's values of `names` with their units, e.g. "m=8.735 kg, k=1418.9 N/m" (for help texts)."""
+    bc = ModelParams()
+    return ", ".join(
+        f"{name}={getattr(bc, name):g}" + ("" if PARAM_UNITS[name] == "-" else f" {PARAM_UNITS[name]}")
+        for name in names
+    )
