@@ -19,6 +19,7 @@ CORE_SOURCES = (
         for name in (
             "layout",
             "tableau",
+            "vector_fields",
             "dop853",
             "radau",
             "events",

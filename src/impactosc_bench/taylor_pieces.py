@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from impactosc.core import dop853
+from impactosc.core import dop853, vector_fields
 from impactosc.core.layout import TIME, UVEL, WVEL
 from impactosc.model.equations import CONTACT, FREE
 from impactosc.model.parameters import ModelParams
@@ -105,7 +105,7 @@ def _dop853_piece(p, mode, phase, sgn, s0, s1, tref, a0, b0, v0, rtol, atol):
         t, x, v = s0, a0, b0
     else:
         t, x, v = a0, b0, v0
-    d = dop853.deriv(p, mode, phase, sgn, q, s0, tref, t, x, v)
+    d = vector_fields.deriv(p, mode, phase, sgn, q, s0, tref, t, x, v)
     h = dop853.initial_step(p, mode, phase, sgn, q, s0, tref, t, x, v, d[0], d[1], d[2], rtol, atol)
     s, attempts, rejected = s0, 0, False
     while s < s1 and attempts < 1_000_000:

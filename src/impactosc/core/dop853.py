@@ -1,8 +1,8 @@
 """Explicit Dormand-Prince 8(5,3) step with 7th-order dense output, for the state (t, x, v).
 
 The independent variable s is time itself on ordinary pieces (mode TIME) or a variable in
-which a piece that starts or ends at a singular point of the vector field is smooth (see
-``deriv``). Everything is written for the three scalar components so the numba-compiled
+which a piece that starts or ends at a singular point of the vector field is smooth (the
+vector field in each variable: :mod:`impactosc.core.vector_fields`). Everything is written for the three scalar components so the numba-compiled
 step allocates nothing: the stage buffer ``K`` (16 x 3) and the interpolant ``F`` (7 x 3)
 are owned by the caller and reused. Error norm and step-size rules follow Hairer's DOP853
 (as in SciPy).
@@ -16,9 +16,8 @@ import numpy as np
 from numba import njit
 
 from impactosc.core import tableau as tab
-from impactosc.core.layout import SQRTH, TIME, WVEL
-from impactosc.model.equations import accel, accel_vn
-from impactosc.model.parameters import P_EPS, P_XI
+from impactosc.core.layout import TIME
+from impactosc.core.vector_fields import deriv
 
 A = np.ascontiguousarray(tab.A)
 B = np.ascontiguousarray(tab.B)
@@ -30,42 +29,6 @@ N_STAGES = tab.N_STAGES  # 12 stages; K[12] holds the derivative at the step end
 ORDER = 8
 ERROR_EXPONENT = -1.0 / 8.0  # error estimator order 7
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
-
-
-@njit(cache=True)
-def deriv(p, mode, phase, sgn, q, s, tref, t, x, v):
-    """(dt/ds, dx/ds, dv/ds) of the piece; in TIME mode (1, v, a).
-
-    SQRTH: y = sgn*s = sqrt(x - xI), so dt/ds = sgn 2y/v, dv/ds = sgn 2y a/v (v away from 0).
-    WVEL: w = -sgn*s = |v|^n3, v = sgn w^q (q = 1/n3): dv/ds = -q w^(q-1), dt/ds = (dv/ds)/a.
-    UVEL: u = sgn*s, v = eps sinh(u): dv/ds = sgn eps cosh(u), dt/ds = (dv/ds)/a.
-    In every mode dt/ds > 0 while the piece is valid; the caller checks it. Off TIME mode
-    the time component is tau = t - tref, measured from the start of the piece, so that
-    increments far below the resolution of the absolute time still register.
-    """
-    if mode == TIME:
-        return 1.0, v, accel(p, phase, t, x, v)
-    if mode == SQRTH:
-        y = sgn * s
-        a = accel(p, phase, tref + t, p[P_XI] + y * y, v)
-        dt = sgn * 2.0 * y / v if v != 0.0 else math.inf  # v = 0: outside this map's range
-        return dt, sgn * 2.0 * y, dt * a
-    if mode == WVEL:
-        w = max(-sgn * s, 0.0)
-        wq1 = w ** (q - 1.0)
-        vv = sgn * w * wq1  # v = sgn w^q, and |v|^n3 = w: one power for all three
-        a = accel_vn(p, phase, tref + t, x, vv, w)
-        dv = -q * wq1
-        dt = dv / a if a != 0.0 else math.inf  # a = 0: outside this map's range
-        return dt, vv * dt, dv
-    # sinh and cosh from one exponential (expm1 keeps sinh accurate near u = 0)
-    em = math.expm1(sgn * s)
-    e = 1.0 + em
-    vv = p[P_EPS] * (0.5 * em * (1.0 + 1.0 / e))
-    a = accel(p, phase, tref + t, x, vv)
-    dv = sgn * p[P_EPS] * (0.5 * (e + 1.0 / e))
-    dt = dv / a if a != 0.0 else math.inf  # a = 0: outside this map's range
-    return dt, vv * dt, dv
 
 
 @njit(cache=True, inline="always")  # inlined: a plain call cost 18 % on the chaotic scene
@@ -90,7 +53,7 @@ def step(p, mode, phase, sgn, q, s, tref, t, x, v, d0t, d0x, d0v, h, rtol, atol,
     """One DOP853 step of size h in s from (t, x, v) with derivative d0 there; fills K[0:13].
 
     Returns (t1, x1, v1, error_norm). In TIME mode the time component is exact (t1 = t + h)
-    and left out of the error norm; otherwise it is tau (see ``deriv``).
+    and left out of the error norm; otherwise it is tau (see ``vector_fields.deriv``).
     """
     K[0, 0] = d0t
     K[0, 1] = d0x

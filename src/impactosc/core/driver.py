@@ -8,7 +8,7 @@ the only pair to guard against is v touching zero twice in a step (checked on th
 output whenever an acceleration bound cannot exclude it).
 
 A piece that starts or ends at a singular point is integrated in a variable in which it is
-smooth (dop853.deriv): sqrt(x - xI) next to a contact onset or exit (the force ~ h^1.5),
+smooth (vector_fields.deriv): sqrt(x - xI) next to a contact onset or exit (the force ~ h^1.5),
 |v|^n3 around the deepest penetration (the Hunt-Crossley damping ~ |v|^n3), and
 asinh(v / eps) through the friction band of a free-flight reversal. The singular point is
 then an exact end of the piece, and steps are set by accuracy, not by the singularity.
@@ -58,7 +58,7 @@ import math
 import numpy as np
 from numba import njit
 
-from impactosc.core import dop853, implicit, pieces, time_pieces, transformed_pieces
+from impactosc.core import implicit, pieces, time_pieces, transformed_pieces, vector_fields
 from impactosc.core.events import enter_slow, goes_implicit, phase_of, record_poincare
 from impactosc.core.layout import (
     C_ATTEMPTS,
@@ -114,7 +114,7 @@ def _resume(p, st, cnt, d0):
         st[S_TREF] = 0.0
         st[S_TAU] = st[S_T]
         st[S_S] = st[S_T]
-    d0[0], d0[1], d0[2] = dop853.deriv(
+    d0[0], d0[1], d0[2] = vector_fields.deriv(
         p, mode, int(st[S_PHASE]), st[S_SGN], pieces.inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], st[S_X], st[S_V]
     )
     cnt[C_RHS] += 1

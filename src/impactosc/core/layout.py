@@ -12,7 +12,7 @@ Arrays and their index names
     ev   event rows (kind, t, a, b)                    IMPACT, PENETRATION, NEAR_MISS, POINCARE
 """
 
-# --- independent variable of a piece (dop853.deriv) -------------------------------------
+# --- independent variable of a piece (vector_fields.deriv) -------------------------------
 TIME = 0  # s = t
 SQRTH = 1  # s = sgn * sqrt(x - xI): contact onset (sgn +1) or exit (sgn -1); h^n1 smooth in s
 WVEL = 2  # s = -sgn * |v|^n3: contact around v = 0, where |v|^n3 is smooth in s

@@ -5,7 +5,7 @@ Three solvers cover every piece kind (core.py draws how they hand over):
 * :func:`impactosc.core.time_pieces.time_step` - DOP853 in time: free flight, and
   contact wherever no transformed variable applies.
 * :func:`impactosc.core.transformed_pieces.transformed_step` - DOP853 in the piece's
-  own variable s (dop853.deriv): contact onset and exit in sqrt(x - xI), the turn at the
+  own variable s (vector_fields.deriv): contact onset and exit in sqrt(x - xI), the turn at the
   deepest penetration in |v|^n3, and the free-flight friction band in asinh(v/eps).
 * implicit.implicit_step - Radau IIA (radau.py): sticking, slow reversals and stiff creep,
   until |v| leaves the friction band or the step is no longer held by stability.
@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from impactosc.core import dop853
+from impactosc.core import dop853, vector_fields
 from impactosc.core.layout import (
     C_RHS,
     S_ERRACC,
@@ -98,7 +98,7 @@ def start_piece(p, st, cnt, d0, ta, x, v, h):
     else:  # a transformed piece measures time from its start (tiny increments stay resolved)
         st[S_TREF] = ta
         store(st, 0.0, x, v, st[S_S], h)
-    d0[0], d0[1], d0[2] = dop853.deriv(
+    d0[0], d0[1], d0[2] = vector_fields.deriv(
         p, mode, int(st[S_PHASE]), st[S_SGN], inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], x, v
     )
     cnt[C_RHS] += 1

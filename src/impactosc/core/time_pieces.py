@@ -14,7 +14,7 @@ import math
 
 from numba import njit
 
-from impactosc.core import dop853
+from impactosc.core import dop853, vector_fields
 from impactosc.core.events import (
     EV_CUT_OFF,
     EV_CUT_ON,
@@ -158,7 +158,7 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     if t + hs == t1:
         d0[0], d0[1], d0[2] = K[12, 0], K[12, 1], K[12, 2]
     else:
-        d0[0], d0[1], d0[2] = dop853.deriv(p, TIME, phase, 0.0, q, t1, 0.0, t1, x1, v1)
+        d0[0], d0[1], d0[2] = vector_fields.deriv(p, TIME, phase, 0.0, q, t1, 0.0, t1, x1, v1)
         cnt[C_RHS] += 1
     store(st, t1, x1, v1, t1, h_next)
     if abs(v1) < BAND * eps and goes_implicit(p, phase, t1, x1):

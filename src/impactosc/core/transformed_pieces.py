@@ -2,7 +2,7 @@
 point is smooth.
 
 Why a module: contact onset and exit run in sqrt(x - xI), the turn at the deepest
-penetration in |v|^n3, and the free-flight friction band in asinh(v/eps) (dop853.deriv).
+penetration in |v|^n3, and the free-flight friction band in asinh(v/eps) (vector_fields.deriv).
 A piece's singular end point (impact side, v = 0, exit) is then an exact end of the piece;
 Poincare times and the window come from the interpolant of t(s). :func:`transformed_step`
 takes one step, and what ends a piece here starts the next one.
@@ -14,7 +14,7 @@ import math
 
 from numba import njit
 
-from impactosc.core import dop853
+from impactosc.core import dop853, vector_fields
 from impactosc.core.events import (
     CONTACT_SWITCH,
     EV_CUT_ON,
@@ -186,7 +186,7 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
     if s + hs == s1:
         d0[0], d0[1], d0[2] = K[12, 0], K[12, 1], K[12, 2]
     else:
-        d0[0], d0[1], d0[2] = dop853.deriv(p, mode, phase, sgn, q, s1, tref, t1, x1, v1)
+        d0[0], d0[1], d0[2] = vector_fields.deriv(p, mode, phase, sgn, q, s1, tref, t1, x1, v1)
         cnt[C_RHS] += 1
     store(st, t1, x1, v1, s1, h_next)
     if clamped:
