@@ -23,6 +23,7 @@ CORE_SOURCES = (
             "dop853",
             "radau",
             "events",
+            "transitions",
             "sampling",
             "pieces",
             "time_pieces",

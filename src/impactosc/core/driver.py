@@ -59,7 +59,7 @@ import numpy as np
 from numba import njit
 
 from impactosc.core import implicit, pieces, time_pieces, transformed_pieces, vector_fields
-from impactosc.core.events import enter_slow, goes_implicit, phase_of, record_poincare
+from impactosc.core.events import record_poincare
 from impactosc.core.layout import (
     C_ATTEMPTS,
     C_RHS,
@@ -95,6 +95,7 @@ from impactosc.core.layout import (
     STALLED,
     TIME,
 )
+from impactosc.core.transitions import enter_slow, goes_implicit, phase_of
 
 
 def run_settings(t_end, t_record, rtol, atol, flags, period, win_t0=0.0, win_dt=1.0):

@@ -11,7 +11,7 @@ from __future__ import annotations
 from numba import njit
 
 from impactosc.core import radau
-from impactosc.core.events import EV_V, EV_X_DOWN, EV_X_UP, STIFF_EXIT, apply_event, record_extremum, sign
+from impactosc.core.events import EV_V, EV_X_DOWN, EV_X_UP, record_extremum, sign
 from impactosc.core.layout import (
     C_REJECT,
     C_SLOW_STEPS,
@@ -35,8 +35,9 @@ from impactosc.core.layout import (
     TIME,
     UNDERFLOW_IMPLICIT,
 )
-from impactosc.core.pieces import BAND, start_piece, store
+from impactosc.core.pieces import start_piece, store
 from impactosc.core.sampling import sample_hermite, window_due
+from impactosc.core.transitions import BAND, STIFF_EXIT, apply_event
 from impactosc.model.equations import CONTACT, FREE, damping_rate
 from impactosc.model.parameters import P_EPS, P_M, P_T, P_XI
 

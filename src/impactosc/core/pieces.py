@@ -43,9 +43,6 @@ from impactosc.core.layout import (
 )
 from impactosc.model.parameters import P_N3
 
-BAND = 100.0  # the implicit phase ends when |v| > BAND * eps (friction slope then < 1e-6 T/eps)
-U_BAND = 1e3  # free flight with |v| < U_BAND * eps, heading for v = 0, runs in s = asinh(v/eps)
-
 
 @njit(cache=True, inline="always")
 def inverse_n3(p):

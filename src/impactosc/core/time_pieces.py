@@ -15,19 +15,7 @@ import math
 from numba import njit
 
 from impactosc.core import dop853, vector_fields
-from impactosc.core.events import (
-    EV_CUT_OFF,
-    EV_CUT_ON,
-    EV_NONE,
-    EV_V,
-    EV_X_DOWN,
-    EV_X_UP,
-    apply_event,
-    enter_slow,
-    goes_implicit,
-    sign,
-    stiff,
-)
+from impactosc.core.events import EV_CUT_OFF, EV_CUT_ON, EV_NONE, EV_V, EV_X_DOWN, EV_X_UP, sign
 from impactosc.core.layout import (
     C_BY_MODE,
     C_DENSE,
@@ -53,8 +41,9 @@ from impactosc.core.layout import (
     UNDERFLOW_EXPLICIT,
     UVEL,
 )
-from impactosc.core.pieces import BAND, U_BAND, accepted_step_factor, inverse_n3, start_piece, store
+from impactosc.core.pieces import accepted_step_factor, inverse_n3, start_piece, store
 from impactosc.core.sampling import bisect, sample_window, window_due
+from impactosc.core.transitions import BAND, U_BAND, apply_event, enter_slow, goes_implicit, stiff
 from impactosc.model.equations import CONTACT, CUT, FREE
 from impactosc.model.parameters import P_EPS, P_M, P_T, P_XI
 

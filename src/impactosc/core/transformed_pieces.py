@@ -15,20 +15,7 @@ import math
 from numba import njit
 
 from impactosc.core import dop853, vector_fields
-from impactosc.core.events import (
-    CONTACT_SWITCH,
-    EV_CUT_ON,
-    EV_NONE,
-    EV_V,
-    EV_X_DOWN,
-    EV_X_UP,
-    RESTITUTION_SWITCH,
-    apply_event,
-    enter_slow,
-    goes_implicit,
-    record_poincare,
-    sign,
-)
+from impactosc.core.events import EV_CUT_ON, EV_NONE, EV_V, EV_X_DOWN, EV_X_UP, record_poincare, sign
 from impactosc.core.layout import (
     C_BY_MODE,
     C_DENSE,
@@ -49,8 +36,6 @@ from impactosc.core.layout import (
     S_REJECTED,
     S_S,
     S_SGN,
-    S_SLOW,
-    S_T,
     S_TAU,
     S_TREF,
     S_V,
@@ -62,9 +47,18 @@ from impactosc.core.layout import (
     UVEL,
     WVEL,
 )
-from impactosc.core.pieces import BAND, U_BAND, accepted_step_factor, inverse_n3, start_piece, store
+from impactosc.core.pieces import accepted_step_factor, inverse_n3, start_piece, store
 from impactosc.core.sampling import bisect, sample_window, window_due
-from impactosc.model.equations import CONTACT, FREE, accel, stick_force
+from impactosc.core.transitions import (
+    BAND,
+    U_BAND,
+    _switch_variable,
+    _transformed_end,
+    apply_event,
+    enter_slow,
+    goes_implicit,
+)
+from impactosc.model.equations import CONTACT, FREE, accel
 from impactosc.model.parameters import P_EPS, P_N3, P_XI
 
 # Each transformed variable is regular at one end of its stretch and singular at the other
@@ -211,17 +205,6 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
     return ev, n_ev
 
 
-@njit(cache=True)
-def _switch_variable(p, st, cnt, d0, ta, x, v):
-    """Continue the motion in the variable st[S_MODE] (set by the caller): the next step
-    covers the time the old variable's next step would have (h_s dt/ds carried over),
-    instead of a fresh start from a small step."""
-    h_time = st[S_H] * d0[0]
-    start_piece(p, st, cnt, d0, ta, x, v, 0.0)
-    if h_time > 0.0 and d0[0] > 0.0 and h_time / d0[0] < math.inf:
-        st[S_H] = h_time / d0[0]
-
-
 @njit(cache=True, inline="always")
 def _terminal_event(p, st, phase, x1, v1):
     """The event that ends the piece inside a transformed step, judged at the step's end
@@ -265,47 +248,3 @@ def _sections_and_window(st, rs, F, ev, n_ev, win_x, win_v, mode, tref, t, x, v,
     if window_due(st, rs, win_x, t_stop):
         sample_window(F, mode, tref, t, x, v, hs, t_stop, st, rs, win_x, win_v)
     return ev, n_ev, th_end
-
-
-@njit(cache=True)
-def _transformed_end(p, st, cnt, rs, ev, n_ev, d0, dt_step):
-    """A transformed piece reached the end of its variable's range: the exit (sqrt(h)), the
-    deepest penetration and the switch back to sqrt(h) (|v|^n3), v = 0 and the edge of the
-    friction band (asinh(v/eps)). Sets the next piece and starts it."""
-    mode, sgn = int(st[S_MODE]), st[S_SGN]
-    ta, x, v = st[S_T], st[S_X], st[S_V]
-    new_mode = mode
-    h = 0.0  # the next piece chooses its first step
-    if mode == SQRTH:  # s = 0: exit from the obstacle
-        ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_X_DOWN, ta, x, v, 0.0, dt_step)
-        new_mode = TIME
-    elif mode == WVEL and sgn > 0.0:  # s = 0: v = 0 at the deepest penetration
-        fs = stick_force(p, int(st[S_PHASE]), ta, x)
-        ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, ta, x, v, 1.0, dt_step)
-        new_mode = TIME
-        if st[S_SLOW] == 0.0 and fs < 0.0:  # restitution: v = -w^q with w from 0 up to |V1|^n3
-            new_mode = WVEL
-            st[S_SGN] = -1.0
-            st[S_S] = 0.0
-            st[S_V1] = RESTITUTION_SWITCH * st[S_V1] / CONTACT_SWITCH
-    elif mode == WVEL:  # |v| = V1 on the way out: sqrt(h) takes over to the exit
-        if x > p[P_XI]:
-            st[S_MODE] = SQRTH
-            st[S_SGN] = -1.0
-            st[S_S] = -math.sqrt(x - p[P_XI])
-            _switch_variable(p, st, cnt, d0, ta, x, v)
-            return ev, n_ev
-        new_mode = TIME
-    elif st[S_S] == 0.0:  # UVEL at v = 0: an extremum of x in free flight
-        ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, ta, x, v, -sgn, dt_step)
-        if st[S_SLOW] == 0.0:
-            # asinh(v/eps) is as smooth through v = 0 as before it: keep the step
-            h = st[S_H]
-            new_mode = UVEL
-        else:
-            new_mode = TIME
-    else:  # UVEL out of the friction band
-        new_mode = TIME
-    st[S_MODE] = new_mode
-    start_piece(p, st, cnt, d0, ta, x, v, h)
-    return ev, n_ev
