@@ -16,25 +16,15 @@ When v = 0 falls where the net force cannot overcome dry friction (sticking) or 
 (slow reversal), the piece is handed to the implicit Radau solver until |v| leaves the
 friction band again. So is any piece whose explicit steps are held by stability rather
 than accuracy (h |da/dv| > STIFF_ENTER): the creep inside the contact where the
-Hunt-Crossley damping ~ |v|^n3 balances the other forces (found by randomized testing,
-found by randomized testing); it returns to explicit steps once h |da/dv| < STIFF_EXIT. Any transformed
-piece that would become invalid (a vanishing acceleration or velocity) falls back to plain
-time stepping, which is always correct.
+Hunt-Crossley damping ~ |v|^n3 balances the other forces (found by randomized testing);
+it returns to explicit steps once h |da/dv| < STIFF_EXIT. Any transformed piece that would
+become invalid (a vanishing acceleration or velocity) falls back to plain time stepping,
+which is always correct.
 
-The piece graph (solver of each piece in brackets: time steps in time_pieces.py, transformed
-steps in transformed_pieces.py, implicit steps in implicit.py; the event on each arrow):
-
-    free flight [time] --impact--> contact onset [sqrt(h)] --v < 0.95 v0--> turn [|v|^n3]
-        ^    |                                                                  | v = 0
-        |    +--|v| < 1e3 eps, heading for v = 0--> friction band [asinh(v/eps)]  v
-        |         band --v = 0, net force > 1.5 T--> band (other side) --|v| > 1e3 eps--> free flight
-        |         band --v = 0, net force < 1.5 T--> stick / slow reversal [implicit]
-        |                                                 --|v| > 100 eps--> free flight
-        |    turn --v = 0, stiff creep or stick--> [implicit] --h |da/dv| < 1--> contact [time]
-        |    turn --v = 0--> restitution [|v|^n3] --|v| = 0.2 v0--> exit [sqrt(h)]
-        +---------------------------------------------------------------- exit --x = xI--+
-    contact [time] --v = -v_cut--> past the cut [time] --v = -v_cut--> contact [time]
-    any transformed piece --invalid steps--> the same vector field [time]
+The loop only dispatches: the solver of the current piece (time steps in time_pieces.py,
+transformed steps in transformed_pieces.py, implicit steps in implicit.py) takes one step and
+locates the events in it; transitions.py decides every change of piece, and its docstring
+is the piece graph with the threshold of each hand-over.
 
 Time steps land exactly on every Poincare time t_i = i * (2 pi / w) (one multiplication, no
 accumulated time); inside a transformed piece the section is located on the dense output of
@@ -95,7 +85,7 @@ from impactosc.core.layout import (
     STALLED,
     TIME,
 )
-from impactosc.core.transitions import enter_slow, goes_implicit, phase_of
+from impactosc.core.transitions import first_piece
 
 
 def run_settings(t_end, t_record, rtol, atol, flags, period, win_t0=0.0, win_dt=1.0):
@@ -181,11 +171,8 @@ def initial_state(p, t0, x0, v0, period, vcut, step_budget=DEFAULT_STEP_BUDGET):
     st[S_BUDGET] = float(step_budget)
     st[S_MARK_T] = t0
     st[S_VCUT] = vcut
-    st[S_PHASE] = phase_of(p, x0, v0, vcut)
     # next Poincare index strictly after t0 (t0 itself is the initial condition)
     i = math.floor(t0 / period) + 1
     st[S_ISEC] = float(i)
-    if v0 == 0.0 and goes_implicit(p, int(st[S_PHASE]), t0, x0):
-        cnt = np.zeros(N_COUNT, dtype=np.int64)
-        enter_slow(p, st, cnt, t0, x0, v0, 0.0)
+    first_piece(p, st, np.zeros(N_COUNT, dtype=np.int64), t0, x0, v0)
     return st

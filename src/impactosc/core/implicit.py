@@ -1,9 +1,10 @@
 """The implicit phase: sticking, slow reversals and stiff creep, one Radau IIA step at a time.
 
-Entered at v = 0 when dry friction can hold the cart or barely lets it reverse (events.py), or
-when explicit steps are held by stability (the Hunt-Crossley creep). Ends once |v| leaves the
+Entered at v = 0 when dry friction can hold the cart or barely lets it reverse, or when
+explicit steps are held by stability (the Hunt-Crossley creep). Ends once |v| leaves the
 friction band (|v| > BAND eps) or the step is no longer stiff; the explicit solvers
-(time_pieces.py, transformed_pieces.py) then take over. Events inside a step are located by re-stepping from its start.
+(time_pieces.py, transformed_pieces.py) then take over. transitions.py decides both. Events
+inside a step are located by re-stepping from its start.
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ from __future__ import annotations
 from numba import njit
 
 from impactosc.core import radau
-from impactosc.core.events import EV_V, EV_X_DOWN, EV_X_UP, record_extremum, sign
+from impactosc.core.events import EV_V, EV_X_DOWN, EV_X_UP, sign
 from impactosc.core.layout import (
     C_REJECT,
     C_SLOW_STEPS,
@@ -19,11 +20,7 @@ from impactosc.core.layout import (
     R_PERIOD,
     R_RTOL,
     S_H,
-    S_MODE,
-    S_PDIR,
     S_PHASE,
-    S_PT,
-    S_PX,
     S_SLOW,
     S_STATUS,
     S_TAU,
@@ -31,14 +28,12 @@ from impactosc.core.layout import (
     S_V,
     S_X,
     SLOW_FRICTION,
-    SLOW_STIFF,
-    TIME,
     UNDERFLOW_IMPLICIT,
 )
-from impactosc.core.pieces import start_piece, store
+from impactosc.core.pieces import store
 from impactosc.core.sampling import sample_hermite, window_due
-from impactosc.core.transitions import BAND, STIFF_EXIT, apply_event
-from impactosc.model.equations import CONTACT, FREE, damping_rate
+from impactosc.core.transitions import after_implicit_step, apply_event
+from impactosc.model.equations import CONTACT, FREE
 from impactosc.model.parameters import P_EPS, P_M, P_T, P_XI
 
 
@@ -124,15 +119,4 @@ def implicit_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
         sample_hermite(t, x, v, t1, x1, v1, st, rs, win_x, win_v)
     st[S_TSLOW] += t1 - t
     store(st, t1, x1, v1, t1, h_next)
-    if st[S_SLOW] == SLOW_STIFF:
-        leave = damping_rate(p, phase, x1, v1) * h_next < STIFF_EXIT
-    else:
-        leave = abs(v1) > BAND * p[P_EPS]
-    if leave:
-        if sign(v1) == -st[S_PDIR]:
-            ev, n_ev = record_extremum(p, rs, ev, n_ev, phase, st[S_PT], st[S_PX], st[S_PDIR])
-        st[S_SLOW] = 0.0
-        st[S_PDIR] = 0.0
-        st[S_MODE] = TIME
-        start_piece(p, st, cnt, d0, t1, x1, v1, 0.0)
-    return ev, n_ev
+    return after_implicit_step(p, st, cnt, rs, ev, n_ev, d0, phase, t1, x1, v1, h_next)

@@ -1,6 +1,6 @@
 """The piece solvers: one step attempt on the current smooth piece, with its own events.
 
-Three solvers cover every piece kind (core.py draws how they hand over):
+Three solvers cover every piece kind (transitions.py draws how they hand over):
 
 * :func:`impactosc.core.time_pieces.time_step` - DOP853 in time: free flight, and
   contact wherever no transformed variable applies.
@@ -11,11 +11,10 @@ Three solvers cover every piece kind (core.py draws how they hand over):
   until |v| leaves the friction band or the step is no longer held by stability.
 
 This module holds what they share: starting a piece (its clock, and the derivative its first
-step starts from), writing the state back, the step-size factor after an accepted step, and
-the velocity bands that decide which solver takes over.
+step starts from), writing the state back and the step-size factor after an accepted step.
 
-Each reads the state from ``st``, writes it back, and applies what it found through
-events.apply_event. ``ws`` = (K, F, work, d0): stage buffer, interpolant, implicit-solver
+Each reads the state from ``st``, writes it back, and hands what it found to transitions.py
+(apply_event, and the after_*_step hand-overs), which picks the next piece. ``ws`` = (K, F, work, d0): stage buffer, interpolant, implicit-solver
 work array and the derivative at the start of the next step (first same as last).
 """
 

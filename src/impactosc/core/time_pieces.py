@@ -2,15 +2,13 @@
 
 Why a module: :func:`time_step` is the solver every piece can fall back to (a contact model
 without the |v|^n3 damping, past the Hunt-Crossley cut, or after a transformed piece broke
-down). It finds impacts, exits, the cut and v = 0 (also a v that touches zero inside a step),
-and hands a reversal's friction band to the transformed solver
-(:mod:`impactosc.core.transformed_pieces`) and a stick or stiff creep to the implicit
-phase (:mod:`impactosc.core.implicit`).
+down). It finds impacts, exits, the cut and v = 0 (also a v that touches zero inside a step);
+:mod:`impactosc.core.transitions` decides what comes next (after an event, and after every
+accepted step: the friction band's variable, or the implicit phase for a stick or a stiff
+creep).
 """
 
 from __future__ import annotations
-
-import math
 
 from numba import njit
 
@@ -29,21 +27,17 @@ from impactosc.core.layout import (
     S_MODE,
     S_PHASE,
     S_REJECTED,
-    S_S,
-    S_SGN,
     S_STATUS,
     S_TAU,
     S_V,
     S_VCUT,
     S_X,
-    SLOW_STIFF,
     TIME,
     UNDERFLOW_EXPLICIT,
-    UVEL,
 )
 from impactosc.core.pieces import accepted_step_factor, inverse_n3, start_piece, store
 from impactosc.core.sampling import bisect, sample_window, window_due
-from impactosc.core.transitions import BAND, U_BAND, apply_event, enter_slow, goes_implicit, stiff
+from impactosc.core.transitions import after_time_step, apply_event
 from impactosc.model.equations import CONTACT, CUT, FREE
 from impactosc.model.parameters import P_EPS, P_M, P_T, P_XI
 
@@ -150,19 +144,7 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
         d0[0], d0[1], d0[2] = vector_fields.deriv(p, TIME, phase, 0.0, q, t1, 0.0, t1, x1, v1)
         cnt[C_RHS] += 1
     store(st, t1, x1, v1, t1, h_next)
-    if abs(v1) < BAND * eps and goes_implicit(p, phase, t1, x1):
-        enter_slow(p, st, cnt, t1, x1, v1, sign(v1))
-    elif (phase == CONTACT or abs(v1) < BAND * eps) and stiff(p, phase, x1, v1, hs):
-        enter_slow(p, st, cnt, t1, x1, v1, sign(v1), SLOW_STIFF)
-        st[S_H] = hs  # the implicit solver starts from the step that stability held
-    elif phase == FREE and p[P_T] > 0.0 and v1 * d0[2] < 0.0 and abs(v1) < U_BAND * eps:
-        # heading into the friction band of a reversal: continue in s = sgn asinh(v/eps)
-        # (without dry friction there is no band, and time stepping is smooth through v = 0)
-        sgn = sign(d0[2])
-        st[S_MODE] = UVEL
-        st[S_SGN] = sgn
-        st[S_S] = sgn * math.asinh(v1 / eps)
-        start_piece(p, st, cnt, d0, t1, x1, v1, 0.0)
+    after_time_step(p, st, cnt, d0, phase, t1, x1, v1, hs)
     return ev, n_ev
 
 

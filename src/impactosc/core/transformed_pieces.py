@@ -5,7 +5,8 @@ Why a module: contact onset and exit run in sqrt(x - xI), the turn at the deepes
 penetration in |v|^n3, and the free-flight friction band in asinh(v/eps) (vector_fields.deriv).
 A piece's singular end point (impact side, v = 0, exit) is then an exact end of the piece;
 Poincare times and the window come from the interpolant of t(s). :func:`transformed_step`
-takes one step, and what ends a piece here starts the next one.
+takes one step; :mod:`impactosc.core.transitions` picks the piece that follows (at an event,
+at the end of the variable's range, or when the transformation breaks down).
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ import math
 from numba import njit
 
 from impactosc.core import dop853, vector_fields
-from impactosc.core.events import EV_CUT_ON, EV_NONE, EV_V, EV_X_DOWN, EV_X_UP, record_poincare, sign
+from impactosc.core.events import EV_CUT_ON, EV_NONE, EV_X_DOWN, EV_X_UP, record_poincare
 from impactosc.core.layout import (
     C_BY_MODE,
     C_DENSE,
@@ -43,23 +44,19 @@ from impactosc.core.layout import (
     S_VCUT,
     S_X,
     SQRTH,
-    TIME,
-    UVEL,
     WVEL,
 )
 from impactosc.core.pieces import accepted_step_factor, inverse_n3, start_piece, store
 from impactosc.core.sampling import bisect, sample_window, window_due
 from impactosc.core.transitions import (
-    BAND,
     U_BAND,
-    _switch_variable,
-    _transformed_end,
+    after_transformed_step,
     apply_event,
-    enter_slow,
-    goes_implicit,
+    fall_back_to_time,
+    stop_in_piece,
 )
-from impactosc.model.equations import CONTACT, FREE, accel
-from impactosc.model.parameters import P_EPS, P_N3, P_XI
+from impactosc.model.equations import CONTACT, FREE
+from impactosc.model.parameters import P_N3, P_XI
 
 # Each transformed variable is regular at one end of its stretch and singular at the other
 # (sqrt(h) at v = 0, |v|^n3 at h = 0): stepping away from a singular point is cheap
@@ -127,15 +124,7 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
         if st[S_NINV] >= MAX_INVALID:  # the transformation breaks down here: use time
             cnt[C_FALLBACK] += 1
             st[S_NINV] = 0
-            st[S_MODE] = TIME
-            # a piece heading for v = 0 (the turn in |v|^n3, the band's first half) whose v
-            # component already crossed zero by round-off has reached its end: apply the
-            # reversal here, or time stepping from the far side would never see it (a
-            # penetration went unrecorded this way)
-            direction = 1.0 if mode == WVEL else -sgn
-            if ((mode == WVEL and sgn > 0.0) or (mode == UVEL and s < 0.0)) and v * direction <= 0.0:
-                ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, tref + t, x, v, direction, 0.0)
-            start_piece(p, st, cnt, d0, tref + t, x, v, 0.0)
+            ev, n_ev = fall_back_to_time(p, st, cnt, rs, ev, n_ev, d0, mode, sgn, s, tref + t, x, v)
         else:
             st[S_H] = 0.25 * hs
         return ev, n_ev
@@ -164,9 +153,7 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
         ev, n_ev, th_end = _sections_and_window(st, rs, F, ev, n_ev, win_x, win_v, mode, tref, t, x, v, hs, t_stop)
     t_end = rs[R_T_END]
     if th_end <= 1.0 and th_end < th_ev:  # the run ends inside this piece
-        st[S_MODE] = TIME
-        st[S_TREF] = 0.0
-        store(st, t_end, dop853.dense_eval(F, x, th_end, 1), dop853.dense_eval(F, v, th_end, 2), t_end, 0.0)
+        stop_in_piece(st, t_end, dop853.dense_eval(F, x, th_end, 1), dop853.dense_eval(F, v, th_end, 2))
         return ev, n_ev
     if kind != EV_NONE:
         te = tref + dop853.dense_eval(F, t, th_ev, 0)
@@ -183,26 +170,9 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
         d0[0], d0[1], d0[2] = vector_fields.deriv(p, mode, phase, sgn, q, s1, tref, t1, x1, v1)
         cnt[C_RHS] += 1
     store(st, t1, x1, v1, s1, h_next)
-    if clamped:
-        ev, n_ev = _transformed_end(p, st, cnt, rs, ev, n_ev, d0, t1 - t)
-    elif mode == UVEL and s1 < 0.0 and abs(v1) < BAND * p[P_EPS] and goes_implicit(p, phase, tref + t1, x1):
-        # Creeping towards v = 0 where dry friction can hold the cart: hand the band to
-        # the implicit solver, as time stepping does. (Without this the explicit
-        # asinh piece crept along the stick manifold with steps ~ m eps / T until v
-        # crossed 0: the cost of each stick grew like 1/eps.)
-        enter_slow(p, st, cnt, tref + t1, x1, v1, sign(v1))
-        start_piece(p, st, cnt, d0, tref + t1, x1, v1, 0.0)
-    elif mode == SQRTH and sgn > 0.0 and v1 < st[S_V1]:  # slower: |v|^n3 on to v = 0
-        ta = tref + t1
-        if accel(p, phase, ta, x1, v1) < 0.0:
-            st[S_MODE] = WVEL
-            st[S_SGN] = 1.0
-            st[S_S] = -(v1 ** p[P_N3])
-            _switch_variable(p, st, cnt, d0, ta, x1, v1)
-        else:
-            st[S_MODE] = TIME
-            start_piece(p, st, cnt, d0, ta, x1, v1, 0.0)
-    return ev, n_ev
+    return after_transformed_step(
+        p, st, cnt, rs, ev, n_ev, d0, clamped, mode, phase, sgn, tref + t1, x1, v1, s1, t1 - t
+    )
 
 
 @njit(cache=True, inline="always")
