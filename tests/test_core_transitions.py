@@ -25,7 +25,7 @@ PHRASES = {
 # numbers of the graph that are no threshold: zero (signs, v = 0), the Poincare times and the
 # range of n3 in which |v|^n3 is singular at v = 0 (the model's, not a tuning)
 UNCHECKED = (r"(?<![\w.^])0(?![\w.])", r"t = 2 pi i / w", r"n3 >= 1")
-PIECE_SLOTS = {"S_PHASE", "S_SLOW", "S_MODE"}
+PIECE_SLOTS = {"S_FIELD", "S_SLOW", "S_MODE"}
 
 
 def _graph() -> str:
@@ -60,7 +60,7 @@ def test_the_graph_names_the_thresholds_the_code_uses():
 
 
 def _piece_writes(source: str):
-    """(function, line) of every assignment to st[S_PHASE], st[S_SLOW] or st[S_MODE]."""
+    """(function, line) of every assignment to st[S_FIELD], st[S_SLOW] or st[S_MODE]."""
     found = []
 
     def visit(node, function):
@@ -87,7 +87,7 @@ def _piece_writes(source: str):
 
 
 def test_the_write_finder_sees_every_kind_of_write():
-    sample = "def f(st):\n    st[S_MODE] = 1\n    st[S_X], st[layout.S_PHASE] = 0, 1\n    st[S_SLOW] += 1\n    a = st[S_MODE]\n"
+    sample = "def f(st):\n    st[S_MODE] = 1\n    st[S_X], st[layout.S_FIELD] = 0, 1\n    st[S_SLOW] += 1\n    a = st[S_MODE]\n"
     assert _piece_writes(sample) == [("f", 2), ("f", 3), ("f", 4)]
 
 

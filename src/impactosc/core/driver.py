@@ -67,11 +67,11 @@ from impactosc.core.layout import (
     R_WIN_T0,
     RUNNING,
     S_BUDGET,
+    S_FIELD,
     S_ISEC,
     S_MARK_N,
     S_MARK_T,
     S_MODE,
-    S_PHASE,
     S_S,
     S_SGN,
     S_SLOW,
@@ -106,7 +106,7 @@ def _resume(p, st, cnt, d0):
         st[S_TAU] = st[S_T]
         st[S_S] = st[S_T]
     d0[0], d0[1], d0[2] = vector_fields.deriv(
-        p, mode, int(st[S_PHASE]), st[S_SGN], pieces.inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], st[S_X], st[S_V]
+        p, mode, int(st[S_FIELD]), st[S_SGN], pieces.inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], st[S_X], st[S_V]
     )
     cnt[C_RHS] += 1
 

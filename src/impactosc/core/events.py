@@ -62,12 +62,12 @@ def record_poincare(st, rs, ev, n, t_sec, x, v):
 
 
 @njit(cache=True)
-def record_extremum(p, rs, ev, n, phase, t, x, direction):
+def record_extremum(p, rs, ev, n, field, t, x, direction):
     """A maximum of x (direction +1) is a penetration in contact, a near miss in flight."""
     flags = int(rs[R_FLAGS])
     if direction > 0.0 and t >= rs[R_T_RECORD]:
-        if phase == CONTACT and flags & RECORD_PENETRATIONS:
+        if field == CONTACT and flags & RECORD_PENETRATIONS:
             ev, n = push(ev, n, PENETRATION, t, x - p[P_XI], 0.0)
-        elif phase == FREE and flags & RECORD_NEAR_MISSES:
+        elif field == FREE and flags & RECORD_NEAR_MISSES:
             ev, n = push(ev, n, NEAR_MISS, t, p[P_XI] - x, 0.0)
     return ev, n

@@ -25,7 +25,7 @@ MODE_KEYS = ("time", "sqrth", "wvel", "uvel")  # the same, as names of counters 
     S_T,  # absolute time
     S_X,
     S_V,
-    S_PHASE,  # FREE / CONTACT / CUT
+    S_FIELD,  # FREE / CONTACT / CUT
     S_SLOW,  # 1 while the implicit (sticking / slow reversal) phase runs
     S_H,  # step size to try next (0: choose afresh)
     S_PDIR,  # sign of v before the implicit phase began (0: none pending)

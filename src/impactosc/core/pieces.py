@@ -26,10 +26,10 @@ from impactosc.core import dop853, vector_fields
 from impactosc.core.layout import (
     C_RHS,
     S_ERRACC,
+    S_FIELD,
     S_H,
     S_HACC,
     S_MODE,
-    S_PHASE,
     S_REJECTED,
     S_S,
     S_SGN,
@@ -95,6 +95,6 @@ def start_piece(p, st, cnt, d0, ta, x, v, h):
         st[S_TREF] = ta
         store(st, 0.0, x, v, st[S_S], h)
     d0[0], d0[1], d0[2] = vector_fields.deriv(
-        p, mode, int(st[S_PHASE]), st[S_SGN], inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], x, v
+        p, mode, int(st[S_FIELD]), st[S_SGN], inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], x, v
     )
     cnt[C_RHS] += 1

@@ -23,9 +23,9 @@ from impactosc.core.layout import (
     C_STEPS,
     R_ATOL,
     R_RTOL,
+    S_FIELD,
     S_H,
     S_MODE,
-    S_PHASE,
     S_REJECTED,
     S_STATUS,
     S_TAU,
@@ -52,14 +52,14 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     """One DOP853 step in time on the current piece, clamped to t_target (the next Poincare
     time or the end of the run); locates the events inside it and applies the first."""
     K, F, _, d0 = ws
-    phase = int(st[S_PHASE])
+    field = int(st[S_FIELD])
     t, x, v, h = st[S_TAU], st[S_X], st[S_V], st[S_H]
     rtol, atol = rs[R_RTOL], rs[R_ATOL]
     eps = p[P_EPS]
     q = inverse_n3(p)
     ax = d0[2]
     if h <= 0.0:
-        h0 = dop853.initial_step(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, d0[0], d0[1], d0[2], rtol, atol)
+        h0 = dop853.initial_step(p, TIME, field, 0.0, q, t, 0.0, t, x, v, d0[0], d0[1], d0[2], rtol, atol)
         cnt[C_RHS] += 1
         h = h0 if h == 0.0 else min(h0, -h)
     if v * ax < 0.0 and abs(v) < APPROACH_BAND * eps:
@@ -68,7 +68,7 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
         h = min(h, max(APPROACH_FRACTION * abs(v), 0.25 * eps) / abs(ax))
     clamped = h >= t_target - t
     hs = t_target - t if clamped else h
-    t1, x1, v1, err = dop853.step(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, d0[0], d0[1], d0[2], hs, rtol, atol, K)
+    t1, x1, v1, err = dop853.step(p, TIME, field, 0.0, q, t, 0.0, t, x, v, d0[0], d0[1], d0[2], hs, rtol, atol, K)
     cnt[C_RHS] += 12
     cnt[C_BY_MODE + TIME] += 1
     if err > 1.0:
@@ -97,7 +97,7 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
             amax = max(amax, abs(K[j, 2]))
         if abs(v) + abs(v1) - (2.0 * amax + 2.0 * p[P_T] / p[P_M]) * hs <= 0.0:
             cnt[C_DIP] += 1
-            dop853.dense_prepare(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
+            dop853.dense_prepare(p, TIME, field, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
             cnt[C_RHS] += 3
             cnt[C_DENSE] += 1
             built = True
@@ -106,13 +106,13 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
                     v_cross = True
                     break
     g1 = x1 - p[P_XI]
-    x_up = phase == FREE and g1 > 0.0
-    x_down = phase != FREE and g1 < 0.0
-    cut_on = phase == CONTACT and v1 <= -st[S_VCUT]
-    cut_off = phase == CUT and v1 > -st[S_VCUT]
+    x_up = field == FREE and g1 > 0.0
+    x_down = field != FREE and g1 < 0.0
+    cut_on = field == CONTACT and v1 <= -st[S_VCUT]
+    cut_off = field == CUT and v1 > -st[S_VCUT]
     if v_cross or x_up or x_down or cut_on or cut_off:
         if not built:
-            dop853.dense_prepare(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
+            dop853.dense_prepare(p, TIME, field, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
             cnt[C_RHS] += 3
             cnt[C_DENSE] += 1
         th, kind = _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off)
@@ -132,7 +132,7 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     # --- no event: accept the step ---
     if window_due(st, rs, win_x, t1):
         if not built:
-            dop853.dense_prepare(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
+            dop853.dense_prepare(p, TIME, field, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
             cnt[C_RHS] += 3
             cnt[C_DENSE] += 1
         sample_window(F, TIME, 0.0, t, x, v, hs, t1, st, rs, win_x, win_v)
@@ -141,10 +141,10 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     if t + hs == t1:
         d0[0], d0[1], d0[2] = K[12, 0], K[12, 1], K[12, 2]
     else:
-        d0[0], d0[1], d0[2] = vector_fields.deriv(p, TIME, phase, 0.0, q, t1, 0.0, t1, x1, v1)
+        d0[0], d0[1], d0[2] = vector_fields.deriv(p, TIME, field, 0.0, q, t1, 0.0, t1, x1, v1)
         cnt[C_RHS] += 1
     store(st, t1, x1, v1, t1, h_next)
-    after_time_step(p, st, cnt, d0, phase, t1, x1, v1, hs)
+    after_time_step(p, st, cnt, d0, field, t1, x1, v1, hs)
     return ev, n_ev
 
 
@@ -157,7 +157,7 @@ def _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off):
     if v_cross:
         th = bisect(F, v, 2, 0.0, 0.0, 1.0, sgn0)
         kind = EV_V
-        if int(st[S_PHASE]) == FREE and sgn0 > 0.0 and dop853.dense_eval(F, x, th, 1) >= p[P_XI]:
+        if int(st[S_FIELD]) == FREE and sgn0 > 0.0 and dop853.dense_eval(F, x, th, 1) >= p[P_XI]:
             x_up = True  # the maximum lies at or past the obstacle: contact came first
     if x_up:
         th_x = bisect(F, x, 1, p[P_XI], 0.0, th if th <= 1.0 else 1.0, -1.0)

@@ -29,11 +29,11 @@ from impactosc.core.layout import (
     R_PERIOD,
     R_RTOL,
     R_T_END,
+    S_FIELD,
     S_H,
     S_ISEC,
     S_MODE,
     S_NINV,
-    S_PHASE,
     S_REJECTED,
     S_S,
     S_SGN,
@@ -85,7 +85,7 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
     from st[S_TREF]). Invalid steps (the map degenerates) shrink, and after MAX_INVALID in a
     row the piece falls back to time stepping."""
     K, F, _, d0 = ws
-    mode, phase, sgn, q = int(st[S_MODE]), int(st[S_PHASE]), st[S_SGN], inverse_n3(p)
+    mode, field, sgn, q = int(st[S_MODE]), int(st[S_FIELD]), st[S_SGN], inverse_n3(p)
     s, tref, t, x, v, h = st[S_S], st[S_TREF], st[S_TAU], st[S_X], st[S_V], st[S_H]
     rtol, atol = rs[R_RTOL], rs[R_ATOL]
     s_end = _mode_end(p, st)
@@ -93,11 +93,11 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
         if mode == WVEL and sgn < 0.0:  # starts where every derivative vanishes
             h = 0.1 * s_end
         else:
-            h = dop853.initial_step(p, mode, phase, sgn, q, s, tref, t, x, v, d0[0], d0[1], d0[2], rtol, atol)
+            h = dop853.initial_step(p, mode, field, sgn, q, s, tref, t, x, v, d0[0], d0[1], d0[2], rtol, atol)
             cnt[C_RHS] += 1
     clamped = s + h >= s_end
     hs = s_end - s if clamped else h
-    t1, x1, v1, err = dop853.step(p, mode, phase, sgn, q, s, tref, t, x, v, d0[0], d0[1], d0[2], hs, rtol, atol, K)
+    t1, x1, v1, err = dop853.step(p, mode, field, sgn, q, s, tref, t, x, v, d0[0], d0[1], d0[2], hs, rtol, atol, K)
     cnt[C_RHS] += 12
     cnt[C_BY_MODE + mode] += 1
     valid = t1 > t and err < math.inf
@@ -137,12 +137,12 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
 
     # terminal events inside the step, and what else falls inside it (the run's end,
     # Poincare times, window samples): all from the interpolant of t(s), x(s), v(s)
-    kind = _terminal_event(p, st, phase, x1, v1)
+    kind = _terminal_event(p, st, field, x1, v1)
     t_stop = tref + t1  # absolute
     inside = t_stop > rs[R_T_END] or t_stop > st[S_ISEC] * rs[R_PERIOD] or window_due(st, rs, win_x, t_stop)
     th_ev = 2.0
     if kind != EV_NONE or inside:
-        dop853.dense_prepare(p, mode, phase, sgn, q, s, tref, t, x, v, t1, x1, v1, hs, K, F)
+        dop853.dense_prepare(p, mode, field, sgn, q, s, tref, t, x, v, t1, x1, v1, hs, K, F)
         cnt[C_DENSE] += 1
         cnt[C_RHS] += 3
         th_ev = _locate(p, st, F, x, v, kind)
@@ -167,23 +167,23 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
     if s + hs == s1:
         d0[0], d0[1], d0[2] = K[12, 0], K[12, 1], K[12, 2]
     else:
-        d0[0], d0[1], d0[2] = vector_fields.deriv(p, mode, phase, sgn, q, s1, tref, t1, x1, v1)
+        d0[0], d0[1], d0[2] = vector_fields.deriv(p, mode, field, sgn, q, s1, tref, t1, x1, v1)
         cnt[C_RHS] += 1
     store(st, t1, x1, v1, s1, h_next)
     return after_transformed_step(
-        p, st, cnt, rs, ev, n_ev, d0, clamped, mode, phase, sgn, tref + t1, x1, v1, s1, t1 - t
+        p, st, cnt, rs, ev, n_ev, d0, clamped, mode, field, sgn, tref + t1, x1, v1, s1, t1 - t
     )
 
 
 @njit(cache=True, inline="always")
-def _terminal_event(p, st, phase, x1, v1):
+def _terminal_event(p, st, field, x1, v1):
     """The event that ends the piece inside a transformed step, judged at the step's end
     (inside a piece x and v are monotone, so a crossing shows there)."""
-    if phase == FREE and x1 - p[P_XI] > 0.0:
+    if field == FREE and x1 - p[P_XI] > 0.0:
         return EV_X_UP
-    if phase == CONTACT and x1 - p[P_XI] < 0.0:
+    if field == CONTACT and x1 - p[P_XI] < 0.0:
         return EV_X_DOWN
-    if phase == CONTACT and v1 <= -st[S_VCUT]:
+    if field == CONTACT and v1 <= -st[S_VCUT]:
         return EV_CUT_ON
     return EV_NONE
 

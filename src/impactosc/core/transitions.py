@@ -47,10 +47,10 @@ from impactosc.core.layout import (
     R_FLAGS,
     R_T_RECORD,
     RECORD_IMPACTS,
+    S_FIELD,
     S_H,
     S_MODE,
     S_PDIR,
-    S_PHASE,
     S_PT,
     S_PX,
     S_S,
@@ -90,7 +90,7 @@ U_BAND = 1e3  # free flight with |v| < U_BAND * eps, heading for v = 0, runs in 
 def set_piece(st, field, slow, mode):
     """The kind of the next piece: its vector field (FREE / CONTACT / CUT), why the implicit
     solver runs (EXPLICIT: it does not) and the variable of its explicit steps."""
-    st[S_PHASE] = field
+    st[S_FIELD] = field
     st[S_SLOW] = slow
     st[S_MODE] = mode
 
@@ -104,7 +104,7 @@ def _set_variable(st, field, mode, sgn, s):
 
 
 @njit(cache=True)
-def phase_of(p, x, v, vcut):
+def field_of(p, x, v, vcut):
     """Vector field at the state (x, v): free flight, contact, or contact past the cut."""
     if x - p[P_XI] >= 0.0:
         return CONTACT if v > -vcut else CUT
@@ -115,21 +115,21 @@ def phase_of(p, x, v, vcut):
 def first_piece(p, st, cnt, t, x, v):
     """The piece a run starts on at (t, x, v): the vector field there, explicit in time,
     or the implicit phase when it starts at rest where dry friction holds the cart."""
-    field = phase_of(p, x, v, st[S_VCUT])
+    field = field_of(p, x, v, st[S_VCUT])
     set_piece(st, field, EXPLICIT, TIME)
     if v == 0.0 and goes_implicit(p, field, t, x):
         enter_slow(p, st, cnt, t, x, v, 0.0)
 
 
 @njit(cache=True)
-def goes_implicit(p, phase, t, x):
+def goes_implicit(p, field, t, x):
     """At v = 0, a net force below 1.5 T means sticking or a slow reversal: the friction
     band is then crossed (or held) by the implicit solver."""
-    return abs(stick_force(p, phase, t, x)) < SLOW_FACTOR * p[P_T]
+    return abs(stick_force(p, field, t, x)) < SLOW_FACTOR * p[P_T]
 
 
 @njit(cache=True)
-def stiff(p, phase, x, v, h):
+def stiff(p, field, x, v, h):
     """True when a step of size h is held by stability: h |da/dv| beyond STIFF_ENTER.
 
     The Hunt-Crossley damping ~ |v|^n3 (n3 << 1) acts inside the contact like a very stiff
@@ -137,23 +137,23 @@ def stiff(p, phase, x, v, h):
     a tiny velocity and da/dv ~ |v|^(n3 - 1) grows without bound, so an explicit method is
     pinned to steps ~ 6 / |da/dv| (1e-9 s and shrinking: a stall the randomized scenes found).
     """
-    return damping_rate(p, phase, x, v) * h > STIFF_ENTER
+    return damping_rate(p, field, x, v) * h > STIFF_ENTER
 
 
 @njit(cache=True)
-def creeps(p, phase, t, x, h):
+def creeps(p, field, t, x, h):
     """At v = 0 in contact: will the motion that follows be a stiff creep?
 
     With net force f (damping aside), v grows until the Hunt-Crossley damping balances f,
     at the creep velocity v_c = (|f| / (kI b h^n2))^(1/n3), where -da/dv = n3 |f| / (m v_c).
     Stiff (hand it to the implicit solver) when that rate times the step h exceeds STIFF_ENTER.
     """
-    if phase != CONTACT or p[P_B] <= 0.0 or not (0.0 < p[P_N3] < 1.0):
+    if field != CONTACT or p[P_B] <= 0.0 or not (0.0 < p[P_N3] < 1.0):
         return False
     depth = x - p[P_XI]
     if depth <= 0.0:
         return False
-    f = abs(stick_force(p, phase, t, x))
+    f = abs(stick_force(p, field, t, x))
     if f == 0.0:
         return True
     scale = p[P_KI] * p[P_B] * depth ** p[P_N2]
@@ -168,11 +168,11 @@ def enter_slow(p, st, cnt, t, x, v, direction, why=SLOW_FRICTION):
     """Start the implicit phase; `direction` is the sign v had before it reached the band."""
     if why == SLOW_STIFF:
         cnt[C_STIFF] += 1
-    elif abs(stick_force(p, int(st[S_PHASE]), t, x)) < p[P_T]:
+    elif abs(stick_force(p, int(st[S_FIELD]), t, x)) < p[P_T]:
         cnt[C_STICK] += 1
     else:
         cnt[C_SLOW_TRANSIT] += 1
-    set_piece(st, st[S_PHASE], float(why), TIME)
+    set_piece(st, st[S_FIELD], float(why), TIME)
     st[S_PDIR] = direction
     st[S_PT] = t
     st[S_PX] = x
@@ -201,13 +201,13 @@ def _reversal(p, st, cnt, rs, ev, n, t, x, direction, dt_step):
     """v = 0 on an explicit piece (v had the sign `direction` before): the implicit phase
     takes over if dry friction can hold the cart or a stiff creep follows; otherwise this
     is an extremum of x, recorded when it is a maximum."""
-    phase = int(st[S_PHASE])
-    if goes_implicit(p, phase, t, x):
+    field = int(st[S_FIELD])
+    if goes_implicit(p, field, t, x):
         enter_slow(p, st, cnt, t, x, 0.0, direction)
-    elif creeps(p, phase, t, x, dt_step):
+    elif creeps(p, field, t, x, dt_step):
         enter_slow(p, st, cnt, t, x, 0.0, direction, SLOW_STIFF)
     else:
-        ev, n = record_extremum(p, rs, ev, n, phase, t, x, direction)
+        ev, n = record_extremum(p, rs, ev, n, field, t, x, direction)
     return ev, n
 
 
@@ -244,23 +244,23 @@ def apply_event(p, st, cnt, rs, ev, n, kind, t, x, v, direction, dt_step):
                 st[S_PT] = t
                 st[S_PX] = x
         else:
-            set_piece(st, st[S_PHASE], EXPLICIT, TIME)
+            set_piece(st, st[S_FIELD], EXPLICIT, TIME)
             ev, n = _reversal(p, st, cnt, rs, ev, n, t, x, direction, dt_step)
     return ev, n, x, v
 
 
 @njit(cache=True, inline="always")  # on every accepted time step: inlined as time_step is
-def after_time_step(p, st, cnt, d0, phase, t1, x1, v1, hs):
+def after_time_step(p, st, cnt, d0, field, t1, x1, v1, hs):
     """An accepted time step without events ended at (t1, x1, v1): the implicit phase takes
     over where dry friction can hold the cart or the step was held by stability, the
     friction band's variable where free flight heads for v = 0."""
     eps = p[P_EPS]
-    if abs(v1) < BAND * eps and goes_implicit(p, phase, t1, x1):
+    if abs(v1) < BAND * eps and goes_implicit(p, field, t1, x1):
         enter_slow(p, st, cnt, t1, x1, v1, sign(v1))
-    elif (phase == CONTACT or abs(v1) < BAND * eps) and stiff(p, phase, x1, v1, hs):
+    elif (field == CONTACT or abs(v1) < BAND * eps) and stiff(p, field, x1, v1, hs):
         enter_slow(p, st, cnt, t1, x1, v1, sign(v1), SLOW_STIFF)
         st[S_H] = hs  # the implicit solver starts from the step that stability held
-    elif phase == FREE and p[P_T] > 0.0 and v1 * d0[2] < 0.0 and abs(v1) < U_BAND * eps:
+    elif field == FREE and p[P_T] > 0.0 and v1 * d0[2] < 0.0 and abs(v1) < U_BAND * eps:
         # heading into the friction band of a reversal: continue in s = sgn asinh(v/eps)
         # (without dry friction there is no band, and time stepping is smooth through v = 0)
         sgn = sign(d0[2])
@@ -269,13 +269,13 @@ def after_time_step(p, st, cnt, d0, phase, t1, x1, v1, hs):
 
 
 @njit(cache=True, inline="always")  # on every accepted transformed step, as after_time_step
-def after_transformed_step(p, st, cnt, rs, ev, n_ev, d0, clamped, mode, phase, sgn, ta, x1, v1, s1, dt_step):
+def after_transformed_step(p, st, cnt, rs, ev, n_ev, d0, clamped, mode, field, sgn, ta, x1, v1, s1, dt_step):
     """An accepted transformed step without events ended at absolute time ta: the end of its
     variable's range, the friction band handed to the implicit phase, or the contact onset
     slowed down enough for |v|^n3."""
     if clamped:
         ev, n_ev = _transformed_end(p, st, cnt, rs, ev, n_ev, d0, dt_step)
-    elif mode == UVEL and s1 < 0.0 and abs(v1) < BAND * p[P_EPS] and goes_implicit(p, phase, ta, x1):
+    elif mode == UVEL and s1 < 0.0 and abs(v1) < BAND * p[P_EPS] and goes_implicit(p, field, ta, x1):
         # Creeping towards v = 0 where dry friction can hold the cart: hand the band to
         # the implicit solver, as time stepping does. (Without this the explicit
         # asinh piece crept along the stick manifold with steps ~ m eps / T until v
@@ -283,28 +283,28 @@ def after_transformed_step(p, st, cnt, rs, ev, n_ev, d0, clamped, mode, phase, s
         enter_slow(p, st, cnt, ta, x1, v1, sign(v1))
         start_piece(p, st, cnt, d0, ta, x1, v1, 0.0)
     elif mode == SQRTH and sgn > 0.0 and v1 < st[S_V1]:  # slower: |v|^n3 on to v = 0
-        if accel(p, phase, ta, x1, v1) < 0.0:
-            _set_variable(st, phase, WVEL, 1.0, -(v1 ** p[P_N3]))
+        if accel(p, field, ta, x1, v1) < 0.0:
+            _set_variable(st, field, WVEL, 1.0, -(v1 ** p[P_N3]))
             _switch_variable(p, st, cnt, d0, ta, x1, v1)
         else:
-            set_piece(st, phase, EXPLICIT, TIME)
+            set_piece(st, field, EXPLICIT, TIME)
             start_piece(p, st, cnt, d0, ta, x1, v1, 0.0)
     return ev, n_ev
 
 
 @njit(cache=True, inline="always")  # on every implicit step
-def after_implicit_step(p, st, cnt, rs, ev, n_ev, d0, phase, t1, x1, v1, h_next):
+def after_implicit_step(p, st, cnt, rs, ev, n_ev, d0, field, t1, x1, v1, h_next):
     """An implicit step without events ended at (t1, x1, v1): the phase ends once |v| leaves
     the friction band (stick, slow reversal) or the next step is no longer held by stability
     (stiff creep); a pending extremum of x is recorded if v came back with the other sign."""
     if st[S_SLOW] == SLOW_STIFF:
-        leave = damping_rate(p, phase, x1, v1) * h_next < STIFF_EXIT
+        leave = damping_rate(p, field, x1, v1) * h_next < STIFF_EXIT
     else:
         leave = abs(v1) > BAND * p[P_EPS]
     if leave:
         if sign(v1) == -st[S_PDIR]:
-            ev, n_ev = record_extremum(p, rs, ev, n_ev, phase, st[S_PT], st[S_PX], st[S_PDIR])
-        set_piece(st, phase, EXPLICIT, TIME)
+            ev, n_ev = record_extremum(p, rs, ev, n_ev, field, st[S_PT], st[S_PX], st[S_PDIR])
+        set_piece(st, field, EXPLICIT, TIME)
         st[S_PDIR] = 0.0
         start_piece(p, st, cnt, d0, t1, x1, v1, 0.0)
     return ev, n_ev
@@ -317,7 +317,7 @@ def fall_back_to_time(p, st, cnt, rs, ev, n_ev, d0, mode, sgn, s, ta, x, v):
     component already crossed zero by round-off has reached its end: apply the reversal
     here, or time stepping from the far side would never see it (a penetration went
     unrecorded this way)."""
-    set_piece(st, st[S_PHASE], EXPLICIT, TIME)
+    set_piece(st, st[S_FIELD], EXPLICIT, TIME)
     direction = 1.0 if mode == WVEL else -sgn
     if ((mode == WVEL and sgn > 0.0) or (mode == UVEL and s < 0.0)) and v * direction <= 0.0:
         ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, ta, x, v, direction, 0.0)
@@ -329,7 +329,7 @@ def fall_back_to_time(p, st, cnt, rs, ev, n_ev, d0, mode, sgn, s, ta, x, v):
 def stop_in_piece(st, t_end, x, v):
     """The run ends inside a transformed piece at t_end: the state there, in time (a later
     run resumes from it on a time piece)."""
-    set_piece(st, st[S_PHASE], st[S_SLOW], TIME)
+    set_piece(st, st[S_FIELD], st[S_SLOW], TIME)
     st[S_TREF] = 0.0
     store(st, t_end, x, v, t_end, 0.0)
 
@@ -358,7 +358,7 @@ def _transformed_end(p, st, cnt, rs, ev, n_ev, d0, dt_step):
         ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_X_DOWN, ta, x, v, 0.0, dt_step)
         new_mode = TIME
     elif mode == WVEL and sgn > 0.0:  # s = 0: v = 0 at the deepest penetration
-        fs = stick_force(p, int(st[S_PHASE]), ta, x)
+        fs = stick_force(p, int(st[S_FIELD]), ta, x)
         ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, ta, x, v, 1.0, dt_step)
         new_mode = TIME
         if st[S_SLOW] == EXPLICIT and fs < 0.0:  # restitution: v = -w^q with w from 0 up to |V1|^n3
@@ -368,7 +368,7 @@ def _transformed_end(p, st, cnt, rs, ev, n_ev, d0, dt_step):
             st[S_V1] = RESTITUTION_SWITCH * st[S_V1] / CONTACT_SWITCH
     elif mode == WVEL:  # |v| = V1 on the way out: sqrt(h) takes over to the exit
         if x > p[P_XI]:
-            _set_variable(st, st[S_PHASE], SQRTH, -1.0, -math.sqrt(x - p[P_XI]))
+            _set_variable(st, st[S_FIELD], SQRTH, -1.0, -math.sqrt(x - p[P_XI]))
             _switch_variable(p, st, cnt, d0, ta, x, v)
             return ev, n_ev
         new_mode = TIME
@@ -382,6 +382,6 @@ def _transformed_end(p, st, cnt, rs, ev, n_ev, d0, dt_step):
             new_mode = TIME
     else:  # UVEL out of the friction band
         new_mode = TIME
-    set_piece(st, st[S_PHASE], st[S_SLOW], new_mode)
+    set_piece(st, st[S_FIELD], st[S_SLOW], new_mode)
     start_piece(p, st, cnt, d0, ta, x, v, h)
     return ev, n_ev

@@ -19,7 +19,7 @@ from impactosc.model.parameters import P_EPS, P_XI
 
 
 @njit(cache=True)
-def deriv(p, mode, phase, sgn, q, s, tref, t, x, v):
+def deriv(p, mode, field, sgn, q, s, tref, t, x, v):
     """(dt/ds, dx/ds, dv/ds) of the piece; in TIME mode (1, v, a).
 
     SQRTH: y = sgn*s = sqrt(x - xI), so dt/ds = sgn 2y/v, dv/ds = sgn 2y a/v (v away from 0).
@@ -30,17 +30,17 @@ def deriv(p, mode, phase, sgn, q, s, tref, t, x, v):
     increments far below the resolution of the absolute time still register.
     """
     if mode == TIME:
-        return 1.0, v, accel(p, phase, t, x, v)
+        return 1.0, v, accel(p, field, t, x, v)
     if mode == SQRTH:
         y = sgn * s
-        a = accel(p, phase, tref + t, p[P_XI] + y * y, v)
+        a = accel(p, field, tref + t, p[P_XI] + y * y, v)
         dt = sgn * 2.0 * y / v if v != 0.0 else math.inf  # v = 0: outside this map's range
         return dt, sgn * 2.0 * y, dt * a
     if mode == WVEL:
         w = max(-sgn * s, 0.0)
         wq1 = w ** (q - 1.0)
         vv = sgn * w * wq1  # v = sgn w^q, and |v|^n3 = w: one power for all three
-        a = accel_vn(p, phase, tref + t, x, vv, w)
+        a = accel_vn(p, field, tref + t, x, vv, w)
         dv = -q * wq1
         dt = dv / a if a != 0.0 else math.inf  # a = 0: outside this map's range
         return dt, vv * dt, dv
@@ -48,7 +48,7 @@ def deriv(p, mode, phase, sgn, q, s, tref, t, x, v):
     em = math.expm1(sgn * s)
     e = 1.0 + em
     vv = p[P_EPS] * (0.5 * em * (1.0 + 1.0 / e))
-    a = accel(p, phase, tref + t, x, vv)
+    a = accel(p, field, tref + t, x, vv)
     dv = sgn * p[P_EPS] * (0.5 * (e + 1.0 / e))
     dt = dv / a if a != 0.0 else math.inf  # a = 0: outside this map's range
     return dt, vv * dt, dv

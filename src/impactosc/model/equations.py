@@ -33,7 +33,7 @@ from impactosc.model.parameters import (
 
 # --- which smooth vector field is active on a piece -------------------------------------
 FREE, CONTACT, CUT = 0, 1, 2  # free flight; contact; contact past the Hunt-Crossley cut (F_I = 0)
-PHASE_NAMES = ("free flight", "contact", "contact past the Hunt-Crossley cut")
+FIELD_NAMES = ("free flight", "contact", "contact past the Hunt-Crossley cut")
 
 
 @njit(cache=True)
@@ -80,35 +80,35 @@ def external_force(p, t, x, v):
 
 
 @njit(cache=True, inline="always")
-def accel(p, phase, t, x, v):
-    """x'' on the smooth piece `phase` (FREE and CUT have no contact force)."""
+def accel(p, field, t, x, v):
+    """x'' on the smooth piece `field` (FREE and CUT have no contact force)."""
     f = external_force(p, t, x, v)
-    if phase == CONTACT:
+    if field == CONTACT:
         f -= contact_force(p, x, v)
     return f / p[P_M]
 
 
 @njit(cache=True, inline="always")
-def accel_vn(p, phase, t, x, v, vn):
+def accel_vn(p, field, t, x, v, vn):
     """accel with vn = |v|^n3 given."""
     f = external_force(p, t, x, v)
-    if phase == CONTACT:
+    if field == CONTACT:
         f -= contact_force_vn(p, x, v, vn)
     return f / p[P_M]
 
 
 @njit(cache=True)
-def stick_force(p, phase, t, x):
+def stick_force(p, field, t, x):
     """Net force other than dry friction at v = 0; |.| < T means the cart sticks."""
     w = p[P_OMEGA]
     f = p[P_M0E] * w * w * math.sin(w * t) - p[P_K] * x
-    if phase == CONTACT:
+    if field == CONTACT:
         f -= contact_force(p, x, 0.0)
     return f
 
 
 @njit(cache=True)
-def jacobian(p, phase, t, x, v, chord):
+def jacobian(p, field, t, x, v, chord):
     """Partial derivatives (da/dx, da/dv) for the implicit stick-phase solver.
 
     With ``chord`` the slope of sgn(v)|v|^n3 is replaced by its chord through v = 0,
@@ -119,7 +119,7 @@ def jacobian(p, phase, t, x, v, chord):
     s = v * v + eps * eps
     dfdx = -p[P_K]
     dfdv = -p[P_C] - p[P_T] * eps * eps / (s * math.sqrt(s))
-    if phase == CONTACT:
+    if field == CONTACT:
         h = x - p[P_XI]
         if h > 0.0:
             av = max(abs(v), 1e-30)
@@ -137,7 +137,7 @@ def jacobian(p, phase, t, x, v, chord):
 
 
 @njit(cache=True)
-def damping_rate(p, phase, x, v):
+def damping_rate(p, field, x, v):
     """-da/dv: viscous + friction slope + Hunt-Crossley slope (inf at v = 0 in contact).
 
     Unlike jacobian (which caps |v| to keep Newton finite) this is the true slope:
@@ -147,7 +147,7 @@ def damping_rate(p, phase, x, v):
     s2 = v * v + eps * eps
     rate = p[P_C] + p[P_T] * eps * eps / (s2 * math.sqrt(s2))
     h = x - p[P_XI]
-    if phase == CONTACT and h > 0.0 and p[P_B] > 0.0 and 0.0 < p[P_N3] < 1.0:
+    if field == CONTACT and h > 0.0 and p[P_B] > 0.0 and 0.0 < p[P_N3] < 1.0:
         av = abs(v)
         if av == 0.0:
             return math.inf
