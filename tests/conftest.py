@@ -4,7 +4,7 @@ import dataclasses
 
 import pytest
 
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 
 @pytest.fixture(scope="session")

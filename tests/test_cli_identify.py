@@ -15,8 +15,8 @@ import pytest
 
 from impactosc.identification.parameters import FIELDS
 from impactosc.io.files import read_table
-from impactosc.model.equations import ModelParams
 from impactosc.model.model_file import read_model_file
+from impactosc.model.parameters import ModelParams
 
 REPO = Path(__file__).resolve().parents[1]
 EXE = [sys.executable, "-m", "impactosc.cli.main"]

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_study.config import ConfigError, load_config, validate_config
 from impactosc_study.config_docs import main as config_docs_main
 from impactosc_study.config_docs import render_file

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from impactosc.core.simulation import simulate
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 OMEGA = 23.03
 N_PERIODS = 60
@@ -35,7 +35,7 @@ def periodic_orbit(p, omega):
 
 # kI = 1e-6 (far below the tested range) on purpose: the contact is then too soft to move the
 # orbit, which stays the closed-form linear one, so every grazing is known exactly.
-@pytest.mark.filterwarnings("ignore::impactosc.model.equations.UntestedParameterWarning")
+@pytest.mark.filterwarnings("ignore::impactosc.model.parameters.UntestedParameterWarning")
 @pytest.mark.parametrize("rtol", [1e-6, 1e-10])
 @pytest.mark.parametrize("delta", [1e-9, 1e-7, 1e-5])
 @pytest.mark.parametrize("side", ["contact", "near_miss"])

@@ -15,7 +15,7 @@ import pytest
 from impactosc.cli.main import main
 from impactosc.core.simulation import StallError, simulate
 from impactosc.dynamics.sweep import STALLED, SweepSettings, continuation
-from impactosc.model.equations import ModelParams, UntestedParameterWarning
+from impactosc.model.parameters import ModelParams, UntestedParameterWarning
 from impactosc_bench.random_scenes import (
     agreement_horizon,
     compare_scene,

@@ -14,7 +14,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from impactosc.core.simulation import Window, simulate
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 P = dataclasses.replace(ModelParams(), T=3.0, xI=1.0, m0e=0.05)
 OMEGA = 10.0

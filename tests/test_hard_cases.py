@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_bench import hardcases as hc
 
 
@@ -128,7 +128,7 @@ def test_coulomb_reference_breakaway_is_where_the_net_force_reaches_T():
     assert abs(p.m0e * w * w * math.sin(w * t1)) == pytest.approx(p.T, rel=1e-12)
 
 
-@pytest.mark.filterwarnings("ignore::impactosc.model.equations.UntestedParameterWarning")  # c = 500 on purpose
+@pytest.mark.filterwarnings("ignore::impactosc.model.parameters.UntestedParameterWarning")  # c = 500 on purpose
 def test_coulomb_reference_rejects_overdamped():
     with pytest.raises(ValueError, match="underdamped"):
         hc.CoulombOscillator(dataclasses.replace(ModelParams(), c=500.0), 23.03)

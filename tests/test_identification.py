@@ -25,7 +25,7 @@ from impactosc.identification.parameters import FIELDS, NAMES, fill_array, param
 from impactosc.identification.staged_fit import identify
 from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import WindowSet, cut_windows, split_held_out
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc.records.record import Record
 from impactosc.records.surrogate import SurrogateOptions, surrogate_record
 

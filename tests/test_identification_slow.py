@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 from impactosc.identification.choice import choose_model
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc.records.surrogate import SurrogateOptions, surrogate_record
 from impactosc_study.coverage import coverage_table, identification_draw
 

@@ -12,16 +12,15 @@ from test_config import CONFIG, SCHEMA  # tests/ is on sys.path (pytest's prepen
 from impactosc.cli.main import main
 from impactosc.cli.options import MODEL_NAMES
 from impactosc.io.files import read_run
-from impactosc.model.equations import ModelParams
 from impactosc.model.model_file import (
     BC_DESCRIPTION,
     FORMAT,
-    PARAM_UNITS,
     apply_overrides,
     read_model_file,
     resolve_model,
     write_model_file,
 )
+from impactosc.model.parameters import PARAM_UNITS, ModelParams
 from impactosc.records.formats import read_record
 from impactosc_study.config import ConfigError, nest_dotted_keys, validate_config
 

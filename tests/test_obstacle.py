@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc.records.contact_window import fit_vertices, integrate_window, model_window, projected_jacobian
 from impactosc.records.extract import ExtractOptions, extract_events
 from impactosc.records.obstacle_estimate import estimate_x_impact

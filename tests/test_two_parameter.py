@@ -22,7 +22,7 @@ from impactosc.dynamics.arclength import continue_branch, folds, locate_fold
 from impactosc.dynamics.bifurcation_points import locate
 from impactosc.dynamics.grazing import locate_orbit_grazing
 from impactosc.dynamics.two_parameter import CurveProblem, point_at, start_point, trace_curve
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 RTOL, ATOL = 1e-12, 1e-14
 XI = ModelParams().xI  # the paper's obstacle, -2.086 mm

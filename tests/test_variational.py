@@ -20,7 +20,7 @@ from impactosc.dynamics.variational import (
     _Model,
     variational_monodromy,
 )
-from impactosc.model.equations import ModelParams, UntestedParameterWarning
+from impactosc.model.parameters import ModelParams, UntestedParameterWarning
 
 # Impacting orbits without sticking (the period-1 orbit near w = 24.5 sticks: see the last tests).
 # name: (omega, forcing periods N, Newton guess (None: the attractor reached from rest), impacts)

@@ -13,8 +13,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-from impactosc.model.equations import ModelParams
 from impactosc.model.model_file import write_model_file
+from impactosc.model.parameters import ModelParams
 
 REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = [sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile")]

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from impactosc.io.files import read_table, write_table
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_bench import cyrk_shim, wp_attractor, wp_solvers
 from impactosc_bench import event_errors as ee
 from impactosc_bench import speed_at_error as sae

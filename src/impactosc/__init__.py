@@ -21,15 +21,18 @@ __version__ = "0.1.0"
 # cache directory on a hash of all of them makes any edit recompile instead of silently
 # reusing stale machine code. An explicit NUMBA_CACHE_DIR is respected.
 CORE_SOURCES = (
+    "model/parameters.py",
     "model/equations.py",
     *(
         f"core/{name}.py"
         for name in (
             "layout",
             "tableau",
+            "vector_fields",
             "dop853",
             "radau",
             "events",
+            "transitions",
             "sampling",
             "pieces",
             "time_pieces",

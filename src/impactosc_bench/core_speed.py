@@ -40,7 +40,7 @@ import time
 import numpy as np
 
 from impactosc.core.simulation import StallError, simulate, warm_up
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_bench.scene import DURATION, ERR_HORIZON, OMEGA, TRANSIENT, impact_error
 from impactosc_bench.scipy_reference import solve_reference
 from impactosc_bench.timing_rounds import (

@@ -46,8 +46,8 @@ import time
 import numpy as np
 from numba import carray, cfunc, types
 
-from impactosc.core.layout import CONTACT, N_PARAMS, P_XI
-from impactosc.model.equations import ModelParams, accel
+from impactosc.model.equations import CONTACT, accel
+from impactosc.model.parameters import N_PARAMS, P_XI, ModelParams
 from impactosc_bench.cyrk_shim import cyrk_method, load_cyrk_shim
 from impactosc_bench.scene import OMEGA
 from impactosc_bench.timing_rounds import PeerRun

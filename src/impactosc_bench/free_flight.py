@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_bench.cyrk_shim import INSTALL_HINT, PeerUnavailable
 from impactosc_bench.scene import OMEGA
 from impactosc_bench.timing_rounds import PeerRun

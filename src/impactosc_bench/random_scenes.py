@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from impactosc.core.simulation import StallError, simulate
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_bench.scipy_reference import ReferenceBudgetExceeded, solve_reference
 
 # (low, high, scale) of every drawn quantity; T is drawn as a fraction of the forcing

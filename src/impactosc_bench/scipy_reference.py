@@ -14,7 +14,7 @@ import time
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 
 class ReferenceBudgetExceeded(RuntimeError):

@@ -29,9 +29,10 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from impactosc.core import dop853
-from impactosc.core.layout import CONTACT, FREE, TIME, UVEL, WVEL
-from impactosc.model.equations import ModelParams
+from impactosc.core import dop853, vector_fields
+from impactosc.core.layout import TIME, UVEL, WVEL
+from impactosc.model.equations import CONTACT, FREE
+from impactosc.model.parameters import ModelParams
 from impactosc_bench.scipy_reference import model_forces
 from impactosc_bench.taylor_series import BAND_PIECE, PIECE_NAMES, TIME_PIECE, TURN_PIECE, integrate_piece
 
@@ -96,7 +97,7 @@ def pieces() -> dict:
 
 
 @njit(cache=True)
-def _dop853_piece(p, mode, phase, sgn, s0, s1, tref, a0, b0, v0, rtol, atol):
+def _dop853_piece(p, mode, field, sgn, s0, s1, tref, a0, b0, v0, rtol, atol):
     """The core's DOP853 step over a piece (Hairer's controller): (a, b, attempts) at s1."""
     q = 1.0 / p[10]
     K = np.zeros((16, 3))
@@ -104,12 +105,12 @@ def _dop853_piece(p, mode, phase, sgn, s0, s1, tref, a0, b0, v0, rtol, atol):
         t, x, v = s0, a0, b0
     else:
         t, x, v = a0, b0, v0
-    d = dop853.deriv(p, mode, phase, sgn, q, s0, tref, t, x, v)
-    h = dop853.initial_step(p, mode, phase, sgn, q, s0, tref, t, x, v, d[0], d[1], d[2], rtol, atol)
+    d = vector_fields.deriv(p, mode, field, sgn, q, s0, tref, t, x, v)
+    h = dop853.initial_step(p, mode, field, sgn, q, s0, tref, t, x, v, d[0], d[1], d[2], rtol, atol)
     s, attempts, rejected = s0, 0, False
     while s < s1 and attempts < 1_000_000:
         hs = min(h, s1 - s)
-        t1, x1, v1, err = dop853.step(p, mode, phase, sgn, q, s, tref, t, x, v, d[0], d[1], d[2], hs, rtol, atol, K)
+        t1, x1, v1, err = dop853.step(p, mode, field, sgn, q, s, tref, t, x, v, d[0], d[1], d[2], hs, rtol, atol, K)
         attempts += 1
         if not err <= 1.0 or not t1 > t:
             h = hs * (dop853.new_step_factor(err, False) if err < math.inf else 0.25)
@@ -175,12 +176,12 @@ def measure_pieces(rtols=(1e-9, 1e-10, 1e-11), orders=(12, 16, 20), repeats=5, i
     rows = []
     for name, pc in pieces().items():
         p = pc.params.as_array(OMEGA)
-        mode, phase = _DOP853_MODE[pc.kind]
+        mode, field = _DOP853_MODE[pc.kind]
         for rtol in rtols:
             atol = rtol / 100
             runs = {
                 "DOP853 (the core's step)": lambda: _dop853_piece(
-                    p, mode, phase, pc.sgn, pc.s0, pc.s1, pc.tref, pc.a0, pc.b0, pc.v0, rtol, atol
+                    p, mode, field, pc.sgn, pc.s0, pc.s1, pc.tref, pc.a0, pc.b0, pc.v0, rtol, atol
                 )
             }
             for n in orders:

@@ -9,7 +9,7 @@ solution is smooth. Whether that pays on this model is measured piece by piece
 * the turn at the deepest penetration in the variable s = -|v|^n3 (the core's WVEL piece),
 * a free-flight reversal through the friction band in s = sgn asinh(v/eps) (UVEL),
 
-the same vector fields as dop853.deriv. One function per operation (product, quotient, sqrt,
+the same vector fields as vector_fields.deriv. One function per operation (product, quotient, sqrt,
 real power, sin/cos of a series), composed per vector field; no allocation inside a step.
 Step size from the last two coefficients of each component against its tolerance
 (atol + rtol |y|), as in Jorba & Zou (2005) with the tolerance per component. The core does
@@ -25,7 +25,7 @@ import math
 import numpy as np
 from numba import njit
 
-from impactosc.core.layout import P_B, P_C, P_EPS, P_K, P_KI, P_M, P_M0E, P_N3, P_OMEGA, P_T, P_XI
+from impactosc.model.parameters import P_B, P_C, P_EPS, P_K, P_KI, P_M, P_M0E, P_N3, P_OMEGA, P_T, P_XI
 
 SAFETY = 0.9  # of the step at which the last two terms reach the tolerance
 MAX_STEPS = 1_000_000  # a loop that has not arrived by then returns with the count (never hangs)

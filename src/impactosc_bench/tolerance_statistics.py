@@ -10,7 +10,7 @@ import time
 import numpy as np
 
 from impactosc.core.simulation import simulate, warm_up
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc.statistics.impact_train import ImpactTrain
 from impactosc.statistics.train_analysis import analyse_train, key_numbers
 

@@ -46,7 +46,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from impactosc.core.simulation import simulate, warm_up
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_bench import free_flight
 from impactosc_bench.event_errors import METRICS, event_errors, worst_errors
 from impactosc_bench.timing_rounds import CORE_ATOL, CORE_RTOL

@@ -41,7 +41,7 @@ import numpy as np
 
 from impactosc.identification.parameters import NAMES, theta_of
 from impactosc.identification.staged_fit import identify
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc.records.obstacle_estimate import estimate_x_impact
 from impactosc.records.record import Record
 from impactosc.records.surrogate import SurrogateOptions, surrogate_record

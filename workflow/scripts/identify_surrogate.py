@@ -13,7 +13,7 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc.records.formats import write_record_set
 from impactosc.records.surrogate import SurrogateOptions, surrogate_record
 

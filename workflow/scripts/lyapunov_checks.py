@@ -19,7 +19,7 @@ import numpy as np
 from impactosc.dynamics.lyapunov import RTOL, STEP, exponents_along
 from impactosc.dynamics.variational import variational_monodromy
 from impactosc.io.files import read_json, write_json
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 
 def main(inp, params, out):

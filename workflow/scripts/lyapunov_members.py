@@ -17,7 +17,7 @@ import time
 
 from impactosc.dynamics.lyapunov import lyapunov_spectrum, settle
 from impactosc.io.files import write_json
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 
 def run_member(c: dict, model: ModelParams, x0: float, output: str) -> None:

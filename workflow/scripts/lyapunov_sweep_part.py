@@ -18,7 +18,7 @@ import numpy as np
 from impactosc.dynamics.lyapunov import largest_exponent
 from impactosc.dynamics.sweep import load_sweep
 from impactosc.io.files import write_csv
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 
 def main(inp, params, out):

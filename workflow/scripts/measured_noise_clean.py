@@ -14,7 +14,7 @@ import logging
 import time
 
 from impactosc.io.files import write_run
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_study.noise_study import clean_runs
 
 p = snakemake.params

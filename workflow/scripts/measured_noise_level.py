@@ -16,7 +16,7 @@ import logging
 import time
 
 from impactosc.io.files import read_run, write_csv, write_json
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc.statistics.impact_train import AnalysisOptions
 from impactosc_study.noise_study import TABLE_COLUMNS, noise_level_rows
 

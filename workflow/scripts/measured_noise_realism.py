@@ -13,7 +13,7 @@ import logging
 import time
 
 from impactosc.io.files import write_csv, write_json
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_study.noise_study import TABLE_COLUMNS, realism_rows
 
 p = snakemake.params

@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc.records.formats import write_record, write_record_set
 from impactosc.records.surrogate import REALISM_FIELDS, SurrogateOptions, surrogate_record, surrogate_sweep
 

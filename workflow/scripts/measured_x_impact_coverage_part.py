@@ -12,7 +12,7 @@ configure_logging(snakemake)
 import logging
 
 from impactosc.io.files import write_json
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_study.coverage import coverage_summary, x_impact_draws
 
 p = snakemake.params

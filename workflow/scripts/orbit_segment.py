@@ -15,7 +15,7 @@ import logging
 
 from impactosc.dynamics.branch_segments import seed_from_rest, trace_segment
 from impactosc.io.files import read_json, write_json
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 NEAR = 0.5  # rad/s: a parent's doubling farther than this from `near` is not the one meant
 

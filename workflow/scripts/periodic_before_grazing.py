@@ -14,7 +14,7 @@ import logging
 from impactosc.core.simulation import Window, simulate
 from impactosc.dynamics.sweep import load_sweep
 from impactosc.io.files import write_run
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc.statistics.periodic_train import branch_state
 
 

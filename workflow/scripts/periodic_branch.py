@@ -14,7 +14,7 @@ import logging
 from impactosc.dynamics.grazing import locate_grazing
 from impactosc.dynamics.sweep import SweepSettings, branch_grid, continuation, save_sweep
 from impactosc.io.files import write_json
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 
 def main(branch: dict, grazing: dict, model: dict, solver: dict, out_branch: str, out_bisection: str):

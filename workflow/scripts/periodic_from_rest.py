@@ -12,7 +12,7 @@ import logging
 
 from impactosc.dynamics.grazing import scan_from_rest
 from impactosc.dynamics.sweep import SweepSettings, regular_grid, save_sweep
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 
 def main(scan: dict, n_record: int, model: dict, solver: dict, out: str):

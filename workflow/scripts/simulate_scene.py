@@ -14,7 +14,7 @@ import logging
 
 from impactosc.core.simulation import Window, simulate
 from impactosc.io.files import write_run
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 
 def run_scene(model: dict, solver: dict, scene: dict, output: str) -> None:

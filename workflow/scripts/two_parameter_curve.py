@@ -16,7 +16,7 @@ import time
 
 from impactosc.dynamics.two_parameter import CurveProblem, curve_record, start_point, trace_curve
 from impactosc.io.files import read_json, write_json
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 NEAR = 0.5  # rad/s: a located point farther than this from `near` is not the one meant
 

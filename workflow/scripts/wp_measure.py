@@ -19,7 +19,7 @@ import logging
 import math
 
 from impactosc.io.files import read_json, read_table, write_table
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_bench.workprecision import Case, sweep_case
 from impactosc_bench.wp_attractor import known_long_runs
 from impactosc_bench.wp_solvers import CORE, peer_solvers

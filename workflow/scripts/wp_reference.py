@@ -14,7 +14,7 @@ import logging
 import time
 
 from impactosc.io.files import write_json
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_bench.workprecision import Case, reference_set
 
 

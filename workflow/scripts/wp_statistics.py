@@ -12,7 +12,7 @@ configure_logging(snakemake)
 import logging
 
 from impactosc.io.files import write_table
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc.statistics.impact_train import AnalysisOptions
 from impactosc_bench.tolerance_statistics import statistics_convergence
 

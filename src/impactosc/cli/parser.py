@@ -7,10 +7,11 @@ import argparse
 
 from impactosc import __version__
 from impactosc.cli.options import RECORD_FORMATS, add_model_options, add_record_options, contact_exponent, finite_number
+from impactosc.model.parameters import model_bc_summary
 
-EPILOG = """\
+EPILOG = f"""\
 Units: SI throughout (s, m, m/s, rad/s). Model parameters are model BC of the paper
-(m=8.735 kg, k=1418.9 N/m, xI=-2.086e-3 m, ...; see impactosc.model.equations.ModelParams)
+({model_bc_summary()}, ...; see impactosc.model.parameters.ModelParams)
 unless --model / --param change them; the run file's attributes record every parameter
 (param_*) and where they came from (model_source).
 Examples (the chaotic scene of the paper, ~2875 impacts; the same with a rig's model file):

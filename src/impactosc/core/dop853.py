@@ -1,9 +1,9 @@
 """Explicit Dormand-Prince 8(5,3) step with 7th-order dense output, for the state (t, x, v).
 
 The independent variable s is time itself on ordinary pieces (mode TIME) or a variable in
-which a piece that starts or ends at a singular point of the vector field is smooth (see
-``deriv``). Everything is written for the three scalar components so the numba-compiled
-step allocates nothing: the stage buffer ``K`` (16 x 3) and the interpolant ``F`` (7 x 3)
+which a piece that starts or ends at a singular point of the vector field is smooth (the
+vector field in each variable: :mod:`impactosc.core.vector_fields`). Everything is written
+for the three scalar components so the numba-compiled step allocates nothing: the stage buffer ``K`` (16 x 3) and the interpolant ``F`` (7 x 3)
 are owned by the caller and reused. Error norm and step-size rules follow Hairer's DOP853
 (as in SciPy).
 """
@@ -16,8 +16,8 @@ import numpy as np
 from numba import njit
 
 from impactosc.core import tableau as tab
-from impactosc.core.layout import P_EPS, P_XI, SQRTH, TIME, WVEL
-from impactosc.model.equations import accel, accel_vn
+from impactosc.core.layout import TIME
+from impactosc.core.vector_fields import deriv
 
 A = np.ascontiguousarray(tab.A)
 B = np.ascontiguousarray(tab.B)
@@ -31,44 +31,8 @@ ERROR_EXPONENT = -1.0 / 8.0  # error estimator order 7
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
 
 
-@njit(cache=True)
-def deriv(p, mode, phase, sgn, q, s, tref, t, x, v):
-    """(dt/ds, dx/ds, dv/ds) of the piece; in TIME mode (1, v, a).
-
-    SQRTH: y = sgn*s = sqrt(x - xI), so dt/ds = sgn 2y/v, dv/ds = sgn 2y a/v (v away from 0).
-    WVEL: w = -sgn*s = |v|^n3, v = sgn w^q (q = 1/n3): dv/ds = -q w^(q-1), dt/ds = (dv/ds)/a.
-    UVEL: u = sgn*s, v = eps sinh(u): dv/ds = sgn eps cosh(u), dt/ds = (dv/ds)/a.
-    In every mode dt/ds > 0 while the piece is valid; the caller checks it. Off TIME mode
-    the time component is tau = t - tref, measured from the start of the piece, so that
-    increments far below the resolution of the absolute time still register.
-    """
-    if mode == TIME:
-        return 1.0, v, accel(p, phase, t, x, v)
-    if mode == SQRTH:
-        y = sgn * s
-        a = accel(p, phase, tref + t, p[P_XI] + y * y, v)
-        dt = sgn * 2.0 * y / v if v != 0.0 else math.inf  # v = 0: outside this map's range
-        return dt, sgn * 2.0 * y, dt * a
-    if mode == WVEL:
-        w = max(-sgn * s, 0.0)
-        wq1 = w ** (q - 1.0)
-        vv = sgn * w * wq1  # v = sgn w^q, and |v|^n3 = w: one power for all three
-        a = accel_vn(p, phase, tref + t, x, vv, w)
-        dv = -q * wq1
-        dt = dv / a if a != 0.0 else math.inf  # a = 0: outside this map's range
-        return dt, vv * dt, dv
-    # sinh and cosh from one exponential (expm1 keeps sinh accurate near u = 0)
-    em = math.expm1(sgn * s)
-    e = 1.0 + em
-    vv = p[P_EPS] * (0.5 * em * (1.0 + 1.0 / e))
-    a = accel(p, phase, tref + t, x, vv)
-    dv = sgn * p[P_EPS] * (0.5 * (e + 1.0 / e))
-    dt = dv / a if a != 0.0 else math.inf  # a = 0: outside this map's range
-    return dt, vv * dt, dv
-
-
 @njit(cache=True, inline="always")  # inlined: a plain call cost 18 % on the chaotic scene
-def _stage(p, mode, phase, sgn, q, s, tref, t, x, v, h, st, K):
+def _stage(p, mode, field, sgn, q, s, tref, t, x, v, h, st, K):
     """Stage st of the step from (t, x, v): K[st] from the stages before it."""
     dt = 0.0
     dx = 0.0
@@ -80,22 +44,22 @@ def _stage(p, mode, phase, sgn, q, s, tref, t, x, v, h, st, K):
             dx += a * K[j, 1]
             dv += a * K[j, 2]
     K[st, 0], K[st, 1], K[st, 2] = deriv(
-        p, mode, phase, sgn, q, s + C[st] * h, tref, t + h * dt, x + h * dx, v + h * dv
+        p, mode, field, sgn, q, s + C[st] * h, tref, t + h * dt, x + h * dx, v + h * dv
     )
 
 
 @njit(cache=True)
-def step(p, mode, phase, sgn, q, s, tref, t, x, v, d0t, d0x, d0v, h, rtol, atol, K):
+def step(p, mode, field, sgn, q, s, tref, t, x, v, d0t, d0x, d0v, h, rtol, atol, K):
     """One DOP853 step of size h in s from (t, x, v) with derivative d0 there; fills K[0:13].
 
     Returns (t1, x1, v1, error_norm). In TIME mode the time component is exact (t1 = t + h)
-    and left out of the error norm; otherwise it is tau (see ``deriv``).
+    and left out of the error norm; otherwise it is tau (see ``vector_fields.deriv``).
     """
     K[0, 0] = d0t
     K[0, 1] = d0x
     K[0, 2] = d0v
     for st in range(1, N_STAGES):
-        _stage(p, mode, phase, sgn, q, s, tref, t, x, v, h, st, K)
+        _stage(p, mode, field, sgn, q, s, tref, t, x, v, h, st, K)
     dt = 0.0
     dx = 0.0
     dv = 0.0
@@ -106,7 +70,7 @@ def step(p, mode, phase, sgn, q, s, tref, t, x, v, d0t, d0x, d0v, h, rtol, atol,
     t1 = t + h if mode == TIME else t + h * dt
     x1 = x + h * dx
     v1 = v + h * dv
-    K[N_STAGES, 0], K[N_STAGES, 1], K[N_STAGES, 2] = deriv(p, mode, phase, sgn, q, s + h, tref, t1, x1, v1)
+    K[N_STAGES, 0], K[N_STAGES, 1], K[N_STAGES, 2] = deriv(p, mode, field, sgn, q, s + h, tref, t1, x1, v1)
 
     st_ = atol + rtol * max(abs(t), abs(t1))
     sx = atol + rtol * max(abs(x), abs(x1))
@@ -156,10 +120,10 @@ def new_step_factor(err, rejected):
 
 
 @njit(cache=True)
-def dense_prepare(p, mode, phase, sgn, q, s, tref, t0, x0, v0, t1, x1, v1, h, K, F):
+def dense_prepare(p, mode, field, sgn, q, s, tref, t0, x0, v0, t1, x1, v1, h, K, F):
     """Three extra stages and the coefficients F of the 7th-order interpolant of the step."""
     for st in range(N_STAGES + 1, 16):
-        _stage(p, mode, phase, sgn, q, s, tref, t0, x0, v0, h, st, K)
+        _stage(p, mode, field, sgn, q, s, tref, t0, x0, v0, h, st, K)
     for c in range(3):
         if c == 0:
             dy = t1 - t0
@@ -191,7 +155,7 @@ def dense_eval(F, y0, theta, c):
 
 
 @njit(cache=True)
-def initial_step(p, mode, phase, sgn, q, s, tref, t, x, v, d0t, d0x, d0v, rtol, atol):
+def initial_step(p, mode, field, sgn, q, s, tref, t, x, v, d0t, d0x, d0v, rtol, atol):
     """Hairer's starting step-size heuristic (one extra derivative evaluation)."""
     sx = atol + abs(x) * rtol
     sv = atol + abs(v) * rtol
@@ -201,7 +165,7 @@ def initial_step(p, mode, phase, sgn, q, s, tref, t, x, v, d0t, d0x, d0v, rtol, 
         h0 = 1e-6
     else:
         h0 = 0.01 * d0 / d1
-    _d1t, d1x, d1v = deriv(p, mode, phase, sgn, q, s + h0, tref, t + h0 * d0t, x + h0 * d0x, v + h0 * d0v)
+    _d1t, d1x, d1v = deriv(p, mode, field, sgn, q, s + h0, tref, t + h0 * d0t, x + h0 * d0x, v + h0 * d0v)
     d2 = math.sqrt((((d1x - d0x) / sx) ** 2 + ((d1v - d0v) / sv) ** 2) / 2.0) / h0
     if not (d2 == d2):
         return h0 * 1e-3

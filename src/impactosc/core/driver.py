@@ -8,7 +8,7 @@ the only pair to guard against is v touching zero twice in a step (checked on th
 output whenever an acceleration bound cannot exclude it).
 
 A piece that starts or ends at a singular point is integrated in a variable in which it is
-smooth (dop853.deriv): sqrt(x - xI) next to a contact onset or exit (the force ~ h^1.5),
+smooth (vector_fields.deriv): sqrt(x - xI) next to a contact onset or exit (the force ~ h^1.5),
 |v|^n3 around the deepest penetration (the Hunt-Crossley damping ~ |v|^n3), and
 asinh(v / eps) through the friction band of a free-flight reversal. The singular point is
 then an exact end of the piece, and steps are set by accuracy, not by the singularity.
@@ -16,25 +16,15 @@ When v = 0 falls where the net force cannot overcome dry friction (sticking) or 
 (slow reversal), the piece is handed to the implicit Radau solver until |v| leaves the
 friction band again. So is any piece whose explicit steps are held by stability rather
 than accuracy (h |da/dv| > STIFF_ENTER): the creep inside the contact where the
-Hunt-Crossley damping ~ |v|^n3 balances the other forces (found by randomized testing,
-found by randomized testing); it returns to explicit steps once h |da/dv| < STIFF_EXIT. Any transformed
-piece that would become invalid (a vanishing acceleration or velocity) falls back to plain
-time stepping, which is always correct.
+Hunt-Crossley damping ~ |v|^n3 balances the other forces (found by randomized testing);
+it returns to explicit steps once h |da/dv| < STIFF_EXIT. Any transformed piece that would
+become invalid (a vanishing acceleration or velocity) falls back to plain time stepping,
+which is always correct.
 
-The piece graph (solver of each piece in brackets: time steps in time_pieces.py, transformed
-steps in transformed_pieces.py, implicit steps in implicit.py; the event on each arrow):
-
-    free flight [time] --impact--> contact onset [sqrt(h)] --v < 0.95 v0--> turn [|v|^n3]
-        ^    |                                                                  | v = 0
-        |    +--|v| < 1e3 eps, heading for v = 0--> friction band [asinh(v/eps)]  v
-        |         band --v = 0, net force > 1.5 T--> band (other side) --|v| > 1e3 eps--> free flight
-        |         band --v = 0, net force < 1.5 T--> stick / slow reversal [implicit]
-        |                                                 --|v| > 100 eps--> free flight
-        |    turn --v = 0, stiff creep or stick--> [implicit] --h |da/dv| < 1--> contact [time]
-        |    turn --v = 0--> restitution [|v|^n3] --|v| = 0.2 v0--> exit [sqrt(h)]
-        +---------------------------------------------------------------- exit --x = xI--+
-    contact [time] --v = -v_cut--> past the cut [time] --v = -v_cut--> contact [time]
-    any transformed piece --invalid steps--> the same vector field [time]
+The loop only dispatches: the solver of the current piece (time steps in time_pieces.py,
+transformed steps in transformed_pieces.py, implicit steps in implicit.py) takes one step and
+locates the events in it; transitions.py decides every change of piece, and its docstring
+is the piece graph with the threshold of each hand-over.
 
 Time steps land exactly on every Poincare time t_i = i * (2 pi / w) (one multiplication, no
 accumulated time); inside a transformed piece the section is located on the dense output of
@@ -58,8 +48,8 @@ import math
 import numpy as np
 from numba import njit
 
-from impactosc.core import dop853, implicit, pieces, time_pieces, transformed_pieces
-from impactosc.core.events import enter_slow, goes_implicit, phase_of, record_poincare
+from impactosc.core import implicit, pieces, time_pieces, transformed_pieces, vector_fields
+from impactosc.core.events import record_poincare
 from impactosc.core.layout import (
     C_ATTEMPTS,
     C_RHS,
@@ -77,11 +67,11 @@ from impactosc.core.layout import (
     R_WIN_T0,
     RUNNING,
     S_BUDGET,
+    S_FIELD,
     S_ISEC,
     S_MARK_N,
     S_MARK_T,
     S_MODE,
-    S_PHASE,
     S_S,
     S_SGN,
     S_SLOW,
@@ -95,6 +85,7 @@ from impactosc.core.layout import (
     STALLED,
     TIME,
 )
+from impactosc.core.transitions import first_piece
 
 
 def run_settings(t_end, t_record, rtol, atol, flags, period, win_t0=0.0, win_dt=1.0):
@@ -114,8 +105,8 @@ def _resume(p, st, cnt, d0):
         st[S_TREF] = 0.0
         st[S_TAU] = st[S_T]
         st[S_S] = st[S_T]
-    d0[0], d0[1], d0[2] = dop853.deriv(
-        p, mode, int(st[S_PHASE]), st[S_SGN], pieces.inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], st[S_X], st[S_V]
+    d0[0], d0[1], d0[2] = vector_fields.deriv(
+        p, mode, int(st[S_FIELD]), st[S_SGN], pieces.inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], st[S_X], st[S_V]
     )
     cnt[C_RHS] += 1
 
@@ -180,11 +171,8 @@ def initial_state(p, t0, x0, v0, period, vcut, step_budget=DEFAULT_STEP_BUDGET):
     st[S_BUDGET] = float(step_budget)
     st[S_MARK_T] = t0
     st[S_VCUT] = vcut
-    st[S_PHASE] = phase_of(p, x0, v0, vcut)
     # next Poincare index strictly after t0 (t0 itself is the initial condition)
     i = math.floor(t0 / period) + 1
     st[S_ISEC] = float(i)
-    if v0 == 0.0 and goes_implicit(p, int(st[S_PHASE]), t0, x0):
-        cnt = np.zeros(N_COUNT, dtype=np.int64)
-        enter_slow(p, st, cnt, t0, x0, v0, 0.0)
+    first_piece(p, st, np.zeros(N_COUNT, dtype=np.int64), t0, x0, v0)
     return st

@@ -1,12 +1,11 @@
-"""What happens at an event, for every piece kind: one place records it and picks the next piece.
+"""The events the piece solvers locate, and the event rows ``ev`` the core records.
 
 An event is a point where the vector field or the piece's variable changes: an impact
 (x = xI upwards), a contact exit (x = xI downwards), the Hunt-Crossley cut (v = -v_cut, on or
 off), a reversal (v = 0) and a Poincare time. The piece solvers (time_pieces.py,
-transformed_pieces.py, implicit.py) locate them; this module applies them
-(:func:`apply_event`), records them in the event rows ``ev`` and makes the decisions taken
-at v = 0: stick or slow reversal (implicit phase), stiff creep (implicit phase), or an
-extremum of x (a penetration in contact, a near miss in free flight).
+transformed_pieces.py, implicit.py) locate them and report their kind (EV_*);
+transitions.py applies them and picks the next piece; this module writes the rows: impacts,
+penetrations and near misses (extrema of x), Poincare points.
 """
 
 from __future__ import annotations
@@ -15,58 +14,18 @@ import numpy as np
 from numba import njit
 
 from impactosc.core.layout import (
-    C_SLOW_TRANSIT,
-    C_STICK,
-    C_STIFF,
-    CONTACT,
-    CUT,
-    FREE,
-    IMPACT,
     NEAR_MISS,
-    P_B,
-    P_EPS,
-    P_KI,
-    P_M,
-    P_N2,
-    P_N3,
-    P_T,
-    P_XI,
     PENETRATION,
     POINCARE,
     R_FLAGS,
     R_T_RECORD,
-    RECORD_IMPACTS,
     RECORD_NEAR_MISSES,
     RECORD_PENETRATIONS,
     RECORD_POINCARE,
-    S_H,
     S_ISEC,
-    S_MODE,
-    S_PDIR,
-    S_PHASE,
-    S_PT,
-    S_PX,
-    S_S,
-    S_SGN,
-    S_SLOW,
-    S_V1,
-    S_VCUT,
-    SLOW_FRICTION,
-    SLOW_STIFF,
-    SQRTH,
-    TIME,
-    WVEL,
 )
-from impactosc.model.equations import accel, damping_rate, stick_force
-
-SLOW_FACTOR = 1.5  # v = 0 with |net force| < 1.5 T: stick or slow reversal -> implicit phase
-STIFF_ENTER = 4.0  # h |da/dv| above this: explicit steps are held by stability, not accuracy ...
-STIFF_EXIT = 1.0  # ... and the implicit phase that takes over ends once h |da/dv| is below this
-# (DOP853 is stable to h |da/dv| ~ 6 on the negative real axis; the gap is a hysteresis.)
-CONTACT_SWITCH = 0.7  # in contact, sqrt(x - xI) while v > 0.7 v_onset, then |v|^n3 ...
-RESTITUTION_SWITCH = 0.45  # ... until |v| = 0.45 v_onset on the way out, then sqrt(x - xI)
-# (chosen by the work they cost on the chaotic scene: 0.95 / 0.2 took 116 step attempts per
-# forcing period, 0.7 / 0.45 take 105; the error of the impact times did not grow)
+from impactosc.model.equations import CONTACT, FREE
+from impactosc.model.parameters import P_XI
 
 # event kinds located inside a step (EV_V: v = 0)
 EV_NONE, EV_X_UP, EV_X_DOWN, EV_V, EV_CUT_ON, EV_CUT_OFF = range(6)
@@ -94,14 +53,6 @@ def sign(a):
 
 
 @njit(cache=True)
-def phase_of(p, x, v, vcut):
-    """Vector field at the state (x, v): free flight, contact, or contact past the cut."""
-    if x - p[P_XI] >= 0.0:
-        return CONTACT if v > -vcut else CUT
-    return FREE
-
-
-@njit(cache=True)
 def record_poincare(st, rs, ev, n, t_sec, x, v):
     """The Poincare time t_sec = i * period has been reached at (x, v): record it, move on to i + 1."""
     if int(rs[R_FLAGS]) & RECORD_POINCARE and t_sec >= rs[R_T_RECORD]:
@@ -111,147 +62,12 @@ def record_poincare(st, rs, ev, n, t_sec, x, v):
 
 
 @njit(cache=True)
-def record_extremum(p, rs, ev, n, phase, t, x, direction):
+def record_extremum(p, rs, ev, n, field, t, x, direction):
     """A maximum of x (direction +1) is a penetration in contact, a near miss in flight."""
     flags = int(rs[R_FLAGS])
     if direction > 0.0 and t >= rs[R_T_RECORD]:
-        if phase == CONTACT and flags & RECORD_PENETRATIONS:
+        if field == CONTACT and flags & RECORD_PENETRATIONS:
             ev, n = push(ev, n, PENETRATION, t, x - p[P_XI], 0.0)
-        elif phase == FREE and flags & RECORD_NEAR_MISSES:
+        elif field == FREE and flags & RECORD_NEAR_MISSES:
             ev, n = push(ev, n, NEAR_MISS, t, p[P_XI] - x, 0.0)
     return ev, n
-
-
-@njit(cache=True)
-def goes_implicit(p, phase, t, x):
-    """At v = 0, a net force below 1.5 T means sticking or a slow reversal: the friction
-    band is then crossed (or held) by the implicit solver."""
-    return abs(stick_force(p, phase, t, x)) < SLOW_FACTOR * p[P_T]
-
-
-@njit(cache=True)
-def stiff(p, phase, x, v, h):
-    """True when a step of size h is held by stability: h |da/dv| beyond STIFF_ENTER.
-
-    The Hunt-Crossley damping ~ |v|^n3 (n3 << 1) acts inside the contact like a very stiff
-    dry friction: where the elastic and external forces nearly balance, the cart creeps at
-    a tiny velocity and da/dv ~ |v|^(n3 - 1) grows without bound, so an explicit method is
-    pinned to steps ~ 6 / |da/dv| (1e-9 s and shrinking: a stall the randomized scenes found).
-    """
-    return damping_rate(p, phase, x, v) * h > STIFF_ENTER
-
-
-@njit(cache=True)
-def creeps(p, phase, t, x, h):
-    """At v = 0 in contact: will the motion that follows be a stiff creep?
-
-    With net force f (damping aside), v grows until the Hunt-Crossley damping balances f,
-    at the creep velocity v_c = (|f| / (kI b h^n2))^(1/n3), where -da/dv = n3 |f| / (m v_c).
-    Stiff (hand it to the implicit solver) when that rate times the step h exceeds STIFF_ENTER.
-    """
-    if phase != CONTACT or p[P_B] <= 0.0 or not (0.0 < p[P_N3] < 1.0):
-        return False
-    depth = x - p[P_XI]
-    if depth <= 0.0:
-        return False
-    f = abs(stick_force(p, phase, t, x))
-    if f == 0.0:
-        return True
-    scale = p[P_KI] * p[P_B] * depth ** p[P_N2]
-    vc = (f / scale) ** (1.0 / p[P_N3])
-    if vc == 0.0:
-        return True
-    return p[P_N3] * f / (p[P_M] * vc) * h > STIFF_ENTER
-
-
-@njit(cache=True)
-def enter_slow(p, st, cnt, t, x, v, direction, why=SLOW_FRICTION):
-    """Start the implicit phase; `direction` is the sign v had before it reached the band."""
-    if why == SLOW_STIFF:
-        cnt[C_STIFF] += 1
-    elif abs(stick_force(p, int(st[S_PHASE]), t, x)) < p[P_T]:
-        cnt[C_STICK] += 1
-    else:
-        cnt[C_SLOW_TRANSIT] += 1
-    st[S_SLOW] = float(why)
-    st[S_MODE] = TIME
-    st[S_PDIR] = direction
-    st[S_PT] = t
-    st[S_PX] = x
-    st[S_H] = 0.0
-
-
-@njit(cache=True)
-def contact_mode(p, st, t, x, v):
-    """Variable of a contact piece starting at (t, x, v) with v > 0 (onset): sqrt(h) while the
-    velocity is well away from zero, |v|^n3 when it already is small; time otherwise."""
-    if p[P_B] <= 0.0 or not (0.0 < p[P_N3] < 1.0) or v <= 0.0:
-        st[S_MODE] = TIME
-        return
-    a = accel(p, CONTACT, t, x, v)
-    st[S_V1] = CONTACT_SWITCH * v
-    if x - p[P_XI] <= 0.0 and v > 1e3 * p[P_EPS]:
-        st[S_MODE] = SQRTH
-        st[S_SGN] = 1.0
-        st[S_S] = 0.0
-    elif a < 0.0:
-        st[S_MODE] = WVEL
-        st[S_SGN] = 1.0
-        st[S_S] = -(v ** p[P_N3])
-    else:
-        st[S_MODE] = TIME
-
-
-@njit(cache=True)
-def _reversal(p, st, cnt, rs, ev, n, t, x, direction, dt_step):
-    """v = 0 on an explicit piece (v had the sign `direction` before): the implicit phase
-    takes over if dry friction can hold the cart or a stiff creep follows; otherwise this
-    is an extremum of x, recorded when it is a maximum."""
-    phase = int(st[S_PHASE])
-    if goes_implicit(p, phase, t, x):
-        enter_slow(p, st, cnt, t, x, 0.0, direction)
-    elif creeps(p, phase, t, x, dt_step):
-        enter_slow(p, st, cnt, t, x, 0.0, direction, SLOW_STIFF)
-    else:
-        ev, n = record_extremum(p, rs, ev, n, phase, t, x, direction)
-    return ev, n
-
-
-@njit(cache=True)
-def apply_event(p, st, cnt, rs, ev, n, kind, t, x, v, direction, dt_step):
-    """Apply the event `kind` located at time t with state (x, v), for any piece kind.
-
-    Records it, sets the vector field (st[S_PHASE]) and the next piece (explicit pieces:
-    st[S_MODE], a contact variable after an impact, or the implicit phase after a reversal)
-    and returns (ev, n, x, v) with the state put exactly on the event's surface.
-    `direction`: the sign of v before a reversal; `dt_step`: the time step that found it.
-    """
-    slow = st[S_SLOW] != 0.0
-    if not slow:
-        st[S_MODE] = TIME
-    phase = int(st[S_PHASE])
-    vcut = st[S_VCUT]
-    if kind == EV_X_UP:  # impact
-        x = p[P_XI]
-        if int(rs[R_FLAGS]) & RECORD_IMPACTS and t >= rs[R_T_RECORD]:
-            ev, n = push(ev, n, IMPACT, t, v, 0.0)
-        phase = CONTACT if v > -vcut else CUT
-        st[S_PDIR] = 0.0  # a pending free-flight maximum (implicit phase) became a contact
-        st[S_PHASE] = phase
-        if phase == CONTACT and not slow:
-            contact_mode(p, st, t, x, v)
-    elif kind == EV_X_DOWN:  # contact exit
-        x = p[P_XI]
-        st[S_PHASE] = FREE
-    elif kind in (EV_CUT_ON, EV_CUT_OFF):
-        v = -vcut
-        st[S_PHASE] = CUT if kind == EV_CUT_ON else CONTACT
-    else:  # v = 0
-        v = 0.0
-        if slow:  # inside the implicit phase: a reversal against the pre-stick direction
-            if direction == st[S_PDIR]:  # moves the pending extremum here
-                st[S_PT] = t
-                st[S_PX] = x
-        else:
-            ev, n = _reversal(p, st, cnt, rs, ev, n, t, x, direction, dt_step)
-    return ev, n, x, v

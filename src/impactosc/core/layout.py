@@ -1,26 +1,18 @@
-"""Named constants shared by the model, the steppers, the core and ``simulate``.
+"""Named constants shared by the steppers, the core and ``simulate``.
 
 The numba core passes its data as plain float64/int64 arrays (cacheable on disk, no
-jitclasses), so every index into them is a name defined here, once. This module imports
+jitclasses), so every index into them is a name defined here, once (the parameter array p
+and its indices P_* belong to the model: impactosc.model.parameters). This module imports
 nothing from the package: everyone may import it.
 
 Arrays and their index names
-    p    model parameters and forcing frequency        P_*      (model.ModelParams.as_array)
     st   resumable integrator state of a run           S_*      (core.initial_state)
     cnt  work counters of a run                        C_*      (simulate attributes n_*)
     rs   settings of one core.run call                 R_*      (core.run_settings)
     ev   event rows (kind, t, a, b)                    IMPACT, PENETRATION, NEAR_MISS, POINCARE
 """
 
-# --- model parameters: index into the array p -------------------------------------------
-(P_M, P_M0E, P_K, P_C, P_T, P_EPS, P_KI, P_B, P_N1, P_N2, P_N3, P_XI, P_OMEGA) = range(13)
-N_PARAMS = 13
-
-# --- which smooth vector field is active on a piece -------------------------------------
-FREE, CONTACT, CUT = 0, 1, 2  # free flight; contact; contact past the Hunt-Crossley cut (F_I = 0)
-PHASE_NAMES = ("free flight", "contact", "contact past the Hunt-Crossley cut")
-
-# --- independent variable of a piece (dop853.deriv) -------------------------------------
+# --- independent variable of a piece (vector_fields.deriv) -------------------------------
 TIME = 0  # s = t
 SQRTH = 1  # s = sgn * sqrt(x - xI): contact onset (sgn +1) or exit (sgn -1); h^n1 smooth in s
 WVEL = 2  # s = -sgn * |v|^n3: contact around v = 0, where |v|^n3 is smooth in s
@@ -33,7 +25,7 @@ MODE_KEYS = ("time", "sqrth", "wvel", "uvel")  # the same, as names of counters 
     S_T,  # absolute time
     S_X,
     S_V,
-    S_PHASE,  # FREE / CONTACT / CUT
+    S_FIELD,  # FREE / CONTACT / CUT
     S_SLOW,  # 1 while the implicit (sticking / slow reversal) phase runs
     S_H,  # step size to try next (0: choose afresh)
     S_PDIR,  # sign of v before the implicit phase began (0: none pending)

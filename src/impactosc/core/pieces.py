@@ -1,21 +1,20 @@
 """The piece solvers: one step attempt on the current smooth piece, with its own events.
 
-Three solvers cover every piece kind (core.py draws how they hand over):
+Three solvers cover every piece kind (transitions.py draws how they hand over):
 
 * :func:`impactosc.core.time_pieces.time_step` - DOP853 in time: free flight, and
   contact wherever no transformed variable applies.
 * :func:`impactosc.core.transformed_pieces.transformed_step` - DOP853 in the piece's
-  own variable s (dop853.deriv): contact onset and exit in sqrt(x - xI), the turn at the
+  own variable s (vector_fields.deriv): contact onset and exit in sqrt(x - xI), the turn at the
   deepest penetration in |v|^n3, and the free-flight friction band in asinh(v/eps).
 * implicit.implicit_step - Radau IIA (radau.py): sticking, slow reversals and stiff creep,
   until |v| leaves the friction band or the step is no longer held by stability.
 
 This module holds what they share: starting a piece (its clock, and the derivative its first
-step starts from), writing the state back, the step-size factor after an accepted step, and
-the velocity bands that decide which solver takes over.
+step starts from), writing the state back and the step-size factor after an accepted step.
 
-Each reads the state from ``st``, writes it back, and applies what it found through
-events.apply_event. ``ws`` = (K, F, work, d0): stage buffer, interpolant, implicit-solver
+Each reads the state from ``st``, writes it back, and hands what it found to transitions.py
+(apply_event, and the after_*_step hand-overs), which picks the next piece. ``ws`` = (K, F, work, d0): stage buffer, interpolant, implicit-solver
 work array and the derivative at the start of the next step (first same as last).
 """
 
@@ -23,15 +22,14 @@ from __future__ import annotations
 
 from numba import njit
 
-from impactosc.core import dop853
+from impactosc.core import dop853, vector_fields
 from impactosc.core.layout import (
     C_RHS,
-    P_N3,
     S_ERRACC,
+    S_FIELD,
     S_H,
     S_HACC,
     S_MODE,
-    S_PHASE,
     S_REJECTED,
     S_S,
     S_SGN,
@@ -42,9 +40,7 @@ from impactosc.core.layout import (
     S_X,
     TIME,
 )
-
-BAND = 100.0  # the implicit phase ends when |v| > BAND * eps (friction slope then < 1e-6 T/eps)
-U_BAND = 1e3  # free flight with |v| < U_BAND * eps, heading for v = 0, runs in s = asinh(v/eps)
+from impactosc.model.parameters import P_N3
 
 
 @njit(cache=True, inline="always")
@@ -98,7 +94,7 @@ def start_piece(p, st, cnt, d0, ta, x, v, h):
     else:  # a transformed piece measures time from its start (tiny increments stay resolved)
         st[S_TREF] = ta
         store(st, 0.0, x, v, st[S_S], h)
-    d0[0], d0[1], d0[2] = dop853.deriv(
-        p, mode, int(st[S_PHASE]), st[S_SGN], inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], x, v
+    d0[0], d0[1], d0[2] = vector_fields.deriv(
+        p, mode, int(st[S_FIELD]), st[S_SGN], inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], x, v
     )
     cnt[C_RHS] += 1

@@ -65,7 +65,7 @@ def _lu_solve_inplace(Mat, rhs):
 
 
 @njit(cache=True)
-def radau_step(p, phase, t, x, v, h, rtol, atol, work, cnt):
+def radau_step(p, field, t, x, v, h, rtol, atol, work, cnt):
     """One Radau IIA step of size h; returns (ok, x_new, v_new). cnt[C_RHS] counts RHS calls.
 
     Newton uses the Jacobian refreshed at each iteration (the friction slope changes by
@@ -93,9 +93,9 @@ def radau_step(p, phase, t, x, v, h, rtol, atol, work, cnt):
                 xj = x + Z[2 * j]
                 vj = v + Z[2 * j + 1]
                 fx = vj
-                fv = accel(p, phase, t + RC[j] * h, xj, vj)
+                fv = accel(p, field, t + RC[j] * h, xj, vj)
                 cnt[C_RHS] += 1
-                jx, jv = jacobian(p, phase, t + RC[j] * h, xj, vj, attempt == 1)
+                jx, jv = jacobian(p, field, t + RC[j] * h, xj, vj, attempt == 1)
                 for i in range(3):
                     a = RA[i, j] * h
                     rhs[2 * i] += a * fx
@@ -122,18 +122,18 @@ def radau_step(p, phase, t, x, v, h, rtol, atol, work, cnt):
 
 
 @njit(cache=True)
-def doubled_step(p, phase, t, x, v, h, rtol, atol, work, cnt):
+def doubled_step(p, field, t, x, v, h, rtol, atol, work, cnt):
     """Step h as two half steps, with the error estimated against one full step.
 
     Returns (ok, x_new, v_new, err) with err the scaled RMS error of the half-step result.
     """
-    ok1, xf, vf = radau_step(p, phase, t, x, v, h, rtol, atol, work, cnt)
+    ok1, xf, vf = radau_step(p, field, t, x, v, h, rtol, atol, work, cnt)
     if not ok1:
         return False, x, v, math.inf
-    ok2, xh, vh = radau_step(p, phase, t, x, v, 0.5 * h, rtol, atol, work, cnt)
+    ok2, xh, vh = radau_step(p, field, t, x, v, 0.5 * h, rtol, atol, work, cnt)
     if not ok2:
         return False, x, v, math.inf
-    ok3, x2, v2 = radau_step(p, phase, t + 0.5 * h, xh, vh, 0.5 * h, rtol, atol, work, cnt)
+    ok3, x2, v2 = radau_step(p, field, t + 0.5 * h, xh, vh, 0.5 * h, rtol, atol, work, cnt)
     if not ok3:
         return False, x, v, math.inf
     sx = atol + rtol * max(abs(x), abs(x2))

@@ -36,11 +36,10 @@ from impactosc.core.layout import (
     MODE_KEYS,
     MODE_NAMES,
     N_COUNT,
-    PHASE_NAMES,
     RUNNING,
+    S_FIELD,
     S_H,
     S_MODE,
-    S_PHASE,
     S_SLOW,
     S_STATUS,
     S_T,
@@ -53,7 +52,8 @@ from impactosc.core.layout import (
     STATUS_NAMES,
     record_flags,
 )
-from impactosc.model.equations import ModelParams
+from impactosc.model.equations import FIELD_NAMES
+from impactosc.model.parameters import ModelParams
 
 ALL_EVENTS = EVENT_NAMES
 DEFAULT_RTOL = 1e-10
@@ -76,7 +76,7 @@ class StallError(RuntimeError):
 def _stall_error(st, cnt, t_end: float, budget: float) -> StallError:
     status = int(st[S_STATUS])
     slow = int(st[S_SLOW])
-    piece = PHASE_NAMES[int(st[S_PHASE])]
+    piece = FIELD_NAMES[int(st[S_FIELD])]
     if slow == SLOW_FRICTION:
         piece += ", implicit (friction band)"
     elif slow == SLOW_STIFF:

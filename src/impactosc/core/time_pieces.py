@@ -2,32 +2,18 @@
 
 Why a module: :func:`time_step` is the solver every piece can fall back to (a contact model
 without the |v|^n3 damping, past the Hunt-Crossley cut, or after a transformed piece broke
-down). It finds impacts, exits, the cut and v = 0 (also a v that touches zero inside a step),
-and hands a reversal's friction band to the transformed solver
-(:mod:`impactosc.core.transformed_pieces`) and a stick or stiff creep to the implicit
-phase (:mod:`impactosc.core.implicit`).
+down). It finds impacts, exits, the cut and v = 0 (also a v that touches zero inside a step);
+:mod:`impactosc.core.transitions` decides what comes next (after an event, and after every
+accepted step: the friction band's variable, or the implicit phase for a stick or a stiff
+creep).
 """
 
 from __future__ import annotations
 
-import math
-
 from numba import njit
 
-from impactosc.core import dop853
-from impactosc.core.events import (
-    EV_CUT_OFF,
-    EV_CUT_ON,
-    EV_NONE,
-    EV_V,
-    EV_X_DOWN,
-    EV_X_UP,
-    apply_event,
-    enter_slow,
-    goes_implicit,
-    sign,
-    stiff,
-)
+from impactosc.core import dop853, vector_fields
+from impactosc.core.events import EV_CUT_OFF, EV_CUT_ON, EV_NONE, EV_V, EV_X_DOWN, EV_X_UP, sign
 from impactosc.core.layout import (
     C_BY_MODE,
     C_DENSE,
@@ -35,33 +21,25 @@ from impactosc.core.layout import (
     C_REJECT,
     C_RHS,
     C_STEPS,
-    CONTACT,
-    CUT,
-    FREE,
-    P_EPS,
-    P_M,
-    P_T,
-    P_XI,
     R_ATOL,
     R_RTOL,
+    S_FIELD,
     S_H,
     S_MODE,
-    S_PHASE,
     S_REJECTED,
-    S_S,
-    S_SGN,
     S_STATUS,
     S_TAU,
     S_V,
     S_VCUT,
     S_X,
-    SLOW_STIFF,
     TIME,
     UNDERFLOW_EXPLICIT,
-    UVEL,
 )
-from impactosc.core.pieces import BAND, U_BAND, accepted_step_factor, inverse_n3, start_piece, store
+from impactosc.core.pieces import accepted_step_factor, inverse_n3, start_piece, store
 from impactosc.core.sampling import bisect, sample_window, window_due
+from impactosc.core.transitions import after_time_step, apply_event
+from impactosc.model.equations import CONTACT, CUT, FREE
+from impactosc.model.parameters import P_EPS, P_M, P_T, P_XI
 
 DIP_SAMPLES = 32
 RESTART_FRACTION = 1e-3  # first step after an event, as a fraction of the step that held it
@@ -74,14 +52,14 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     """One DOP853 step in time on the current piece, clamped to t_target (the next Poincare
     time or the end of the run); locates the events inside it and applies the first."""
     K, F, _, d0 = ws
-    phase = int(st[S_PHASE])
+    field = int(st[S_FIELD])
     t, x, v, h = st[S_TAU], st[S_X], st[S_V], st[S_H]
     rtol, atol = rs[R_RTOL], rs[R_ATOL]
     eps = p[P_EPS]
     q = inverse_n3(p)
     ax = d0[2]
     if h <= 0.0:
-        h0 = dop853.initial_step(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, d0[0], d0[1], d0[2], rtol, atol)
+        h0 = dop853.initial_step(p, TIME, field, 0.0, q, t, 0.0, t, x, v, d0[0], d0[1], d0[2], rtol, atol)
         cnt[C_RHS] += 1
         h = h0 if h == 0.0 else min(h0, -h)
     if v * ax < 0.0 and abs(v) < APPROACH_BAND * eps:
@@ -90,7 +68,7 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
         h = min(h, max(APPROACH_FRACTION * abs(v), 0.25 * eps) / abs(ax))
     clamped = h >= t_target - t
     hs = t_target - t if clamped else h
-    t1, x1, v1, err = dop853.step(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, d0[0], d0[1], d0[2], hs, rtol, atol, K)
+    t1, x1, v1, err = dop853.step(p, TIME, field, 0.0, q, t, 0.0, t, x, v, d0[0], d0[1], d0[2], hs, rtol, atol, K)
     cnt[C_RHS] += 12
     cnt[C_BY_MODE + TIME] += 1
     if err > 1.0:
@@ -119,7 +97,7 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
             amax = max(amax, abs(K[j, 2]))
         if abs(v) + abs(v1) - (2.0 * amax + 2.0 * p[P_T] / p[P_M]) * hs <= 0.0:
             cnt[C_DIP] += 1
-            dop853.dense_prepare(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
+            dop853.dense_prepare(p, TIME, field, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
             cnt[C_RHS] += 3
             cnt[C_DENSE] += 1
             built = True
@@ -128,13 +106,13 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
                     v_cross = True
                     break
     g1 = x1 - p[P_XI]
-    x_up = phase == FREE and g1 > 0.0
-    x_down = phase != FREE and g1 < 0.0
-    cut_on = phase == CONTACT and v1 <= -st[S_VCUT]
-    cut_off = phase == CUT and v1 > -st[S_VCUT]
+    x_up = field == FREE and g1 > 0.0
+    x_down = field != FREE and g1 < 0.0
+    cut_on = field == CONTACT and v1 <= -st[S_VCUT]
+    cut_off = field == CUT and v1 > -st[S_VCUT]
     if v_cross or x_up or x_down or cut_on or cut_off:
         if not built:
-            dop853.dense_prepare(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
+            dop853.dense_prepare(p, TIME, field, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
             cnt[C_RHS] += 3
             cnt[C_DENSE] += 1
         th, kind = _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off)
@@ -154,7 +132,7 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     # --- no event: accept the step ---
     if window_due(st, rs, win_x, t1):
         if not built:
-            dop853.dense_prepare(p, TIME, phase, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
+            dop853.dense_prepare(p, TIME, field, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
             cnt[C_RHS] += 3
             cnt[C_DENSE] += 1
         sample_window(F, TIME, 0.0, t, x, v, hs, t1, st, rs, win_x, win_v)
@@ -163,22 +141,10 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     if t + hs == t1:
         d0[0], d0[1], d0[2] = K[12, 0], K[12, 1], K[12, 2]
     else:
-        d0[0], d0[1], d0[2] = dop853.deriv(p, TIME, phase, 0.0, q, t1, 0.0, t1, x1, v1)
+        d0[0], d0[1], d0[2] = vector_fields.deriv(p, TIME, field, 0.0, q, t1, 0.0, t1, x1, v1)
         cnt[C_RHS] += 1
     store(st, t1, x1, v1, t1, h_next)
-    if abs(v1) < BAND * eps and goes_implicit(p, phase, t1, x1):
-        enter_slow(p, st, cnt, t1, x1, v1, sign(v1))
-    elif (phase == CONTACT or abs(v1) < BAND * eps) and stiff(p, phase, x1, v1, hs):
-        enter_slow(p, st, cnt, t1, x1, v1, sign(v1), SLOW_STIFF)
-        st[S_H] = hs  # the implicit solver starts from the step that stability held
-    elif phase == FREE and p[P_T] > 0.0 and v1 * d0[2] < 0.0 and abs(v1) < U_BAND * eps:
-        # heading into the friction band of a reversal: continue in s = sgn asinh(v/eps)
-        # (without dry friction there is no band, and time stepping is smooth through v = 0)
-        sgn = sign(d0[2])
-        st[S_MODE] = UVEL
-        st[S_SGN] = sgn
-        st[S_S] = sgn * math.asinh(v1 / eps)
-        start_piece(p, st, cnt, d0, t1, x1, v1, 0.0)
+    after_time_step(p, st, cnt, d0, field, t1, x1, v1, hs)
     return ev, n_ev
 
 
@@ -191,7 +157,7 @@ def _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off):
     if v_cross:
         th = bisect(F, v, 2, 0.0, 0.0, 1.0, sgn0)
         kind = EV_V
-        if int(st[S_PHASE]) == FREE and sgn0 > 0.0 and dop853.dense_eval(F, x, th, 1) >= p[P_XI]:
+        if int(st[S_FIELD]) == FREE and sgn0 > 0.0 and dop853.dense_eval(F, x, th, 1) >= p[P_XI]:
             x_up = True  # the maximum lies at or past the obstacle: contact came first
     if x_up:
         th_x = bisect(F, x, 1, p[P_XI], 0.0, th if th <= 1.0 else 1.0, -1.0)

@@ -2,10 +2,11 @@
 point is smooth.
 
 Why a module: contact onset and exit run in sqrt(x - xI), the turn at the deepest
-penetration in |v|^n3, and the free-flight friction band in asinh(v/eps) (dop853.deriv).
+penetration in |v|^n3, and the free-flight friction band in asinh(v/eps) (vector_fields.deriv).
 A piece's singular end point (impact side, v = 0, exit) is then an exact end of the piece;
 Poincare times and the window come from the interpolant of t(s). :func:`transformed_step`
-takes one step, and what ends a piece here starts the next one.
+takes one step; :mod:`impactosc.core.transitions` picks the piece that follows (at an event,
+at the end of the variable's range, or when the transformation breaks down).
 """
 
 from __future__ import annotations
@@ -14,21 +15,8 @@ import math
 
 from numba import njit
 
-from impactosc.core import dop853
-from impactosc.core.events import (
-    CONTACT_SWITCH,
-    EV_CUT_ON,
-    EV_NONE,
-    EV_V,
-    EV_X_DOWN,
-    EV_X_UP,
-    RESTITUTION_SWITCH,
-    apply_event,
-    enter_slow,
-    goes_implicit,
-    record_poincare,
-    sign,
-)
+from impactosc.core import dop853, vector_fields
+from impactosc.core.events import EV_CUT_ON, EV_NONE, EV_X_DOWN, EV_X_UP, record_poincare
 from impactosc.core.layout import (
     C_BY_MODE,
     C_DENSE,
@@ -37,25 +25,18 @@ from impactosc.core.layout import (
     C_RHS,
     C_STEPS,
     C_TRANSFORMED,
-    CONTACT,
-    FREE,
-    P_EPS,
-    P_N3,
-    P_XI,
     R_ATOL,
     R_PERIOD,
     R_RTOL,
     R_T_END,
+    S_FIELD,
     S_H,
     S_ISEC,
     S_MODE,
     S_NINV,
-    S_PHASE,
     S_REJECTED,
     S_S,
     S_SGN,
-    S_SLOW,
-    S_T,
     S_TAU,
     S_TREF,
     S_V,
@@ -63,13 +44,19 @@ from impactosc.core.layout import (
     S_VCUT,
     S_X,
     SQRTH,
-    TIME,
-    UVEL,
     WVEL,
 )
-from impactosc.core.pieces import BAND, U_BAND, accepted_step_factor, inverse_n3, start_piece, store
+from impactosc.core.pieces import accepted_step_factor, inverse_n3, start_piece, store
 from impactosc.core.sampling import bisect, sample_window, window_due
-from impactosc.model.equations import accel, stick_force
+from impactosc.core.transitions import (
+    U_BAND,
+    after_transformed_step,
+    apply_event,
+    fall_back_to_time,
+    stop_in_piece,
+)
+from impactosc.model.equations import CONTACT, FREE
+from impactosc.model.parameters import P_N3, P_XI
 
 # Each transformed variable is regular at one end of its stretch and singular at the other
 # (sqrt(h) at v = 0, |v|^n3 at h = 0): stepping away from a singular point is cheap
@@ -98,7 +85,7 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
     from st[S_TREF]). Invalid steps (the map degenerates) shrink, and after MAX_INVALID in a
     row the piece falls back to time stepping."""
     K, F, _, d0 = ws
-    mode, phase, sgn, q = int(st[S_MODE]), int(st[S_PHASE]), st[S_SGN], inverse_n3(p)
+    mode, field, sgn, q = int(st[S_MODE]), int(st[S_FIELD]), st[S_SGN], inverse_n3(p)
     s, tref, t, x, v, h = st[S_S], st[S_TREF], st[S_TAU], st[S_X], st[S_V], st[S_H]
     rtol, atol = rs[R_RTOL], rs[R_ATOL]
     s_end = _mode_end(p, st)
@@ -106,11 +93,11 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
         if mode == WVEL and sgn < 0.0:  # starts where every derivative vanishes
             h = 0.1 * s_end
         else:
-            h = dop853.initial_step(p, mode, phase, sgn, q, s, tref, t, x, v, d0[0], d0[1], d0[2], rtol, atol)
+            h = dop853.initial_step(p, mode, field, sgn, q, s, tref, t, x, v, d0[0], d0[1], d0[2], rtol, atol)
             cnt[C_RHS] += 1
     clamped = s + h >= s_end
     hs = s_end - s if clamped else h
-    t1, x1, v1, err = dop853.step(p, mode, phase, sgn, q, s, tref, t, x, v, d0[0], d0[1], d0[2], hs, rtol, atol, K)
+    t1, x1, v1, err = dop853.step(p, mode, field, sgn, q, s, tref, t, x, v, d0[0], d0[1], d0[2], hs, rtol, atol, K)
     cnt[C_RHS] += 12
     cnt[C_BY_MODE + mode] += 1
     valid = t1 > t and err < math.inf
@@ -137,15 +124,7 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
         if st[S_NINV] >= MAX_INVALID:  # the transformation breaks down here: use time
             cnt[C_FALLBACK] += 1
             st[S_NINV] = 0
-            st[S_MODE] = TIME
-            # a piece heading for v = 0 (the turn in |v|^n3, the band's first half) whose v
-            # component already crossed zero by round-off has reached its end: apply the
-            # reversal here, or time stepping from the far side would never see it (a
-            # penetration went unrecorded this way)
-            direction = 1.0 if mode == WVEL else -sgn
-            if ((mode == WVEL and sgn > 0.0) or (mode == UVEL and s < 0.0)) and v * direction <= 0.0:
-                ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, tref + t, x, v, direction, 0.0)
-            start_piece(p, st, cnt, d0, tref + t, x, v, 0.0)
+            ev, n_ev = fall_back_to_time(p, st, cnt, rs, ev, n_ev, d0, mode, sgn, s, tref + t, x, v)
         else:
             st[S_H] = 0.25 * hs
         return ev, n_ev
@@ -158,12 +137,12 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
 
     # terminal events inside the step, and what else falls inside it (the run's end,
     # Poincare times, window samples): all from the interpolant of t(s), x(s), v(s)
-    kind = _terminal_event(p, st, phase, x1, v1)
+    kind = _terminal_event(p, st, field, x1, v1)
     t_stop = tref + t1  # absolute
     inside = t_stop > rs[R_T_END] or t_stop > st[S_ISEC] * rs[R_PERIOD] or window_due(st, rs, win_x, t_stop)
     th_ev = 2.0
     if kind != EV_NONE or inside:
-        dop853.dense_prepare(p, mode, phase, sgn, q, s, tref, t, x, v, t1, x1, v1, hs, K, F)
+        dop853.dense_prepare(p, mode, field, sgn, q, s, tref, t, x, v, t1, x1, v1, hs, K, F)
         cnt[C_DENSE] += 1
         cnt[C_RHS] += 3
         th_ev = _locate(p, st, F, x, v, kind)
@@ -174,9 +153,7 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
         ev, n_ev, th_end = _sections_and_window(st, rs, F, ev, n_ev, win_x, win_v, mode, tref, t, x, v, hs, t_stop)
     t_end = rs[R_T_END]
     if th_end <= 1.0 and th_end < th_ev:  # the run ends inside this piece
-        st[S_MODE] = TIME
-        st[S_TREF] = 0.0
-        store(st, t_end, dop853.dense_eval(F, x, th_end, 1), dop853.dense_eval(F, v, th_end, 2), t_end, 0.0)
+        stop_in_piece(st, t_end, dop853.dense_eval(F, x, th_end, 1), dop853.dense_eval(F, v, th_end, 2))
         return ev, n_ev
     if kind != EV_NONE:
         te = tref + dop853.dense_eval(F, t, th_ev, 0)
@@ -190,51 +167,23 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
     if s + hs == s1:
         d0[0], d0[1], d0[2] = K[12, 0], K[12, 1], K[12, 2]
     else:
-        d0[0], d0[1], d0[2] = dop853.deriv(p, mode, phase, sgn, q, s1, tref, t1, x1, v1)
+        d0[0], d0[1], d0[2] = vector_fields.deriv(p, mode, field, sgn, q, s1, tref, t1, x1, v1)
         cnt[C_RHS] += 1
     store(st, t1, x1, v1, s1, h_next)
-    if clamped:
-        ev, n_ev = _transformed_end(p, st, cnt, rs, ev, n_ev, d0, t1 - t)
-    elif mode == UVEL and s1 < 0.0 and abs(v1) < BAND * p[P_EPS] and goes_implicit(p, phase, tref + t1, x1):
-        # Creeping towards v = 0 where dry friction can hold the cart: hand the band to
-        # the implicit solver, as time stepping does. (Without this the explicit
-        # asinh piece crept along the stick manifold with steps ~ m eps / T until v
-        # crossed 0: the cost of each stick grew like 1/eps.)
-        enter_slow(p, st, cnt, tref + t1, x1, v1, sign(v1))
-        start_piece(p, st, cnt, d0, tref + t1, x1, v1, 0.0)
-    elif mode == SQRTH and sgn > 0.0 and v1 < st[S_V1]:  # slower: |v|^n3 on to v = 0
-        ta = tref + t1
-        if accel(p, phase, ta, x1, v1) < 0.0:
-            st[S_MODE] = WVEL
-            st[S_SGN] = 1.0
-            st[S_S] = -(v1 ** p[P_N3])
-            _switch_variable(p, st, cnt, d0, ta, x1, v1)
-        else:
-            st[S_MODE] = TIME
-            start_piece(p, st, cnt, d0, ta, x1, v1, 0.0)
-    return ev, n_ev
-
-
-@njit(cache=True)
-def _switch_variable(p, st, cnt, d0, ta, x, v):
-    """Continue the motion in the variable st[S_MODE] (set by the caller): the next step
-    covers the time the old variable's next step would have (h_s dt/ds carried over),
-    instead of a fresh start from a small step."""
-    h_time = st[S_H] * d0[0]
-    start_piece(p, st, cnt, d0, ta, x, v, 0.0)
-    if h_time > 0.0 and d0[0] > 0.0 and h_time / d0[0] < math.inf:
-        st[S_H] = h_time / d0[0]
+    return after_transformed_step(
+        p, st, cnt, rs, ev, n_ev, d0, clamped, mode, field, sgn, tref + t1, x1, v1, s1, t1 - t
+    )
 
 
 @njit(cache=True, inline="always")
-def _terminal_event(p, st, phase, x1, v1):
+def _terminal_event(p, st, field, x1, v1):
     """The event that ends the piece inside a transformed step, judged at the step's end
     (inside a piece x and v are monotone, so a crossing shows there)."""
-    if phase == FREE and x1 - p[P_XI] > 0.0:
+    if field == FREE and x1 - p[P_XI] > 0.0:
         return EV_X_UP
-    if phase == CONTACT and x1 - p[P_XI] < 0.0:
+    if field == CONTACT and x1 - p[P_XI] < 0.0:
         return EV_X_DOWN
-    if phase == CONTACT and v1 <= -st[S_VCUT]:
+    if field == CONTACT and v1 <= -st[S_VCUT]:
         return EV_CUT_ON
     return EV_NONE
 
@@ -269,47 +218,3 @@ def _sections_and_window(st, rs, F, ev, n_ev, win_x, win_v, mode, tref, t, x, v,
     if window_due(st, rs, win_x, t_stop):
         sample_window(F, mode, tref, t, x, v, hs, t_stop, st, rs, win_x, win_v)
     return ev, n_ev, th_end
-
-
-@njit(cache=True)
-def _transformed_end(p, st, cnt, rs, ev, n_ev, d0, dt_step):
-    """A transformed piece reached the end of its variable's range: the exit (sqrt(h)), the
-    deepest penetration and the switch back to sqrt(h) (|v|^n3), v = 0 and the edge of the
-    friction band (asinh(v/eps)). Sets the next piece and starts it."""
-    mode, sgn = int(st[S_MODE]), st[S_SGN]
-    ta, x, v = st[S_T], st[S_X], st[S_V]
-    new_mode = mode
-    h = 0.0  # the next piece chooses its first step
-    if mode == SQRTH:  # s = 0: exit from the obstacle
-        ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_X_DOWN, ta, x, v, 0.0, dt_step)
-        new_mode = TIME
-    elif mode == WVEL and sgn > 0.0:  # s = 0: v = 0 at the deepest penetration
-        fs = stick_force(p, int(st[S_PHASE]), ta, x)
-        ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, ta, x, v, 1.0, dt_step)
-        new_mode = TIME
-        if st[S_SLOW] == 0.0 and fs < 0.0:  # restitution: v = -w^q with w from 0 up to |V1|^n3
-            new_mode = WVEL
-            st[S_SGN] = -1.0
-            st[S_S] = 0.0
-            st[S_V1] = RESTITUTION_SWITCH * st[S_V1] / CONTACT_SWITCH
-    elif mode == WVEL:  # |v| = V1 on the way out: sqrt(h) takes over to the exit
-        if x > p[P_XI]:
-            st[S_MODE] = SQRTH
-            st[S_SGN] = -1.0
-            st[S_S] = -math.sqrt(x - p[P_XI])
-            _switch_variable(p, st, cnt, d0, ta, x, v)
-            return ev, n_ev
-        new_mode = TIME
-    elif st[S_S] == 0.0:  # UVEL at v = 0: an extremum of x in free flight
-        ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, ta, x, v, -sgn, dt_step)
-        if st[S_SLOW] == 0.0:
-            # asinh(v/eps) is as smooth through v = 0 as before it: keep the step
-            h = st[S_H]
-            new_mode = UVEL
-        else:
-            new_mode = TIME
-    else:  # UVEL out of the friction band
-        new_mode = TIME
-    st[S_MODE] = new_mode
-    start_piece(p, st, cnt, d0, ta, x, v, h)
-    return ev, n_ev

@@ -34,7 +34,7 @@ from impactosc.core.simulation import DEFAULT_ATOL, DEFAULT_RTOL, StallError, si
 from impactosc.dynamics.branch_segments import orbit_sample, seed_from_rest
 from impactosc.dynamics.shooting import shoot
 from impactosc.io.files import atomic_write, check_writable, stamp_h5
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 __all__ = [
     "UNRESOLVED",

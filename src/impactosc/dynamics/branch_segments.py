@@ -28,7 +28,7 @@ from impactosc.dynamics.arclength import BranchPoint, branch_points, locate_fold
 from impactosc.dynamics.bifurcation_points import TEST_FUNCTIONS, locate
 from impactosc.dynamics.grazing import locate_orbit_grazing
 from impactosc.dynamics.shooting import ATOL, RTOL, PeriodicOrbit, ShootingError, shoot
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 __all__ = ["orbit_sample", "seed_from_rest", "special_points", "trace", "trace_segment"]
 

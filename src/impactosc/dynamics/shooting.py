@@ -29,7 +29,7 @@ import numpy as np
 
 from impactosc.core.layout import S_V, S_X
 from impactosc.core.simulation import simulate
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 __all__ = ["PeriodicOrbit", "ShootingError", "stroboscopic_map", "monodromy", "shoot"]
 

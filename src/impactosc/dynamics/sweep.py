@@ -26,7 +26,7 @@ import numpy as np
 
 from impactosc.core.simulation import DEFAULT_ATOL, DEFAULT_RTOL, StallError, simulate
 from impactosc.io.files import atomic_write, check_writable, stamp_h5
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 __all__ = [
     "SweepSettings",

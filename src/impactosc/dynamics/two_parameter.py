@@ -48,7 +48,7 @@ from impactosc.dynamics.shooting import (
     stroboscopic_map,
 )
 from impactosc.dynamics.shooting import monodromy as shooting_monodromy
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 __all__ = [
     "KINDS",

@@ -53,7 +53,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from impactosc.dynamics.shooting import SCALE
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 
 __all__ = ["UnsupportedTrajectory", "variational_monodromy"]
 

@@ -28,7 +28,7 @@ from impactosc.identification.staged_fit import STAGES, identify
 from impactosc.identification.start import start_values
 from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import cut_windows, split_held_out
-from impactosc.model.equations import ModelParams, UntestedParameterWarning
+from impactosc.model.parameters import ModelParams, UntestedParameterWarning
 
 __all__ = ["CONTACT_LAWS", "FRICTION", "candidates", "fit_candidate", "rank", "choose_model", "choice_markdown"]
 

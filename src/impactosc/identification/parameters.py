@@ -1,7 +1,7 @@
 """The parameters identification fits: model BC per unit mass, with the contact law's constants.
 
 Why per unit mass: a displacement record sees only x'' = F / m, so every force constant enters
-as its ratio to m and m itself is not identifiable; it is given (model BC's 8.735 kg unless the
+as its ratio to m and m itself is not identifiable; it is given (model BC's mass unless the
 user says otherwise) and the fitted ratios are multiplied by it to give a ModelParams.  eps (the
 friction regularisation) and the contact exponents n1 = n2 = 3/2 are fixed: eps is a numerical
 device far below any measurable velocity, and the Hertz exponent is the contact law's choice.
@@ -17,8 +17,7 @@ import dataclasses
 
 import numpy as np
 
-from impactosc.core.layout import P_B, P_C, P_K, P_KI, P_M0E, P_N3, P_T, P_XI
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import P_B, P_C, P_K, P_KI, P_M0E, P_N3, P_T, P_XI, ModelParams
 
 __all__ = [
     "NAMES",

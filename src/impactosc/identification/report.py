@@ -17,7 +17,8 @@ import numpy as np
 from impactosc.identification.parameters import FIELDS, NAMES, PER_MASS
 from impactosc.identification.staged_fit import Identification
 from impactosc.io.files import atomic_write, stamp_h5
-from impactosc.model.model_file import PARAM_UNITS, write_model_file
+from impactosc.model.model_file import write_model_file
+from impactosc.model.parameters import PARAM_UNITS
 
 __all__ = [
     "configured_inputs",
@@ -163,7 +164,7 @@ def configured_inputs(section: dict, model: dict, paths) -> tuple:
     configured mass, and the record files read as ``section["read"]`` says."""
     import dataclasses
 
-    from impactosc.model.equations import ModelParams
+    from impactosc.model.parameters import ModelParams
     from impactosc.records.formats import read_records
 
     base = ModelParams(**model)

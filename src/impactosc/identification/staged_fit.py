@@ -29,7 +29,7 @@ from impactosc.identification.parameters import LOWER, NAMES, UNITS, UPPER, para
 from impactosc.identification.start import start_values
 from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import WindowSet, check_forcing_phase, cut_windows
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc.records.sample_fits import estimate_noise
 
 __all__ = ["Identification", "identify", "STAGES", "UNPINNED"]

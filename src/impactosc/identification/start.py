@@ -102,7 +102,7 @@ def _free_flight(records, level, half_t=10e-3):
 
 def start_values(records, base, *, sigma) -> StartValues:
     """theta0 for the records, the base model's value wherever the records say nothing."""
-    from impactosc.model.equations import ModelParams
+    from impactosc.model.parameters import ModelParams
 
     base = base or ModelParams()
     theta = theta_of(base)

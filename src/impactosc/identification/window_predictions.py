@@ -17,9 +17,10 @@ import math
 import numpy as np
 
 from impactosc.core import driver as core
-from impactosc.core.layout import N_COUNT, P_B, P_N3, P_OMEGA, RUNNING, S_STATUS
+from impactosc.core.layout import N_COUNT, RUNNING, S_STATUS
 from impactosc.identification.parameters import fill_array
 from impactosc.identification.windows import WindowSet
+from impactosc.model.parameters import P_B, P_N3, P_OMEGA
 
 __all__ = ["Predictor", "STATE_STEPS", "relative_steps"]
 

@@ -5,8 +5,9 @@ from impactosc._lazy import export
 export(
     globals(),
     {
-        "ModelParams": "impactosc.model.equations",
-        "UntestedParameterWarning": "impactosc.model.equations",
+        "ModelParams": "impactosc.model.parameters",
+        "UntestedParameterWarning": "impactosc.model.parameters",
+        "PARAMETERS": "impactosc.model.parameters",
         "ModelFile": "impactosc.model.model_file",
         "read_model_file": "impactosc.model.model_file",
         "write_model_file": "impactosc.model.model_file",

@@ -1,24 +1,21 @@
-"""Model BC of the forced impacting oscillator (paper eq. 1) and its right-hand side.
+"""Model BC's right-hand side (paper eq. 1), compiled with numba for the core.
 
     m x'' + k x + c x' + T x'/sqrt(x'^2 + eps^2) + F_I(x, x') = m0e w^2 sin(w t)
     F_I = kI ((x - xI)^n1 + b (x - xI)^n2 sgn(x') |x'|^n3)   if x >= xI and the bracket >= 0
 
-The parameters travel into the numba core as one float64 array (indices P_* in layout.py),
-so compiled functions never close over Python objects and stay cacheable on disk.
+The functions read the parameters from the array ``p`` (indices P_* in
+:mod:`impactosc.model.parameters`). The smooth vector field they evaluate is one of three
+kinds (FREE, CONTACT, CUT): a trajectory switches between them at contact onset, exit and
+the Hunt-Crossley cut.
 """
 
 from __future__ import annotations
 
 import math
-import warnings
-from dataclasses import asdict, dataclass, fields
 
-import numpy as np
 from numba import njit
 
-from impactosc.core.layout import (
-    CONTACT,
-    N_PARAMS,
+from impactosc.model.parameters import (
     P_B,
     P_C,
     P_EPS,
@@ -34,86 +31,9 @@ from impactosc.core.layout import (
     P_XI,
 )
 
-# Parameter ranges whose events have been checked against an independent SciPy reference:
-# the randomized differential tests draw from these (benchmarks/random_scenes.BOX, with T
-# from 0 to the forcing amplitude m0e w^2 and w from 10 to 60 rad/s), and the hard cases
-# extend eps down to 1e-9 m/s and kI up to 100 x model BC. The obstacle xI was drawn within
-# 5 mm of rest (a far obstacle is plain free flight). Outside these ranges the core still
-# cannot hang (its watchdog bounds the work) but no test has looked at its events.
-TESTED_RANGES = {
-    "m": (2.0, 20.0),
-    "m0e": (0.005, 0.05),
-    "k": (500.0, 5000.0),
-    "c": (0.0, 20.0),
-    "eps": (1e-9, 1e-5),
-    "kI": (1e7, 2.4e10),
-    "b": (0.0, 2.0),
-    "n1": (1.5, 1.5),
-    "n2": (1.5, 1.5),
-    "n3": (0.05, 1.0),
-}
-
-
-class UntestedParameterWarning(UserWarning):
-    """A model parameter lies outside the ranges the randomized tests cover."""
-
-
-@dataclass(frozen=True)
-class ModelParams:
-    """Physical parameters of model BC (SI units). Defaults are the paper's values."""
-
-    m: float = 8.735  # kg, moving mass
-    m0e: float = 0.01805  # kg m, unbalance
-    k: float = 1418.9  # N/m, spring stiffness
-    c: float = 6.6511  # N s/m, viscous damping
-    T: float = 0.63133  # N, dry-friction level
-    eps: float = 1e-6  # m/s, friction regularisation velocity
-    kI: float = 2.3983e8  # N/m^1.5, contact stiffness
-    b: float = 0.8485  # (s/m)^n3, Hunt-Crossley damping factor
-    n1: float = 1.5
-    n2: float = 1.5
-    n3: float = 0.18667
-    xI: float = -2.086e-3  # m, obstacle position
-
-    def __post_init__(self):
-        for f in fields(self):
-            value = getattr(self, f.name)
-            if not isinstance(value, (int, float)) or not math.isfinite(value):
-                raise ValueError(f"model parameter {f.name} must be a finite number, got {value!r}")
-        for name in ("m", "k", "eps", "kI", "n1", "n2"):
-            if getattr(self, name) <= 0:
-                raise ValueError(f"model parameter {name} must be > 0, got {getattr(self, name)}")
-        for name in ("m0e", "c", "T", "b", "n3"):
-            if getattr(self, name) < 0:
-                raise ValueError(f"model parameter {name} must be >= 0, got {getattr(self, name)}")
-        for name, (lo, hi) in TESTED_RANGES.items():
-            value = getattr(self, name)
-            if not lo <= value <= hi:
-                where = f"= {lo:g}" if lo == hi else f"in [{lo:g}, {hi:g}]"
-                warnings.warn(
-                    f"model parameter {name} = {value:g} is outside the tested range ({name} {where}); "
-                    "the core runs, but its events there are not covered by the randomized tests",
-                    UntestedParameterWarning,
-                    stacklevel=3,
-                )
-
-    def as_array(self, omega: float) -> np.ndarray:
-        """Pack the parameters and the forcing frequency for the numba core."""
-        p = np.empty(N_PARAMS)
-        p[P_M], p[P_M0E], p[P_K], p[P_C], p[P_T], p[P_EPS] = self.m, self.m0e, self.k, self.c, self.T, self.eps
-        p[P_KI], p[P_B], p[P_N1], p[P_N2], p[P_N3], p[P_XI] = self.kI, self.b, self.n1, self.n2, self.n3, self.xI
-        p[P_OMEGA] = omega
-        return p
-
-    def to_dict(self) -> dict:
-        return asdict(self)
-
-    @property
-    def cut_velocity(self) -> float:
-        """|v| beyond which the restitution bracket turns negative (F_I = 0): b^(-1/n3)."""
-        if self.b == 0 or self.n3 == 0:
-            return math.inf
-        return self.b ** (-1.0 / self.n3)
+# --- which smooth vector field is active on a piece -------------------------------------
+FREE, CONTACT, CUT = 0, 1, 2  # free flight; contact; contact past the Hunt-Crossley cut (F_I = 0)
+FIELD_NAMES = ("free flight", "contact", "contact past the Hunt-Crossley cut")
 
 
 @njit(cache=True)
@@ -160,35 +80,35 @@ def external_force(p, t, x, v):
 
 
 @njit(cache=True, inline="always")
-def accel(p, phase, t, x, v):
-    """x'' on the smooth piece `phase` (FREE and CUT have no contact force)."""
+def accel(p, field, t, x, v):
+    """x'' on the smooth piece `field` (FREE and CUT have no contact force)."""
     f = external_force(p, t, x, v)
-    if phase == CONTACT:
+    if field == CONTACT:
         f -= contact_force(p, x, v)
     return f / p[P_M]
 
 
 @njit(cache=True, inline="always")
-def accel_vn(p, phase, t, x, v, vn):
+def accel_vn(p, field, t, x, v, vn):
     """accel with vn = |v|^n3 given."""
     f = external_force(p, t, x, v)
-    if phase == CONTACT:
+    if field == CONTACT:
         f -= contact_force_vn(p, x, v, vn)
     return f / p[P_M]
 
 
 @njit(cache=True)
-def stick_force(p, phase, t, x):
+def stick_force(p, field, t, x):
     """Net force other than dry friction at v = 0; |.| < T means the cart sticks."""
     w = p[P_OMEGA]
     f = p[P_M0E] * w * w * math.sin(w * t) - p[P_K] * x
-    if phase == CONTACT:
+    if field == CONTACT:
         f -= contact_force(p, x, 0.0)
     return f
 
 
 @njit(cache=True)
-def jacobian(p, phase, t, x, v, chord):
+def jacobian(p, field, t, x, v, chord):
     """Partial derivatives (da/dx, da/dv) for the implicit stick-phase solver.
 
     With ``chord`` the slope of sgn(v)|v|^n3 is replaced by its chord through v = 0,
@@ -199,7 +119,7 @@ def jacobian(p, phase, t, x, v, chord):
     s = v * v + eps * eps
     dfdx = -p[P_K]
     dfdv = -p[P_C] - p[P_T] * eps * eps / (s * math.sqrt(s))
-    if phase == CONTACT:
+    if field == CONTACT:
         h = x - p[P_XI]
         if h > 0.0:
             av = max(abs(v), 1e-30)
@@ -217,7 +137,7 @@ def jacobian(p, phase, t, x, v, chord):
 
 
 @njit(cache=True)
-def damping_rate(p, phase, x, v):
+def damping_rate(p, field, x, v):
     """-da/dv: viscous + friction slope + Hunt-Crossley slope (inf at v = 0 in contact).
 
     Unlike jacobian (which caps |v| to keep Newton finite) this is the true slope:
@@ -227,7 +147,7 @@ def damping_rate(p, phase, x, v):
     s2 = v * v + eps * eps
     rate = p[P_C] + p[P_T] * eps * eps / (s2 * math.sqrt(s2))
     h = x - p[P_XI]
-    if phase == CONTACT and h > 0.0 and p[P_B] > 0.0 and 0.0 < p[P_N3] < 1.0:
+    if field == CONTACT and h > 0.0 and p[P_B] > 0.0 and 0.0 < p[P_N3] < 1.0:
         av = abs(v)
         if av == 0.0:
             return math.inf

@@ -18,8 +18,8 @@ line, the Python API and the workflow config read it through :func:`read_model_f
     created: 2025-03-01T12:00:00+00:00       # and this timestamp
 
 A parameter the file leaves out takes model BC's value (:attr:`ModelFile.defaulted` names
-them). Values are SI in the units of :data:`PARAM_UNITS`; a unit that differs is refused,
-not converted.
+them). Values are SI in the units of ``impactosc.model.parameters.PARAM_UNITS``; a unit
+that differs is refused, not converted.
 """
 
 from __future__ import annotations
@@ -35,25 +35,9 @@ import yaml
 from impactosc import __version__
 from impactosc.io.files import atomic_write, git_commit
 from impactosc.io.names import closest_name, split_assignment
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import PARAM_UNITS, ModelParams
 
 FORMAT = "impactosc-model/1"
-
-#: Unit of every ModelParams field, as a model file writes it ("-": dimensionless).
-PARAM_UNITS = {
-    "m": "kg",
-    "m0e": "kg m",
-    "k": "N/m",
-    "c": "N s/m",
-    "T": "N",
-    "eps": "m/s",
-    "kI": "N/m^1.5",
-    "b": "(s/m)^n3",
-    "n1": "-",
-    "n2": "-",
-    "n3": "-",
-    "xI": "m",
-}
 
 NAMES = [f.name for f in dataclasses.fields(ModelParams)]
 BC_DESCRIPTION = "model BC (paper)"

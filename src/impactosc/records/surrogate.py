@@ -21,7 +21,7 @@ import math
 import numpy as np
 
 from impactosc.core.simulation import Window, simulate
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc.records.record import Record
 
 __all__ = [

@@ -29,7 +29,7 @@ from __future__ import annotations
 import dataclasses
 
 from impactosc.core.simulation import warm_up
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_bench.hardcases.chaos import long_run_case, regularisation_case
 from impactosc_bench.hardcases.checks import row
 from impactosc_bench.hardcases.grazing_sweep import grazing_case, scan_free_flight

@@ -15,7 +15,7 @@ import time
 import numpy as np
 
 from impactosc.core.simulation import simulate, warm_up
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_bench.hardcases.checks import row
 from impactosc_bench.tolerance_statistics import train_statistics, zscores
 

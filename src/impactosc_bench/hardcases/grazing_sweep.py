@@ -14,7 +14,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from impactosc.dynamics.grazing import grazing_by_clearance_secant, settle_orbit
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_bench.hardcases.checks import row
 
 

@@ -16,7 +16,7 @@ import time
 import numpy as np
 
 from impactosc.core.simulation import Window, simulate
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_bench.hardcases.checks import row
 from impactosc_bench.scipy_reference import solve_reference
 

@@ -17,7 +17,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from impactosc.core.simulation import Window, simulate
-from impactosc.model.equations import ModelParams
+from impactosc.model.parameters import ModelParams
 from impactosc_bench.hardcases.checks import row
 
 

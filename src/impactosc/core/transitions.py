@@ -1,0 +1,387 @@
+"""The piece graph: every change of piece is decided here, and nowhere else.
+
+A piece is smooth: one vector field (FREE, CONTACT or CUT), explicit steps in one variable
+(t, sqrt(x - xI), |v|^n3 or asinh(v/eps)) or the implicit solver. The piece solvers
+(time_pieces.py, transformed_pieces.py, implicit.py) step and locate events; the functions
+here apply what they found and set the next piece's kind through :func:`set_piece`. Each
+arrow below is an event with the condition that picks the next piece; [..] is the piece's
+variable; v0 is the velocity at impact, v_cut = b^(-1/n3) the Hunt-Crossley cut, and
+|net force| the force other than dry friction at v = 0 (tests/test_core_transitions.py
+checks every number against the constants below)::
+
+    free flight [t] --x = xI, v > -v_cut, v0 > 1e3 eps--> contact onset [sqrt(x - xI)]
+        (a slower impact: the turn [|v|^n3], or contact [t]; b = 0 or n3 >= 1: contact [t])
+    contact onset --v < 0.7 v0, a < 0--> turn [|v|^n3]   (a >= 0: contact [t])
+    turn --v = 0 (deepest penetration), net force < 0--> restitution [|v|^n3]
+    restitution --|v| = 0.45 v0, x > xI--> exit [sqrt(x - xI)] --x = xI--> free flight [t]
+    contact [t] --x = xI, v < 0--> free flight [t]
+    contact [t] --v = -v_cut--> past the cut [t] --v = -v_cut--> contact [t]
+    free flight [t] --|v| < 1e3 eps, heading for v = 0, T > 0--> friction band [asinh(v/eps)]
+    friction band --v = 0--> friction band (other side) --|v| = 1e3 eps--> free flight [t]
+    free flight, contact, turn, band --v = 0, |net force| < 1.5 T--> stick / slow reversal [implicit]
+    free flight [t], band --|v| < 100 eps, |net force| < 1.5 T--> stick / slow reversal [implicit]
+    stick / slow reversal --|v| > 100 eps--> free flight or contact [t]
+    contact [t], |v| < 100 eps [t] --h |da/dv| > 4--> stiff creep [implicit]
+    turn, contact [t] --v = 0, creep expected with h |da/dv| > 4--> stiff creep [implicit]
+    stiff creep --h |da/dv| < 1--> free flight or contact [t]
+    any transformed piece --invalid steps--> the same vector field [t]
+    any piece --t = 2 pi i / w--> Poincare point (no hand-over)
+
+While the implicit solver runs, an obstacle crossing changes the vector field only; the
+explicit pieces resume once it ends.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from impactosc.core.events import EV_CUT_OFF, EV_CUT_ON, EV_V, EV_X_DOWN, EV_X_UP, push, record_extremum, sign
+from impactosc.core.layout import (
+    C_SLOW_TRANSIT,
+    C_STICK,
+    C_STIFF,
+    EXPLICIT,
+    IMPACT,
+    R_FLAGS,
+    R_T_RECORD,
+    RECORD_IMPACTS,
+    S_FIELD,
+    S_H,
+    S_MODE,
+    S_PDIR,
+    S_PT,
+    S_PX,
+    S_S,
+    S_SGN,
+    S_SLOW,
+    S_T,
+    S_TREF,
+    S_V,
+    S_V1,
+    S_VCUT,
+    S_X,
+    SLOW_FRICTION,
+    SLOW_STIFF,
+    SQRTH,
+    TIME,
+    UVEL,
+    WVEL,
+)
+from impactosc.core.pieces import start_piece, store
+from impactosc.model.equations import CONTACT, CUT, FREE, accel, damping_rate, stick_force
+from impactosc.model.parameters import P_B, P_EPS, P_KI, P_M, P_N2, P_N3, P_T, P_XI
+
+SLOW_FACTOR = 1.5  # v = 0 with |net force| < 1.5 T: stick or slow reversal -> implicit phase
+STIFF_ENTER = 4.0  # h |da/dv| above this: explicit steps are held by stability, not accuracy ...
+STIFF_EXIT = 1.0  # ... and the implicit phase that takes over ends once h |da/dv| is below this
+# (DOP853 is stable to h |da/dv| ~ 6 on the negative real axis; the gap is a hysteresis.)
+SQRTH_ONSET = 1e3  # an impact faster than 1e3 eps starts the contact in sqrt(x - xI)
+CONTACT_SWITCH = 0.7  # in contact, sqrt(x - xI) while v > 0.7 v_onset, then |v|^n3 ...
+RESTITUTION_SWITCH = 0.45  # ... until |v| = 0.45 v_onset on the way out, then sqrt(x - xI)
+# (chosen by the work they cost on the chaotic scene: 0.95 / 0.2 took 116 step attempts per
+# forcing period, 0.7 / 0.45 take 105; the error of the impact times did not grow)
+BAND = 100.0  # the implicit phase ends when |v| > BAND * eps (friction slope then < 1e-6 T/eps)
+U_BAND = 1e3  # free flight with |v| < U_BAND * eps, heading for v = 0, runs in s = asinh(v/eps)
+
+
+@njit(cache=True, inline="always")
+def set_piece(st, field, slow, mode):
+    """The kind of the next piece: its vector field (FREE / CONTACT / CUT), why the implicit
+    solver runs (EXPLICIT: it does not) and the variable of its explicit steps."""
+    st[S_FIELD] = field
+    st[S_SLOW] = slow
+    st[S_MODE] = mode
+
+
+@njit(cache=True, inline="always")
+def _set_variable(st, field, mode, sgn, s):
+    """An explicit piece in the variable `mode` with orientation sgn, starting at s."""
+    set_piece(st, field, EXPLICIT, mode)
+    st[S_SGN] = sgn
+    st[S_S] = s
+
+
+@njit(cache=True)
+def field_of(p, x, v, vcut):
+    """Vector field at the state (x, v): free flight, contact, or contact past the cut."""
+    if x - p[P_XI] >= 0.0:
+        return CONTACT if v > -vcut else CUT
+    return FREE
+
+
+@njit(cache=True)
+def first_piece(p, st, cnt, t, x, v):
+    """The piece a run starts on at (t, x, v): the vector field there, explicit in time,
+    or the implicit phase when it starts at rest where dry friction holds the cart."""
+    field = field_of(p, x, v, st[S_VCUT])
+    set_piece(st, field, EXPLICIT, TIME)
+    if v == 0.0 and goes_implicit(p, field, t, x):
+        enter_slow(p, st, cnt, t, x, v, 0.0)
+
+
+@njit(cache=True)
+def goes_implicit(p, field, t, x):
+    """At v = 0, a net force below 1.5 T means sticking or a slow reversal: the friction
+    band is then crossed (or held) by the implicit solver."""
+    return abs(stick_force(p, field, t, x)) < SLOW_FACTOR * p[P_T]
+
+
+@njit(cache=True)
+def stiff(p, field, x, v, h):
+    """True when a step of size h is held by stability: h |da/dv| beyond STIFF_ENTER.
+
+    The Hunt-Crossley damping ~ |v|^n3 (n3 << 1) acts inside the contact like a very stiff
+    dry friction: where the elastic and external forces nearly balance, the cart creeps at
+    a tiny velocity and da/dv ~ |v|^(n3 - 1) grows without bound, so an explicit method is
+    pinned to steps ~ 6 / |da/dv| (1e-9 s and shrinking: a stall the randomized scenes found).
+    """
+    return damping_rate(p, field, x, v) * h > STIFF_ENTER
+
+
+@njit(cache=True)
+def creeps(p, field, t, x, h):
+    """At v = 0 in contact: will the motion that follows be a stiff creep?
+
+    With net force f (damping aside), v grows until the Hunt-Crossley damping balances f,
+    at the creep velocity v_c = (|f| / (kI b h^n2))^(1/n3), where -da/dv = n3 |f| / (m v_c).
+    Stiff (hand it to the implicit solver) when that rate times the step h exceeds STIFF_ENTER.
+    """
+    if field != CONTACT or p[P_B] <= 0.0 or not (0.0 < p[P_N3] < 1.0):
+        return False
+    depth = x - p[P_XI]
+    if depth <= 0.0:
+        return False
+    f = abs(stick_force(p, field, t, x))
+    if f == 0.0:
+        return True
+    scale = p[P_KI] * p[P_B] * depth ** p[P_N2]
+    vc = (f / scale) ** (1.0 / p[P_N3])
+    if vc == 0.0:
+        return True
+    return p[P_N3] * f / (p[P_M] * vc) * h > STIFF_ENTER
+
+
+@njit(cache=True)
+def enter_slow(p, st, cnt, t, x, v, direction, why=SLOW_FRICTION):
+    """Start the implicit phase; `direction` is the sign v had before it reached the band."""
+    if why == SLOW_STIFF:
+        cnt[C_STIFF] += 1
+    elif abs(stick_force(p, int(st[S_FIELD]), t, x)) < p[P_T]:
+        cnt[C_STICK] += 1
+    else:
+        cnt[C_SLOW_TRANSIT] += 1
+    set_piece(st, st[S_FIELD], float(why), TIME)
+    st[S_PDIR] = direction
+    st[S_PT] = t
+    st[S_PX] = x
+    st[S_H] = 0.0
+
+
+@njit(cache=True)
+def _contact_piece(p, st, t, x, v):
+    """The contact piece after an impact at (t, x, v), v > 0: sqrt(h) while the velocity is
+    well away from zero, |v|^n3 when it already is small; time otherwise."""
+    if p[P_B] <= 0.0 or not (0.0 < p[P_N3] < 1.0) or v <= 0.0:
+        set_piece(st, CONTACT, EXPLICIT, TIME)
+        return
+    a = accel(p, CONTACT, t, x, v)
+    st[S_V1] = CONTACT_SWITCH * v
+    if x - p[P_XI] <= 0.0 and v > SQRTH_ONSET * p[P_EPS]:
+        _set_variable(st, CONTACT, SQRTH, 1.0, 0.0)
+    elif a < 0.0:
+        _set_variable(st, CONTACT, WVEL, 1.0, -(v ** p[P_N3]))
+    else:
+        set_piece(st, CONTACT, EXPLICIT, TIME)
+
+
+@njit(cache=True)
+def _reversal(p, st, cnt, rs, ev, n, t, x, direction, dt_step):
+    """v = 0 on an explicit piece (v had the sign `direction` before): the implicit phase
+    takes over if dry friction can hold the cart or a stiff creep follows; otherwise this
+    is an extremum of x, recorded when it is a maximum."""
+    field = int(st[S_FIELD])
+    if goes_implicit(p, field, t, x):
+        enter_slow(p, st, cnt, t, x, 0.0, direction)
+    elif creeps(p, field, t, x, dt_step):
+        enter_slow(p, st, cnt, t, x, 0.0, direction, SLOW_STIFF)
+    else:
+        ev, n = record_extremum(p, rs, ev, n, field, t, x, direction)
+    return ev, n
+
+
+@njit(cache=True)
+def apply_event(p, st, cnt, rs, ev, n, kind, t, x, v, direction, dt_step):
+    """Apply the event `kind` located at time t with state (x, v), for any piece kind.
+
+    Records it, sets the next piece (the vector field; explicit pieces restart in time, or
+    in a contact variable after an impact, or go implicit after a reversal; the implicit
+    phase keeps running) and returns (ev, n, x, v) with the state put exactly on the event's
+    surface. `direction`: the sign of v before a reversal; `dt_step`: the time step that found it.
+    """
+    slow = st[S_SLOW]  # the implicit phase runs on in time (its pieces are always in time)
+    vcut = st[S_VCUT]
+    if kind == EV_X_UP:  # impact
+        x = p[P_XI]
+        if int(rs[R_FLAGS]) & RECORD_IMPACTS and t >= rs[R_T_RECORD]:
+            ev, n = push(ev, n, IMPACT, t, v, 0.0)
+        st[S_PDIR] = 0.0  # a pending free-flight maximum (implicit phase) became a contact
+        if v > -vcut and slow == EXPLICIT:
+            _contact_piece(p, st, t, x, v)
+        else:
+            set_piece(st, CONTACT if v > -vcut else CUT, slow, TIME)
+    elif kind == EV_X_DOWN:  # contact exit
+        x = p[P_XI]
+        set_piece(st, FREE, slow, TIME)
+    elif kind in (EV_CUT_ON, EV_CUT_OFF):
+        v = -vcut
+        set_piece(st, CUT if kind == EV_CUT_ON else CONTACT, slow, TIME)
+    else:  # v = 0
+        v = 0.0
+        if slow != EXPLICIT:  # inside the implicit phase: a reversal against the pre-stick direction
+            if direction == st[S_PDIR]:  # moves the pending extremum here
+                st[S_PT] = t
+                st[S_PX] = x
+        else:
+            set_piece(st, st[S_FIELD], EXPLICIT, TIME)
+            ev, n = _reversal(p, st, cnt, rs, ev, n, t, x, direction, dt_step)
+    return ev, n, x, v
+
+
+@njit(cache=True, inline="always")  # on every accepted time step: inlined as time_step is
+def after_time_step(p, st, cnt, d0, field, t1, x1, v1, hs):
+    """An accepted time step without events ended at (t1, x1, v1): the implicit phase takes
+    over where dry friction can hold the cart or the step was held by stability, the
+    friction band's variable where free flight heads for v = 0."""
+    eps = p[P_EPS]
+    if abs(v1) < BAND * eps and goes_implicit(p, field, t1, x1):
+        enter_slow(p, st, cnt, t1, x1, v1, sign(v1))
+    elif (field == CONTACT or abs(v1) < BAND * eps) and stiff(p, field, x1, v1, hs):
+        enter_slow(p, st, cnt, t1, x1, v1, sign(v1), SLOW_STIFF)
+        st[S_H] = hs  # the implicit solver starts from the step that stability held
+    elif field == FREE and p[P_T] > 0.0 and v1 * d0[2] < 0.0 and abs(v1) < U_BAND * eps:
+        # heading into the friction band of a reversal: continue in s = sgn asinh(v/eps)
+        # (without dry friction there is no band, and time stepping is smooth through v = 0)
+        sgn = sign(d0[2])
+        _set_variable(st, FREE, UVEL, sgn, sgn * math.asinh(v1 / eps))
+        start_piece(p, st, cnt, d0, t1, x1, v1, 0.0)
+
+
+@njit(cache=True, inline="always")  # on every accepted transformed step, as after_time_step
+def after_transformed_step(p, st, cnt, rs, ev, n_ev, d0, clamped, mode, field, sgn, ta, x1, v1, s1, dt_step):
+    """An accepted transformed step without events ended at absolute time ta: the end of its
+    variable's range, the friction band handed to the implicit phase, or the contact onset
+    slowed down enough for |v|^n3."""
+    if clamped:
+        ev, n_ev = _transformed_end(p, st, cnt, rs, ev, n_ev, d0, dt_step)
+    elif mode == UVEL and s1 < 0.0 and abs(v1) < BAND * p[P_EPS] and goes_implicit(p, field, ta, x1):
+        # Creeping towards v = 0 where dry friction can hold the cart: hand the band to
+        # the implicit solver, as time stepping does. (Without this the explicit
+        # asinh piece crept along the stick manifold with steps ~ m eps / T until v
+        # crossed 0: the cost of each stick grew like 1/eps.)
+        enter_slow(p, st, cnt, ta, x1, v1, sign(v1))
+        start_piece(p, st, cnt, d0, ta, x1, v1, 0.0)
+    elif mode == SQRTH and sgn > 0.0 and v1 < st[S_V1]:  # slower: |v|^n3 on to v = 0
+        if accel(p, field, ta, x1, v1) < 0.0:
+            _set_variable(st, field, WVEL, 1.0, -(v1 ** p[P_N3]))
+            _switch_variable(p, st, cnt, d0, ta, x1, v1)
+        else:
+            set_piece(st, field, EXPLICIT, TIME)
+            start_piece(p, st, cnt, d0, ta, x1, v1, 0.0)
+    return ev, n_ev
+
+
+@njit(cache=True, inline="always")  # on every implicit step
+def after_implicit_step(p, st, cnt, rs, ev, n_ev, d0, field, t1, x1, v1, h_next):
+    """An implicit step without events ended at (t1, x1, v1): the phase ends once |v| leaves
+    the friction band (stick, slow reversal) or the next step is no longer held by stability
+    (stiff creep); a pending extremum of x is recorded if v came back with the other sign."""
+    if st[S_SLOW] == SLOW_STIFF:
+        leave = damping_rate(p, field, x1, v1) * h_next < STIFF_EXIT
+    else:
+        leave = abs(v1) > BAND * p[P_EPS]
+    if leave:
+        if sign(v1) == -st[S_PDIR]:
+            ev, n_ev = record_extremum(p, rs, ev, n_ev, field, st[S_PT], st[S_PX], st[S_PDIR])
+        set_piece(st, field, EXPLICIT, TIME)
+        st[S_PDIR] = 0.0
+        start_piece(p, st, cnt, d0, t1, x1, v1, 0.0)
+    return ev, n_ev
+
+
+@njit(cache=True)
+def fall_back_to_time(p, st, cnt, rs, ev, n_ev, d0, mode, sgn, s, ta, x, v):
+    """A transformed piece broke down at absolute time ta: the same vector field goes on in
+    time. A piece heading for v = 0 (the turn in |v|^n3, the band's first half) whose v
+    component already crossed zero by round-off has reached its end: apply the reversal
+    here, or time stepping from the far side would never see it (a penetration went
+    unrecorded this way)."""
+    set_piece(st, st[S_FIELD], EXPLICIT, TIME)
+    direction = 1.0 if mode == WVEL else -sgn
+    if ((mode == WVEL and sgn > 0.0) or (mode == UVEL and s < 0.0)) and v * direction <= 0.0:
+        ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, ta, x, v, direction, 0.0)
+    start_piece(p, st, cnt, d0, ta, x, v, 0.0)
+    return ev, n_ev
+
+
+@njit(cache=True)
+def stop_in_piece(st, t_end, x, v):
+    """The run ends inside a transformed piece at t_end: the state there, in time (a later
+    run resumes from it on a time piece)."""
+    set_piece(st, st[S_FIELD], st[S_SLOW], TIME)
+    st[S_TREF] = 0.0
+    store(st, t_end, x, v, t_end, 0.0)
+
+
+@njit(cache=True)
+def _switch_variable(p, st, cnt, d0, ta, x, v):
+    """Continue the motion in the variable st[S_MODE] (set by the caller): the next step
+    covers the time the old variable's next step would have (h_s dt/ds carried over),
+    instead of a fresh start from a small step."""
+    h_time = st[S_H] * d0[0]
+    start_piece(p, st, cnt, d0, ta, x, v, 0.0)
+    if h_time > 0.0 and d0[0] > 0.0 and h_time / d0[0] < math.inf:
+        st[S_H] = h_time / d0[0]
+
+
+@njit(cache=True)
+def _transformed_end(p, st, cnt, rs, ev, n_ev, d0, dt_step):
+    """A transformed piece reached the end of its variable's range: the exit (sqrt(h)), the
+    deepest penetration and the switch back to sqrt(h) (|v|^n3), v = 0 and the edge of the
+    friction band (asinh(v/eps)). Sets the next piece and starts it."""
+    mode, sgn = int(st[S_MODE]), st[S_SGN]
+    ta, x, v = st[S_T], st[S_X], st[S_V]
+    new_mode = mode
+    h = 0.0  # the next piece chooses its first step
+    if mode == SQRTH:  # s = 0: exit from the obstacle
+        ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_X_DOWN, ta, x, v, 0.0, dt_step)
+        new_mode = TIME
+    elif mode == WVEL and sgn > 0.0:  # s = 0: v = 0 at the deepest penetration
+        fs = stick_force(p, int(st[S_FIELD]), ta, x)
+        ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, ta, x, v, 1.0, dt_step)
+        new_mode = TIME
+        if st[S_SLOW] == EXPLICIT and fs < 0.0:  # restitution: v = -w^q with w from 0 up to |V1|^n3
+            new_mode = WVEL
+            st[S_SGN] = -1.0
+            st[S_S] = 0.0
+            st[S_V1] = RESTITUTION_SWITCH * st[S_V1] / CONTACT_SWITCH
+    elif mode == WVEL:  # |v| = V1 on the way out: sqrt(h) takes over to the exit
+        if x > p[P_XI]:
+            _set_variable(st, st[S_FIELD], SQRTH, -1.0, -math.sqrt(x - p[P_XI]))
+            _switch_variable(p, st, cnt, d0, ta, x, v)
+            return ev, n_ev
+        new_mode = TIME
+    elif st[S_S] == 0.0:  # UVEL at v = 0: an extremum of x in free flight
+        ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, ta, x, v, -sgn, dt_step)
+        if st[S_SLOW] == EXPLICIT:
+            # asinh(v/eps) is as smooth through v = 0 as before it: keep the step
+            h = st[S_H]
+            new_mode = UVEL
+        else:
+            new_mode = TIME
+    else:  # UVEL out of the friction band
+        new_mode = TIME
+    set_piece(st, st[S_FIELD], st[S_SLOW], new_mode)
+    start_piece(p, st, cnt, d0, ta, x, v, h)
+    return ev, n_ev
