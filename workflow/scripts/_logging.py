@@ -68,32 +68,114 @@ def mock_snakemake(rule, argv=None, **wildcards):
     """
     script = Path(sys._getframe(1).f_globals.get("__file__", "")).resolve()
     args = _parse_args(script, argv)
-    values = {**{k: str(v) for k, v in wildcards.items()}, **args.wildcards}
+    values = {**wildcards, **args.wildcards}
     workdir = Path(args.directory or ROOT).resolve()
     workdir.mkdir(parents=True, exist_ok=True)
-    with _workflow(args.configfile, workdir) as workflow:
-        job = _job(workflow, args.rule or rule, script, values, given=set(args.wildcards))
-        snakemake = _snakemake_object(workflow, job, script)
+    with open_workflow(args.configfile, workdir) as workflow:
+        snakemake = job_snakemake(workflow, args.rule or rule, values, script=script, typed=args.wildcards)
         config = " ".join(str(f) for f in workflow.configfiles)
     os.chdir(workdir)
-    missing = [(name, path) for name, path in _named(job.input) if not Path(path).exists()]
+    missing = [(name, path) for name, path in named_files(snakemake.input) if not Path(path).exists()]
     if missing:
-        raise SystemExit(_missing_message(job.rule.name, missing, args.configfile, args.directory))
+        raise SystemExit(_missing_message(snakemake.rule, missing, args.configfile, args.directory))
     for path in [*snakemake.output, *snakemake.log]:
         Path(path).parent.mkdir(parents=True, exist_ok=True)
-    wc = ", ".join(f"{k}={v}" for k, v in job.wildcards.items())
-    print(f"{job.rule.name}{f' ({wc})' if wc else ''} by hand in {workdir}, config {config}", file=sys.stderr)
+    wc = ", ".join(f"{k}={v}" for k, v in snakemake.wildcards.items())
+    print(f"{snakemake.rule}{f' ({wc})' if wc else ''} by hand in {workdir}, config {config}", file=sys.stderr)
     return snakemake
 
 
-def rule_scripts(configfiles=None):
-    """Every rule that runs a script, as {script path (absolute): [rule names]}, for a config."""
+class open_workflow:
+    """The parsed workflow (Snakefile and config files) with ``workdir`` as its working directory.
+
+    A context manager (Snakemake's API); ``configfiles`` as snakemake's --configfile.
+    """
+
+    def __init__(self, configfiles=None, workdir=ROOT):
+        self.configfiles, self.workdir = configfiles, workdir
+
+    def __enter__(self):
+        from snakemake.api import SnakemakeApi
+        from snakemake.settings.types import ConfigSettings, OutputSettings, ResourceSettings
+
+        self.api = SnakemakeApi(OutputSettings(enable_file_logging=False)).__enter__()
+        config = ConfigSettings(configfiles=[Path(f) for f in self.configfiles or []])
+        workflow_api = self.api.workflow(
+            ResourceSettings(cores=1), config, snakefile=ROOT / "Snakefile", workdir=self.workdir
+        )
+        workflow_api.dag()  # sets the DAG settings a job needs
+        return workflow_api._workflow
+
+    def __exit__(self, *exc):
+        self.api.__exit__(*exc)  # also changes back to the directory it started from
+
+
+def rule_scripts(workflow):
+    """Every rule of ``workflow`` that runs a script, as {script path (absolute): [rule names]}."""
     scripts = {}
-    with _workflow(configfiles, ROOT) as workflow:
-        for rule in workflow.rules:
-            if rule.script:
-                scripts.setdefault(_script_path(rule), []).append(rule.name)
+    for rule in workflow.rules:
+        if rule.script:
+            scripts.setdefault(_script_path(rule), []).append(rule.name)
     return scripts
+
+
+def job_snakemake(workflow, name, wildcards, script=None, typed=()):
+    """The ``snakemake`` object of the job of rule ``name`` with ``wildcards`` (those the rule has).
+
+    With ``script``: the rule must run it. ``typed``: wildcards given by hand, which the rule
+    must have (defaults it lacks are left out, as for a shared script's other rules).
+    """
+    from snakemake.dag import DAG
+    from snakemake.iocontainers import Snakemake
+    from snakemake.jobs import Job
+
+    ours = sorted(rule_scripts(workflow).get(script, [])) if script else []
+    if not workflow.is_rule(name):
+        raise SystemExit(f"no rule {name} with this config; rules that run {script.name}: {', '.join(ours) or 'none'}")
+    rule = workflow.get_rule(name)
+    if script and (not rule.script or _script_path(rule) != script):
+        raise SystemExit(f"rule {name} does not run {script.name}; the rules that do: {', '.join(ours) or 'none'}")
+    unknown = sorted(set(typed) - set(rule.wildcard_names))
+    missing = sorted(set(rule.wildcard_names) - set(wildcards))
+    if unknown or missing:
+        need = " ".join(f"{w}=VALUE" for w in sorted(rule.wildcard_names)) or "no wildcards"
+        raise SystemExit(
+            f"rule {name} takes {need}"
+            + (f"; unknown: {', '.join(unknown)}" if unknown else "")
+            + (f"; missing: {', '.join(missing)}" if missing else "")
+        )
+    order = sorted(rule.wildcard_names, key=lambda w: str(rule.output[0]).find("{" + w))  # as the DAG lists them
+    job = Job(rule, DAG(workflow, rules=[rule]), {w: str(wildcards[w]) for w in order})
+    if rule.wildcard_names and not rule.is_producer(job.output[0]):
+        wc = ", ".join(f"{k}={v}" for k, v in job.wildcards.items())
+        raise SystemExit(f"rule {name} makes no job with {wc} (its wildcard constraints: {rule.wildcard_constraints})")
+    scriptdir = str(_script_path(rule).parent) if rule.script else None
+    return Snakemake(
+        job.input,
+        job.output,
+        job.params,
+        job.wildcards,
+        job.threads,
+        job.resources,
+        job.log,
+        workflow.config,
+        rule.name,
+        None,
+        scriptdir,
+    )
+
+
+def named_files(files):
+    """(name, path) of every file of a Namedlist (snakemake.input, .output), "[i]" for an unnamed one."""
+    names = {}
+    for name, (start, end) in files._get_names():
+        for i in range(start, start + 1 if end is None else end):
+            names[i] = name
+    return [(names.get(i, f"[{i}]"), str(path)) for i, path in enumerate(files)]
+
+
+def _script_path(rule):
+    return Path(rule.basedir.get_path_or_uri(secret_free=True), rule.script).resolve()
 
 
 def _parse_args(script, argv):
@@ -123,86 +205,6 @@ def _parse_args(script, argv):
     return args
 
 
-class _workflow:
-    """The parsed workflow (Snakefile and config) with ``workdir`` as Snakemake's working directory."""
-
-    def __init__(self, configfiles, workdir):
-        self.configfiles, self.workdir = configfiles, workdir
-
-    def __enter__(self):
-        from snakemake.api import SnakemakeApi
-        from snakemake.settings.types import ConfigSettings, OutputSettings, ResourceSettings
-
-        self.api = SnakemakeApi(OutputSettings(enable_file_logging=False)).__enter__()
-        config = ConfigSettings(configfiles=[Path(f) for f in self.configfiles or []])
-        workflow_api = self.api.workflow(
-            ResourceSettings(cores=1), config, snakefile=ROOT / "Snakefile", workdir=self.workdir
-        )
-        workflow_api.dag()  # sets the DAG settings a job needs
-        return workflow_api._workflow
-
-    def __exit__(self, *exc):
-        self.api.__exit__(*exc)  # also changes back to the directory it started from
-
-
-def _script_path(rule):
-    return Path(rule.basedir.get_path_or_uri(secret_free=True), rule.script).resolve()
-
-
-def _job(workflow, name, script, values, given):
-    """The job of rule ``name`` with the wildcards ``values`` (``given``: those typed by hand)."""
-    from snakemake.dag import DAG
-    from snakemake.jobs import Job
-
-    ours = sorted(r.name for r in workflow.rules if r.script and _script_path(r) == script)
-    if not workflow.is_rule(name):
-        raise SystemExit(f"no rule {name} with this config; rules that run {script.name}: {', '.join(ours) or 'none'}")
-    rule = workflow.get_rule(name)
-    if not rule.script or _script_path(rule) != script:
-        raise SystemExit(f"rule {name} does not run {script.name}; the rules that do: {', '.join(ours) or 'none'}")
-    unknown = sorted(set(given) - set(rule.wildcard_names))
-    missing = sorted(set(rule.wildcard_names) - set(values))
-    if unknown or missing:
-        need = " ".join(f"{w}=VALUE" for w in sorted(rule.wildcard_names)) or "no wildcards"
-        raise SystemExit(
-            f"rule {name} takes {need}"
-            + (f"; unknown: {', '.join(unknown)}" if unknown else "")
-            + (f"; missing: {', '.join(missing)}" if missing else "")
-        )
-    job = Job(rule, DAG(workflow, rules=[rule]), {w: values[w] for w in rule.wildcard_names})
-    if rule.wildcard_names and not rule.is_producer(job.output[0]):
-        wc = ", ".join(f"{k}={v}" for k, v in job.wildcards.items())
-        raise SystemExit(f"rule {name} makes no job with {wc} (its wildcard constraints: {rule.wildcard_constraints})")
-    return job
-
-
-def _snakemake_object(workflow, job, script):
-    from snakemake.iocontainers import Snakemake
-
-    return Snakemake(
-        job.input,
-        job.output,
-        job.params,
-        job.wildcards,
-        job.threads,
-        job.resources,
-        job.log,
-        workflow.config,
-        job.rule.name,
-        None,
-        str(script.parent),
-    )
-
-
-def _named(files):
-    """(name, path) of every file of a Namedlist, name "input[i]" for an unnamed one."""
-    names = {}
-    for name, (start, end) in files._get_names():
-        for i in range(start, start + 1 if end is None else end):
-            names[i] = name
-    return [(names.get(i, f"[{i}]"), str(path)) for i, path in enumerate(files)]
-
-
 def _missing_message(rule, missing, configfiles, directory):
     lines = [f"{rule}: missing input, not built by a script run by hand:"]
     lines += [f"  input.{name}: {path}" for name, path in missing]
@@ -212,5 +214,5 @@ def _missing_message(rule, missing, configfiles, directory):
     command += sorted({path for _, path in missing})
     if configfiles:
         command += ["--configfile", *configfiles]
-    lines += [f"build it first (in {ROOT}):", "  " + shlex.join(command)]
+    lines += [f"build {'it' if len(command) == 3 else 'them'} first (in {ROOT}):", "  " + shlex.join(command)]
     return "\n".join(lines)
