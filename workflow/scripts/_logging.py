@@ -56,7 +56,7 @@ def configure_logging(snakemake=None, level=logging.INFO):
 def mock_snakemake(rule, argv=None, **wildcards):
     """The ``snakemake`` object of one job of ``rule``, for its script run by hand.
 
-    ``rule`` names the rule the script runs (where several rules share the script, the default
+    ``rule`` names the rule the calling script runs (where several rules share the script, the default
     one: ``--rule`` on the command line picks another), ``wildcards`` default wildcard values.
     The command line (``argv``, default ``sys.argv[1:]``) takes NAME=VALUE wildcards,
     ``--configfile`` (as snakemake's: on top of config/config.yaml) and ``-d``/``--directory``
@@ -64,10 +64,12 @@ def mock_snakemake(rule, argv=None, **wildcards):
     wildcards, threads, resources, log and config are Snakemake's own, from the Snakefile;
     paths stay relative to the working directory, which becomes the current one (as in a job).
     Inputs are never built: a missing one stops the script with the snakemake command that
-    builds it. The folders of the outputs and the log are created.
+    builds it. The folders of the outputs and the log are created. Called from an interactive
+    session (no ``__file__``), it reads no command line and runs no check of the script.
     """
-    script = Path(sys._getframe(1).f_globals.get("__file__", "")).resolve()
-    args = _parse_args(script, argv)
+    caller = sys._getframe(1).f_globals.get("__file__")  # None in an interactive session
+    script = Path(caller).resolve() if caller else None
+    args = _parse_args(script, argv if argv is not None or script else [])
     values = {**wildcards, **args.wildcards}
     workdir = Path(args.directory or ROOT).resolve()
     workdir.mkdir(parents=True, exist_ok=True)
@@ -131,7 +133,8 @@ def job_snakemake(workflow, name, wildcards, script=None, typed=()):
 
     ours = sorted(rule_scripts(workflow).get(script, [])) if script else []
     if not workflow.is_rule(name):
-        raise SystemExit(f"no rule {name} with this config; rules that run {script.name}: {', '.join(ours) or 'none'}")
+        also = f"; rules that run {script.name}: {', '.join(ours) or 'none'}" if script else ""
+        raise SystemExit(f"no rule {name} with this config{also}")
     rule = workflow.get_rule(name)
     if script and (not rule.script or _script_path(rule) != script):
         raise SystemExit(f"rule {name} does not run {script.name}; the rules that do: {', '.join(ours) or 'none'}")
@@ -179,12 +182,9 @@ def _script_path(rule):
 
 
 def _parse_args(script, argv):
-    try:
-        shown = script.relative_to(ROOT)
-    except ValueError:
-        shown = script
+    shown = script.relative_to(ROOT) if script and script.is_relative_to(ROOT) else script
     parser = argparse.ArgumentParser(
-        prog=f"python {shown}",
+        prog=f"python {shown or 'workflow/scripts/<script>.py'}",
         description="Run this rule's script outside Snakemake, on the inputs the workflow built.",
     )
     parser.add_argument("wildcards", nargs="*", metavar="NAME=VALUE", help="a wildcard of the job")
