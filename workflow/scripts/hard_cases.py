@@ -1,7 +1,7 @@
 """Run every hard case at full size and write the table of checks.
 
-Reads input.cache and params.hc (the hard_cases config, model); writes output.csv (one row per check:
-case, check, measured, bound, unit, passed, detail) and a log of every measurement.
+Reads input.cache and params.hc (config hard_cases); writes output.csv (one row per check: case, check,
+measured, bound, unit, passed, detail) and a log of every measurement.
 """
 
 from _logging import configure_logging, mock_snakemake
