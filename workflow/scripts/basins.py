@@ -1,13 +1,13 @@
-"""Join the row groups of the basin map, classify rest (0, 0), count and draw.
+"""Join the row groups of the basin map, classify rest (0, 0), count and draw (rules basins, basins_fine).
 
-Reads snakemake.input.parts (basin HDF5 row groups, in order) and snakemake.params (basins
-settings, model, solver); writes snakemake.output.map (joined HDF5, with the class of rest as
-attributes), snakemake.output.table (CSV: cells, fraction and its binomial standard error per
-class, which class rest lands on), snakemake.output.png/.pdf and a log.
+Reads input.parts (basin HDF5 row groups, in order), input.cache, params; writes output.map (joined HDF5),
+output.table (CSV: cells and fraction per class, where rest lands), output.png, output.pdf.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("basins")
 configure_logging(snakemake)
 
 import logging

@@ -1,13 +1,13 @@
 """One job of the basin map: a group of v0 rows of the grid, every cell classified.
 
-Reads snakemake.params (basins settings, the grid of this target: n_x, n_v, chunks; model,
-solver; part k of chunks); writes snakemake.output.part (HDF5 of those rows,
-impactosc.dynamics.basins format: classes, periods run, end states, the reference attractors) and
-a log with the CPU time.
+Reads input.cache and params (basins settings, grid, model, solver, part); writes output.part (HDF5 of
+those rows, impactosc.dynamics.basins format) and a log with the CPU time.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("basins_part", grid="coarse", chunk=0)
 configure_logging(snakemake)
 
 import logging

@@ -1,15 +1,13 @@
-"""Benchmark the core against the compiled peers (CyRK, heyoka's floor) and SciPy DOP853 on the chaotic scene.
+"""Benchmark the core against the compiled peers (CyRK, heyoka's floor) and SciPy DOP853, chaotic scene.
 
-Reads params bc (config benchmark_core: core rtols, repeats, SciPy rtols, peers, max_error);
-writes snakemake.output.csv (one row per solver and rtol, the same columns for every
-contestant; impactosc_bench.core_speed.measure_core_speed), .headline (the core's fastest run at
-impact-time error <= max_error, the fastest compiled peer and SciPy at the same bound, their
-time ratios; core_speed.core_speed_headline) and .md (both tables, JIT times, the SciPy ratio at each
-rtol, the peers that were skipped).
+Reads input.cache, input.shim, input.jit and params.bc (config benchmark_core); writes output.csv (one row
+per solver and rtol), output.headline (the core's lead at equal impact-time error) and output.md.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("benchmark_core")
 configure_logging(snakemake)
 
 import logging

@@ -1,14 +1,13 @@
-"""Taylor steps against the core's DOP853 steps and heyoka, piece by piece (rule benchmark_taylor).
+"""Taylor steps against the core's DOP853 steps and heyoka, piece by piece.
 
-Reads params.bt (config benchmark_taylor: rtols, orders, projection_rtol, repeats, inner) and
-input.headline (benchmark_core's headline: the lead over the fastest compiled peer today);
-writes output.csv (one row per piece x method x rtol; impactosc_bench.taylor_pieces.measure)
-and output.md (the table, the core's time per period projected from the pieces, and a Taylor
-method in time through the friction band).
+Reads input.cache, input.headline (benchmark_core's headline) and params.bt (config benchmark_taylor);
+writes output.csv (one row per piece x method x rtol) and output.md (the table and the projections).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("benchmark_taylor")
 configure_logging(snakemake)
 
 import logging

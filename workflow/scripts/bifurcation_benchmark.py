@@ -1,13 +1,13 @@
 """Throughput of the bifurcation sweeps: w values per second per core, and the wall time.
 
-Reads snakemake.input.sweeps (merged sweep files with per-job timing); writes
-snakemake.output.json: per sweep the CPU seconds (sum over its jobs), w values per second
-per core, and over all sweeps the span from the first job's start to the last job's end
-(the wall time of the sweep jobs under the -j used), and a log.
+Reads input.sweeps (merged sweep files with per-job timing); writes output.json (per sweep the CPU seconds
+and w values per second per core; over all sweeps the wall time of the sweep jobs).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("bifurcation_benchmark")
 configure_logging(snakemake)
 
 import json

@@ -1,12 +1,13 @@
-"""One job of a chunked continuation sweep: the coarse seeding pass, or one chunk.
+"""One job of a chunked continuation sweep (rules bifurcation_coarse: the seeding pass, bifurcation_chunk).
 
-Reads snakemake.params (grid, per-w settings, model, solver, stride, chunking) and, for a
-chunk after the first, snakemake.input.seeds (the coarse pass); writes snakemake.output[0]
-(sweep HDF5, impactosc.dynamics.sweep format, with start/finish times for the benchmark) and a log.
+Reads input.cache, params (grid, per-w settings, model, solver, stride, chunking) and, for a chunk after
+the first, input.seeds (the coarse pass); writes output.seeds or output.chunk (sweep HDF5, with timing).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("bifurcation_chunk", sweep="decreasing", chunk=0)
 configure_logging(snakemake)
 
 import logging

@@ -1,14 +1,13 @@
-"""Draw one bifurcation figure: fig02 (Poincare, increasing w), fig03b (ISIs, decreasing w)
-or the supplementary overlay of both directions.
+"""Draw one bifurcation figure (rules fig02, fig03b, bifurcation_overlay; params.figure).
 
-Reads snakemake.input.sweeps (sweep files named by snakemake.params.names), the diagram
-reading snakemake.input.stats (transitions to mark) and, for fig02, an optional measured
-diagram (snakemake.params.experimental) and the model's source to name
-(snakemake.params.model_source); writes snakemake.output.png/.pdf and a log.
+Reads input.sweeps (named by params.names), input.stats (the diagram reading: transitions to mark) and, for
+fig02, input.experimental (a measured diagram, optional); writes output.png, output.pdf.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("fig02")
 configure_logging(snakemake)
 
 import json

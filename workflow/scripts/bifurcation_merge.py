@@ -1,13 +1,13 @@
 """Join the chunks of one sweep into the sweep file the figures and tables read.
 
-Reads snakemake.input.chunks (chunk sweep files, in order) and snakemake.input.coarse
-(the seeding pass, if the sweep was chunked; only its timing is kept); writes
-snakemake.output.sweep (impactosc.dynamics.sweep format) whose attributes list every job's start,
-finish and number of w values (for the benchmark) and a log.
+Reads input.chunks (chunk sweep files, in order) and input.coarse (the seeding pass: only its timing is
+kept); writes output.sweep (impactosc.dynamics.sweep format, every job's start, finish and w count).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("bifurcation_merge", sweep="decreasing")
 configure_logging(snakemake)
 
 import logging

@@ -1,13 +1,13 @@
 """Read the bifurcation diagrams: periods, transitions, grazing, hysteresis, paper rows.
 
-Reads snakemake.input.sweeps (sweep files named by snakemake.params.names) and, if given,
-snakemake.input.grazing (the grazing group's results/stats/periodic/grazing.json); writes
-snakemake.output: per_w, segments, transitions (CSV tables), stats (JSON digest the
-figures mark transitions from), rows (paper-vs-replication rows), and a log.
+Reads input.sweeps (named by params.names) and input.grazing (results/stats/periodic/grazing.json); writes
+output.per_w, output.segments, output.transitions (CSV), output.stats (JSON digest), output.rows.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("bifurcation_tables")
 configure_logging(snakemake)
 
 import logging

@@ -1,13 +1,13 @@
-"""The build-time table (rule build_times).
+"""The build-time table: wall and CPU time of every job of the default build, per group.
 
-Reads snakemake.input.benchmarks (the benchmark file of every job of the default build) and
-snakemake.params.largest (how many of the longest jobs to list); writes snakemake.output.csv
-(one row per group and a total: jobs, wall and CPU time, share, longest job) and .md (the same,
-then the longest jobs), with impactosc_study.build_times.
+Reads input.benchmarks (every job's benchmark file) and params.largest; writes output.csv (one row per
+group and a total) and output.md (the same, then the longest jobs).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("build_times")
 configure_logging(snakemake)
 
 import logging

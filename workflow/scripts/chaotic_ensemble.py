@@ -1,12 +1,13 @@
 """Spread of the key statistics over realisations of the chaotic attractor.
 
-Reads the run files in snakemake.input.runs (the scene and its re-runs with other
-tolerances / initial states); writes snakemake.output.json (ensemble_summary) and
-snakemake.output.csv (one row of key numbers per run).
+Reads input.runs (the scene and its re-runs with other tolerances or initial states); writes output.json
+(ensemble_summary) and output.csv (one row of key numbers per run).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("chaotic_ensemble")
 configure_logging(snakemake)
 
 import logging

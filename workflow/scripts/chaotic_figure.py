@@ -1,12 +1,13 @@
-"""Draw one of the paper's Figs 6-11 (chaotic regime).
+"""Draw one of the paper's Figs 6-11, the chaotic regime (rules fig06 to fig11; params.figure).
 
-Reads snakemake.input.run (Figs 6, 7: the scene's run file) or snakemake.input.stats
-(Figs 8-11: statistics JSONs, model first, then an optional second train); writes
-snakemake.output.png and .pdf.  All drawing lives in impactosc_study.figures.chaotic.
+Reads input.run (Figs 6, 7: the scene's run file) or input.stats (Figs 8-11: statistics JSONs, model
+first); writes output.png, output.pdf (drawing in impactosc_study.figures.chaotic).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("fig06")
 configure_logging(snakemake)
 
 import logging

@@ -1,12 +1,13 @@
 """Section 2.2 rows of the paper-vs-replication table and the ISI mixture table.
 
-Reads snakemake.input.model (statistics JSON of the scene's train), .ensemble (spread over
-realisations) and .run (the scene's trajectory window, for the Fig 6b spectrum); writes
-snakemake.output.rows (results/tables/chaotic/paper_rows.csv) and .mixture (isi_mixture.csv).
+Reads input.model (statistics JSON of the scene's train), input.ensemble (spread over realisations) and
+input.run (its trajectory window, for Fig 6b's spectrum); writes output.rows and output.mixture (CSV).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("chaotic_stats")
 configure_logging(snakemake)
 
 import logging

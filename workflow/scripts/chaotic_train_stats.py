@@ -1,11 +1,13 @@
 """Statistics of one impact train (model run or measured/surrogate record).
 
-Reads snakemake.input.events (HDF5 run-file contract) and the analysis options in
-snakemake.params.analysis; writes snakemake.output.json (impactosc.statistics.train_analysis.analyse_train).
+Reads input.events (HDF5 run file) and params.analysis; writes output.json
+(impactosc.statistics.train_analysis.analyse_train).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("chaotic_train_stats", train="model")
 configure_logging(snakemake)
 
 import logging

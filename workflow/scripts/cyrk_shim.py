@@ -1,11 +1,13 @@
-"""Build the CyRK shim of the compiled peers once (impactosc_bench.cyrk_shim), before the
-timing jobs need it. Reads nothing; writes snakemake.output.marker (JSON: built, the seconds it
-took, or why the peers cannot run here: a missing peers extra is a note, not a failure; the
-timing jobs then report the peers as unavailable).
+"""Build the CyRK shim of the compiled peers once (impactosc_bench.cyrk_shim), before the timing jobs.
+
+Reads nothing; writes output.marker (JSON: built and the seconds it took, or why the peers cannot run
+here: a missing peers extra is a note, not a failure, and the timing jobs report the peers unavailable).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("cyrk_shim")
 configure_logging(snakemake)
 
 import logging

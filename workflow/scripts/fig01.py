@@ -1,8 +1,12 @@
-"""Fig 1: schematic of the rig with the symbols of model BC. Reads nothing; writes
-snakemake.output.png and .pdf."""
+"""Fig 1: schematic of the rig with the symbols of model BC.
 
-from _logging import configure_logging
+Reads nothing; writes output.png, output.pdf.
+"""
 
+from _logging import configure_logging, mock_snakemake
+
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("fig01")
 configure_logging(snakemake)
 
 import logging

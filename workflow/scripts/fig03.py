@@ -1,11 +1,13 @@
 """Fig 3: (a) construction of the impact map on x(t), (b) the ISI bifurcation diagram.
 
-Reads snakemake.input.run (run file with a trajectory window), snakemake.input.sweeps (the
-decreasing sweep) and snakemake.input.stats (its reading); writes snakemake.output.png/.pdf.
+Reads input.run (run file with a trajectory window), input.sweeps (the decreasing sweep) and input.stats
+(its reading); writes output.png, output.pdf.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("fig03")
 configure_logging(snakemake)
 
 import json

@@ -1,11 +1,13 @@
 """Fig 3a: construction of the impact map on a stretch of x(t).
 
-Reads snakemake.input.run (a run file with a trajectory window) and snakemake.params
-(start, span in s); writes snakemake.output.png and .pdf.
+Reads input.run (a run file with a trajectory window) and params.start, params.span (s); writes
+output.png, output.pdf.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("fig03a")
 configure_logging(snakemake)
 
 import logging

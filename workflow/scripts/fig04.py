@@ -1,12 +1,13 @@
 """Fig 4: phase portraits before (23.05, branch) and after (23.03) the grazing, and the spectrum.
 
-Reads snakemake.input.before / .after (run files with trajectory windows), .spectrum (Fig 4c
-spectrum JSON), .stats and .before_stats (periodic.json, before_grazing.json: inset notes); writes
-snakemake.output.png and .pdf.
+Reads input.before, input.after (run files with trajectory windows), input.spectrum (Fig 4c), input.stats
+and input.before_stats (inset notes); writes output.png, output.pdf.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("fig04")
 configure_logging(snakemake)
 
 import json

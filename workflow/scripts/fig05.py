@@ -1,11 +1,12 @@
 """Fig 5: successive iterations S_{j+1} vs S_j and the histogram of the S_j at w = 23.03.
 
-Reads snakemake.input.run (the period-4 scene) and .stats (periodic.json); writes
-snakemake.output.png and .pdf.
+Reads input.run (the period-4 scene) and input.stats (periodic.json); writes output.png, output.pdf.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("fig05")
 configure_logging(snakemake)
 
 import json

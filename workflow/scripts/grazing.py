@@ -1,10 +1,12 @@
 """Supplementary figure: the grazing bifurcation located (gap and impact count vs w, bracket).
 
-Reads snakemake.input.stats (results/stats/periodic/grazing.json); writes snakemake.output.png and .pdf.
+Reads input.stats (results/stats/periodic/grazing.json); writes output.png, output.pdf.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("grazing")
 configure_logging(snakemake)
 
 import json

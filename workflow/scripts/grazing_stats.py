@@ -1,12 +1,13 @@
 """Statistics of the grazing: bracket, gap extrapolation, attractors at the paper's w.
 
-Reads snakemake.input.branch and .from_rest (sweep HDF5) and .bisection (JSON); writes
-snakemake.output.stats (results/stats/periodic/grazing.json: the claim and the per-w arrays the
-supplementary figure plots).
+Reads input.branch, input.from_rest (sweep HDF5) and input.bisection (JSON); writes output.stats (JSON: the
+claim and the per-w arrays the supplementary figure plots).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("grazing_stats")
 configure_logging(snakemake)
 
 import logging

@@ -1,12 +1,13 @@
 """Run every hard case at full size and write the table of checks.
 
-Reads snakemake.params (model, the hard_cases config); writes snakemake.output.csv (one row
-per check: case, check, measured, bound, unit, passed, detail; see
-impactosc_bench.hardcases.run_all) and a log of every measurement.
+Reads input.cache and params.hc (config hard_cases); writes output.csv (one row per check: case, check,
+measured, bound, unit, passed, detail) and a log of every measurement.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("hard_cases")
 configure_logging(snakemake)
 
 import logging

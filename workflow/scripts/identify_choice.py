@@ -1,11 +1,12 @@
 """Merge the model-choice candidates into the table of which model the records support.
 
-Reads snakemake.input.parts (one row per candidate); writes snakemake.output.csv and .md
-(ranked by BIC: impactosc.identification.choice.rank).
+Reads input.parts (one row per candidate); writes output.csv and output.md (ranked by BIC).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("identify_choice")
 configure_logging(snakemake)
 
 import logging

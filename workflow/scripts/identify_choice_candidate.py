@@ -1,12 +1,13 @@
 """Fit one candidate of the model choice (contact law x friction) on the configured records.
 
-Reads snakemake.input.records, params.identification (read, mass, stages, choice.every),
-params.model, params.solver; wildcards.candidate numbers impactosc.identification.choice.candidates();
-writes snakemake.output.json with the candidate's row (fit, held-out error, AIC, BIC).
+Reads input.cache, input.records, params (identification, model, solver) and wildcards.candidate (a number
+of impactosc.identification.choice.candidates()); writes output.json (fit, held-out error, AIC, BIC).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("identify_choice_candidate", candidate=0)
 configure_logging(snakemake)
 
 import logging

@@ -1,11 +1,13 @@
 """Merge the coverage draws: per parameter, how often the truth lies within 1 and 2 standard errors.
 
-Reads snakemake.input.parts; writes snakemake.output.csv (the per-parameter table), .md (with the
-branch comparison) and .draws (every draw).
+Reads input.parts; writes output.csv (the per-parameter table), output.md (with the branch comparison)
+and output.draws (every draw).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("identify_coverage")
 configure_logging(snakemake)
 
 import logging

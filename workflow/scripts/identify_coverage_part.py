@@ -1,11 +1,13 @@
 """One part of the identification coverage study: draws part, part + parts, ... of the seeds.
 
-Reads snakemake.params.coverage (identification.coverage) and wildcards.part; writes
-snakemake.output.json with one row per draw (impactosc_study.coverage.identification_draw).
+Reads input.cache, params.coverage (identification.coverage) and wildcards.part; writes output.json (one
+row per draw, impactosc_study.coverage.identification_draw).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("identify_coverage_part", part=0)
 configure_logging(snakemake)
 
 import logging

@@ -1,12 +1,13 @@
 """Draw the identification figure: measured against simulated windows, residuals, parameters.
 
-Reads snakemake.input.windows (impactosc.identification.report.write_fit_windows) and
-snakemake.input.csv (the parameter table); writes snakemake.output.png and .pdf (drawing in
-impactosc_study.figures.identification).
+Reads input.windows (the fitted windows) and input.csv (the parameter table); writes output.png,
+output.pdf (drawing in impactosc_study.figures.identification).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("identify_figure")
 configure_logging(snakemake)
 
 import math

@@ -1,13 +1,13 @@
 """Identify the model from the configured records (or the surrogate record set).
 
-Reads snakemake.input.records (record files or record sets; read as params.identification.read
-says), params.identification (mass, stages), params.model (the stated model: start of nothing but
-the fixed values and m), params.solver; writes snakemake.output.model (the model file,
-impactosc.model.model_file), .windows (fitted windows for the figure), .csv and .md (parameter table).
+Reads input.cache, input.records and params (identification, model, solver); writes output.model (the
+model file), output.windows (fitted windows, for the figure), output.csv and output.md (parameters).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("identify_model")
 configure_logging(snakemake)
 
 import logging

@@ -1,14 +1,16 @@
 """Write the surrogate records identification uses while no rig records are configured.
 
-Reads snakemake.params (identification.surrogate: w values, transient, duration; surrogate:
-measured.surrogate's rate, noise, mismatch, seed; model; solver); writes snakemake.output.records,
-a record set (one record per w, impactosc.records.formats.write_record_set), each labelled
-"surrogate (model + noise)". The sensor-realism options are left out: the identified model has
-no sensor chain, so a filter's delay would only bias it.
+Reads input.cache and params (identification.surrogate, measured.surrogate, model, solver); writes
+output.records (a record set, one record per w, labelled "surrogate (model + noise)").
+
+The sensor-realism options are left out: the identified model has no sensor chain, so a filter's
+delay would only bias it.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("identify_surrogate")
 configure_logging(snakemake)
 
 import logging

@@ -1,11 +1,13 @@
 """Merge the chaotic spectrum's realisations and checks: statistics, table and figure.
 
-Reads snakemake.input.runs (lyapunov_members files) and .checks; writes snakemake.output.stats
-(JSON), .table (Markdown), .png/.pdf (the convergence figure) and a log.
+Reads input.runs (lyapunov_members files) and input.checks; writes output.stats (JSON), output.table
+(Markdown), output.png, output.pdf (the convergence figure).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("lyapunov_chaos")
 configure_logging(snakemake)
 
 import logging

@@ -1,13 +1,13 @@
-"""Checks of the chaotic spectrum on the first realisation's own Poincare points: other tangent
-numerics (core rtol, difference step) on the same points, and the sum of the exponents against
-the divergence of the vector field integrated by the variational equations (SciPy).
+"""Checks of the chaotic spectrum: other tangent numerics on the same points, and the exponents' sum.
 
-Reads snakemake.input.run (the first lyapunov_members file) and snakemake.params.chaos
-(check_points, checks, identity_periods), .model; writes snakemake.output.checks (JSON) and a log.
+Reads input.run (the first lyapunov_members file), params.chaos and params.model; writes output.checks
+(JSON: the spectrum at other core rtol and difference step, the sum against the mean divergence).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("lyapunov_checks")
 configure_logging(snakemake)
 
 import logging

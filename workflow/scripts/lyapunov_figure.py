@@ -1,12 +1,13 @@
-"""Draw a bifurcation diagram with the largest Lyapunov exponent under it (params.quantity:
-poincare for Fig 2, isi for Fig 3b).
+"""A bifurcation diagram with the largest Lyapunov exponent under it (rules fig02_lyapunov, fig03b_lyapunov).
 
-Reads snakemake.input.sweep and .lambdas (the same sweep's lambda1 CSV); writes
-snakemake.output.png/.pdf and a log.
+Reads input.sweep and input.lambdas (the same sweep's lambda1 CSV), params.quantity (poincare for Fig 2,
+isi for Fig 3b); writes output.png, output.pdf.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("fig02_lyapunov")
 configure_logging(snakemake)
 
 import logging

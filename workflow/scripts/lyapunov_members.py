@@ -1,15 +1,16 @@
-"""Realisations of the chaotic attractor's Lyapunov spectrum, one per start x0, all in one job
-(a job's start-up is over a third of a realisation's time): settle from (x0, 0), then the
-tangent run with QR every period.
+"""Realisations of the chaotic attractor's Lyapunov spectrum, one per start x0, all in one job.
 
-Reads snakemake.params.chaos (omega, transient, n_periods, x0: the starts) and .model; writes
-snakemake.output.runs (one JSON per start, in order: exponents per period and per second,
-Kaplan-Yorke dimension, the running estimates, log det J and the Poincare point of every
-period, the cost) and a log.
+Reads input.cache, params.chaos (omega, transient, n_periods, x0) and params.model; writes output.runs
+(one JSON per start, in order: exponents, Kaplan-Yorke dimension, running estimates, the cost).
+
+One job, because a job's start-up is over a third of a realisation's time: each settles from (x0, 0),
+then runs the tangent dynamics with a QR step every period.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("lyapunov_members")
 configure_logging(snakemake)
 
 import logging

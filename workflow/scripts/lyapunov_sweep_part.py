@@ -1,12 +1,13 @@
-"""The largest Lyapunov exponent at one chunk of a sweep's w values, each from the sweep's last
-Poincare point there (on the attractor the sweep settled on).
+"""The largest Lyapunov exponent at one chunk of a sweep's w values, from the sweep's last Poincare points.
 
-Reads snakemake.input.sweep and snakemake.params.sweeps (n_periods, n_discard, chunks, rtol), .part and
-.model; writes snakemake.output.part (CSV: omega, lambda1 per period) and a log.
+Reads input.sweep, params.sweeps (n_periods, n_discard, chunks, rtol), params.part and params.model;
+writes output.part (CSV: omega, lambda1 per period).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("lyapunov_sweep_part", sweep="decreasing", chunk=0)
 configure_logging(snakemake)
 
 import logging

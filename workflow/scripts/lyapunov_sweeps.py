@@ -1,11 +1,13 @@
 """Join the largest exponent's sweep parts and set its sign against each sweep's periods.
 
-Reads snakemake.input.parts (per sweep, chunks in order), .per_w and .transitions (the sweeps'
-reading) and .orbits (the continued segments, whose located bifurcations count as transitions); writes snakemake.output.lambdas (one CSV per sweep), .signs (Markdown table) and a log.
+Reads input.parts (per sweep, chunks in order), input.per_w, input.transitions (the sweeps' reading) and
+input.orbits (the continued segments); writes output.lambdas (one CSV per sweep), output.signs (Markdown).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("lyapunov_sweeps")
 configure_logging(snakemake)
 
 import logging

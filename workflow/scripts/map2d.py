@@ -1,11 +1,13 @@
 """Join the row groups of the 2-D map and draw it.
 
-Reads snakemake.input.parts (map HDF5 row groups, in order); writes snakemake.output.map
-(joined map HDF5), snakemake.output.png/.pdf and a log.
+Reads input.parts (map HDF5 row groups, in order); writes output.map (joined map HDF5), output.png,
+output.pdf.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("map2d")
 configure_logging(snakemake)
 
 import logging

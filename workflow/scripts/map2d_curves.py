@@ -1,12 +1,13 @@
 """The two-parameter curves drawn over the 2-D map, and the map's cells checked against them.
 
-Reads snakemake.input.map (the joined map HDF5) and snakemake.input.curves (named by
-snakemake.params.names), snakemake.params.model and .marks (the paper's scenes); writes
-snakemake.output.png/.pdf, .separation (CSV: one row per check) and .md (its summary), and a log.
+Reads input.map (the joined map), input.curves (named by params.names) and input.table; writes
+output.png, output.pdf, output.separation (CSV: one row per check) and output.md (its summary).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("map2d_curves")
 configure_logging(snakemake)
 
 import logging

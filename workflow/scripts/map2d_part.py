@@ -1,11 +1,13 @@
 """One job of the 2-D map: a group of rows (parameter values), each a continuation in w.
 
-Reads snakemake.params (map settings, per-w settings, model, solver, reading, part k of
-n); writes snakemake.output.part (map HDF5 of those rows, impactosc.dynamics.maps format) and a log.
+Reads input.cache and params (map and per-w settings, model, solver, reading, part); writes output.part
+(map HDF5 of those rows, impactosc.dynamics.maps format).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("map2d_part", chunk=0)
 configure_logging(snakemake)
 
 import logging

@@ -1,13 +1,13 @@
 """Extract impact events from one record (measured or surrogate).
 
-Reads snakemake.input.record (impactosc.records.formats format; a TDMS record's group and
-channels from snakemake.params.reader), x_impact and noise from snakemake.params (None:
-metadata / estimated); writes snakemake.output.events in the
-run-file contract (impactosc.io.files) so the chaotic statistics treat it like a simulation.
+Reads input.record (impactosc.records.formats format), params.x_impact, params.noise (None: from the
+metadata, or estimated) and params.reader (a TDMS record's channels); writes output.events (a run file).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("measured_chaos_events")
 configure_logging(snakemake)
 
 import logging

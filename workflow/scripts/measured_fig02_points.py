@@ -1,15 +1,13 @@
 """Measured Poincare points for the Fig 2 left panel: per-w records, or one slow-sweep record.
 
-Reads snakemake.input.records: a record set (HDF5 or CSV manifest, impactosc.records.formats),
-or, when snakemake.params.segments is set (config measured.fig02.sweep_record), one record of
-a slow sweep of w with an encoder phase (read as snakemake.params.reader says), cut into
-segments of quasi-constant measured w (impactosc.records.slow_sweep).  Writes
-snakemake.output.points, HDF5 with flat datasets omega (rad/s) and x (m) (plus the segment
-datasets of a sweep), stamped with units and provenance (impactosc.io.files.stamp_h5).
+Reads input.records (a record set, or with params.segments one slow-sweep record read as params.reader
+says, cut into segments of quasi-constant w); writes output.points (HDF5: omega, x, with provenance).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("measured_fig02_points")
 configure_logging(snakemake)
 
 import logging

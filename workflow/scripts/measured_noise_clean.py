@@ -1,13 +1,13 @@
-"""Each sampling rate's clean run of the noise study (rule measured_noise_clean).
+"""Each sampling rate's clean run of the noise study, read by every noise level's job.
 
-Reads snakemake.params (rates; surrogate: chaos scene, mismatch; model, solver); writes one run
-file per rate to snakemake.output.runs, in the order of the rates (impactosc.io.files run files:
-the exact events and the trajectory on the rate's sampling grid, not compressed: temporary
-files that every noise level's job reads, measured_noise_level.py, instead of simulating them).
+Reads input.cache and params (rates, surrogate, model, solver); writes output.runs (one run file per rate,
+in the order of the rates: the exact events and the trajectory on the rate's sampling grid).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("measured_noise_clean")
 configure_logging(snakemake)
 
 import logging

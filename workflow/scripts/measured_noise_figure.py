@@ -1,11 +1,13 @@
 """Draw the noise-study figure.
 
-Reads snakemake.input.json (rows of impactosc_study.noise_study.noise_study); writes
-snakemake.output.png and .pdf (drawing in impactosc_study.figures.measured).
+Reads input.json (rows of impactosc_study.noise_study.noise_study) and params.density_rate; writes
+output.png, output.pdf.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("measured_noise_figure")
 configure_logging(snakemake)
 
 import logging

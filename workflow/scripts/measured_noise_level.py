@@ -1,15 +1,13 @@
-"""One noise level of the noise study at every rate (rule measured_noise_level).
+"""One noise level of the noise study at every rate.
 
-Reads snakemake.input.runs (each rate's clean run, in the order of the rates: rule
-measured_noise_clean), snakemake.params (study: rates, noise levels, x_impact_span and levels;
-surrogate: chaos scene, mismatch, seed; analysis: chaotic.analysis options) and wildcards.level
-(index into the noise levels); writes snakemake.output.json (the rows, with ISI kernel
-densities) and .csv (the same rows as table cells): each a slice of the study's two outputs,
-which the merge (measured_noise_study.py) puts together in the study's order.
+Reads input.runs (each rate's clean run), params (study, surrogate, analysis) and wildcards.level (index
+into the noise levels); writes output.json (the rows, with ISI kernel densities) and output.csv.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("measured_noise_level", level=0)
 configure_logging(snakemake)
 
 import logging

@@ -1,12 +1,13 @@
-"""The sensor-realism rows of the noise study (rule measured_noise_realism).
+"""The sensor-realism rows of the noise study.
 
-Reads snakemake.params (study: realism noise and cases, density_rate, x_impact_span; surrogate:
-chaos scene, mismatch, seed; model, solver); writes snakemake.output.json (the rows) and .csv
-(the same rows as table cells), the last slice of the study's outputs (measured_noise_study.py).
+Reads input.cache and params (study, surrogate, model, solver); writes output.json (the rows) and
+output.csv (the same rows as table cells), the last slice of the study's outputs.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("measured_noise_realism")
 configure_logging(snakemake)
 
 import logging

@@ -1,16 +1,15 @@
-"""Noise study: the levels' and the realism rows merged into the study's table and JSON
-(rule measured_noise_study).
+"""Noise study: the levels' and the realism rows merged into the study's table and JSON.
 
-Reads snakemake.input.level_json and .level_csv (the rows of each noise level, in the order of
-the levels), .realism_json and .realism_csv (the sensor-realism rows; empty when none are
-configured) and snakemake.params.rates; writes snakemake.output.csv (one row per rate x noise x
-extraction method, then one per sensor-realism case) and .json (the same rows with ISI kernel
-densities, for the figure), in the order impactosc_study.noise_study.noise_study gives them.
+Reads input.level_json, input.level_csv (each noise level's rows, in order), input.realism_json,
+input.realism_csv and params.rates; writes output.csv and output.json (with ISI kernel densities).
+
 The table's cells are copied as the parts wrote them, so each number is formatted once.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("measured_noise_study")
 configure_logging(snakemake)
 
 import logging

@@ -1,11 +1,13 @@
 """Paper-vs-replication rows of the experimental panels (Figs 8b, 9b, 10 lower, noise remark).
 
-Reads snakemake.input.second (statistics JSON of the record's train), .model (the model's)
-and .noise (noise-study JSON); writes snakemake.output.rows.
+Reads input.second (statistics JSON of the record's train), input.model (the model's) and input.noise
+(noise-study JSON); writes output.rows.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("measured_rows")
 configure_logging(snakemake)
 
 import logging

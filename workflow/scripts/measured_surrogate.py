@@ -1,12 +1,13 @@
 """Write a surrogate record (model sampled like the rig, sensor noise, parameter mismatch).
 
-wildcards.kind 'chaos': one record of the chaotic regime (snakemake.params.surrogate.chaos);
-'sweep': a record set, one short record per w of an increasing sweep (.sweep).  Writes
-snakemake.output.record in the measured-record format (impactosc.records.formats).
+Reads input.cache, params.surrogate, params.model, params.solver and wildcards.kind (chaos: one record of
+the chaotic regime; sweep: one short record per w); writes output.record (measured-record format).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("measured_surrogate", kind="chaos")
 configure_logging(snakemake)
 
 import logging

@@ -1,11 +1,13 @@
-"""Merge the coverage study's noise levels (rule measured_x_impact_coverage).
+"""Merge the noise levels of the obstacle-estimate coverage study.
 
-Reads snakemake.input.parts (JSON draws per noise level); writes snakemake.output.csv (one
-row per level: impactosc_study.coverage.coverage_summary) and .draws (every draw).
+Reads input.parts (JSON draws per noise level); writes output.csv (one row per level) and output.draws
+(every draw).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("measured_x_impact_coverage")
 configure_logging(snakemake)
 
 import logging

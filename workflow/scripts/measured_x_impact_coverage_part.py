@@ -1,12 +1,13 @@
-"""One noise level of the obstacle-estimate coverage study (rule measured_x_impact_coverage_part).
+"""One noise level of the obstacle-estimate coverage study.
 
-Reads snakemake.params (coverage: noise levels, contact exponents, duration, segment, seeds;
-surrogate: chaos scene, rate, mismatch); writes snakemake.output.json with the draws of
-impactosc_study.coverage.x_impact_draws for (exponent, noise) pair number wildcards.level.
+Reads input.cache, params (coverage, surrogate, model, solver) and wildcards.level (an exponent and noise
+pair); writes output.json (impactosc_study.coverage.x_impact_draws).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("measured_x_impact_coverage_part", level=0)
 configure_logging(snakemake)
 
 import logging

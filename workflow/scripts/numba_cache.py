@@ -1,21 +1,21 @@
 """Compile the numba core once into the shared cache before parallel jobs start.
 
-Reads nothing; writes snakemake.output.marker (JSON): the seconds it took, timed as
-impactosc_bench.core_speed.JIT_PROBE times them (import, then compile or load), and
-whether the core was compiled (an empty cache: that is the cold JIT time, which wp_jit
-then reports instead of compiling a second time) or loaded from the cache.
+Reads input.sources (the core's source files); writes output.marker (JSON: the seconds it took, timed
+as impactosc_bench.core_speed.JIT_PROBE times them; whether the core was compiled or loaded from cache).
+
+A compile into an empty cache is the cold JIT time, which wp_jit then reports instead of compiling again.
 """
 
-import time
+from _logging import configure_logging, mock_snakemake
 
-_t0 = time.perf_counter()  # before the imports, as JIT_PROBE
-
-from _logging import configure_logging
-
-configure_logging(globals().get("snakemake"))  # None when run by hand
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("numba_cache")
+configure_logging(snakemake)
 
 import logging
-import sys
+import time
+
+_t0 = time.perf_counter()  # before the core's imports, as JIT_PROBE
 
 from impactosc.core.driver import run
 from impactosc.core.simulation import warm_up
@@ -30,7 +30,4 @@ def main(marker: str) -> None:
     write_json(marker, {"seconds": seconds, "compiled": compiled}, final_newline=True)
 
 
-if __name__ == "__main__" and "snakemake" not in globals():
-    main(sys.argv[1])
-else:
-    main(snakemake.output.marker)
+main(snakemake.output.marker)

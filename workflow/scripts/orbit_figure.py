@@ -1,12 +1,13 @@
-"""Draw Fig 2 or Fig 3b with the continued orbits over the sweep (params.figure: fig02 Poincare
-points, fig03b inter-impact intervals).
+"""Fig 2 or Fig 3b with the continued orbits over the sweep (rules fig02_orbits, fig03b_orbits).
 
-Reads snakemake.input.segments (named by snakemake.params.names) and snakemake.input.sweeps
-(the figure's sweep); writes snakemake.output.png/.pdf and a log.
+Reads input.segments (named by params.names), input.sweeps (the figure's sweep) and params.figure (fig02:
+Poincare points, fig03b: inter-impact intervals); writes output.png, output.pdf.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("fig02_orbits")
 configure_logging(snakemake)
 
 import logging

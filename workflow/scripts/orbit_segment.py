@@ -1,14 +1,13 @@
 """Continue one branch segment of periodic orbits (config periodic_orbits.segments.<name>).
 
-Reads snakemake.params.spec (seed or doubling_of, w_range, max_points), ds, tol,
-settle_periods, model, and, for a doubled segment, snakemake.input.parent (the parent
-segment's file, whose period doubling nearest to `near` is switched at); writes
-snakemake.output.segment (JSON: sampled orbits in branch order, located special points, why
-each end stopped, the job's cost) and a log.
+Reads input.cache, params (spec, ds, tol, settle_periods, model) and, for a doubled segment, input.parent;
+writes output.segment (JSON: orbits in branch order, located special points, why each end stopped).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("orbit_segment", segment="period1")
 configure_logging(snakemake)
 
 import logging

@@ -1,13 +1,13 @@
-"""Table of every located bifurcation point of the continued orbits, beside the sweeps'
-readings, and the refined paper-vs-replication rows.
+"""Every located bifurcation point of the continued orbits beside the sweeps' readings (rule orbits).
 
-Reads snakemake.input.segments (segment files named by snakemake.params.names) and
-snakemake.input.transitions (the sweeps' bifurcation_transitions.csv); writes
-snakemake.output.csv and .md (the table), .rows (paper rows) and a log.
+Reads input.segments (named by params.names) and input.transitions (the sweeps' transitions CSV); writes
+output.csv, output.md (the table) and output.rows (the refined paper rows).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("orbits")
 configure_logging(snakemake)
 
 import logging

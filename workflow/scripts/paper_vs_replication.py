@@ -1,9 +1,13 @@
-"""Merge the per-figure-group rows into results/tables/paper_vs_replication.csv, .md and .html
-(the copy the Snakemake report shows); the last two name the model (snakemake.params.model:
-config["model_source"])."""
+"""The paper-vs-replication table: every number the paper states beside ours.
 
-from _logging import configure_logging
+Reads input.rows (each figure group's rows) and params.model (the model's source, to name); writes
+output.csv, output.md and output.html (the copy the Snakemake report shows).
+"""
 
+from _logging import configure_logging, mock_snakemake
+
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("paper_vs_replication")
 configure_logging(snakemake)
 
 import logging

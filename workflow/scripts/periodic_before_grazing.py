@@ -1,12 +1,13 @@
 """Fig 4a scene: the attractor on the decreasing branch at w = 23.05, just before grazing.
 
-Reads snakemake.input.branch (the followed branch) and snakemake.params (scene, model,
-solver); restarts from the branch end state at that w (at phi = 0, so t = 0 continues the
-branch) and writes snakemake.output.run (HDF5 run file with a trajectory window) and a log.
+Reads input.branch (the followed branch, whose end state at that w it restarts from) and params (scene,
+model, solver); writes output.run (HDF5 run file with a trajectory window).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("periodic_before_grazing")
 configure_logging(snakemake)
 
 import logging

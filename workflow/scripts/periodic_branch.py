@@ -1,12 +1,13 @@
 """Follow the attractor with decreasing w and bracket the grazing w by bisection.
 
-Reads snakemake.params (branch grid and lengths, grazing tolerance, model, solver); writes
-snakemake.output.branch (sweep HDF5, impactosc.dynamics.sweep format, branch order) and
-snakemake.output.bisection (JSON: the bracket and every bisection trial), and a log.
+Reads input.cache and params (branch grid and lengths, grazing tolerance, model, solver); writes
+output.branch (sweep HDF5, branch order) and output.bisection (JSON: the bracket and every trial).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("periodic_branch")
 configure_logging(snakemake)
 
 import logging

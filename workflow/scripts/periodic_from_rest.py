@@ -1,11 +1,13 @@
 """Run every w of a grid from rest (x = v = 0 at t = 0) around the grazing.
 
-Reads snakemake.params (from_rest grid and transient, branch record length, model,
-solver); writes snakemake.output.sweep (sweep HDF5, impactosc.dynamics.sweep format) and a log.
+Reads input.cache and params (scan, n_record, model, solver); writes output.sweep (sweep HDF5,
+impactosc.dynamics.sweep format).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("periodic_from_rest")
 configure_logging(snakemake)
 
 import logging

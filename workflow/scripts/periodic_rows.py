@@ -1,12 +1,13 @@
 """Rows of the paper-vs-replication table for section 2.1, Fig 4 and the grazing w.
 
-Reads snakemake.input.stats (results/stats/periodic/periodic.json), .before
-(results/stats/periodic/before_grazing.json) and .grazing
-(results/stats/periodic/grazing.json); writes snakemake.output.rows (CSV, impactosc_study.paper.table format).
+Reads input.stats (periodic.json), input.before (before_grazing.json) and input.grazing (grazing.json);
+writes output.rows (CSV, impactosc_study.paper.table format).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("periodic_rows")
 configure_logging(snakemake)
 
 import json

@@ -1,13 +1,14 @@
-"""Section 2.1 numbers, attractor summaries and spectra of run files (Figs 4, 5, table rows).
+"""Attractor summaries and spectra of run files, section 2.1 (rules periodic_stats, before_grazing_stats).
 
-Reads every snakemake.input (run files; the input names become the keys of the output) and
-snakemake.params.spectrum (peak-finder options); writes snakemake.output.stats (JSON of
-impactosc.statistics.periodic_train.run_summary per input) and, when params.spectrum_of names an input,
-snakemake.output.spectrum (its spectrum of x with lines and labels, JSON; Fig 4c).
+Reads every input: run files (input.after_grazing, input.before_grazing_from_rest,
+input.before_grazing_branch), named as the output's keys; writes output.stats (JSON) and, with
+params.spectrum_of, output.spectrum (Fig 4c).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("periodic_stats")
 configure_logging(snakemake)
 
 import logging

@@ -1,12 +1,13 @@
-"""Merge the parts of the randomized differential test (rule random_scenes).
+"""Merge the parts of the randomized differential test of the core.
 
-Reads input.parts (CSV rows of random_scenes_part); writes output.csv (all scenes, in
-scene order) and output.md (the summary the README quotes: scenes, horizon, impacts
-compared, worst difference, stalls, failures, scenes without a reference).
+Reads input.parts (CSV rows of random_scenes_part); writes output.csv (all scenes, in scene order) and
+output.md (the summary the README quotes).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("random_scenes")
 configure_logging(snakemake)
 
 import logging

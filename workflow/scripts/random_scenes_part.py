@@ -1,12 +1,13 @@
-"""One part of the randomized differential test of the core (rule random_scenes_part).
+"""One part of the randomized differential test of the core: scenes part, part + parts, ... of the seed.
 
-Reads params.rs (seed, scenes, parts, horizon, rtol, atol) and wildcards.part; runs the
-scenes part, part + parts, part + 2 parts, ... of the seed's stream; writes output.csv
-(one row per scene: drawn parameters, status, horizon, impacts compared, worst difference).
+Reads input.cache, params.rs (seed, scenes, parts, horizon, rtol, atol) and wildcards.part; writes
+output.csv (one row per scene: drawn parameters, status, impacts compared, worst difference).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("random_scenes_part", part=0)
 configure_logging(snakemake)
 
 import logging

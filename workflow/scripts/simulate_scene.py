@@ -1,13 +1,13 @@
-"""Run configured scenes through the core and write their HDF5 run files.
+"""Run configured scenes through the core and write their HDF5 run files (rules simulate_scene, chaotic_members).
 
-Reads the scene entries (omega, transient, duration, events, window) and the model/solver
-config from snakemake.params (params.scenes and params.solvers, lists of the same length);
-writes one run file per scene to snakemake.output, in order (atomically), and a log. Several
-scenes share a job where each run is shorter than a job's start (the chaotic ensemble).
+Reads input.cache, params.scenes and params.solvers (lists of the same length) and params.model; writes
+one run file per scene, in order (output.run, or output.runs for the chaotic ensemble's members).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("simulate_scene", scene="period4")
 configure_logging(snakemake)
 
 import logging

@@ -1,14 +1,13 @@
 """Continue one located bifurcation in w and a second parameter (config two_parameter.curves.<name>).
 
-Reads snakemake.input.segment (the orbit segment whose located point of the curve's kind nearest
-to `near` starts the curve) and snakemake.params (spec, parameter, values, w_range, ds, ds_min,
-max_points, model); writes snakemake.output.curve (JSON: the curve's points in order, the
-codimension-two points met, why each end stopped, where it started beside the one-parameter
-table's point, the job's cost) and a log.
+Reads input.cache, input.segment (the orbit segment whose located point starts the curve) and params;
+writes output.curve (JSON: the points in order, codimension-two points met, why each end stopped).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("two_parameter_curve", curve="doubling_1_2")
 configure_logging(snakemake)
 
 import logging

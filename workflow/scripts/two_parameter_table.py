@@ -1,12 +1,13 @@
-"""Tables of the two-parameter curves: every point (CSV and Markdown), a summary per curve and
-the codimension-two points met.
+"""The two-parameter curves' tables: points, summary per curve, codimension-two points (rule two_parameter).
 
-Reads snakemake.input.curves (curve files named by snakemake.params.names); writes
-snakemake.output.csv (points), .codim (codimension-two points, CSV), .md (all three) and a log.
+Reads input.curves (named by params.names); writes output.csv (points), output.codim (codimension-two
+points, CSV) and output.md (all three).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("two_parameter")
 configure_logging(snakemake)
 
 import logging

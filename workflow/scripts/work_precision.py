@@ -1,13 +1,13 @@
 """Assemble the work-precision outputs: merged table, speed ratios at equal error, figure.
 
-Reads the per-scene measurement CSVs, the statistics CSV and the JIT times (snakemake.input);
-writes snakemake.output.table (all measurements), .headline (speed ratio core/fastest SciPy
-at each impact-time error level, with JIT times), .statistics_summary (each tolerance's
-statistics against the ensemble) and the figure .png/.pdf.
+Reads input.scenes (per-scene measurements), input.stats (the statistics CSV), input.jit; writes
+output.table, output.headline (speed ratios), output.statistics_summary, output.png, output.pdf.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("work_precision")
 configure_logging(snakemake)
 
 import logging

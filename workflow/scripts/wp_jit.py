@@ -1,13 +1,13 @@
 """JIT compile time of the core, cold (empty cache) and from cache, in fresh processes.
 
-Reads snakemake.input.cache (the numba_cache job's JSON marker: when that job found the cache
-empty, its compile is the cold time, not measured a second time); writes
-snakemake.output.json ({"cold": s, "cached": s, "cold_source": ...}), which the
-work-precision figure and table report apart from the (compile-free) timings.
+Reads input.cache (the numba_cache marker: when that job found the cache empty, its compile is the cold
+time) and params.cold; writes output.json ({"cold": s, "cached": s, "cold_source": ...}).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("wp_jit")
 configure_logging(snakemake)
 
 import logging

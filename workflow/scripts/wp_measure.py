@@ -1,18 +1,13 @@
-"""Measure one work-precision scene over the tolerance sweep, for one group of contestants
-(wildcard contestants): "compiled" = the core and, on the scenes of work_precision.peers.scenes,
-the compiled peers and heyoka's floor; "scipy" = SciPy's solvers.
+"""Measure one work-precision scene over the tolerance sweep, for one group of contestants.
 
-Reads snakemake.input.reference (the scene's references, rule wp_reference), optionally
-.benchmark (the core-speed table, whose 500 s runs the attractor check reuses) and
-snakemake.params (model, the work_precision config, the scene's name and entry);
-writes snakemake.output.csv (one row per solver and tolerance: wall time, RHS evaluations,
-errors against the reference, for the core and the peers the 500 s attractor check; a row
-per peer that is not installed and heyoka's free-flight floor; see
-impactosc_bench.workprecision.sweep_case) and a log.
+Reads input.cache, input.shim, input.reference (rule wp_reference), optionally input.benchmark, params and
+wildcards.contestants (compiled: core and peers; scipy); writes output.csv (one row per solver and rtol).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("wp_measure", wp_scene="chaotic", contestants="compiled")
 configure_logging(snakemake)
 
 import logging

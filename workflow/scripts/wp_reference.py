@@ -1,13 +1,13 @@
-"""The references of one work-precision scene: start states on the attractor, SciPy's
-primary and check reference runs from each, and the reference uncertainty.
+"""The references of one work-precision scene: start states, SciPy's primary and check runs, uncertainty.
 
-Reads snakemake.params (model, the scene's entry, work_precision.reference); writes
-snakemake.output.json (impactosc_bench.workprecision.reference_set), which
-wp_measure measures every contestant against. Not a timing rule: it runs beside other jobs.
+Reads input.cache and params (model, the scene's entry, work_precision.reference); writes output.json
+(impactosc_bench.workprecision.reference_set). Not a timing rule: it runs beside other jobs.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("wp_reference", wp_scene="chaotic")
 configure_logging(snakemake)
 
 import logging

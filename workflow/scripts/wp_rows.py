@@ -1,11 +1,13 @@
 """Rows of the paper-vs-replication table from the hard cases and the work-precision run.
 
-Reads snakemake.input (hard_cases.csv, the statistics summary and the speed headline);
-writes snakemake.output.rows (impactosc_study.paper.table.write_rows format).
+Reads input.hard (hard_cases.csv), input.summary (the statistics summary) and input.headline (the speed
+headline); writes output.rows (impactosc_study.paper.table format).
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("wp_rows")
 configure_logging(snakemake)
 
 import logging

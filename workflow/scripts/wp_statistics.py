@@ -1,12 +1,13 @@
 """Chaotic statistics at each core tolerance, and the ensemble that fixes their spread.
 
-Reads snakemake.params (model, the chaotic scene, work_precision.statistics, atol ratio,
-the chaotic group's analysis options); writes snakemake.output.csv (rows of kind "sweep"
-and "ensemble", see impactosc_bench.tolerance_statistics.statistics_convergence) and a log.
+Reads input.cache and params (model, the chaotic scene, work_precision.statistics, atol_ratio, analysis);
+writes output.csv (rows of kind "sweep" and "ensemble").
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("wp_statistics")
 configure_logging(snakemake)
 
 import logging

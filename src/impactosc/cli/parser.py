@@ -6,7 +6,13 @@ from __future__ import annotations
 import argparse
 
 from impactosc import __version__
-from impactosc.cli.options import RECORD_FORMATS, add_model_options, add_record_options, contact_exponent, finite_number
+from impactosc.cli.options import (
+    RECORD_FORMATS,
+    add_model_options,
+    add_record_options,
+    contact_exponent,
+    finite_number,
+)
 from impactosc.model.parameters import model_bc_summary
 
 EPILOG = f"""\
