@@ -1,6 +1,6 @@
 """MkDocs hooks: generated tables in the pages, and public API without a docstring as an error.
 
-* ``{{ generated: results/tables/X.md }}`` is replaced by that file when the workflow has
+* ``{{ generated: results/paper/tables/X.md }}`` is replaced by that file when the workflow has
   written it (headings demoted below the page's), else by a note naming the target that makes
   it: numbers on these pages come from the workflow's own tables, never copied by hand.
 * ``{{ include: PATH }}`` inserts a file of the repository (the changelog, the config reference).
