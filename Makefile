@@ -15,6 +15,12 @@ UV_VENV := .tools/uv
 UV := $(UV_VENV)/bin/uv
 # extra arguments of the workflow run, e.g. make SNAKEMAKE_ARGS='fig05 --configfile my.yaml'
 SNAKEMAKE_ARGS ?=
+# The study that make report and make clean act on: its results are results/$(STUDY)/ (config
+# key study; a full run takes it from the config: make SNAKEMAKE_ARGS='--config study=myrig')
+STUDY ?= paper
+# STUDY names a folder that make clean removes: an empty or unsafe name (results/, ..) must stop
+# it, so the name is checked as the config checks the key (letters, digits, _ and -)
+CHECK_STUDY = case "$(STUDY)" in ""|*[!A-Za-z0-9_-]*) echo "STUDY='$(STUDY)': letters, digits, _ and - only" >&2; exit 1;; esac
 
 .PHONY: all install lock test test-slow report lint docs config-docs format check-cluster check-slurm clean
 
@@ -90,8 +96,12 @@ format: install
 test-slow: install
 	$(BIN)/python -m pytest -m slow
 
+# The report of one study (make report STUDY=myrig: results/myrig/report.html) from the files its
+# build wrote; a study with a config file of its own names it in SNAKEMAKE_ARGS='--configfile
+# config/config.yaml my.yaml' (not --config, which the study's --config here would override).
 report: install
-	$(BIN)/snakemake -j$(JOBS) --report results/report.html
+	@$(CHECK_STUDY)
+	$(BIN)/snakemake -j$(JOBS) $(SNAKEMAKE_ARGS) --report results/$(STUDY)/report.html --config study=$(STUDY)
 
 # The cluster route (docs/workflow.md) without a cluster (.ci/run, after make test): the SLURM profile
 # must parse and plan map2d. A dry run alone would not catch a broken profile (snakemake sets
@@ -105,5 +115,8 @@ check-cluster: $(VENV)/.installed
 check-slurm: $(VENV)/.installed
 	bash workflow/slurm/check_slurm.sh --install
 
+# One study's results (make clean STUDY=myrig; default paper) and the docs site; other studies'
+# results stay, and so does the numba cache (outside results/, keyed on the core's sources).
 clean:
-	rm -rf results/runs results/stats results/tables results/figures results/logs results/benchmarks site
+	@$(CHECK_STUDY)
+	rm -rf results/$(STUDY) site

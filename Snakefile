@@ -1,6 +1,6 @@
 # Replication workflow of "Properties of impact events in the model of forced impacting
 # oscillator" (model BC). Full rebuild: snakemake -j2. One target per figure: see README.
-# Every path of results/ is defined in workflow/rules/common.smk; the other rules files
+# Every path of results/<study>/ is defined in workflow/rules/common.smk; the other rules files
 # read no globals of each other, so their order below does not matter.
 
 
@@ -25,6 +25,7 @@ include: "workflow/rules/identification.smk"
 include: "workflow/rules/work_precision.smk"
 include: "workflow/rules/benchmark.smk"
 include: "workflow/rules/combined.smk"
+include: "workflow/rules/compare.smk"
 
 
 rule all:

@@ -1,6 +1,6 @@
 """MkDocs hooks: generated tables and figures in the pages, math as MathML, and checks.
 
-* ``{{ generated: results/tables/X.md }}`` is replaced by that file when the workflow has
+* ``{{ generated: results/paper/tables/X.md }}`` is replaced by that file when the workflow has
   written it (headings demoted below the page's), else by a note naming the target that makes
   it: numbers on these pages come from the workflow's own tables, never copied by hand.
 * ``{{ figure: GROUP/NAME.png by COMMAND }}`` shows a figure of the study's figures directory,

@@ -163,7 +163,7 @@ def test_the_model_file_rebuilds_fig02(example, tmp_path, capsys):
             f"\n  snakemake fig02 on the tiny config with the identified model file: {time.perf_counter() - t0:.1f} s"
         )
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
-    assert (tmp_path / "results" / "figures" / "fig02.png").is_file()
-    with h5py.File(tmp_path / "results" / "runs" / "bifurcation" / "increasing.h5") as f:
+    assert (tmp_path / "results" / "paper" / "figures" / "fig02.png").is_file()
+    with h5py.File(tmp_path / "results" / "paper" / "runs" / "bifurcation" / "increasing.h5") as f:
         for field in FIELDS:
             assert f.attrs[f"param_{field}"] == getattr(model.params, field), field

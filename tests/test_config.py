@@ -190,3 +190,29 @@ def test_two_parameter_in_m0e_with_its_map(config):
     config["two_parameter"].update(parameter="m0e", values=[0.012, 0.024])
     config["bifurcation"]["map2d"]["parameter"] = "m0e"
     assert validate_config(config, SCHEMA)["two_parameter"]["parameter"] == "m0e"
+
+
+@pytest.mark.parametrize(
+    "override, message",
+    [
+        ({"study": "my rig"}, "study: 'my rig' is not a safe directory name"),
+        ({"study": "../paper"}, "study: '../paper' is not a safe directory name"),
+        ({"study": ""}, "study: '' is not a safe directory name"),
+        ({"study": 2024}, "study: 2024 is not a string"),
+        ({"compare": {"study": "a/b"}}, "compare.study: 'a/b' is not a safe directory name"),
+        ({"compare": {"study": "paper"}}, "compare.study: 'paper' is this study"),
+    ],
+)
+def test_bad_study_name_is_named(config, override, message):
+    with pytest.raises(ConfigError, match="invalid configuration") as err:
+        validate_config({**config, **override}, SCHEMA)
+    assert message in str(err.value), str(err.value)
+
+
+def test_study_names_the_results_folder_of_the_workflows_own_files(config):
+    paper = validate_config(config, SCHEMA)
+    assert paper["study"] == "paper" and paper["compare"] == {"study": None}
+    rig = validate_config({**config, "study": "my_rig-2", "compare": {"study": "paper"}}, SCHEMA)
+    assert rig["chaotic"]["second_train"]["events"] == "results/my_rig-2/runs/measured/chaos_events.h5"
+    assert rig["bifurcation"]["fig02"]["experimental"]["file"] == "results/my_rig-2/runs/measured/fig02_experimental.h5"
+    assert rig["compare"]["study"] == "paper"

@@ -7,7 +7,7 @@
   model's Fig 2 branch within 10 um of the true model's at every w where both are periodic with
   the same period, on the same orbit (where the two continuations took two coexisting orbits,
   as in two of the draws, the identified model is followed from the true model's state).  About 25 min on 2 cores; the workflow's identify_coverage target writes the
-  same table (results/tables/identification/coverage.md).
+  same table (results/paper/tables/identification/coverage.md).
 * Model choice: records made with each of the three contact laws (Hertz b = 0, Hunt-Crossley
   n3 = 1, model BC) are each given to the six candidates; the supported one (least BIC) is the
   true law with dry friction.

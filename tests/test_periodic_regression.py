@@ -127,7 +127,7 @@ def test_grazing_bracket_short_branch(branch, ref):
     assert abs(branch["omega_miss"] - branch["omega_contact"]) <= 1e-4
     # the issue's requirement: the grazing w to 1e-4 rad/s, agreeing with the full workflow
     # branch from 40.86 (full_branch(), stored by make_periodic_reference.py --full; the
-    # workflow's results/stats/periodic/grazing.json gives the same 23.0441211)
+    # workflow's results/paper/stats/periodic/grazing.json gives the same 23.0441211)
     assert branch["midpoint"] == pytest.approx(ref["full_branch"]["midpoint"], abs=1e-4)
     assert 23.03 < branch["midpoint"] < 23.05  # between the paper's before/after w
 
@@ -146,7 +146,7 @@ def test_grazing_gap_line_short_branch(branch, ref):
 
 @pytest.mark.slow
 def test_grazing_full_branch(ref):
-    """The workflow's branch from 40.86 (about 40 s): bracket to 1e-5 as in results/stats/periodic/grazing.json."""
+    """The workflow's branch from 40.86 (about 40 s): bracket to 1e-5 as in results/paper/stats/periodic/grazing.json."""
     full = full_branch()
     assert full["midpoint"] == pytest.approx(ref["full_branch"]["midpoint"], abs=1e-5)
     assert abs(full["omega_miss"] - full["omega_contact"]) <= 1e-5

@@ -62,7 +62,7 @@ def test_sweep_record_becomes_the_fig02_panel(tmp_path):
     sweep = tmp_path / "sweep.tdms"
     rec, truth = surrogate_ramp(W0, W1, DURATION, SurrogateOptions(rate=2000.0, noise=5e-6), n_initial=300)
     _write_tdms(sweep, dataclasses.replace(rec, omega=None), truth["phase"], label="rig sweep (test record)")
-    points = "results/runs/measured/fig02_experimental.h5"
+    points = "results/paper/runs/measured/fig02_experimental.h5"
     _run(
         tmp_path,
         "measured:\n"
@@ -92,7 +92,7 @@ def test_sweep_record_becomes_the_fig02_panel(tmp_path):
         # measured: residual std 2.3-3.1 um (5 um sensor noise), offset -1.6 to -6.5 um; bounds ~2x
         assert xs.size >= 20 and np.std(resid) < 6e-6, (w, np.std(resid))
         assert abs(line[1] - model) < 1.5e-5, (w, line[1] - model)
-    assert (tmp_path / "results" / "figures" / "fig02.png").exists()
+    assert (tmp_path / "results" / "paper" / "figures" / "fig02.png").exists()
 
 
 def test_chaos_record_becomes_the_second_train(tmp_path):
@@ -100,7 +100,7 @@ def test_chaos_record_becomes_the_second_train(tmp_path):
     rec, truth = surrogate_record(40.86, 100.0, 40.0, SurrogateOptions(rate=2000.0, noise=5e-6))
     chaos = tmp_path / "chaos.tdms"
     _write_tdms(chaos, rec, label="rig chaos (test record)")
-    events = "results/runs/measured/chaos_events.h5"
+    events = "results/paper/runs/measured/chaos_events.h5"
     _run(
         tmp_path,
         f"measured:\n  chaos:\n    record: {chaos}\n    read: {{group: rig, channel: cart}}\n"
@@ -118,4 +118,4 @@ def test_chaos_record_becomes_the_second_train(tmp_path):
     assert ev["impacts"]["t"].size == t_true.size
     assert np.max(np.abs(ev["impacts"]["t"] - t_true)) < 1e-3
     assert attrs["omega"] == pytest.approx(40.86)
-    assert (tmp_path / "results" / "figures" / "fig09.png").exists()
+    assert (tmp_path / "results" / "paper" / "figures" / "fig09.png").exists()

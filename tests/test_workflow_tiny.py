@@ -53,7 +53,7 @@ def tiny_build(tmp_path_factory):
 
 
 def test_every_figure_is_drawn(tiny_build):
-    figures = tiny_build / "results" / "figures"
+    figures = tiny_build / "results" / "paper" / "figures"
     for name in PAPER_FIGURES + SUPPLEMENTARY:
         for ext in ("png", "pdf"):
             path = figures / f"{name}.{ext}"
@@ -61,7 +61,7 @@ def test_every_figure_is_drawn(tiny_build):
 
 
 def test_paper_table_and_benchmarks_are_written(tiny_build):
-    tables = tiny_build / "results" / "tables"
+    tables = tiny_build / "results" / "paper" / "tables"
     md = (tables / "paper_vs_replication.md").read_text()
     assert md.count("\n|") > 20  # one row per number of the paper
     assert (tables / "benchmark" / "benchmark_core.md").read_text().startswith("# Core speed")
@@ -69,23 +69,23 @@ def test_paper_table_and_benchmarks_are_written(tiny_build):
 
 
 def test_build_time_table_counts_every_job(tiny_build):
-    tables = tiny_build / "results" / "tables"
+    tables = tiny_build / "results" / "paper" / "tables"
     groups = read_csv(tables / "build_times.csv", numbers=True)
     total = groups[-1]
     assert total["group"] == "total" and total["wall_s"] == pytest.approx(sum(g["wall_s"] for g in groups[:-1]))
     # every job of `all` wrote a benchmark file and is counted (map2d and the two-parameter curves,
     # also built here, are opt-in)
     opt_in = [
-        *(tiny_build / "results" / "benchmarks").rglob("map2d*.tsv"),
-        *(tiny_build / "results" / "benchmarks" / "two_parameter").glob("*.tsv"),
+        *(tiny_build / "results" / "paper" / "benchmarks").rglob("map2d*.tsv"),
+        *(tiny_build / "results" / "paper" / "benchmarks" / "two_parameter").glob("*.tsv"),
     ]
-    benchmarks = [p for p in (tiny_build / "results" / "benchmarks").rglob("*.tsv") if p not in opt_in]
+    benchmarks = [p for p in (tiny_build / "results" / "paper" / "benchmarks").rglob("*.tsv") if p not in opt_in]
     assert total["jobs"] == len(benchmarks) > 50
     assert "| **total** |" in (tables / "build_times.md").read_text()
 
 
 def test_run_files_carry_provenance(tiny_build):
-    with h5py.File(tiny_build / "results" / "runs" / "scenes" / "chaos.h5") as f:
+    with h5py.File(tiny_build / "results" / "paper" / "runs" / "scenes" / "chaos.h5") as f:
         assert f.attrs["format_version"] and f.attrs["numba_version"] and f.attrs["git_commit"]
         for name in ("impacts/t", "impacts/v", "poincare/x"):
             assert f[name].attrs["units"] in ("s", "m", "m/s")

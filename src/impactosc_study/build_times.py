@@ -3,7 +3,7 @@ benchmark files.
 
 Why: the share of each group changes with every change to the workflow, so the build writes
 its own table (rule build_times) instead of hand-measured prose going stale. Each job's
-benchmark file is ``results/benchmarks/<group>/<rule>[_<wildcards>].tsv`` (one row per run of
+benchmark file is ``results/<study>/benchmarks/<group>/<rule>[_<wildcards>].tsv`` (one row per run of
 the job): ``s``, the job's wall time, and ``cpu_time``, the user + system time of the job's
 processes at Snakemake's last sample of them (once a second for the first 30 s, then every
 30 s: a lower bound, short by up to that interval; ``NA`` when the job ended before a sample).
@@ -92,7 +92,7 @@ def build_times_markdown(groups: list[dict], largest: list[dict]) -> str:
         "",
         f"Job time of the build of rule `all` (`make`): {total['jobs']} jobs, "
         f"{_cell(total['wall_s'])} s of wall time summed over the jobs ({_cell(total['cpu_s'])} s of CPU time).",
-        "Read from each job's Snakemake benchmark file (`results/benchmarks/<group>/<job>.tsv`) by the",
+        "Read from each job's Snakemake benchmark file (`results/<study>/benchmarks/<group>/<job>.tsv`) by the",
         "rule `build_times`. Jobs run side by side, so the build's own duration is shorter than the sum",
         "(at least the sum divided by the number of cores). CPU time is Snakemake's last sample of the job's",
         "processes (once a second, every 30 s after the first 30 s): a lower bound; - where none was taken.",

@@ -6,6 +6,10 @@ with the closest valid key (``model.kl: unknown key (did you mean 'kI'?)``) rath
 the required key it hides. Defaults from the schema are filled in so scripts can rely on
 every key being present.
 
+``study`` names the folder of the study's results (results/<study>/); ``{study}`` in the two
+keys that name one of the workflow's own files (chaotic.second_train.events,
+bifurcation.fig02.experimental.file) becomes that name.
+
 The model section either sets parameters of model BC one by one or names a model file
 (``model: {file: rig.yaml}``, :mod:`impactosc.model.model_file`) whose parameters replace it; either
 way ``config["model"]`` ends up holding exactly the ModelParams fields, and
@@ -158,6 +162,7 @@ def validate_config(config: dict, schema_path) -> dict:
     config = nest_dotted_keys(config)
     if "model_file" in config:  # the command line's spelling: --config model_file=rig.yaml
         config.setdefault("model", {})["file"] = config.pop("model_file")
+    _check_study_names(config, schema)
     validator = jsonschema.Draft202012Validator(schema)
     errors = [f for e in validator.iter_errors(config) for f in _flatten(e)]
     errors.sort(key=lambda e: list(e.absolute_path))
@@ -173,6 +178,7 @@ def validate_config(config: dict, schema_path) -> dict:
                 f"invalid configuration:\n  scenes.{name}.window: [start, stop] must satisfy "
                 f"start <= stop <= transient + duration = {end}"
             )
+    _study_paths(config)
     _check_orbit_segments(config.get("periodic_orbits", {}).get("segments", {}))
     _check_two_parameter(config)
     study = config.get("measured", {}).get("noise_study", {})
@@ -183,6 +189,43 @@ def validate_config(config: dict, schema_path) -> dict:
             f"measured.noise_study.noise {study['noise']}"
         )
     return config
+
+
+def _check_study_names(config: dict, schema: dict) -> None:
+    """study and compare.study name folders under results/: a safe directory name (the schema's
+    pattern), said in words rather than as the pattern a plain schema error would quote."""
+    pattern = schema["properties"]["study"]["pattern"]
+    study = config.get("study", schema["properties"]["study"]["default"])
+    compare = config.get("compare")
+    other = compare.get("study") if isinstance(compare, dict) else None
+    for key, name in (("study", study), ("compare.study", other)):
+        if key == "compare.study" and name is None:
+            continue
+        if not isinstance(name, str):
+            raise ConfigError(
+                f"invalid configuration:\n  {key}: {name!r} is not a string (a name made of digits only must be "
+                f"quoted, on the command line too: --config '{key.split('.')[-1]}=\"{name}\"')"
+            )
+        if not re.fullmatch(pattern, name):
+            raise ConfigError(
+                f"invalid configuration:\n  {key}: {name!r} is not a safe directory name (letters, digits, _ and - "
+                f"only): the study's results go to results/<study>/"
+            )
+    if other == study:
+        raise ConfigError(
+            f"invalid configuration:\n  compare.study: {other!r} is this study (study): name another one to compare with"
+        )
+
+
+def _study_paths(config: dict) -> None:
+    """{study} in the keys that name one of the workflow's own files becomes the study's name."""
+    entries = [
+        (config.get("chaotic", {}).get("second_train"), "events"),
+        (config.get("bifurcation", {}).get("fig02", {}).get("experimental"), "file"),
+    ]
+    for entry, key in entries:
+        if entry and isinstance(entry.get(key), str):
+            entry[key] = entry[key].replace("{study}", config["study"])
 
 
 def _check_orbit_segments(segments: dict) -> None:

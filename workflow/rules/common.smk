@@ -61,7 +61,9 @@ def scene(name):
 
 
 # ---------------------------------------------------------------------------------------
-# results/ layout (results/README.md): one folder per stage, one subfolder per group
+# results/<study>/ layout (results/README.md): everything one study (config study, default
+# paper) generates lives in its own folder, so a rig's study never touches the paper's;
+# inside it, one folder per stage, one subfolder per group
 #   runs/<group>/     simulation and sweep output (HDF5), raw measurements
 #   stats/<group>/    statistics (JSON) read by figures and tables
 #   tables/<group>/   numbers (CSV/MD), incl. the group's rows of the paper table
@@ -69,45 +71,60 @@ def scene(name):
 #   logs/<group>/, benchmarks/<group>/   one file per job: <rule>[_<wildcards>]
 # Groups: scenes (simulate.smk), periodic, bifurcation, orbits (periodic_orbits.smk), two_parameter, chaotic, measured,
 # work_precision,
-# benchmark (benchmark.smk), combined (combined.smk: products that join several groups).
+# benchmark (benchmark.smk), combined (combined.smk: products that join several groups),
+# compare (compare.smk: this study's figures over another study's).
 # ---------------------------------------------------------------------------------------
-NUMBA_CACHE = "results/.numba_cache_ready"  # marker: the core is compiled into the shared cache
-CYRK_SHIM = "results/.cyrk_shim_ready"  # marker: the CyRK shim is built (or why it cannot be)
+RESULTS = f"results/{config['study']}"
+
+
+def study_path(path):
+    """The path of a result of this study: results/<study>/<path>."""
+    return f"{RESULTS}/{path}"
+
+
+# The two markers are per study although the numba cache they stand for is shared (keyed on
+# the core's sources, not the study): a marker is a job's output, and a shared one would be
+# rewritten by one study's build under the other's (its new mtime outdating every simulation of
+# the other study, its log and benchmark file belonging to neither), and its JSON (compiled or
+# loaded, read by wp_jit as the cold JIT time) would describe whichever study ran first. Per
+# study, the second study's marker job finds the cache filled and only loads it (about 1 s).
+NUMBA_CACHE = study_path(".numba_cache_ready")  # marker: the core is compiled into the shared cache
+CYRK_SHIM = study_path(".cyrk_shim_ready")  # marker: the CyRK shim is built (or why it cannot be)
 
 
 def logfile(group, name):
     """Log file of one job; name = the rule's name plus its wildcards, e.g. simulate_scene_{scene}."""
-    return f"results/logs/{group}/{name}.log"
+    return f"{RESULTS}/logs/{group}/{name}.log"
 
 
 def benchmark_file(group, name):
     """Snakemake benchmark (wall time, CPU time, memory) of one job of a rule: every rule but
     the aggregating targets has one, read by the build-time table (rule build_times)."""
-    return f"results/benchmarks/{group}/{name}.tsv"
+    return f"{RESULTS}/benchmarks/{group}/{name}.tsv"
 
 
 def figure(nn):
     """PNG and PDF paths of paper figure NN (two-digit string or int)."""
-    return [f"results/figures/fig{int(nn):02d}.png", f"results/figures/fig{int(nn):02d}.pdf"]
+    return [f"{RESULTS}/figures/fig{int(nn):02d}.png", f"{RESULTS}/figures/fig{int(nn):02d}.pdf"]
 
 
 def panel(name):
     """PNG and PDF paths of a paper figure's panel (fig03a, fig03b)."""
-    return [f"results/figures/{name}.png", f"results/figures/{name}.pdf"]
+    return [f"{RESULTS}/figures/{name}.png", f"{RESULTS}/figures/{name}.pdf"]
 
 
 def supplementary(group, name):
     """PNG and PDF paths of a supplementary figure of a group."""
-    return [f"results/figures/{group}/{name}.png", f"results/figures/{group}/{name}.pdf"]
+    return [f"{RESULTS}/figures/{group}/{name}.png", f"{RESULTS}/figures/{group}/{name}.pdf"]
 
 
 def rows_file(group):
     """A group's rows of the paper-vs-replication table (impactosc_study.paper.table format)."""
-    return f"results/tables/{group}/paper_rows.csv"
+    return f"{RESULTS}/tables/{group}/paper_rows.csv"
 
 
 # scenes: one run file per scene of the config (rule simulate_scene)
-SCENE_RUN = "results/runs/scenes/{scene}.h5"
+SCENE_RUN = study_path("runs/scenes/{scene}.h5")
 
 
 def scene_run(name):
@@ -116,37 +133,72 @@ def scene_run(name):
 
 
 # periodic group
-GRAZING_BRANCH = "results/runs/periodic/grazing_branch.h5"
-GRAZING_BISECTION = "results/runs/periodic/grazing_bisection.json"
-GRAZING_FROM_REST = "results/runs/periodic/grazing_from_rest.h5"
-BRANCH_BEFORE_GRAZING_RUN = "results/runs/periodic/branch_before_grazing.h5"
-PERIODIC_STATS = "results/stats/periodic/periodic.json"
-PERIOD4_SPECTRUM = "results/stats/periodic/spectrum_period4.json"
-BEFORE_GRAZING_STATS = "results/stats/periodic/before_grazing.json"
-GRAZING_STATS = "results/stats/periodic/grazing.json"
+GRAZING_BRANCH = study_path("runs/periodic/grazing_branch.h5")
+GRAZING_BISECTION = study_path("runs/periodic/grazing_bisection.json")
+GRAZING_FROM_REST = study_path("runs/periodic/grazing_from_rest.h5")
+BRANCH_BEFORE_GRAZING_RUN = study_path("runs/periodic/branch_before_grazing.h5")
+PERIODIC_STATS = study_path("stats/periodic/periodic.json")
+PERIOD4_SPECTRUM = study_path("stats/periodic/spectrum_period4.json")
+BEFORE_GRAZING_STATS = study_path("stats/periodic/before_grazing.json")
+GRAZING_STATS = study_path("stats/periodic/grazing.json")
 
 # bifurcation group (sweeps, their reading, the 2-D map)
-BIF_COARSE = "results/runs/bifurcation/{sweep}/coarse.h5"
-BIF_CHUNK = "results/runs/bifurcation/{sweep}/chunk{chunk}.h5"
-BIF_SWEEP = "results/runs/bifurcation/{sweep}.h5"  # merged sweep file of a configured sweep
-BIF_STATS = "results/stats/bifurcation/bifurcation.json"
-BIF_BENCHMARK = "results/stats/bifurcation/bifurcation_benchmark.json"
+BIF_COARSE = study_path("runs/bifurcation/{sweep}/coarse.h5")
+BIF_CHUNK = study_path("runs/bifurcation/{sweep}/chunk{chunk}.h5")
+BIF_SWEEP = study_path("runs/bifurcation/{sweep}.h5")  # merged sweep file of a configured sweep
+BIF_STATS = study_path("stats/bifurcation/bifurcation.json")
+BIF_BENCHMARK = study_path("stats/bifurcation/bifurcation_benchmark.json")
 BIF_TABLES = {
-    kind: f"results/tables/bifurcation/bifurcation_{kind}.csv" for kind in ("per_w", "segments", "transitions")
+    kind: f"{RESULTS}/tables/bifurcation/bifurcation_{kind}.csv" for kind in ("per_w", "segments", "transitions")
 }
-MAP2D_PART = "results/runs/bifurcation/map2d/part{chunk}.h5"
-MAP2D = "results/runs/bifurcation/map2d.h5"
+MAP2D_PART = study_path("runs/bifurcation/map2d/part{chunk}.h5")
+MAP2D = study_path("runs/bifurcation/map2d.h5")
+
+
+def of_study(path, study):
+    """The same result of another study: its results/<study>/ in place of this study's."""
+    return f"results/{study}/{Path(path).relative_to(RESULTS)}"
+
+
+# compare group (compare.smk; opt-in): this study's Fig 2 and Fig 3b over those of the study
+# config compare.study names, read from that study's files (never rebuilt from this one)
+COMPARE_STUDY = config["compare"]["study"]
+COMPARE_FIGURES = {name: supplementary("compare", f"{name}_vs_{COMPARE_STUDY}") for name in ("fig02", "fig03b")}
+
+
+def compare_inputs(wildcards):
+    """This study's and the other study's sweep files of Fig 2 and Fig 3b and their readings;
+    a clear error while compare.study is unset or the other study is not built."""
+    if COMPARE_STUDY is None:
+        raise WorkflowError(
+            "compare_studies: config compare.study names no study to compare with; e.g. "
+            "snakemake -j2 compare_studies --config study=myrig 'compare={study: paper}'"
+        )
+    sweeps = [BIF_SWEEP.format(sweep=config["bifurcation"][name]["sweep"]) for name in ("fig02", "fig03b")]
+    other = {
+        "other_sweeps": [of_study(path, COMPARE_STUDY) for path in sweeps],
+        "other_stats": of_study(BIF_STATS, COMPARE_STUDY),
+    }
+    missing = [path for path in [*other["other_sweeps"], other["other_stats"]] if not Path(path).is_file()]
+    if missing:
+        raise WorkflowError(
+            f"compare_studies: study {COMPARE_STUDY!r} (config compare.study) is not built: "
+            f"{', '.join(missing)} missing. Build it first with its own config, e.g. "
+            f"snakemake -j2 fig02 fig03b --config study={COMPARE_STUDY}"
+        )
+    return {"sweeps": sweeps, "stats": BIF_STATS, **other}
+
 
 # basins group (basins.smk): which attractor each initial state reaches at one w; grid is
 # "coarse" (the default build) or "fine" (opt-in, for a cluster)
-BASINS_PART = "results/runs/basins/{grid}/part{chunk}.h5"
-BASINS_MAP = "results/runs/basins/basins_{grid}.h5"
-BASINS_TABLE = "results/tables/basins/basins_{grid}.csv"
+BASINS_PART = study_path("runs/basins/{grid}/part{chunk}.h5")
+BASINS_MAP = study_path("runs/basins/basins_{grid}.h5")
+BASINS_TABLE = study_path("tables/basins/basins_{grid}.csv")
 
 # orbits group (periodic orbits continued in w: one file per branch segment)
-ORBIT_SEGMENT = "results/runs/orbits/{segment}.json"
-ORBIT_POINTS_TABLE = "results/tables/orbits/bifurcation_points.csv"
-ORBIT_POINTS_MD = "results/tables/orbits/bifurcation_points.md"
+ORBIT_SEGMENT = study_path("runs/orbits/{segment}.json")
+ORBIT_POINTS_TABLE = study_path("tables/orbits/bifurcation_points.csv")
+ORBIT_POINTS_MD = study_path("tables/orbits/bifurcation_points.md")
 
 
 def orbit_parent(wildcards):
@@ -157,12 +209,12 @@ def orbit_parent(wildcards):
 
 # two_parameter group (the orbits group's located bifurcations continued in w and xI or m0e;
 # opt-in: two_parameter.smk)
-TWO_CURVE = "results/runs/two_parameter/{curve}.json"
-TWO_POINTS_CSV = "results/tables/two_parameter/curve_points.csv"
-TWO_POINTS_MD = "results/tables/two_parameter/curve_points.md"
-TWO_CODIM_CSV = "results/tables/two_parameter/codim_two.csv"
-TWO_SEPARATION_CSV = "results/tables/two_parameter/map_separation.csv"
-TWO_SEPARATION_MD = "results/tables/two_parameter/map_separation.md"
+TWO_CURVE = study_path("runs/two_parameter/{curve}.json")
+TWO_POINTS_CSV = study_path("tables/two_parameter/curve_points.csv")
+TWO_POINTS_MD = study_path("tables/two_parameter/curve_points.md")
+TWO_CODIM_CSV = study_path("tables/two_parameter/codim_two.csv")
+TWO_SEPARATION_CSV = study_path("tables/two_parameter/map_separation.csv")
+TWO_SEPARATION_MD = study_path("tables/two_parameter/map_separation.md")
 
 
 def curve_segment(wildcards):
@@ -172,72 +224,72 @@ def curve_segment(wildcards):
 
 
 # chaotic group
-CHAOTIC_MEMBER_RUN = "results/runs/chaotic/ensemble/{member}.h5"
-CHAOTIC_TRAIN_STATS = "results/stats/chaotic/chaotic_{train}.json"  # train: model, second
-CHAOTIC_ENSEMBLE_STATS = "results/stats/chaotic/chaotic_ensemble.json"
-CHAOTIC_ENSEMBLE_TABLE = "results/tables/chaotic/chaotic_ensemble.csv"
-ISI_MIXTURE_TABLE = "results/tables/chaotic/isi_mixture.csv"
+CHAOTIC_MEMBER_RUN = study_path("runs/chaotic/ensemble/{member}.h5")
+CHAOTIC_TRAIN_STATS = study_path("stats/chaotic/chaotic_{train}.json")  # train: model, second
+CHAOTIC_ENSEMBLE_STATS = study_path("stats/chaotic/chaotic_ensemble.json")
+CHAOTIC_ENSEMBLE_TABLE = study_path("tables/chaotic/chaotic_ensemble.csv")
+ISI_MIXTURE_TABLE = study_path("tables/chaotic/isi_mixture.csv")
 
 # lyapunov group (exponents of the chaotic attractor; lambda1 along the sweeps)
-LYAP_MEMBER = "results/runs/lyapunov/chaos_{member}.json"
-LYAP_CHECKS = "results/runs/lyapunov/chaos_checks.json"
-LYAP_STATS = "results/stats/lyapunov/lyapunov_chaos.json"
-LYAP_TABLE = "results/tables/lyapunov/lyapunov_chaos.md"
-LYAP_SWEEP_PART = "results/runs/lyapunov/{sweep}/part{chunk}.csv"
-LYAP_SWEEP = "results/tables/lyapunov/lambda1_{sweep}.csv"
-LYAP_SIGNS = "results/tables/lyapunov/sign_vs_period.md"
+LYAP_MEMBER = study_path("runs/lyapunov/chaos_{member}.json")
+LYAP_CHECKS = study_path("runs/lyapunov/chaos_checks.json")
+LYAP_STATS = study_path("stats/lyapunov/lyapunov_chaos.json")
+LYAP_TABLE = study_path("tables/lyapunov/lyapunov_chaos.md")
+LYAP_SWEEP_PART = study_path("runs/lyapunov/{sweep}/part{chunk}.csv")
+LYAP_SWEEP = study_path("tables/lyapunov/lambda1_{sweep}.csv")
+LYAP_SIGNS = study_path("tables/lyapunov/sign_vs_period.md")
 
 # measured group (config chaotic.second_train and bifurcation.fig02.experimental name the
 # two files the other groups read)
-MEAS_SURROGATE = "results/runs/measured/surrogate_{kind}.h5"
-MEAS_CHAOS_EVENTS = "results/runs/measured/chaos_events.h5"
-MEAS_FIG02_POINTS = "results/runs/measured/fig02_experimental.h5"
-MEAS_NOISE_STATS = "results/stats/measured/measured_noise_study.json"
-MEAS_NOISE_TABLE = "results/tables/measured/measured_noise_study.csv"
+MEAS_SURROGATE = study_path("runs/measured/surrogate_{kind}.h5")
+MEAS_CHAOS_EVENTS = study_path("runs/measured/chaos_events.h5")
+MEAS_FIG02_POINTS = study_path("runs/measured/fig02_experimental.h5")
+MEAS_NOISE_STATS = study_path("stats/measured/measured_noise_study.json")
+MEAS_NOISE_TABLE = study_path("tables/measured/measured_noise_study.csv")
 # the noise study's parts (one per noise level, one for the sensor-realism rows): slices of the two above
-MEAS_NOISE_LEVEL_JSON = "results/stats/measured/noise_study/level{level}.json"
-MEAS_NOISE_LEVEL_CSV = "results/stats/measured/noise_study/level{level}.csv"
-MEAS_NOISE_REALISM_JSON = "results/stats/measured/noise_study/realism.json"
-MEAS_NOISE_REALISM_CSV = "results/stats/measured/noise_study/realism.csv"
+MEAS_NOISE_LEVEL_JSON = study_path("stats/measured/noise_study/level{level}.json")
+MEAS_NOISE_LEVEL_CSV = study_path("stats/measured/noise_study/level{level}.csv")
+MEAS_NOISE_REALISM_JSON = study_path("stats/measured/noise_study/realism.json")
+MEAS_NOISE_REALISM_CSV = study_path("stats/measured/noise_study/realism.csv")
 # each sampling rate's clean run (no noise), simulated once for every level's job
-MEAS_NOISE_CLEAN_RUN = "results/runs/measured/noise_study/clean_{rate}Hz.h5"
-MEAS_XI_COVERAGE_PART = "results/stats/measured/x_impact_coverage/level{level}.json"
-MEAS_XI_COVERAGE_TABLE = "results/tables/measured/x_impact_coverage.csv"
-MEAS_XI_COVERAGE_DRAWS = "results/tables/measured/x_impact_coverage_draws.csv"
+MEAS_NOISE_CLEAN_RUN = study_path("runs/measured/noise_study/clean_{rate}Hz.h5")
+MEAS_XI_COVERAGE_PART = study_path("stats/measured/x_impact_coverage/level{level}.json")
+MEAS_XI_COVERAGE_TABLE = study_path("tables/measured/x_impact_coverage.csv")
+MEAS_XI_COVERAGE_DRAWS = study_path("tables/measured/x_impact_coverage_draws.csv")
 
 # work_precision group (and the hard cases)
 # per scene, two jobs: the compiled contestants (the core, CyRK, heyoka's floor: a timing
 # job) and SciPy's solvers (100-1000x slower: measured beside other jobs)
-WP_MEASURE = "results/runs/work_precision/{wp_scene}_{contestants}.csv"
+WP_MEASURE = study_path("runs/work_precision/{wp_scene}_{contestants}.csv")
 WP_CONTESTANTS = ["compiled", "scipy"]
-WP_REFERENCE = "results/runs/work_precision/{wp_scene}_reference.json"
-WP_JIT = "results/runs/work_precision/jit.json"
-WP_TABLE = "results/tables/work_precision/work_precision.csv"
-WP_HEADLINE = "results/tables/work_precision/work_precision_headline.csv"
-WP_STATISTICS = "results/tables/work_precision/work_precision_statistics.csv"
-WP_STATISTICS_SUMMARY = "results/tables/work_precision/work_precision_statistics_summary.csv"
-HARD_CASES_TABLE = "results/tables/work_precision/hard_cases.csv"
+WP_REFERENCE = study_path("runs/work_precision/{wp_scene}_reference.json")
+WP_JIT = study_path("runs/work_precision/jit.json")
+WP_TABLE = study_path("tables/work_precision/work_precision.csv")
+WP_HEADLINE = study_path("tables/work_precision/work_precision_headline.csv")
+WP_STATISTICS = study_path("tables/work_precision/work_precision_statistics.csv")
+WP_STATISTICS_SUMMARY = study_path("tables/work_precision/work_precision_statistics_summary.csv")
+HARD_CASES_TABLE = study_path("tables/work_precision/hard_cases.csv")
 
 # benchmark group
-BENCHMARK_CORE_CSV = "results/tables/benchmark/benchmark_core.csv"
-BENCHMARK_CORE_MD = "results/tables/benchmark/benchmark_core.md"
-BENCHMARK_CORE_HEADLINE = "results/tables/benchmark/benchmark_core_headline.csv"
-BENCHMARK_TAYLOR_CSV = "results/tables/benchmark/benchmark_taylor.csv"
-BENCHMARK_TAYLOR_MD = "results/tables/benchmark/benchmark_taylor.md"
+BENCHMARK_CORE_CSV = study_path("tables/benchmark/benchmark_core.csv")
+BENCHMARK_CORE_MD = study_path("tables/benchmark/benchmark_core.md")
+BENCHMARK_CORE_HEADLINE = study_path("tables/benchmark/benchmark_core_headline.csv")
+BENCHMARK_TAYLOR_CSV = study_path("tables/benchmark/benchmark_taylor.csv")
+BENCHMARK_TAYLOR_MD = study_path("tables/benchmark/benchmark_taylor.md")
 
 # combined: the job time of the default build per group, from the benchmark files (rule build_times)
-BUILD_TIMES_CSV = "results/tables/build_times.csv"
-BUILD_TIMES_MD = "results/tables/build_times.md"
+BUILD_TIMES_CSV = study_path("tables/build_times.csv")
+BUILD_TIMES_MD = study_path("tables/build_times.md")
 
 # combined: the table of every number the paper states (named in the README: kept at the top)
-PAPER_TABLE_CSV = "results/tables/paper_vs_replication.csv"
-PAPER_TABLE_MD = "results/tables/paper_vs_replication.md"
-PAPER_TABLE_HTML = "results/tables/paper_vs_replication.html"  # the table as the Snakemake report shows it
+PAPER_TABLE_CSV = study_path("tables/paper_vs_replication.csv")
+PAPER_TABLE_MD = study_path("tables/paper_vs_replication.md")
+PAPER_TABLE_HTML = study_path("tables/paper_vs_replication.html")  # the table as the Snakemake report shows it
 
 # randomized differential testing of the core (benchmark group, opt-in: snakemake -j2 random_scenes)
-RANDOM_SCENES_PART = "results/tables/benchmark/random_scenes/part{part}.csv"
-RANDOM_SCENES_CSV = "results/tables/benchmark/random_scenes.csv"
-RANDOM_SCENES_MD = "results/tables/benchmark/random_scenes.md"
+RANDOM_SCENES_PART = study_path("tables/benchmark/random_scenes/part{part}.csv")
+RANDOM_SCENES_CSV = study_path("tables/benchmark/random_scenes.csv")
+RANDOM_SCENES_MD = study_path("tables/benchmark/random_scenes.md")
 
 
 def wp_benchmark_input(wildcards):
@@ -250,15 +302,15 @@ def wp_benchmark_input(wildcards):
 
 
 # identification group (a rig's own model: identification.smk)
-IDENT_SURROGATE = "results/runs/identification/surrogate_records.h5"
-IDENT_MODEL = "results/models/identified.yaml"
-IDENT_WINDOWS = "results/runs/identification/fit_windows.h5"
-IDENT_TABLE_CSV = "results/tables/identification/parameters.csv"
-IDENT_TABLE_MD = "results/tables/identification/parameters.md"
-IDENT_CHOICE_PART = "results/runs/identification/choice/candidate{candidate}.json"
-IDENT_CHOICE_CSV = "results/tables/identification/model_choice.csv"
-IDENT_CHOICE_MD = "results/tables/identification/model_choice.md"
-IDENT_COVERAGE_PART = "results/runs/identification/coverage/part{part}.json"
-IDENT_COVERAGE_CSV = "results/tables/identification/coverage.csv"
-IDENT_COVERAGE_MD = "results/tables/identification/coverage.md"
-IDENT_COVERAGE_DRAWS = "results/tables/identification/coverage_draws.csv"
+IDENT_SURROGATE = study_path("runs/identification/surrogate_records.h5")
+IDENT_MODEL = study_path("models/identified.yaml")
+IDENT_WINDOWS = study_path("runs/identification/fit_windows.h5")
+IDENT_TABLE_CSV = study_path("tables/identification/parameters.csv")
+IDENT_TABLE_MD = study_path("tables/identification/parameters.md")
+IDENT_CHOICE_PART = study_path("runs/identification/choice/candidate{candidate}.json")
+IDENT_CHOICE_CSV = study_path("tables/identification/model_choice.csv")
+IDENT_CHOICE_MD = study_path("tables/identification/model_choice.md")
+IDENT_COVERAGE_PART = study_path("runs/identification/coverage/part{part}.json")
+IDENT_COVERAGE_CSV = study_path("tables/identification/coverage.csv")
+IDENT_COVERAGE_MD = study_path("tables/identification/coverage.md")
+IDENT_COVERAGE_DRAWS = study_path("tables/identification/coverage_draws.csv")

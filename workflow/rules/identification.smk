@@ -1,7 +1,8 @@
 # A rig's own model: model BC's parameters identified from records (the configured ones, or
 # surrogate records of the configured model at a few w), by multiple shooting on windows of
-# the records (impactosc.identification). The model file it writes, results/models/identified.yaml,
-# rebuilds any figure for that rig: snakemake -j2 fig02 --config model_file=results/models/identified.yaml
+# the records (impactosc.identification). The model file it writes, results/<study>/models/identified.yaml,
+# rebuilds any figure for that rig, as a study of its own (results/myrig/):
+#   snakemake -j2 fig02 --config study=myrig model_file=results/paper/models/identified.yaml
 # Targets: identify (model file, parameter table, figure, and the model choice: which contact law
 # and friction the records support, 6 fits, one job each; the default build has all but the
 # choice), identify_choice, identify_coverage (opt-in: are the stated standard errors honest?

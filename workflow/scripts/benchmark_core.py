@@ -84,7 +84,7 @@ def main(bc, jit_path, csv_path, headline_path, md_path):
         lines += [
             "",
             "SciPy's 500 s runs (1.5-2.5 min each) are opt-in (benchmark_core.scipy_rtols); SciPy's speed "
-            "at equal error is in the work-precision table (results/tables/work_precision/).",
+            "at equal error is in the work-precision table (results/<study>/tables/work_precision/).",
         ]
     if skipped:
         lines += ["", "Peers not measured:", *(f"- {m.splitlines()[0]}" for m in skipped)]

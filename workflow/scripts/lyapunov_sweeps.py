@@ -26,7 +26,7 @@ def main(inp, params, out):
         "lambda1 < 0 should go with a periodic w (period >= 1) and lambda1 > 0 with a non-periodic one; a "
         "disagreement within one grid step of a transition is expected (lambda1 passes through zero at a "
         "bifurcation, and neither a finite run nor the reading is settled there). Transitions: those of the sweep's "
-        "reading and the bifurcations located on the continued orbits (results/tables/orbits/).",
+        "reading and the bifurcations located on the continued orbits (results/<study>/tables/orbits/).",
         "",
         "| sweep | w values | agrees | near a transition | disagrees | no exponent | disagrees at w (rad/s) |",
         "|---|---|---|---|---|---|---|",

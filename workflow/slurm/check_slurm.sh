@@ -121,7 +121,7 @@ start=$(date +%s)
     --slurm-no-account --slurm-status-command squeue --slurm-keep-successful-logs \
     --slurm-init-seconds-before-status-checks 5 --jobs "$CPUS" map2d 2>&1 | tee "$SCRATCH/log/snakemake.log"
 took=$(( $(date +%s) - start ))
-[[ -s results/figures/bifurcation/map2d.png && -s results/runs/bifurcation/map2d.h5 ]] || die "map2d outputs missing"
+[[ -s results/paper/figures/bifurcation/map2d.png && -s results/paper/runs/bifurcation/map2d.h5 ]] || die "map2d outputs missing"
 n_jobs="$(grep -c 'Job .* has been submitted with SLURM jobid' "$SCRATCH/log/snakemake.log" || true)"
 n_done="$(squeue -h -t all -o '%i %T' | grep -c COMPLETED || true)"
 [[ "$n_jobs" -ge 3 ]] || die "expected the map's jobs to be submitted through sbatch, saw $n_jobs"

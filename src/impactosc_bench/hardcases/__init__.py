@@ -3,7 +3,7 @@
 Every case function returns rows ``{case, check, measured, bound, unit, passed, detail}``;
 the tests (tests/test_hard_*.py) call them at reduced size and assert ``passed``; the
 workflow (rule hard_cases) calls them at full size and writes
-results/tables/work_precision/hard_cases.csv.
+results/<study>/tables/work_precision/hard_cases.csv.
 The references are independent of the core: SciPy's solvers, a fixed-step scan of SciPy's
 dense output with an acceleration bound between samples, a piecewise closed-form Coulomb
 (eps -> 0) solution, or an exact scaling law of the contact model.

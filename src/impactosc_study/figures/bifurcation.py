@@ -25,6 +25,7 @@ __all__ = [
     "fig02_poincare",
     "fig03b_isi",
     "overlay_figure",
+    "studies_figure",
     "map2d_figure",
     "map2d_curves_figure",
 ]
@@ -304,6 +305,45 @@ def overlay_figure(sweeps, x_obstacle, *, windows=()):
     period_strip(axes[2], [(sw[0].split(" ")[0], sw[6], sw[7]) for sw in sweeps])
     axes[2].set_xlabel(r"$\omega$ (rad/s)")
     axes[2].set_xlim(lo, hi)
+    return fig
+
+
+# Colours of the studies in a comparison: this study, then the other one.
+STUDY_COLORS = ("tab:blue", "tab:orange")
+STUDY_QUANTITIES = {
+    "poincare": (MM, r"$x$ at $\varphi = 2\pi i$ (mm)", "Poincare points"),
+    "isi": (1.0, r"$S_j$ (s)", "inter-impact intervals"),
+}
+
+
+def studies_figure(layers, quantity, *, title=""):
+    """Two studies' diagrams over each other (Fig 2's Poincare points or Fig 3b's ISIs) and the
+    period each reads, drawn as :func:`overlay_figure` draws two sweep directions.
+
+    layers: list of (label, w, y, x_obstacle, omega, period), this study first: y the Poincare
+    x (m) for quantity "poincare" (each study's obstacle a dashed line of its colour) or the
+    ISIs (s) for "isi"; omega, period the diagram reading per w (as period_strip takes them).
+    """
+    scale, ylabel, what = STUDY_QUANTITIES[quantity]
+    apply_style()
+    fig, axes = plt.subplots(2, 1, figsize=(DOUBLE, 9.5 * CM), sharex=True, height_ratios=[3, 0.8])
+    sizes = [1.2, 0.35]  # the second study drawn smaller on top, so both stay visible
+    for k, (label, w, y, x_obstacle, _, _) in enumerate(layers):
+        color = STUDY_COLORS[k % len(STUDY_COLORS)]
+        diagram_panel(axes[0], w, np.asarray(y) * scale, color=color, size=sizes[min(k, 1)])
+        axes[0].plot([], [], "o", ms=3, color=color, label=label)
+        if quantity == "poincare":
+            axes[0].axhline(x_obstacle * MM, color=color, lw=0.6, ls="--")
+    if quantity == "poincare":
+        axes[0].plot([], [], color="0.4", lw=0.6, ls="--", label=r"obstacle $x_I$ of each")
+    else:
+        axes[0].set_ylim(0, None)
+    axes[0].set_ylabel(ylabel)
+    axes[0].legend(loc="lower left", fontsize=6, frameon=True, framealpha=0.9)
+    axes[0].set_title(title or f"{what} of {' and '.join(layer[0] for layer in layers)}")
+    period_strip(axes[1], [(label, omega, period) for label, _, _, _, omega, period in layers])
+    axes[1].set_xlabel(r"$\omega$ (rad/s)")
+    axes[1].set_xlim(min(np.min(layer[4]) for layer in layers), max(np.max(layer[4]) for layer in layers))
     return fig
 
 

@@ -2,7 +2,7 @@
 stable branches solid, unstable dashed, one colour per period, the located bifurcation points
 marked (supplementary figures; the paper's Figs 2 and 3b stay as they are).
 
-Every function takes the segment dicts as read from results/runs/orbits/*.json and the sweep
+Every function takes the segment dicts as read from results/<study>/runs/orbits/*.json and the sweep
 points as arrays, and returns a matplotlib Figure.
 """
 

@@ -4,7 +4,7 @@ Each row: section, quantity, paper (the paper's value as printed), replication (
 tolerance (what counts as agreement, with its reason), agrees (yes/no/n.a.), command (how
 to regenerate it). Figure groups write their own rows file (built in
 :mod:`impactosc_study.paper.rows`); :func:`merge_tables` builds
-results/tables/paper_vs_replication.csv, a Markdown copy, and an HTML copy for the
+results/<study>/tables/paper_vs_replication.csv, a Markdown copy, and an HTML copy for the
 Snakemake report (which shows HTML files, not CSV).
 """
 

@@ -7,9 +7,9 @@ results (statistics dicts as read back from JSON, or readings) and returns dicts
 columns of :data:`impactosc_study.paper.table.COLUMNS`; each row says what counts as agreement
 and why.
 
-periodic.periodic_rows        section 2.1, Fig 4 and the grazing w (results/stats/periodic/periodic.json, grazing.json)
+periodic.periodic_rows        section 2.1, Fig 4 and the grazing w (results/<study>/stats/periodic/periodic.json, grazing.json)
 bifurcation.bifurcation_rows  Fig 3b: reverse period doublings and the grazing on the decreasing sweep
-bifurcation.orbit_rows        the same two, located on the continued orbits (results/runs/orbits/)
+bifurcation.orbit_rows        the same two, located on the continued orbits (results/<study>/runs/orbits/)
 chaotic.chaotic_rows          section 2.2, Figs 6-11, judged against an ensemble of realisations
 measured.measured_rows        the experimental panels (Figs 8b, 9b, 10 lower) and the noise remark
 numerics.numerics_rows        the step-size cap the paper needed, from the hard cases and work-precision

@@ -42,7 +42,7 @@ def bifurcation_rows(
 
     The paper states: reverse period doublings "close to the starting w = 40.86" and extra
     ISI branches (grazing) "at about w = 23"; Fig 4 puts the grazing between 23.05 and 23.03.
-    reference_grazing: the grazing bisection of the periodic group (results/stats/periodic/grazing.json), if any.
+    reference_grazing: the grazing bisection of the periodic group (results/<study>/stats/periodic/grazing.json), if any.
     """
     rows = []
     pds = [t for t in decreasing.transitions if t.kind == "period doubling"]

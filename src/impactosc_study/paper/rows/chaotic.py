@@ -2,7 +2,7 @@
 ensemble of realisations.
 
 Why a module: a chaotic train is not reproducible impact by impact, so each of these rows
-compares the paper's number with the spread of the ensemble (results/stats/chaotic/), not
+compares the paper's number with the spread of the ensemble (results/<study>/stats/chaotic/), not
 with a single run. One builder per figure; :func:`chaotic_rows` puts them in the paper's order.
 """
 
@@ -208,7 +208,7 @@ def _isi_rows(model: dict, ensemble: dict) -> list[dict]:
                 f"means {' '.join(f'{v:.3f}' for v in f2['means'])} s; dBIC(1 vs 2 components) = "
                 f"{mix.get('delta_bic_2_vs_1', float('nan')):.0f}; BIC-best overall {mix['best']}"
                 + _mode_share(ensemble, "mixture_best"),
-                "n.a. (beyond the paper); see results/tables/chaotic/isi_mixture.csv",
+                "n.a. (beyond the paper); see results/<study>/tables/chaotic/isi_mixture.csv",
                 "n.a.",
                 "2.2 Fig 9",
             )

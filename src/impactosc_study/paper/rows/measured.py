@@ -96,7 +96,7 @@ def measured_rows(second: dict, model: dict, noise_rows: list[dict], *, is_surro
                     if worst
                     else ""
                 )
-                + f". {finding}; results/tables/measured/measured_noise_study.csv",
+                + f". {finding}; results/<study>/tables/measured/measured_noise_study.csv",
                 "tolerance": "n.a. (beyond the paper: measurement noise on x, not noise in the dynamics)",
                 "agrees": "n.a.",
             }

@@ -2,7 +2,7 @@
 work-precision sweep show of ours.
 
 Why a module: the only numerics the paper states is Mathematica's MaxStepSize; these rows
-answer it from the benchmark tables (results/tables/work_precision/).
+answer it from the benchmark tables (results/<study>/tables/work_precision/).
 """
 
 from __future__ import annotations
@@ -56,7 +56,7 @@ def numerics_rows(hard: list[dict], stats_summary: list[dict], head: list[dict],
             "paper": f"Mathematica MaxStepSize = {MAX_STEP_SIZE['periodic']} s (periodic), "
             f"{MAX_STEP_SIZE['chaotic']} s (chaotic)",
             "replication": f"no cap (event-split adaptive core): {grazing}{chatter}; {n_fail} of {len(hard)} hard-case "
-            "checks failed (results/tables/work_precision/hard_cases.csv)",
+            "checks failed (results/<study>/tables/work_precision/hard_cases.csv)",
             "tolerance": "no impact missed or invented against independent references",
             "agrees": "n.a.",
             "command": command,
@@ -71,7 +71,7 @@ def numerics_rows(hard: list[dict], stats_summary: list[dict], head: list[dict],
                 + (f"; not at rtol {', '.join(f'{u:g}' for u in unconv)}" if unconv else "")
                 + (f". Speed at equal impact-time error, core vs fastest SciPy: {speed_txt}" if speed else "")
             ),
-            "tolerance": "3 sd of the ensemble (results/tables/work_precision/work_precision_statistics_summary.csv)",
+            "tolerance": "3 sd of the ensemble (results/<study>/tables/work_precision/work_precision_statistics_summary.csv)",
             "agrees": "n.a.",
             "command": command,
         },

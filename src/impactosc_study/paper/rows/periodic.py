@@ -1,6 +1,6 @@
 """Rows of section 2.1 (Fig 4 and the grazing w): the periodic regime at w = 40.86 and 23.03 rad/s.
 
-Why a module: the periodic group's statistics (results/stats/periodic/periodic.json,
+Why a module: the periodic group's statistics (results/<study>/stats/periodic/periodic.json,
 before_grazing.json and grazing.json) answer these rows and no others.
 """
 
@@ -15,8 +15,8 @@ __all__ = ["periodic_rows"]
 def periodic_rows(stats: dict, grazing: dict) -> list[dict]:
     """Rows of the paper-vs-replication table for section 2.1, Fig 4 and the grazing w.
 
-    stats: results/stats/periodic/periodic.json merged with
-    results/stats/periodic/before_grazing.json; grazing: results/stats/periodic/grazing.json. Each row says
+    stats: results/<study>/stats/periodic/periodic.json merged with
+    results/<study>/stats/periodic/before_grazing.json; grazing: results/<study>/stats/periodic/grazing.json. Each row says
     what counts as agreement and why.
     """
     a = stats["after_grazing"]
@@ -26,9 +26,9 @@ def periodic_rows(stats: dict, grazing: dict) -> list[dict]:
     r = stats["before_grazing_from_rest"]
     br = grazing["bracket"]
     sec = "2.1 periodic regime"
-    cmd_p = "snakemake -j2 results/tables/periodic/paper_rows.csv  (results/stats/periodic/periodic.json)"
-    cmd_g = "snakemake -j2 grazing  (results/stats/periodic/grazing.json)"
-    cmd_b = "snakemake -j2 results/stats/periodic/before_grazing.json"
+    cmd_p = "snakemake -j2 periodic_rows  (results/<study>/stats/periodic/periodic.json)"
+    cmd_g = "snakemake -j2 grazing  (results/<study>/stats/periodic/grazing.json)"
+    cmd_b = "snakemake -j2 before_grazing_stats"
     q = round(im["periods_in_total"])
     lo, hi = sorted((br["omega_contact"], br["omega_miss"]))
     wg = grazing["omega_g"]
