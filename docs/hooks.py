@@ -38,8 +38,9 @@ API = re.compile(r"^::: ([\w.]+)", re.M)
 STUDY = "paper"
 CAPTIONS = ROOT / "workflow" / "report"
 # The gallery's order: each caption workflow/report/NAME.rst belongs to the figure NAME.png of
-# the study's figures directory (top level or a group's folder). Captions that are no figure:
-NOT_FIGURES = {"workflow", "paper_vs_replication"}
+# the study's figures directory (top level or a group's folder). Captions that are no figure of
+# the paper's gallery (compare_studies: its files are named after the other study, opt-in):
+NOT_FIGURES = {"workflow", "paper_vs_replication", "compare_studies"}
 GALLERY = [
     (
         "The paper's figures",

@@ -1,14 +1,14 @@
-"""Draw this study's Fig 2 (Poincare points, increasing w) and Fig 3b (ISIs, decreasing w) over
-another study's, with the period each reads at every w.
+"""Draw this study's Fig 2 and Fig 3b over another study's, with the period each reads at every w.
 
-Reads snakemake.input.sweeps and .other_sweeps (each study's sweep files of Fig 2 and Fig 3b,
-in that order), .stats and .other_stats (each study's diagram reading); snakemake.params.studies
-names the two studies, .sweeps the two sweeps; writes snakemake.output.fig02_png/.fig02_pdf and
-.fig03b_png/.fig03b_pdf and a log.
+Reads input.sweeps, input.other_sweeps (each study's Fig 2 and Fig 3b sweeps), input.stats and
+input.other_stats (each study's diagram reading); writes output.fig02_png, output.fig02_pdf,
+output.fig03b_png, output.fig03b_pdf. By hand: give compare.study in a --configfile.
 """
 
-from _logging import configure_logging
+from _logging import configure_logging, mock_snakemake
 
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("compare_studies")
 configure_logging(snakemake)
 
 import json
