@@ -13,7 +13,7 @@ from pathlib import Path
 import h5py
 import pytest
 
-from impactosc.identification.parameters import FIELDS
+from impactosc.identification.fitted_parameters import FIELDS
 from impactosc.io.files import read_table
 from impactosc.model.model_file import read_model_file
 from impactosc.model.parameters import ModelParams

@@ -20,8 +20,8 @@ import numpy as np
 import pytest
 
 from impactosc.core.simulation import Window, simulate
+from impactosc.identification.fitted_parameters import FIELDS, NAMES, fill_array, params_of, theta_of
 from impactosc.identification.least_squares import _inverse_scaled, _schur, _solve_scaled, carried_states
-from impactosc.identification.parameters import FIELDS, NAMES, fill_array, params_of, theta_of
 from impactosc.identification.staged_fit import identify
 from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import WindowSet, cut_windows, split_held_out

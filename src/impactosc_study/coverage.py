@@ -39,7 +39,7 @@ import math
 
 import numpy as np
 
-from impactosc.identification.parameters import NAMES, theta_of
+from impactosc.identification.fitted_parameters import NAMES, theta_of
 from impactosc.identification.staged_fit import identify
 from impactosc.model.parameters import ModelParams
 from impactosc.records.obstacle_estimate import estimate_x_impact

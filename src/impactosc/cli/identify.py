@@ -45,7 +45,7 @@ def _fixed_quantities(items, base) -> dict:
     """name -> value (None: the stated model's) of the --fix items; errors name the item."""
     import dataclasses
 
-    from impactosc.identification.parameters import FIELDS, NAMES, PER_MASS
+    from impactosc.identification.fitted_parameters import FIELDS, NAMES, PER_MASS
     from impactosc.io.names import closest_name
 
     fixed = {}

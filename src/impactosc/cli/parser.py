@@ -287,7 +287,7 @@ Examples:
 
 def _add_identify_parser(sub) -> None:
     """The identify command's options (records, stated model, what is fixed, outputs)."""
-    from impactosc.identification.parameters import NAMES, UNITS
+    from impactosc.identification.fitted_parameters import NAMES, UNITS
     from impactosc.identification.staged_fit import STAGES
 
     idp = sub.add_parser(

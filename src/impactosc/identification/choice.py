@@ -22,8 +22,8 @@ import warnings
 
 import numpy as np
 
+from impactosc.identification.fitted_parameters import NAMES
 from impactosc.identification.least_squares import fit_states
-from impactosc.identification.parameters import NAMES
 from impactosc.identification.staged_fit import STAGES, identify
 from impactosc.identification.start import start_values
 from impactosc.identification.window_predictions import Predictor

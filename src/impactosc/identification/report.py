@@ -14,7 +14,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from impactosc.identification.parameters import FIELDS, NAMES, PER_MASS
+from impactosc.identification.fitted_parameters import FIELDS, NAMES, PER_MASS
 from impactosc.identification.staged_fit import Identification
 from impactosc.io.files import atomic_write, stamp_h5
 from impactosc.model.model_file import write_model_file

@@ -24,8 +24,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from impactosc.identification.continuity import fit_continuous, links
+from impactosc.identification.fitted_parameters import LOWER, NAMES, UNITS, UPPER, params_of, theta_of
 from impactosc.identification.least_squares import FitResult, carried_states, fit, fit_states
-from impactosc.identification.parameters import LOWER, NAMES, UNITS, UPPER, params_of, theta_of
 from impactosc.identification.start import start_values
 from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import WindowSet, check_forcing_phase, cut_windows

@@ -21,7 +21,7 @@ import warnings
 
 import numpy as np
 
-from impactosc.identification.parameters import NAMES, theta_of
+from impactosc.identification.fitted_parameters import NAMES, theta_of
 
 __all__ = ["StartValues", "start_values"]
 

@@ -18,7 +18,7 @@ import numpy as np
 
 from impactosc.core import driver as core
 from impactosc.core.layout import N_COUNT, RUNNING, S_STATUS
-from impactosc.identification.parameters import fill_array
+from impactosc.identification.fitted_parameters import fill_array
 from impactosc.identification.windows import WindowSet
 from impactosc.model.parameters import P_B, P_N3, P_OMEGA
 
