@@ -38,6 +38,7 @@ rule paper_vs_replication:
         benchmark_file("combined", "paper_vs_replication")
     params:
         model=config["model_source"],
+        study=config["study"],
     script:
         "../scripts/paper_vs_replication.py"
 

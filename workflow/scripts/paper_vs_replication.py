@@ -1,6 +1,7 @@
 """The paper-vs-replication table: every number the paper states beside ours.
 
-Reads input.rows (each figure group's rows) and params.model (the model's source, to name); writes
+Reads input.rows (each figure group's rows), params.model (the model's source, to name) and
+params.study (the folder the rows' paths name); writes
 output.csv, output.md and output.html (the copy the Snakemake report shows).
 """
 
@@ -15,5 +16,12 @@ import logging
 from impactosc_study.paper.table import merge_tables
 
 out = snakemake.output
-rows = merge_tables(snakemake.input.rows, out.csv, out.md, out.html, model=snakemake.params.model["description"])
+rows = merge_tables(
+    snakemake.input.rows,
+    out.csv,
+    out.md,
+    out.html,
+    model=snakemake.params.model["description"],
+    study=snakemake.params.study,
+)
 logging.info(f"{len(rows)} rows")

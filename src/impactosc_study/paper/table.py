@@ -71,10 +71,19 @@ def to_html(rows: list[dict], model: str | None = None) -> str:
     )
 
 
-def merge_tables(inputs, csv_out, md_out, html_out=None, *, model: str | None = None) -> list[dict]:
+def merge_tables(
+    inputs, csv_out, md_out, html_out=None, *, model: str | None = None, study: str | None = None
+) -> list[dict]:
     """Concatenate the groups' rows files into the table's CSV, Markdown (and HTML) files; the
-    last two say which `model` the replication ran (config["model_source"]["description"])."""
+    last two say which `model` the replication ran (config["model_source"]["description"]).
+    With `study`, the rows' paths name its folder (results/paper/...) instead of results/<study>/."""
     rows = [row for path in inputs for row in read_rows(path)]
+    if study is not None:
+        here = f"results/{study}/"
+        rows = [
+            {k: v.replace("results/<study>/", here) if isinstance(v, str) else v for k, v in row.items()}
+            for row in rows
+        ]
     write_rows(csv_out, rows, sources=inputs)
     model_line = f"Model: {model}.\n\n" if model else ""
     write_text(md_out, f"# Paper vs replication\n\n{model_line}" + to_markdown(rows))
