@@ -65,9 +65,9 @@ def mock_snakemake(rule, argv=None, **wildcards):
     paths stay relative to the working directory, which becomes the current one (as in a job).
     Inputs are never built: a missing one stops the script with the snakemake command that
     builds it. The folders of the outputs and the log are created. Called from an interactive
-    session (no ``__file__``), it reads no command line and runs no check of the script.
+    interpreter (no ``__file__``), it reads no command line and runs no check of the script.
     """
-    caller = sys._getframe(1).f_globals.get("__file__")  # None in an interactive session
+    caller = sys._getframe(1).f_globals.get("__file__")  # None in an interactive interpreter
     script = Path(caller).resolve() if caller else None
     args = _parse_args(script, argv if argv is not None or script else [])
     values = {**wildcards, **args.wildcards}
