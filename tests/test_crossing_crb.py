@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from impactosc.records.extract import _crossings, crossing_time_crb
+from impactosc.records.impact_times import _crossings, crossing_time_crb
 
 DT = 5e-4  # 2 kHz
 

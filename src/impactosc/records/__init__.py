@@ -16,6 +16,7 @@ export(
         "write_record_set": "impactosc.records.formats",
         "ExtractOptions": "impactosc.records.extract",
         "extract_events": "impactosc.records.extract",
+        "crossing_time_crb": "impactosc.records.impact_times",
         "estimate_x_impact": "impactosc.records.obstacle_estimate",
         "poincare_points": "impactosc.records.poincare",
         "sweep_segments": "impactosc.records.slow_sweep",
