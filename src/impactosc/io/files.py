@@ -80,6 +80,9 @@ DATASET_UNITS = {
     "gap": "m",
     "sigma_t": "s",
     "crb_t": "s",  # Cramer-Rao bound of a measured impact time
+    "fit_start": "s",  # first sample of a measured impact time's fit
+    "fit_samples": "1",
+    "fit_degree": "1",
     # sweep files (impactosc.dynamics.sweep)
     "omega": "rad/s",
     "poincare_x": "m",

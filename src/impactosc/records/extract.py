@@ -18,12 +18,10 @@ Method
   chatter of false impacts; and a crossing is confirmed only when the contact then rises
   ``confirm_sigmas`` (default 3) noise std above x_impact (a near miss lifted by noise is
   not an impact).
-* Sub-sample time: a quadratic least-squares fit through the ``fit_points`` free-flight
-  samples ending at the last sample below x_impact, solved for x = x_impact (the samples
-  after the crossing are in contact and follow a different law).  The fit's covariance
-  gives the timing uncertainty of each impact, sigma_t = sigma_x(fit) / |v|; when the last
-  sample below x_impact lies within 3 sigma of it (slow grazing approach, or a contact
-  sample pushed down by noise), sigma_t is at least the time the signal spent in that band.
+* Sub-sample time: a polynomial fit over the free-flight approach before each crossing, in a
+  window chosen from the sample rate, the noise and the record's own motion, so that the
+  timing error falls with the rate toward its Cramer-Rao bound; sigma_t is the fit's std at
+  the crossing (:mod:`impactosc.records.impact_times`).
 * Penetration H_j: vertex of a quadratic fit through the samples around the largest sample
   of each contact (not the raw maximum sample, which is biased up by noise and down by
   sampling).
@@ -48,7 +46,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from impactosc.records.impact_times import _crossings
+from impactosc.records.impact_times import derivative_scales, time_impacts
 from impactosc.records.obstacle_estimate import estimate_x_impact
 from impactosc.records.poincare import poincare_attrs, poincare_points
 from impactosc.records.record import Record
@@ -75,7 +73,8 @@ class ExtractOptions:
         comparison only.
     hysteresis_sigmas : float
     fit_points : int
-        Free-flight samples in the crossing fit (>= 3).
+        Free-flight samples of the short crossing fit (>= 3), used where an impact's approach is
+        too short for the windowed fit (:mod:`impactosc.records.impact_times`).
     peak_half_width : int
         Samples either side of a contact's largest sample in the penetration fit (>= 1).
     confirm_sigmas : float
@@ -94,6 +93,9 @@ class ExtractOptions:
         every sample time before extraction, so that impact, penetration and Poincare times
         are those of the motion.  None: the record's metadata ``sensor_delay`` (the surrogate
         declares its filter's), else 0.
+    timing_window : float or None
+        Longest window (s) of the impact-time fits; None chooses it from the sample rate, the
+        noise and the record's own motion (:func:`impactosc.records.impact_times.window_lengths`).
     """
 
     noise: float | None = None
@@ -105,8 +107,11 @@ class ExtractOptions:
     x_impact_method: str = "contact"
     contact_exponent: float | None = 1.5
     delay: float | None = None
+    timing_window: float | None = None
 
     def __post_init__(self):
+        if self.timing_window is not None and not (math.isfinite(self.timing_window) and self.timing_window > 0):
+            raise ValueError(f"timing_window must be > 0 s, got {self.timing_window}")
         if self.delay is not None and not (math.isfinite(self.delay) and self.delay >= 0):
             raise ValueError(f"delay must be >= 0 s, got {self.delay}")
         if self.x_impact_method not in ("contact", "curvature"):
@@ -237,7 +242,6 @@ def extract_events(
     marked = np.flatnonzero(armed_level | above)
     is_up = above[marked]
     onsets = marked[1:][is_up[1:] & ~is_up[:-1]] - 1
-    imp_t, imp_v, imp_s, imp_crb = _crossings(t, x, onsets, x_impact, o.fit_points, sigma)
     # each contact runs from its onset to the next re-arming sample (or the record's end);
     # a contact that never rose clearly above the obstacle (a near miss lifted by noise, or
     # a contact shallower than the noise) is not resolvable from this record
@@ -246,12 +250,20 @@ def extract_events(
     j = _segment_argmax(x, onsets + 1, stop)
     confirm = o.confirm_sigmas * sigma
     keep = np.flatnonzero(x[j] >= x_impact + confirm)
+    # each fit starts after the previous (confirmed) contact; the record's derivative scales
+    # set the windows (impactosc.records.impact_times)
+    floors = np.concatenate([[0], stop[keep][:-1]]).astype(np.int64)
+    scales = derivative_scales(t, x, onsets[keep], floors, x_impact, sigma)
+    impacts = time_impacts(
+        t, x, onsets[keep], floors, x_impact, sigma, scales=scales, window=o.timing_window, short_points=o.fit_points
+    )
+    attrs.update(timing_jerk_scale=scales[0], timing_snap_scale=scales[1])
     pen_t, pen_x = _peaks(t, x, j[keep], o.peak_half_width)
     pen_h = np.maximum(pen_x - x_impact, 0.0)
     attrs["n_unconfirmed"] = int(len(onsets) - keep.size)
     attrs["confirm_level"] = confirm
     events = {
-        "impacts": {"t": imp_t[keep], "v": imp_v[keep], "sigma_t": imp_s[keep], "crb_t": imp_crb[keep]},
+        "impacts": impacts,
         "penetrations": {"t": pen_t, "h": pen_h},
     }
     if record.omega is not None or record.phase is not None:

@@ -1,9 +1,32 @@
 """Impact times from a sampled record: the sub-sample time of each upward crossing of the
 obstacle position, its stated uncertainty and its Cramer-Rao bound.
 
-Why a module: the timing step is the part of extraction whose accuracy sets the statistics'
-resolution (see :mod:`impactosc.records.extract` for the whole method), and its bound is what
-the noise study scores the extraction against.
+Why a module: the timing step sets the resolution of every statistic of a measured train, and its
+bound is what the noise study scores extraction against.
+
+Why a window in time, not a number of samples: a fit over a fixed number of samples has a bound
+that does not fall with the sample rate (a faster card puts them closer together).  The bound of
+a fit over a window of duration W falls like 1 / sqrt(W rate).  The window is limited by
+
+* the approach: only the samples after the last turning point before the crossing (where the
+  dry friction switches and the acceleration jumps), from where the signal has covered a quarter
+  of its rise from that turning point to the obstacle (:func:`_approach_start`), and after the
+  previous contact;
+* the model error: a polynomial of degree d over W misses the motion's next derivative by a bias
+  at the window's end of about x^(3) W^3 / 120 (quadratic) or x^(4) W^4 / 1680 (cubic).  W is the
+  longest window whose bias is at most a quarter of the fit's noise, (d + 1) sigma / sqrt(W rate)
+  (:func:`window_lengths`), with the record's derivative scales x^(3), x^(4) measured on its own
+  approaches (:func:`derivative_scales`).
+
+Per impact the degree (2 or 3) whose window gives the smaller variance at the crossing is fitted
+by least squares to the samples ending at the crossing (found by iteration, the window moving
+with it) and solved for x = x_impact by Newton's method.  sigma_t is the fit's delta-method std at
+the crossing: the Cramer-Rao bound of the crossing time from those samples under the polynomial
+model (:func:`crossing_time_crb`).  Only the free flight before the crossing enters: a rig's
+contact law is not known when its impacts are timed.  Where the approach has too few samples (a
+grazing contact, a chatter of impacts a few ms apart) or the fit has no crossing, the short
+five-sample quadratic of :func:`short_crossings` times the impact, with a stated sigma_t that
+covers its dwell near the obstacle.
 """
 
 from __future__ import annotations
@@ -11,41 +34,287 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
 from impactosc.records.sample_fits import quadratic_fits
 
-__all__ = ["crossing_time_crb"]
+__all__ = ["crossing_time_crb", "derivative_scales", "window_lengths", "fit_crossings", "short_crossings"]
+
+#: The bias allowed at the window's end, as a share of the fit's noise there.
+BIAS_SHARE = 0.25
+#: Fewest samples in a fit of degree 2 and of degree 3 (below: a lower degree or the short fit).
+MIN_SAMPLES_QUADRATIC, MIN_SAMPLES_CUBIC = 4, 8
+#: Longest window in which the derivative scales are measured (s).
+PROBE_WINDOW = 0.05
+#: A turning point is passed (scanning back from a crossing) when the signal rises this many
+#: noise std above its running minimum.
+TURN_SIGMAS = 6.0
+#: Share of the rise from the last turning point to the obstacle that the approach window leaves out.
+APPROACH_SKIP = 0.25
 
 
-def crossing_time_crb(sigma, v, u, n):
-    """Cramer-Rao bound (std, s) of the crossing time from the quadratic fit of the timing step.
+def crossing_time_crb(sigma, v, u, n, degree=2):
+    """Cramer-Rao bound (std, s) of a crossing time from a polynomial fit over n equally spaced samples.
 
-    Model: the n free-flight samples before the crossing, equally spaced by dt, are
-    x_k = c0 + c1 s_k + c2 s_k^2 + e_k with white Gaussian noise e_k of std sigma.  The crossing
-    time s* solves c0 + c1 s* + c2 s*^2 = x_impact.  The model is linear in c, so its Fisher
-    information is A^T A / sigma^2 (A: the design matrix) and, for any unbiased estimator of s*,
+    Model: the n free-flight samples before the crossing, equally spaced by dt, are a polynomial
+    of degree d (2 or 3) in time plus white Gaussian noise of std sigma; the crossing time s*
+    solves p(s*) = x_impact.  The model is linear in the coefficients, so its Fisher information
+    is A^T A / sigma^2 (A: the design matrix) and, for any unbiased estimator of s*,
 
-        var(s*) >= sigma^2 g^T (A^T A)^-1 g / v^2,   g = (1, s*, s*^2),  v = c1 + 2 c2 s*,
+        var(s*) >= sigma^2 g^T (A^T A)^-1 g / v^2,   g = (1, s*, ..., s*^d),  v = p'(s*),
 
     which is also the delta-method variance of the least-squares root (so the fit attains the
-    bound to first order in sigma / (v dt)).  With orthogonal polynomials on n equally spaced
-    samples, g^T (A^T A)^-1 g (the fitted curve's variance at s*, in units of sigma^2) is
+    bound to first order in sigma / (v dt)).  In the discrete orthogonal (Gram) polynomials of
+    n equally spaced samples, g^T (A^T A)^-1 g (the fitted curve's variance at s*, in units of
+    sigma^2) is
 
-        L(u, n) = 1/n + 12 u^2 / (n (n^2 - 1)) + 180 (u^2 - (n^2 - 1)/12)^2 / (n (n^2 - 1) (n^2 - 4)),
+        L(u, n) = 1/n + 12 u^2 / (n (n^2 - 1)) + 180 (u^2 - (n^2 - 1)/12)^2 / (n (n^2 - 1) (n^2 - 4))
+                  [ + 2800 (u^3 - u (3 n^2 - 7)/20)^2 / (n (n^2 - 1) (n^2 - 4) (n^2 - 9))  for d = 3 ],
 
-    u = (t* - mean of the fit's sample times) / dt, so  sigma_t >= sqrt(L(u, n)) sigma / |v|.
-    The crossing lies between the last fit sample (u = (n-1)/2) and the next (u = (n+1)/2):
-    for the default n = 5, sqrt(L) runs from 0.94 to 2.14 (1.45 at mid-interval).  For a
-    fixed n the bound does not depend on the sample rate (a faster card puts the n samples
-    closer together); it scales as the noise over the impact velocity.  Arrays broadcast.
+    u = (t* - mean of the fit's sample times) / dt, so  sigma_t >= sqrt(L(u, n)) sigma / |v|.  At
+    the end of a long window L is about (d + 1)^2 / n: 9 / n for the quadratic, 16 / n for the
+    cubic.  For the quadratic on n = 5 samples sqrt(L) runs from 0.94 to 2.14 as the crossing moves
+    from the last sample (u = 2) to the next (u = 3).  Arrays broadcast.
     """
-    n = np.asarray(n, dtype=float)
-    u2 = np.asarray(u, dtype=float) ** 2
-    L = 1 / n + 12 * u2 / (n * (n * n - 1)) + 180 * (u2 - (n * n - 1) / 12) ** 2 / (n * (n * n - 1) * (n * n - 4))
+    L = _variance_factor(np.asarray(u, dtype=float), np.asarray(n, dtype=float), np.asarray(degree))
     return np.sqrt(L) * np.asarray(sigma, dtype=float) / np.abs(np.asarray(v, dtype=float))
 
 
-def _crossings(t, x, i, xi, n, sigma):
+def _variance_factor(u, n, degree):
+    """L(u, n) of :func:`crossing_time_crb` (arrays broadcast)."""
+    u2, n2 = u * u, n * n
+    with np.errstate(divide="ignore", invalid="ignore"):
+        L = 1 / n + 12 * u2 / (n * (n2 - 1)) + 180 * (u2 - (n2 - 1) / 12) ** 2 / (n * (n2 - 1) * (n2 - 4))
+        cubic = 2800 * (u * u2 - u * (3 * n2 - 7) / 20) ** 2 / (n * (n2 - 1) * (n2 - 4) * (n2 - 9))
+    return np.where(degree >= 3, L + np.where(degree >= 3, cubic, 0.0), L)
+
+
+def window_lengths(sigma, rate, jerk, snap):
+    """Longest windows (s) of the quadratic and the cubic fit whose bias at the crossing stays
+    within :data:`BIAS_SHARE` of their noise (module docstring), from
+
+        jerk W^3 / 120 = BIAS_SHARE 3 sigma / sqrt(W rate),   snap W^4 / 1680 = BIAS_SHARE 4 sigma / sqrt(W rate).
+
+    jerk, snap: the record's third and fourth derivative scales (m/s^3, m/s^4); sigma (m),
+    rate (Hz).  A scale that is not positive (or nan: not measured) gives no limit.
+    """
+    root = math.sqrt(rate)
+    w2 = (120 * BIAS_SHARE * 3 * sigma / (jerk * root)) ** (1 / 3.5) if jerk > 0 else math.inf
+    w3 = (1680 * BIAS_SHARE * 4 * sigma / (snap * root)) ** (1 / 4.5) if snap > 0 else math.inf
+    return w2, w3
+
+
+@njit(cache=True)
+def _approach_start(x, i, floor, xi, rise):
+    """First sample of the approach to the crossing after sample i: scanning back from i (not
+    before ``floor``) past the last turning point (the signal rises ``rise`` above its running
+    minimum), the first sample after the last one below a quarter of the rise to xi."""
+    low, k_low, k = x[i], i, i
+    while k > floor:
+        k -= 1
+        if x[k] < low:
+            low, k_low = x[k], k
+        elif x[k] > low + rise:
+            break
+    level = low + APPROACH_SKIP * (xi - low)
+    k = i
+    while k > k_low and x[k - 1] > level:
+        k -= 1
+    return max(k, floor)
+
+
+@njit(cache=True)
+def _solve(M, r):
+    """Solution of the small symmetric positive-definite system M c = r (Gaussian elimination)."""
+    n = r.size
+    A, b = M.copy(), r.copy()
+    for c in range(n):
+        for row in range(c + 1, n):
+            f = A[row, c] / A[c, c]
+            for k in range(c, n):
+                A[row, k] -= f * A[c, k]
+            b[row] -= f * b[c]
+    out = np.zeros(n)
+    for c in range(n - 1, -1, -1):
+        acc = b[c]
+        for k in range(c + 1, n):
+            acc -= A[c, k] * out[k]
+        out[c] = acc / A[c, c]
+    return out
+
+
+@njit(cache=True)
+def _poly_fit(t, x, k0, k1, d):
+    """Least-squares polynomial of degree d through samples k0..k1 in s = (t - mid) / half.
+
+    Returns (coefficients, normal matrix, mid, half)."""
+    mid, half = 0.5 * (t[k0] + t[k1]), max(0.5 * (t[k1] - t[k0]), 1e-300)
+    M, r, pw = np.zeros((d + 1, d + 1)), np.zeros(d + 1), np.empty(2 * d + 1)
+    for k in range(k0, k1 + 1):
+        s = (t[k] - mid) / half
+        pw[0] = 1.0
+        for j in range(1, 2 * d + 1):
+            pw[j] = pw[j - 1] * s
+        for a in range(d + 1):
+            r[a] += pw[a] * x[k]
+            for b in range(d + 1):
+                M[a, b] += pw[a + b]
+    return _solve(M, r), M, mid, half
+
+
+@njit(cache=True)
+def _poly(c, s):
+    """p(s) and p'(s) of the coefficients c (lowest first)."""
+    p, dp = 0.0, 0.0
+    for j in range(c.size - 1, -1, -1):
+        dp = dp * s + p
+        p = p * s + c[j]
+    return p, dp
+
+
+@njit(cache=True)
+def _root(c, xi, s0):
+    """The upward root of p(s) = xi nearest s0 in [s0 - 0.5, s0 + 0.5] and p' there, or (nan, nan).
+
+    Newton's method from s0 while p' > 0 along its path; else (a grazing crossing, where the
+    path meets the vertex) the first upward sign change on a grid, refined by bisection."""
+    s = s0
+    for _ in range(40):
+        p, dp = _poly(c, s)
+        if not dp > 0:
+            break
+        step = (p - xi) / dp
+        s -= step
+        if abs(step) < 1e-13 * max(1.0, abs(s)):
+            if abs(s - s0) <= 0.5:
+                return s, dp
+            break
+    lo, f_lo = s0 - 0.5, _poly(c, s0 - 0.5)[0] - xi
+    for k in range(1, 201):
+        hi = s0 - 0.5 + k / 200.0
+        f_hi = _poly(c, hi)[0] - xi
+        if f_lo < 0 <= f_hi:
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                if _poly(c, mid)[0] - xi < 0:
+                    lo = mid
+                else:
+                    hi = mid
+            dp = _poly(c, hi)[1]
+            return (hi, dp) if dp > 0 else (math.nan, math.nan)
+        lo, f_lo = hi, f_hi
+    return math.nan, math.nan
+
+
+@njit(cache=True)
+def _end_factor(n, d):
+    """L of :func:`crossing_time_crb` half a sample after the last of n samples (the njit twin of
+    :func:`_variance_factor`; a test checks that they agree)."""
+    u = n / 2.0
+    u2, n2 = u * u, float(n) * n
+    L = 1 / n + 12 * u2 / (n * (n2 - 1)) + 180 * (u2 - (n2 - 1) / 12) ** 2 / (n * (n2 - 1) * (n2 - 4))
+    if d >= 3:
+        L += 2800 * (u * u2 - u * (3 * n2 - 7) / 20) ** 2 / (n * (n2 - 1) * (n2 - 4) * (n2 - 9))
+    return L
+
+
+@njit(cache=True)
+def _last_at_or_before(t, k, tp):
+    """Index of the last sample at or before time tp, searched from index k."""
+    while k + 1 < t.size and t[k + 1] <= tp:
+        k += 1
+    while k > 0 and t[k] > tp:
+        k -= 1
+    return k
+
+
+@njit(cache=True)
+def fit_crossings(t, x, onsets, floors, xi, sigma, n_max2, n_max3):
+    """Crossing time, velocity and std of each onset (the last sample below xi before a crossing).
+
+    floors: first sample each fit may use (after the previous contact).  n_max2, n_max3: most
+    samples in the quadratic's and the cubic's window (:func:`window_lengths` times the rate).
+    Returns (t, v, sigma_t, first sample, samples, degree); degree 0 where no fit was found (the
+    caller times those impacts otherwise).
+    """
+    m = onsets.size
+    tc, vc, sc = np.full(m, np.nan), np.full(m, np.nan), np.full(m, np.nan)
+    first, count, degree = np.zeros(m, np.int64), np.zeros(m, np.int64), np.zeros(m, np.int64)
+    rise = TURN_SIGMAS * sigma
+    for q in range(m):
+        i = onsets[q]
+        ks = _approach_start(x, i, floors[q], xi, rise)
+        tp = t[i] + (t[i + 1] - t[i]) * (xi - x[i]) / (x[i + 1] - x[i])
+        for _ in range(4):
+            ke = _last_at_or_before(t, i, tp)
+            avail = ke - ks + 1
+            n2, n3 = min(avail, n_max2), min(avail, n_max3)
+            d, n = 0, 0
+            if n2 >= MIN_SAMPLES_QUADRATIC:
+                d, n = 2, n2
+            if n3 >= MIN_SAMPLES_CUBIC and (d == 0 or _end_factor(n3, 3) < _end_factor(n2, 2)):
+                d, n = 3, n3
+            if d == 0:
+                break
+            k0 = ke - n + 1
+            c, M, mid, half = _poly_fit(t, x, k0, ke, d)
+            s, dp = _root(c, xi, (tp - mid) / half)
+            if not abs(s - 1.0) < 0.5:  # no crossing near the window's end
+                break
+            g = np.empty(d + 1)
+            g[0] = 1.0
+            for j in range(1, d + 1):
+                g[j] = g[j - 1] * s
+            var = max(g @ _solve(M, g), 0.0)
+            tp = mid + s * half
+            tc[q], vc[q], sc[q] = tp, dp / half, sigma * math.sqrt(var) * half / dp
+            first[q], count[q], degree[q] = k0, n, d
+    return tc, vc, sc, first, count, degree
+
+
+@njit(cache=True)
+def _last_below(x, ends, level):
+    """Index of the last sample at or below level up to each of ends (0 if none)."""
+    out = np.zeros(ends.size, np.int64)
+    for q in range(ends.size):
+        k = ends[q]
+        while k > 0 and x[k] > level:
+            k -= 1
+        out[q] = k
+    return out
+
+
+@njit(cache=True)
+def _top_coefficients(t, x, onsets, floors, xi, sigma, d, n_max):
+    """The degree-d coefficient (in time units) of a fit over each approach, or nan."""
+    out = np.full(onsets.size, np.nan)
+    rise = TURN_SIGMAS * sigma
+    for q in range(onsets.size):
+        i = onsets[q]
+        k0 = max(_approach_start(x, i, floors[q], xi, rise), i - n_max + 1)
+        if i - k0 + 1 >= 3 * (d + 1):
+            c, _M, _mid, half = _poly_fit(t, x, k0, i, d)
+            out[q] = c[d] / half**d
+    return out
+
+
+def derivative_scales(t, x, onsets, floors, xi, sigma):
+    """The record's third and fourth derivative scales on its approaches (m/s^3, m/s^4).
+
+    The median magnitude of the top coefficient (times 3! and 4!) of cubic and quartic fits over
+    each approach (at most :data:`PROBE_WINDOW`).  Noise inflates them, which only shortens the
+    windows; nan with fewer than 5 usable approaches.
+    """
+    n_max = max(int(PROBE_WINDOW / (t[1] - t[0])), 1)
+    out = []
+    for d, factorial in ((3, 6.0), (4, 24.0)):
+        c = _top_coefficients(t, x, onsets, floors, xi, sigma, d, n_max)
+        c = np.abs(c[np.isfinite(c)])
+        out.append(float(factorial * np.median(c)) if c.size >= 5 else math.nan)
+    return tuple(out)
+
+
+def short_crossings(t, x, i, xi, n, sigma):
     """Sub-sample times, velocities, sigma_t and Cramer-Rao bounds of the upward crossings
     between samples i and i+1 (i: the onsets in order; each fit ends at i).
 
@@ -85,26 +354,65 @@ def _crossings(t, x, i, xi, n, sigma):
     stf = sigma * np.sqrt(np.maximum(var, 0.0)) / vf
     crb = np.full(i.size, np.nan)
     crb[f] = stf
-    # the signal dwells within 3 sigma below x_impact before the crossing (a slow, grazing
-    # approach, or a contact sample pushed down by noise): the crossing is only known to
-    # within that dwell time, back to the last sample below the band (or the record start)
-    below = np.flatnonzero(x <= xi - 3 * sigma)
-    last = np.searchsorted(below, fi, side="right") - 1
-    k0 = np.where(last >= 0, below[np.maximum(last, 0)], 0)
-    stf = np.where(x[fi] > xi - 3 * sigma, np.maximum(stf, t[fi + 1] - t[k0]), stf)
     tc[f], v[f], st[f] = t[fi] + s, vf, stf
-    # fitted roots of adjacent crossings can overlap (only without hysteresis): keep the
-    # order with the linear interpolation inside [t_i, t_i+1] (sequential: each onset is
-    # compared with the previous one's final time)
+    # the crossing is only known to within the time the signal dwelt within 3 sigma below
+    # x_impact before it (a slow, grazing approach, or a contact sample pushed down by noise):
+    # back to the last sample below that band (or the record start)
+    st = np.maximum(np.abs(st), t[i + 1] - t[_last_below(x, i, xi - 3 * sigma)])
+    return tc, v, st, np.abs(crb)
+
+
+def _keep_order(tc, v, st, crb, t, x, i, xi):
+    """Times of adjacent crossings can overlap (only without hysteresis, where every noise
+    crossing is one): keep the order with the linear interpolation inside [t_i, t_i+1]
+    (sequential: each onset is compared with the previous one's final time)."""
+    dt = t[i + 1] - t[i]
+    lin = t[i] + dt * (xi - x[i]) / (x[i + 1] - x[i])
     overlap = np.zeros(i.size, bool)
     prev = -math.inf
     for k, tk in enumerate(tc.tolist()):
         overlap[k] = tk <= prev
         prev = float(lin[k]) if overlap[k] else tk
-    st = np.abs(st)
     return (
         np.where(overlap, lin, tc),
-        np.where(overlap, v_lin, v),
+        np.where(overlap, (x[i + 1] - x[i]) / dt, v),
         np.where(overlap, np.maximum(st, dt), st),
-        np.where(overlap, np.nan, np.abs(crb)),
+        np.where(overlap, np.nan, crb),
+        overlap,
     )
+
+
+def time_impacts(t, x, onsets, floors, xi, sigma, *, scales, window=None, short_points=5):
+    """Times of the impacts at ``onsets``: the windowed fits of :func:`fit_crossings`, the short
+    fit where those find none.
+
+    scales: the record's (jerk, snap) from :func:`derivative_scales`; window: a fixed window (s)
+    for both degrees instead of :func:`window_lengths`.  Returns a dict of arrays: ``t``, ``v``,
+    ``sigma_t``, ``crb_t`` (the fit's std at the crossing, before the short fit's dwell floor),
+    ``fit_start`` (time of the fit's first sample), ``fit_samples`` and ``fit_degree``.
+    """
+    rate = 1.0 / float(t[1] - t[0]) if t.size > 1 else 1.0
+    w2, w3 = (window, window) if window is not None else window_lengths(sigma, rate, *scales)
+    cap = np.iinfo(np.int64).max // 4
+    n2, n3 = (min(int(w * rate), cap) if math.isfinite(w) else cap for w in (w2, w3))
+    onsets = np.asarray(onsets, dtype=np.int64)
+    tc, vc, sc, first, count, degree = fit_crossings(t, x, onsets, np.asarray(floors, np.int64), xi, sigma, n2, n3)
+    crb = sc.copy()
+    short = np.flatnonzero(degree == 0)
+    if short.size:
+        i = onsets[short]
+        tc[short], vc[short], sc[short], crb[short] = short_crossings(t, x, i, xi, short_points, sigma)
+        first[short] = np.maximum(i - short_points + 1, 0)
+        count[short] = i - first[short] + 1
+        degree[short] = 2
+    tc, vc, sc, crb, overlap = _keep_order(tc, vc, sc, crb, t, x, onsets, xi)
+    count[overlap], degree[overlap], first[overlap] = 2, 1, onsets[overlap]
+    return {
+        "t": tc,
+        "v": vc,
+        "sigma_t": sc,
+        "crb_t": crb,
+        "fit_start": t[first] if t.size else np.empty(0),
+        "fit_samples": count,
+        "fit_degree": degree,
+    }
