@@ -21,6 +21,7 @@ import numpy as np
 
 from impactosc.core.simulation import Window, simulate
 from impactosc.records.extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
+from impactosc.records.impact_times import crossing_time_crb
 from impactosc.records.record import Record
 from impactosc.records.surrogate import (
     REALISM_FIELDS,
@@ -61,7 +62,10 @@ TABLE_COLUMNS = [
     "sigma_t_median_s",
     "timing_err_median_s",
     "timing_crb_median_s",
+    "timing_crb_rms_s",
     "timing_crb_ratio",
+    "timing_within_2sigma",
+    "timing_rms_z",
     "penetration_bias_m",
     "penetration_err_median_m",
     "x_impact_err_m",
@@ -119,21 +123,26 @@ def _train_numbers(times, t0, t1, omega, analysis):
     }
 
 
-def _extraction_row(rec, x_impact, truth, opts: ExtractOptions) -> tuple[dict, np.ndarray]:
+def _extraction_row(rec, x_impact, truth, opts: ExtractOptions, noise=None) -> tuple[dict, np.ndarray]:
     """Extract the events of rec with the known x_impact and score them against the truth.
 
     Returns (columns, extracted impact times).  Timing: rms error, largest |error| / stated
-    sigma_t, the median |error| against the median Cramer-Rao bound of the matched impacts and
-    ``timing_crb_ratio`` = median(|error| / bound) / 0.6745 (1 when every impact is timed with
-    the bound's precision: |error| / bound is then half-normal, median 0.6745).  Penetration:
-    median error and median |error| of the depths of the matched impacts.
+    sigma_t, the share of errors within 2 stated sigma_t and the rms of error / sigma_t (0.95
+    and 1 when sigma_t is honest).  The Cramer-Rao bound of each matched impact
+    (:func:`impactosc.records.impact_times.crossing_time_crb`) is that of its fit's samples at
+    the true crossing time and velocity, with the true noise ``noise`` (the estimate when None):
+    its median and rms, and ``timing_crb_ratio`` = rms(error / bound) (1 when every impact is
+    timed at its bound).  Penetration: median error and median |error| of the depths of the
+    matched impacts.
     """
-    T, Ht = truth["impacts"]["t"], truth["penetrations"]["h"]
+    T, V, Ht = truth["impacts"]["t"], truth["impacts"]["v"], truth["penetrations"]["h"]
     ev, at = extract_events(rec, x_impact, opts)
-    E, s, crb = ev["impacts"]["t"], ev["impacts"]["sigma_t"], ev["impacts"]["crb_t"]
+    imp = ev["impacts"]
+    E, s = imp["t"], imp["sigma_t"]
     fi, ti = match_impacts(T, E)
     err = E[fi] - T[ti]
     nan = float("nan")
+    z = err / s[fi]
     row = {
         "n_true": T.size,
         "n_found": E.size,
@@ -141,19 +150,26 @@ def _extraction_row(rec, x_impact, truth, opts: ExtractOptions) -> tuple[dict, n
         "extra": E.size - fi.size,
         "timing_rms_s": float(np.sqrt(np.mean(err**2))) if err.size else nan,
         "timing_bias_s": float(np.median(err)) if err.size else nan,
-        "timing_max_z": float(np.max(np.abs(err) / s[fi])) if err.size else nan,
-        "frac_beyond_5sigma": float(np.mean(np.abs(err) > 5 * s[fi])) if err.size else nan,
+        "timing_max_z": float(np.max(np.abs(z))) if err.size else nan,
+        "frac_beyond_5sigma": float(np.mean(np.abs(z) > 5)) if err.size else nan,
+        "timing_within_2sigma": float(np.mean(np.abs(z) < 2)) if err.size else nan,
+        "timing_rms_z": float(np.sqrt(np.mean(z**2))) if err.size else nan,
         "sigma_t_median_s": at["timing_sigma_median"],
         "noise_estimate_m": at["noise_sigma"],
     }
-    c = crb[fi]
-    ok = np.isfinite(c) & (c > 0)
-    if ok.any():
-        row.update(
-            timing_err_median_s=float(np.median(np.abs(err[ok]))),
-            timing_crb_median_s=float(np.median(c[ok])),
-            timing_crb_ratio=float(np.median(np.abs(err[ok]) / c[ok]) / 0.6745),
-        )
+    if err.size and "fit_samples" in imp:
+        n = imp["fit_samples"][fi]
+        centre = imp["fit_start"][fi] + (n - 1) / 2 * rec.dt
+        sigma = at["noise_sigma"] if noise is None else noise
+        bound = crossing_time_crb(sigma, V[ti], (T[ti] - centre) / rec.dt, n, imp["fit_degree"][fi])
+        ok = np.isfinite(bound) & (bound > 0)
+        if ok.any():
+            row.update(
+                timing_err_median_s=float(np.median(np.abs(err[ok]))),
+                timing_crb_median_s=float(np.median(bound[ok])),
+                timing_crb_rms_s=float(np.sqrt(np.mean(bound[ok] ** 2))),
+                timing_crb_ratio=float(np.sqrt(np.mean((err[ok] / bound[ok]) ** 2))),
+            )
     if Ht.size == T.size and ti.size:
         dh = ev["penetrations"]["h"][fi] - Ht[ti]
         row.update(penetration_bias_m=float(np.median(dh)), penetration_err_median_m=float(np.median(np.abs(dh))))
@@ -383,7 +399,7 @@ def _level_rows(rate, noise, rec0, truth, x, omega, analysis, x_impact_span, x_i
         ("hysteresis", ExtractOptions(noise=sigma)),
         ("naive threshold", ExtractOptions(noise=sigma, hysteresis=0.0, confirm_sigmas=0.0)),
     ):
-        cols, E = _extraction_row(rec, x_true, truth, opts)
+        cols, E = _extraction_row(rec, x_true, truth, opts, noise if noise > 0 else None)
         row = {"rate_hz": rate, "noise_m": noise, "method": method, **cols}
         if method == "hysteresis" and (not x_impact_noise or noise in x_impact_noise):
             row.update(_x_impact_columns(Record(rec0.t, x, omega, {}, rec0.path), x_impact_span, x_true))

@@ -88,7 +88,7 @@ def noise_study_figure(rows: list[dict], density_rate: float):
     ax[2].set_title(f"(c) ISI density at {density_rate / 1e3:g} kHz")
     ax[2].legend(fontsize=5)
     ax[3].axhline(1.0, color="k", lw=0.6)
-    ax[3].set_ylabel("timing error / bound (robust ratio)")
+    ax[3].set_ylabel("rms of timing error / bound")
     ax[3].set_title("(d) timing error / Cramer-Rao bound")
     ax[3].legend(fontsize=5)
     ax[4].axhspan(-3, 3, color="0.9", zorder=0, label="+-3 um")
@@ -101,7 +101,7 @@ def noise_study_figure(rows: list[dict], density_rate: float):
 
 
 def _crb_panel(ax, hy, color, rate):
-    """timing_crb_ratio of the hysteresis rows (noise > 0) against noise."""
+    """timing_crb_ratio (rms of error / bound) of the hysteresis rows (noise > 0) against noise."""
     ok = [r for r in hy if np.isfinite(r.get("timing_crb_ratio", np.nan))]
     ax.plot(_um(ok), [r["timing_crb_ratio"] for r in ok], "o-", color=color, ms=3, label=f"{rate / 1e3:g} kHz")
 
