@@ -46,11 +46,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from impactosc.records.contacts import _peaks, _segment_argmax
 from impactosc.records.impact_times import derivative_scales, time_impacts
 from impactosc.records.obstacle_estimate import estimate_x_impact
 from impactosc.records.poincare import poincare_attrs, poincare_points
 from impactosc.records.record import Record
-from impactosc.records.sample_fits import estimate_noise, quadratic_fits
+from impactosc.records.sample_fits import estimate_noise
 
 __all__ = [
     "ExtractOptions",
@@ -132,37 +133,6 @@ class ExtractOptions:
         for name in ("hysteresis_sigmas", "confirm_sigmas"):
             if not getattr(self, name) >= 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
-
-
-def _segment_argmax(x, start, stop):
-    """Index of the (first) largest sample of x in each of the disjoint ranges [start, stop)."""
-    size = stop - start
-    if not size.size:
-        return np.empty(0, int)
-    offset = np.cumsum(size) - size  # where each range starts in the gathered samples
-    seg = np.repeat(np.arange(size.size), size)
-    pos = np.arange(size.sum()) - offset[seg] + start[seg]
-    is_top = x[pos] == np.maximum.reduceat(x[pos], offset)[seg]
-    hits = np.flatnonzero(is_top)
-    return pos[hits[np.unique(seg[hits], return_index=True)[1]]]
-
-
-def _peaks(t, x, j, half):
-    """Vertex (time, value) of a quadratic through samples j-half..j+half (arrays of j).
-
-    The sample itself where the window has fewer than 3 samples, the fit is not a maximum
-    (noise-dominated) or the vertex lies outside the window.
-    """
-    lo, hi = np.maximum(0, j - half), np.minimum(x.size, j + half + 1)
-    tp, xp = t[j].copy(), x[j].copy()
-    f = np.flatnonzero(hi - lo >= 3)
-    c, _ = quadratic_fits(t, x, lo[f], hi[f], t[j[f]])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = -c[:, 1] / (2 * c[:, 2])
-    use = (c[:, 2] < 0) & (np.abs(s) <= (t[hi[f] - 1] - t[lo[f]]) / 2)
-    f, c, s = f[use], c[use], s[use]
-    tp[f], xp[f] = t[j[f]] + s, c[:, 0] + c[:, 1] * s + c[:, 2] * s * s
-    return tp, xp
 
 
 def extract_events(
