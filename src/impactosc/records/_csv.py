@@ -1,8 +1,9 @@
 """CSV parsing of a measured record: the metadata block, the header and the samples.
 
 Why a module: a record of an hour at kHz rates is millions of lines, so the samples are read
-by one ``np.loadtxt`` call; where numpy refuses the block (a malformed line), a line-by-line
-parser reads it again to name the line and the problem.  The format is described in
+in blocks of lines (bounded memory, :mod:`impactosc.records.streams`), each parsed by one
+``np.loadtxt`` call; where numpy refuses a block (a malformed line), a line-by-line parser
+reads it again to name the line and the problem.  The format is described in
 :mod:`impactosc.records.formats`.
 """
 
@@ -12,9 +13,12 @@ import csv
 
 import numpy as np
 
-from impactosc.records.record import Record, record_from_samples
+__all__ = ["CsvSource"]
 
-__all__ = ["read_csv_record"]
+#: Characters of a block of text read at once (1 MB: ~40 000 lines of a record).
+BLOCK_CHARS = 1 << 20
+# the line boundaries of str.splitlines
+_BREAKS = "\n\r\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029"
 
 
 def _parse_meta(lines, source):
@@ -30,22 +34,30 @@ def _parse_meta(lines, source):
     return meta
 
 
-class _LineNames:
-    """``where[i]`` = "line k" of sample i, without building a string per sample."""
-
-    def __init__(self, numbers):
-        self.numbers = numbers
-
-    def __getitem__(self, i):
-        return f"line {self.numbers[i]}"
+def _line_blocks(f):
+    """The lines of the open text file ``f`` (as ``str.splitlines`` splits them), a list per
+    block of about ``BLOCK_CHARS`` characters."""
+    pending = ""
+    while True:
+        text = f.read(BLOCK_CHARS)
+        if not text:
+            if pending:
+                yield [pending]
+            return
+        text = pending + text
+        lines = text.splitlines()
+        pending = "" if text[-1] in _BREAKS else lines.pop()
+        if lines:
+            yield lines
 
 
 def _loadtxt_columns(data, first_lineno, n_columns, cols):
     """Fast path: parse the data lines with one ``np.loadtxt`` call (about 5x faster on 1e6 rows).
 
-    Returns (list of the columns ``cols``, where), or None when numpy refuses the block (non-numeric or missing
-    fields, ragged rows, whitespace-only lines, quoted fields ...) or its rows do not match
-    the header; the caller then reparses line by line, which names the line and the problem.
+    Returns (list of the columns ``cols``, line numbers of the rows), or None when numpy refuses the block
+    (non-numeric or missing fields, ragged rows, whitespace-only lines, quoted fields ...) or
+    its rows do not match the header; the caller then reparses line by line, which names the
+    line and the problem.
     """
     if not any(data):  # nothing but empty lines: loadtxt would only warn
         return None
@@ -56,45 +68,22 @@ def _loadtxt_columns(data, first_lineno, n_columns, cols):
     if a.shape[1] != n_columns:
         return None
     # loadtxt skips empty lines; number the rows it kept as the line parser would
-    numbers = range(first_lineno, first_lineno + len(data))
+    numbers = np.arange(first_lineno, first_lineno + len(data))
     if a.shape[0] != len(data):
-        numbers = [k for k, line in zip(numbers, data) if line]
+        numbers = numbers[np.fromiter(map(bool, data), bool, len(data))]
         if len(numbers) != a.shape[0]:
             return None
-    return [a[:, j].copy() for j in cols], _LineNames(numbers)
+    return [a[:, j].copy() for j in cols], numbers
 
 
-def read_csv_record(path, time_column, x_column, units, omega, phase_column=None, phase_units=None) -> Record:
-    """One record from a CSV file: the columns ``time_column`` and ``x_column`` (and ``phase_column``,
-    by default a column named ``phase`` if there is one), the metadata block as metadata."""
-    source = str(path)
-    with open(path, newline="") as f:
-        lines = f.read().splitlines()
-    head, i = [], 0
-    while i < len(lines) and (lines[i].startswith("#") or not lines[i].strip()):
-        head.append((i + 1, lines[i]))
-        i += 1
-    meta = _parse_meta(head, source)
-    if i == len(lines):
-        raise ValueError(f"{source}: no header line after the metadata block")
-    header_lineno = i + 1
-    header = [h.strip() for h in next(csv.reader([lines[i]]))]
-    if phase_column is None and "phase" in header:  # a column named phase is the phase
-        phase_column = "phase"
-    wanted = [time_column, x_column] + ([phase_column] if phase_column is not None else [])
-    for col in wanted:
-        if col not in header:
-            raise ValueError(f"{source}: line {header_lineno}: header {header} has no column {col!r}")
-    cols = [header.index(c) for c in wanted]
-    finish = dict(units=units, omega=omega, source=source, path=path, phase_units=phase_units)
-    fast = _loadtxt_columns(lines[i + 1 :], header_lineno + 1, len(header), cols)
+def _parse_lines(lines, first_lineno, header, cols, source):
+    """Columns ``cols`` of data lines and the line number of each row (empty lines skipped)."""
+    fast = _loadtxt_columns(lines, first_lineno, len(header), cols)
     if fast is not None:
-        arrays, where = fast
-        phase = arrays[2] if len(arrays) > 2 else None
-        return record_from_samples(arrays[0], arrays[1], meta, where=where, phase=phase, **finish)
+        return fast
     # Line-by-line fallback: slower, but names the line and the problem of a malformed row.
-    values, where = [[] for _ in cols], []
-    for k, row in enumerate(csv.reader(lines[i + 1 :]), start=header_lineno + 1):
+    values, numbers = [[] for _ in cols], []
+    for k, row in enumerate(csv.reader(lines), start=first_lineno):
         if not row or all(not c.strip() for c in row):
             continue
         if len(row) != len(header):
@@ -104,6 +93,76 @@ def read_csv_record(path, time_column, x_column, units, omega, phase_column=None
                 v.append(float(row[j]))
         except ValueError:
             raise ValueError(f"{source}: line {k}: non-numeric value in {row}") from None
-        where.append(f"line {k}")
-    phase = values[2] if len(values) > 2 else None
-    return record_from_samples(values[0], values[1], meta, where=where, phase=phase, **finish)
+        numbers.append(k)
+    return [np.asarray(v, dtype=float) for v in values], np.asarray(numbers, dtype=np.int64)
+
+
+class CsvSource:
+    """A CSV record's metadata and header, read on opening, and its samples in blocks of lines.
+
+    The columns ``time_column`` and ``x_column`` (and ``phase_column``, by default a column
+    named ``phase`` if there is one); the metadata block is the metadata.  Read sequentially:
+    the number of samples is known only at the end.
+    """
+
+    random_access = False
+    validated = False
+    n = None
+
+    def __init__(self, path, time_column, x_column, units, omega, phase_column=None, phase_units=None):
+        self.path = path
+        self.source = source = str(path)
+        head, lineno, header_line = [], 0, None
+        with open(path) as f:
+            for lines in _line_blocks(f):
+                for line in lines:
+                    lineno += 1
+                    if line.startswith("#") or not line.strip():
+                        head.append((lineno, line))
+                        continue
+                    header_line = line
+                    break
+                if header_line is not None:
+                    break
+        self.meta = _parse_meta(head, source)
+        if header_line is None:
+            raise ValueError(f"{source}: no header line after the metadata block")
+        self.header_lineno = lineno
+        self.header = header = [h.strip() for h in next(csv.reader([header_line]))]
+        if phase_column is None and "phase" in header:  # a column named phase is the phase
+            phase_column = "phase"
+        wanted = [time_column, x_column] + ([phase_column] if phase_column is not None else [])
+        for col in wanted:
+            if col not in header:
+                raise ValueError(f"{source}: line {lineno}: header {header} has no column {col!r}")
+        self.cols = [header.index(c) for c in wanted]
+        self.has_phase = phase_column is not None
+        self.header_options = dict(units=units, omega=omega, phase_units=phase_units, counts_per_rev=None)
+
+    def blocks(self, start, stop, size=None, phase_only=False):
+        """(t, x, phase or None, line numbers) of the samples [0, stop) (all: stop None), a
+        block of lines at a time; a sequential source starts at sample 0."""
+        if start != 0:
+            raise ValueError("a CSV record is read from its first sample")
+        got = 0
+        with open(self.path) as f:
+            lineno, skip = 0, self.header_lineno
+            for lines in _line_blocks(f):
+                if skip:
+                    k = min(skip, len(lines))
+                    skip, lineno, lines = skip - k, lineno + k, lines[k:]
+                    if not lines:
+                        continue
+                arrays, numbers = _parse_lines(lines, lineno + 1, self.header, self.cols, self.source)
+                lineno += len(lines)
+                if stop is not None and got + numbers.size >= stop:
+                    k = stop - got
+                    arrays, numbers = [a[:k] for a in arrays], numbers[:k]
+                if numbers.size:
+                    got += numbers.size
+                    yield arrays[0], arrays[1], arrays[2] if self.has_phase else None, numbers
+                if stop is not None and got >= stop:
+                    return
+
+    def close(self):
+        pass

@@ -1,8 +1,9 @@
 """Measured-record files: one record read from CSV, HDF5 or TDMS and written to CSV or HDF5, and
 record sets (one record per w).
 
-Why a module: the formats a user's record may come in meet here, and each reader ends in
-:func:`impactosc.records.record.record_from_samples`, so that every format gives the same
+Why a module: the formats a user's record may come in meet here, and each is read by one
+reader (:mod:`impactosc.records.streams`, whole or in chunks) whose samples go through
+:class:`impactosc.records.record.SampleCheck`, so that every format gives the same
 validated :class:`impactosc.records.record.Record` (x in metres).
 
 CSV format (``examples/record_example.csv``)::
@@ -40,10 +41,10 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from impactosc.io.files import PROVENANCE_ATTRS, atomic_write, stamp_h5, write_provenance_sidecar
-from impactosc.records._csv import read_csv_record
-from impactosc.records._tdms import read_tdms_record
+from impactosc.io.files import atomic_write, stamp_h5, write_provenance_sidecar
+from impactosc.records._h5 import attrs_meta
 from impactosc.records.record import UNITS, Record, record_from_samples
+from impactosc.records.streams import open_record_stream
 
 __all__ = [
     "read_record",
@@ -53,27 +54,6 @@ __all__ = [
     "is_record_set",
     "read_records",
 ]
-
-
-def _attrs_meta(attrs):
-    return {
-        k: (v.decode() if isinstance(v, bytes) else (v.item() if hasattr(v, "item") else v))
-        for k, v in attrs.items()
-        if k not in PROVENANCE_ATTRS
-    }
-
-
-def _read_h5(path, units, omega):
-    source = str(path)
-    with h5py.File(path, "r") as f:
-        if "record" not in f or "t" not in f["record"] or "x" not in f["record"]:
-            raise ValueError(f"{source}: no record/t and record/x datasets; not a record file")
-        t, x = f["record/t"][()], f["record/x"][()]
-        phase = f["record/phase"][()] if "phase" in f["record"] else None
-        meta = _attrs_meta(f.attrs)
-    if phase is not None:
-        meta.setdefault("phase_units", "rad")
-    return record_from_samples(t, x, meta, units=units, omega=omega, source=source, where=None, path=path, phase=phase)
 
 
 def read_record(
@@ -96,32 +76,21 @@ def read_record(
     ``x_column`` name the columns, ``phase_channel`` a phase column (default: a column named
     ``phase``, if any).  TDMS: ``group``, ``channel`` (displacement), ``phase_channel``,
     ``time_channel`` (see :mod:`impactosc.records._tdms`).  HDF5: ``record/phase`` when present.
+    The reader of :func:`impactosc.records.streams.open_record_stream`, with one chunk.
     """
-    path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"record file {path} does not exist")
-    suffix = path.suffix.lower()
-    if suffix == ".tdms":
-        return read_tdms_record(
-            path,
-            group=group,
-            channel=channel,
-            phase_channel=phase_channel,
-            time_channel=time_channel,
-            units=units,
-            phase_units=phase_units,
-            omega=omega,
-        )
-    given = [k for k, v in (("group", group), ("channel", channel), ("time_channel", time_channel)) if v is not None]
-    if given:
-        raise ValueError(f"{path}: {', '.join(given)} name(s) TDMS groups and channels; this is a {suffix} record")
-    if suffix == ".csv":
-        return read_csv_record(path, time_column, x_column, units, omega, phase_channel, phase_units)
-    if suffix in (".h5", ".hdf5"):
-        if phase_channel is not None:
-            raise ValueError(f"{path}: an HDF5 record's phase is record/phase; phase_channel is for CSV and TDMS")
-        return _read_h5(path, units, omega)
-    raise ValueError(f"{path}: unknown record format {path.suffix!r}; use .csv, .h5 or .tdms")
+    with open_record_stream(
+        path,
+        time_column=time_column,
+        x_column=x_column,
+        units=units,
+        omega=omega,
+        group=group,
+        channel=channel,
+        phase_channel=phase_channel,
+        time_channel=time_channel,
+        phase_units=phase_units,
+    ) as stream:
+        return stream.to_record()
 
 
 def write_record(path, t, x, *, omega=None, meta=None, units="m", sources=None, phase=None) -> Path:
@@ -228,7 +197,7 @@ def read_record_set(path) -> list[Record]:
                 raise ValueError(f"{path}: no 'records' group; not a record set")
             for name in sorted(f["records"]):
                 g = f["records"][name]
-                meta = _attrs_meta(g.attrs)
+                meta = attrs_meta(g.attrs)
                 out.append(
                     record_from_samples(
                         g["t"][()],
