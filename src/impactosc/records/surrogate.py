@@ -168,15 +168,23 @@ def surrogate_meta(o: SurrogateOptions, params: ModelParams, extra=None) -> dict
     return meta
 
 
-def sensor_samples(traj, o: SurrogateOptions, rng):
+def sensor_samples(traj, o: SurrogateOptions, rng, state: dict | None = None):
     """The recorded samples of a trajectory (t, x, v on a grid of 1 / (rate * k), k >= 1).
 
     Order of the sensor chain: anti-aliasing filter on the fine grid -> sampling every k-th
     point at the jittered instants -> + zero drift -> + white noise -> ADC rounding.  With
     every realism option off this is x + noise, drawn exactly as before they existed.
+
+    ``state`` (a dict, empty before the first chunk) makes the trajectory one chunk of a longer
+    one (:mod:`impactosc.records.long_surrogate`): the filter and drift states go on from the
+    previous chunk.  With noise, filter and ADC the chunks give the whole record's samples;
+    drift and jitter are then drawn chunk by chunk (same statistics, other values).
     """
+    state = {} if state is None else state
     t, x = traj["t"], traj["x"]
-    k = max(1, int(round(1.0 / (o.rate * float(t[1] - t[0]))))) if t.size > 1 else 1
+    if "k" not in state:  # the grid's points per sample
+        state["k"] = max(1, int(round(1.0 / (o.rate * float(t[1] - t[0]))))) if t.size > 1 else 1
+    k = state["k"]
     v = traj.get("v")
     if o.lowpass_hz > 0:
         from scipy.signal import butter, sosfilt, sosfilt_zi
@@ -185,8 +193,9 @@ def sensor_samples(traj, o: SurrogateOptions, rng):
         zi = sosfilt_zi(sos)
         # started in steady state at the first value (no switch-on transient); the filter is
         # linear, so the filtered velocity is the velocity of the filtered signal
-        x = sosfilt(sos, x, zi=zi * x[0])[0]
-        v = sosfilt(sos, v, zi=zi * v[0])[0] if v is not None else None
+        x, state["zx"] = sosfilt(sos, x, zi=state.get("zx", zi * x[0]))
+        if v is not None:
+            v, state["zv"] = sosfilt(sos, v, zi=state.get("zv", zi * v[0]))
     x = x[::k]
     n = x.size
     out = x + (rng.normal(0.0, o.noise, n) if o.noise > 0 else 0.0)
@@ -194,9 +203,12 @@ def sensor_samples(traj, o: SurrogateOptions, rng):
         from scipy.signal import lfilter
 
         rho = math.exp(-1.0 / (o.rate * o.drift_time))
-        e = rng.normal(0.0, o.drift, n + 1)
-        # stationary Ornstein-Uhlenbeck: d_0 ~ N(0, drift^2), d_j = rho d_j-1 + sqrt(1 - rho^2) e_j
-        d = lfilter([math.sqrt(1 - rho * rho)], [1.0, -rho], e[1:], zi=[rho * e[0]])[0]
+        if "zd" in state:
+            e = rng.normal(0.0, o.drift, n)
+        else:  # stationary Ornstein-Uhlenbeck: d_0 ~ N(0, drift^2), d_j = rho d_j-1 + sqrt(1 - rho^2) e_j
+            e = rng.normal(0.0, o.drift, n + 1)
+            state["zd"], e = [rho * e[0]], e[1:]
+        d, state["zd"] = lfilter([math.sqrt(1 - rho * rho)], [1.0, -rho], e, zi=state["zd"])
         out = out + d
     if o.clock_jitter > 0:
         vv = v[::k] if v is not None else np.gradient(x, 1.0 / o.rate)
