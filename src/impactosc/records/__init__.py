@@ -1,4 +1,4 @@
-"""Measured records: reading and writing them (CSV, HDF5, TDMS), extracting impact events from
+"""Measured records: reading and writing them (CSV, HDF5, TDMS; whole or in chunks), extracting impact events from
 sampled displacement, the obstacle's position, and the labelled surrogate (the model sampled
 like a rig)."""
 
@@ -14,6 +14,9 @@ export(
         "read_records": "impactosc.records.formats",
         "read_record_set": "impactosc.records.formats",
         "write_record_set": "impactosc.records.formats",
+        "open_record_stream": "impactosc.records.streams",
+        "RecordStream": "impactosc.records.streams",
+        "RecordChunk": "impactosc.records.streams",
         "ExtractOptions": "impactosc.records.extract",
         "extract_events": "impactosc.records.extract",
         "crossing_time_crb": "impactosc.records.impact_times",
@@ -24,5 +27,6 @@ export(
         "surrogate_record": "impactosc.records.surrogate",
         "surrogate_run": "impactosc.records.surrogate",
         "surrogate_driven": "impactosc.records.surrogate",
+        "write_long_surrogate": "impactosc.records.long_surrogate",
     },
 )
