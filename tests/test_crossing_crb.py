@@ -75,7 +75,7 @@ def test_windowed_fit_attains_its_bound_and_states_it():
     # approaches x = xI + v s + a/2 s^2 + j/6 s^3 (a smooth free flight: v = 0.08 m/s, a = -2 m/s^2,
     # j = 150 m/s^3, the chaotic scene's typical values) at 20 kHz with 5 um noise, each in its own
     # block after a turning point; the windowed fit of time_impacts times them
-    from impactosc.records.impact_times import derivative_scales, time_impacts
+    from impactosc.records.impact_times import derivative_scales, time_impacts, window_samples
 
     rng = np.random.default_rng(7)
     rate, sigma, xi = 20_000.0, 5e-6, -2e-3
@@ -95,7 +95,7 @@ def test_windowed_fit_attains_its_bound_and_states_it():
     )
     floors = np.arange(trials) * block
     scales = derivative_scales(t, x, onsets, floors, xi, sigma)
-    out = time_impacts(t, x, onsets, floors, xi, sigma, scales=scales)
+    out = time_impacts(t, x, onsets, floors, xi, sigma, windows=window_samples(sigma, rate, scales))
     err = out["t"] - true
     z = err / out["sigma_t"]
     # the stated sigma_t is the spread (rms z 0.965 measured; 5 % is 2.5 standard errors of an

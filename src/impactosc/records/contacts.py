@@ -40,3 +40,26 @@ def _peaks(t, x, j, half):
     f, c, s = f[use], c[use], s[use]
     tp[f], xp[f] = t[j[f]] + s, c[:, 0] + c[:, 1] * s + c[:, 2] * s * s
     return tp, xp
+
+
+def hysteresis_contacts(x, xi, hyst, armed0=False):
+    """Onsets and ends of the contacts in the samples x, with hysteresis.
+
+    An onset is a sample at/above xi whose nearest earlier sample that is either armed (below
+    xi - hyst; below xi when hyst is 0) or at/above xi is an armed one: after each onset the
+    signal must re-arm before the next one counts.  ``armed0``: the state before the first
+    sample (False at a record's start: the first contact counts only after an armed sample).
+    Returns (onsets: the last sample before each onset, ends: the first armed sample after
+    each onset or x.size when the contact has not ended, armed: whether the last marked sample
+    is armed, i.e. the state after the last sample).
+    """
+    above = x >= xi
+    armed = x < xi - hyst if hyst > 0 else ~above
+    marked = np.flatnonzero(armed | above)
+    is_up = above[marked]
+    before = np.concatenate([[not armed0], is_up[:-1]])
+    onsets = marked[is_up & ~before] - 1
+    arm_idx = np.flatnonzero(armed)
+    ends = np.append(arm_idx, x.size)[np.searchsorted(arm_idx, onsets + 1)]
+    state = bool(armed[marked[-1]]) if marked.size else armed0
+    return onsets, ends, state

@@ -46,17 +46,24 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from impactosc.records.contacts import _peaks, _segment_argmax
-from impactosc.records.impact_times import derivative_scales, time_impacts
+from impactosc.records.contacts import _peaks, _segment_argmax, hysteresis_contacts
+from impactosc.records.impact_times import derivative_scales, time_impacts, window_samples
 from impactosc.records.obstacle_estimate import estimate_x_impact
-from impactosc.records.poincare import poincare_attrs, poincare_points
+from impactosc.records.poincare import PHASE_FIT_HALF, poincare_attrs, poincare_points
 from impactosc.records.record import Record
 from impactosc.records.sample_fits import estimate_noise
+from impactosc.records.streams import RecordStream
 
 __all__ = [
     "ExtractOptions",
     "extract_events",
 ]
+
+#: Samples read per chunk by default (8 MB of float64 per array).
+CHUNK_SAMPLES = 1 << 20
+#: Samples at a record's start on which the noise, the timing fits' derivative scales and (when
+#: needed) x_impact are measured: 17 min at 2 kHz, 42 s at 50 kHz.
+LEADING_SAMPLES = 1 << 21
 
 #: Contact-force exponents the obstacle fit allows, given or fitted (soft to stiff contacts).
 CONTACT_EXPONENT_RANGE = (1.0, 2.5)
@@ -135,48 +142,24 @@ class ExtractOptions:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
 
 
-def extract_events(
-    record: Record, x_impact: float | None = None, options: ExtractOptions | None = None
-) -> tuple[dict, dict]:
-    """Events of a record in the run-file contract, and the attributes describing them.
+def _delay(meta, given, path):
+    """The sensor delay (s) and where it came from (given, record metadata)."""
+    if given is not None:
+        return given, "given"
+    try:
+        return float(meta.get("sensor_delay", 0.0)), "record metadata"
+    except ValueError:
+        raise ValueError(f"{path}: sensor_delay {meta['sensor_delay']!r} is not a number (seconds)") from None
 
-    Returns ``(events, attrs)`` for :func:`impactosc.io.files.write_run`.  attrs hold x_impact
-    (and how it was obtained), the noise level, hysteresis, sample interval, the timing
-    uncertainty (median and maximum of the per-impact sigma_t), t_start/t_stop (the
-    record's span) and omega when known; with Poincare points, ``poincare_phase_source``
-    ("encoder" or "nominal omega") and, from the encoder, the measured w's median and range.
-    """
-    o = options or ExtractOptions()
-    delay, delay_source = o.delay, "given"
-    if delay is None:
-        try:
-            delay, delay_source = float(record.meta.get("sensor_delay", 0.0)), "record metadata"
-        except ValueError:
-            raise ValueError(
-                f"{record.path}: sensor_delay {record.meta['sensor_delay']!r} is not a number (seconds)"
-            ) from None
-    if delay:
-        # every time of the motion is the sample time minus the sensor's delay
-        record = dataclasses.replace(record, t=record.t - delay)
-    t, x = record.t, record.x
-    dt = record.dt
-    sigma = o.noise if o.noise is not None else estimate_noise(x)
-    attrs = {
-        "source": "record",
-        "record": str(record.path),
-        "label": record.label,
-        "t_start": float(t[0]),
-        "t_stop": float(t[-1]),
-        "sample_interval": dt,
-        "noise_sigma": sigma,
-        "noise_source": "given" if o.noise is not None else "estimated (MAD of 2nd difference)",
-    }
-    if delay:
-        attrs.update(sensor_delay=delay, sensor_delay_source=delay_source)
-    if x_impact is None and "x_impact" in record.meta:
-        x_impact, how = float(record.meta["x_impact"]), "record metadata"
-    elif x_impact is None:
-        x_impact, det = estimate_x_impact(record, method=o.x_impact_method, noise=sigma, exponent=o.contact_exponent)
+
+def _x_impact(head: Record, x_impact, sigma, o: ExtractOptions, attrs: dict) -> float:
+    """x_impact given, from the record's metadata, or estimated from the leading samples ``head``."""
+    if x_impact is not None:
+        how = "given"
+    elif "x_impact" in head.meta:
+        x_impact, how = float(head.meta["x_impact"]), "record metadata"
+    else:
+        x_impact, det = estimate_x_impact(head, method=o.x_impact_method, noise=sigma, exponent=o.contact_exponent)
         if det["method"] == "contact":
             how = (
                 f"estimated by fitting the contact law to {det['n_windows']} turning points "
@@ -193,52 +176,197 @@ def extract_events(
         attrs.update(x_impact_method=det["method"], x_impact_sigma=det["sigma"])
         if det.get("exponent_fitted"):
             attrs.update(contact_exponent=det["exponent"], contact_exponent_sigma=det["exponent_sigma"])
-    else:
-        how = "given"
-    x_impact = float(x_impact)
-    attrs.update(x_impact=x_impact, x_impact_source=how)
+    attrs.update(x_impact=float(x_impact), x_impact_source=how)
+    return float(x_impact)
+
+
+@dataclass
+class _Scan:
+    """What carries from one buffer of samples to the next."""
+
+    start: int = 0  # absolute index of the buffer's first sample
+    emitted: int = 0  # events with onset (absolute) before this index are out
+    armed: bool = False  # hysteresis state before the buffer's first sample
+    last_end: int = 0  # absolute end of the last confirmed contact
+    n_unconfirmed: int = 0
+
+
+def _settings(head: Record, sigma, x_impact, hyst, o: ExtractOptions):
+    """The record-level constants every buffer uses: the fit windows (from the derivative
+    scales on the leading samples) and the lookback they and the Poincare points need."""
+    t, x = head.t, head.x
+    onsets, ends, _ = hysteresis_contacts(x, x_impact, hyst)
+    keep = _confirmed(x, onsets, ends, x_impact + o.confirm_sigmas * sigma)
+    floors = np.concatenate([[0], ends[keep][:-1]]).astype(np.int64)
+    scales = derivative_scales(t, x, onsets[keep], floors, x_impact, sigma)
+    rate = 1.0 / head.dt
+    windows = window_samples(sigma, rate, scales, o.timing_window)
+    lookback = max(windows) + o.fit_points + 2
+    margin = lookback + o.peak_half_width + 2
+    period = None
+    if head.omega is not None:
+        period = 2 * math.pi / head.omega
+    elif head.phase is not None and head.t.size > 1 and head.phase[-1] > head.phase[0]:
+        period = 2 * math.pi * (t[-1] - t[0]) / (head.phase[-1] - head.phase[0])
+    if period is not None:  # the Poincare points' w and fits reach a period and a few samples out
+        margin = max(margin, int(2 * period * rate) + 2 * PHASE_FIT_HALF + 8)
+    return scales, windows, lookback, margin
+
+
+def _confirmed(x, onsets, ends, level):
+    """Indices of the contacts whose largest sample reaches level (the rest are near misses
+    lifted by noise, or contacts shallower than the noise: not resolvable from the record)."""
+    j = _segment_argmax(x, onsets + 1, ends)
+    return np.flatnonzero(x[j] >= level) if j.size else np.empty(0, int)
+
+
+def _buffer_events(t, x, phase, scan: _Scan, final, c: dict, head: Record):
+    """The events of one buffer of samples that are complete in it, and the scan moved on.
+
+    Events whose onset lies in [scan.emitted, e1) are emitted, e1 being ``margin`` samples
+    before the buffer's end (its end when ``final``) or the first onset whose contact (and
+    penetration fit) does not end in the buffer.  Returns (impacts, penetrations, Poincare
+    points, the start of the next buffer (absolute)).
+    """
+    n, b0 = x.size, scan.start
+    onsets, ends, _ = hysteresis_contacts(x, c["xi"], c["hyst"], scan.armed)
+    done = scan.emitted - b0  # events before this index (in the buffer) are out
+    e1 = n
+    if not final:
+        e1 = max(n - c["margin"], done)
+        late = (onsets >= done) & (ends + c["half"] + 1 >= n)  # a contact or its peak fit runs on
+        if late.any():
+            e1 = min(e1, int(onsets[np.argmax(late)]))
+    take = (onsets >= done) & (onsets < e1) & (onsets >= 0)
+    onsets, ends = onsets[take], ends[take]
+    keep = _confirmed(x, onsets, ends, c["xi"] + c["confirm"])
+    scan.n_unconfirmed += int(onsets.size - keep.size)
+    on, en = onsets[keep], ends[keep]
+    prev_end = np.concatenate([[scan.last_end - b0], en[:-1]])
+    floors = np.maximum(np.maximum(prev_end, on - c["lookback"]), 0).astype(np.int64)
+    impacts = time_impacts(t, x, on, floors, c["xi"], c["sigma"], windows=c["windows"], short_points=c["fit_points"])
+    j = _segment_argmax(x, on + 1, en)
+    pen_t, pen_x = _peaks(t, x, j, c["half"])
+    penetrations = {"t": pen_t, "h": np.maximum(pen_x - c["xi"], 0.0)}
+    poincare = None
+    if c["poincare"]:
+        part = dataclasses.replace(head, t=t, x=x, phase=phase)
+        p = poincare_points(part)
+        lo = t[done] if scan.emitted > 0 else -math.inf
+        hi = math.inf if final else t[e1] if e1 < n else t[-1] + 1.0
+        inside = (p["t"] >= lo) & (p["t"] < hi)
+        poincare = {k: v[inside] for k, v in p.items()}
+    if en.size:
+        scan.last_end = int(en[-1]) + b0
+    # the next buffer starts a lookback before e1, in the hysteresis state there
+    nxt = max(e1 - c["margin"], 0)
+    before = x[:nxt]
+    armed = before < c["xi"] - c["hyst"] if c["hyst"] > 0 else before < c["xi"]
+    marked = np.flatnonzero(armed | (before >= c["xi"]))
+    if marked.size:
+        scan.armed = bool(armed[marked[-1]])
+    scan.emitted = e1 + b0
+    scan.start = nxt + b0
+    return impacts, penetrations, poincare, nxt
+
+
+def _joined(parts):
+    """One dict of arrays from the dicts of each buffer."""
+    parts = [p for p in parts if p is not None]
+    if not parts:
+        return None
+    return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+
+
+def extract_events(
+    record: Record | RecordStream,
+    x_impact: float | None = None,
+    options: ExtractOptions | None = None,
+    *,
+    chunk_samples: int = CHUNK_SAMPLES,
+    progress=None,
+) -> tuple[dict, dict]:
+    """Events of a record in the run-file contract, and the attributes describing them.
+
+    ``record``: a :class:`Record` in memory or a :class:`impactosc.records.streams.RecordStream`
+    (a file read in chunks of ``chunk_samples``: memory bounded whatever the record's length).
+    The noise level, the derivative scales of the timing fits and, when it is neither given
+    nor in the metadata, x_impact are measured on the record's first :data:`LEADING_SAMPLES`
+    samples; every event is then found in the chunk that holds it, with the samples before it
+    carried over, so the events do not depend on where the chunks are cut.  ``progress``:
+    called with the share of the record done after each chunk.
+
+    Returns ``(events, attrs)`` for :func:`impactosc.io.files.write_run`.  attrs hold x_impact
+    (and how it was obtained), the noise level, hysteresis, sample interval, the timing
+    uncertainty (median and maximum of the per-impact sigma_t), t_start/t_stop (the
+    record's span) and omega when known; with Poincare points, ``poincare_phase_source``
+    ("encoder" or "nominal omega") and, from the encoder, the measured w's median and range.
+    """
+    o = options or ExtractOptions()
+    stream = RecordStream.from_record(record) if isinstance(record, Record) else record
+    if chunk_samples < 1:
+        raise ValueError(f"chunk_samples must be >= 1, got {chunk_samples}")
+    delay, delay_source = _delay(stream.meta, o.delay, stream.path)
+    lead = stream.read(0, LEADING_SAMPLES)
+    # every time of the motion is the sample time minus the sensor's delay
+    head = Record(lead.t - delay, lead.x, stream.omega, stream.meta, stream.path, lead.phase)
+    sigma = o.noise if o.noise is not None else estimate_noise(head.x)
+    attrs = {
+        "source": "record",
+        "record": str(stream.path),
+        "label": stream.label,
+        "sample_interval": head.dt,
+        "noise_sigma": sigma,
+        "noise_source": "given" if o.noise is not None else "estimated (MAD of 2nd difference)",
+    }
+    if delay:
+        attrs.update(sensor_delay=delay, sensor_delay_source=delay_source)
+    xi = _x_impact(head, x_impact, sigma, o, attrs)
     hyst = o.hysteresis if o.hysteresis is not None else max(o.hysteresis_sigmas * sigma, 1e-7)
     attrs["hysteresis"] = hyst
-    if record.omega is not None:
-        attrs["omega"] = record.omega
-
-    above = x >= x_impact
-    armed_level = x < x_impact - hyst if hyst > 0 else ~above
-    # hysteresis state machine (after each onset, wait for the next arming sample, then for
-    # the next sample at/above x_impact), in closed form: an onset is a sample at/above
-    # x_impact whose nearest earlier armed-or-above sample is an armed one
-    n = x.size
-    arm_idx = np.flatnonzero(armed_level)
-    marked = np.flatnonzero(armed_level | above)
-    is_up = above[marked]
-    onsets = marked[1:][is_up[1:] & ~is_up[:-1]] - 1
-    # each contact runs from its onset to the next re-arming sample (or the record's end);
-    # a contact that never rose clearly above the obstacle (a near miss lifted by noise, or
-    # a contact shallower than the noise) is not resolvable from this record
-    k = np.searchsorted(arm_idx, onsets + 1)
-    stop = np.append(arm_idx, n)[k]
-    j = _segment_argmax(x, onsets + 1, stop)
-    confirm = o.confirm_sigmas * sigma
-    keep = np.flatnonzero(x[j] >= x_impact + confirm)
-    # each fit starts after the previous (confirmed) contact; the record's derivative scales
-    # set the windows (impactosc.records.impact_times)
-    floors = np.concatenate([[0], stop[keep][:-1]]).astype(np.int64)
-    scales = derivative_scales(t, x, onsets[keep], floors, x_impact, sigma)
-    impacts = time_impacts(
-        t, x, onsets[keep], floors, x_impact, sigma, scales=scales, window=o.timing_window, short_points=o.fit_points
-    )
+    if stream.omega is not None:
+        attrs["omega"] = stream.omega
+    scales, windows, lookback, margin = _settings(head, sigma, xi, hyst, o)
     attrs.update(timing_jerk_scale=scales[0], timing_snap_scale=scales[1])
-    pen_t, pen_x = _peaks(t, x, j[keep], o.peak_half_width)
-    pen_h = np.maximum(pen_x - x_impact, 0.0)
-    attrs["n_unconfirmed"] = int(len(onsets) - keep.size)
-    attrs["confirm_level"] = confirm
-    events = {
-        "impacts": impacts,
-        "penetrations": {"t": pen_t, "h": pen_h},
+    c = {
+        "xi": xi,
+        "hyst": hyst,
+        "sigma": sigma,
+        "confirm": o.confirm_sigmas * sigma,
+        "half": o.peak_half_width,
+        "fit_points": o.fit_points,
+        "windows": windows,
+        "lookback": lookback,
+        "margin": margin,
+        "poincare": stream.omega is not None or stream.has_phase,
     }
-    if record.omega is not None or record.phase is not None:
-        events["poincare"] = poincare_points(record)
-        attrs.update(poincare_attrs(record, events["poincare"]))
+    scan, parts, carry = _Scan(), [], None
+    first = last = None
+    chunks = stream.chunks(max(int(chunk_samples), 1))
+    chunk = next(chunks, None)
+    while chunk is not None:
+        following = next(chunks, None)
+        t, x, phase = chunk.t - delay, chunk.x, chunk.phase
+        first = t[0] if first is None and t.size else first
+        last = t[-1] if t.size else last
+        if carry is not None:
+            t, x = np.concatenate([carry[0], t]), np.concatenate([carry[1], x])
+            phase = None if phase is None else np.concatenate([carry[2], phase])
+        parts.append(_buffer_events(t, x, phase, scan, following is None, c, head))
+        k = parts[-1][3]
+        carry = (t[k:], x[k:], None if phase is None else phase[k:])
+        if progress is not None and stream.n_samples:
+            progress(min((chunk.start + chunk.x.size) / stream.n_samples, 1.0))
+        chunk = following
+    if first is None:
+        raise ValueError(f"{stream.path}: the record has no samples")
+    attrs.update(t_start=float(first), t_stop=float(last))
+    attrs["n_unconfirmed"] = scan.n_unconfirmed
+    attrs["confirm_level"] = c["confirm"]
+    events = {"impacts": _joined(p[0] for p in parts), "penetrations": _joined(p[1] for p in parts)}
+    if c["poincare"]:
+        events["poincare"] = _joined(p[2] for p in parts)
+        attrs.update(poincare_attrs(head, events["poincare"]))
     s = events["impacts"]["sigma_t"]
     attrs["n_impacts"] = int(s.size)
     attrs["timing_sigma_median"] = float(np.median(s)) if s.size else float("nan")

@@ -38,13 +38,21 @@ from numba import njit
 
 from impactosc.records.sample_fits import quadratic_fits
 
-__all__ = ["crossing_time_crb", "derivative_scales", "window_lengths", "fit_crossings", "short_crossings"]
+__all__ = [
+    "crossing_time_crb",
+    "derivative_scales",
+    "window_lengths",
+    "window_samples",
+    "fit_crossings",
+    "short_crossings",
+    "time_impacts",
+]
 
 #: The bias allowed at the window's end, as a share of the fit's noise there.
 BIAS_SHARE = 0.25
 #: Fewest samples in a fit of degree 2 and of degree 3 (below: a lower degree or the short fit).
 MIN_SAMPLES_QUADRATIC, MIN_SAMPLES_CUBIC = 4, 8
-#: Longest window in which the derivative scales are measured (s).
+#: Longest window of any fit, and the one in which the derivative scales are measured (s).
 PROBE_WINDOW = 0.05
 #: A turning point is passed (scanning back from a crossing) when the signal rises this many
 #: noise std above its running minimum.
@@ -273,12 +281,12 @@ def fit_crossings(t, x, onsets, floors, xi, sigma, n_max2, n_max3):
 
 
 @njit(cache=True)
-def _last_below(x, ends, level):
-    """Index of the last sample at or below level up to each of ends (0 if none)."""
+def _last_below(x, ends, floors, level):
+    """Index of the last sample at or below level up to each of ends (its floor if none)."""
     out = np.zeros(ends.size, np.int64)
     for q in range(ends.size):
         k = ends[q]
-        while k > 0 and x[k] > level:
+        while k > floors[q] and x[k] > level:
             k -= 1
         out[q] = k
     return out
@@ -314,14 +322,15 @@ def derivative_scales(t, x, onsets, floors, xi, sigma):
     return tuple(out)
 
 
-def short_crossings(t, x, i, xi, n, sigma):
+def short_crossings(t, x, i, xi, n, sigma, floors=None):
     """Sub-sample times, velocities, sigma_t and Cramer-Rao bounds of the upward crossings
     between samples i and i+1 (i: the onsets in order; each fit ends at i).
 
     Fitted root: real roots in (-dt, 2 dt) with positive slope, the one closest to the linear
     interpolation; without such a root (or with fewer than 3 samples) the linear
     interpolation itself.  The bound (:func:`crossing_time_crb`, the fit's delta-method std
-    before the dwell-band floor below) is nan where the linear interpolation is used.
+    before the dwell-band floor below) is nan where the linear interpolation is used.  floors:
+    the first sample the dwell may reach back to (default: the record's start).
     """
     dt = t[i + 1] - t[i]
     lin = t[i] + dt * (xi - x[i]) / (x[i + 1] - x[i])
@@ -358,7 +367,8 @@ def short_crossings(t, x, i, xi, n, sigma):
     # the crossing is only known to within the time the signal dwelt within 3 sigma below
     # x_impact before it (a slow, grazing approach, or a contact sample pushed down by noise):
     # back to the last sample below that band (or the record start)
-    st = np.maximum(np.abs(st), t[i + 1] - t[_last_below(x, i, xi - 3 * sigma)])
+    floors = np.zeros(i.size, np.int64) if floors is None else np.asarray(floors, dtype=np.int64)
+    st = np.maximum(np.abs(st), t[i + 1] - t[_last_below(x, i, floors, xi - 3 * sigma)])
     return tc, v, st, np.abs(crb)
 
 
@@ -382,26 +392,30 @@ def _keep_order(tc, v, st, crb, t, x, i, xi):
     )
 
 
-def time_impacts(t, x, onsets, floors, xi, sigma, *, scales, window=None, short_points=5):
+def window_samples(sigma, rate, scales, window=None):
+    """Most samples in the quadratic's and the cubic's window: :func:`window_lengths` (or the
+    fixed ``window``, s), at most :data:`PROBE_WINDOW`, times the rate."""
+    w2, w3 = (window, window) if window is not None else window_lengths(sigma, rate, *scales)
+    return tuple(max(int(min(w, PROBE_WINDOW) * rate), 1) for w in (w2, w3))
+
+
+def time_impacts(t, x, onsets, floors, xi, sigma, *, windows, short_points=5):
     """Times of the impacts at ``onsets``: the windowed fits of :func:`fit_crossings`, the short
     fit where those find none.
 
-    scales: the record's (jerk, snap) from :func:`derivative_scales`; window: a fixed window (s)
-    for both degrees instead of :func:`window_lengths`.  Returns a dict of arrays: ``t``, ``v``,
-    ``sigma_t``, ``crb_t`` (the fit's std at the crossing, before the short fit's dwell floor),
-    ``fit_start`` (time of the fit's first sample), ``fit_samples`` and ``fit_degree``.
+    floors: the first sample each impact's fits may use (after the previous contact, and at
+    most the longest window back: what makes a record cut in chunks give the same times).
+    windows: (n_max2, n_max3) from :func:`window_samples`.  Returns a dict of arrays: ``t``,
+    ``v``, ``sigma_t``, ``crb_t`` (the fit's std at the crossing, before the short fit's dwell
+    floor), ``fit_start`` (time of the fit's first sample), ``fit_samples`` and ``fit_degree``.
     """
-    rate = 1.0 / float(t[1] - t[0]) if t.size > 1 else 1.0
-    w2, w3 = (window, window) if window is not None else window_lengths(sigma, rate, *scales)
-    cap = np.iinfo(np.int64).max // 4
-    n2, n3 = (min(int(w * rate), cap) if math.isfinite(w) else cap for w in (w2, w3))
-    onsets = np.asarray(onsets, dtype=np.int64)
-    tc, vc, sc, first, count, degree = fit_crossings(t, x, onsets, np.asarray(floors, np.int64), xi, sigma, n2, n3)
+    onsets, floors = np.asarray(onsets, dtype=np.int64), np.asarray(floors, dtype=np.int64)
+    tc, vc, sc, first, count, degree = fit_crossings(t, x, onsets, floors, xi, sigma, *windows)
     crb = sc.copy()
     short = np.flatnonzero(degree == 0)
     if short.size:
         i = onsets[short]
-        tc[short], vc[short], sc[short], crb[short] = short_crossings(t, x, i, xi, short_points, sigma)
+        tc[short], vc[short], sc[short], crb[short] = short_crossings(t, x, i, xi, short_points, sigma, floors[short])
         first[short] = np.maximum(i - short_points + 1, 0)
         count[short] = i - first[short] + 1
         degree[short] = 2

@@ -1,0 +1,88 @@
+"""Extraction of a record read in chunks: the same events wherever the chunks are cut."""
+
+import numpy as np
+import pytest
+
+from impactosc.records.extract import extract_events
+from impactosc.records.formats import read_record, write_record
+from impactosc.records.record import Record
+from impactosc.records.streams import RecordStream, open_record_stream
+from impactosc.records.surrogate import SurrogateOptions, surrogate_record
+
+W = 40.86
+
+
+@pytest.fixture(scope="module")
+def record():
+    rec, _truth = surrogate_record(W, 20.0, 30.0, SurrogateOptions(rate=2000.0, noise=5e-6, seed=3))
+    # an encoder phase as well: its Poincare points reach a period out from each section
+    return Record(rec.t, rec.x, rec.omega, rec.meta, rec.path, W * rec.t)
+
+
+@pytest.fixture(scope="module")
+def whole(record):
+    return extract_events(record)
+
+
+def _same(a, b):
+    for group in ("impacts", "penetrations"):
+        for k in a[group]:
+            np.testing.assert_array_equal(a[group][k], b[group][k], err_msg=f"{group}/{k}")
+    for k in a["poincare"]:
+        # each buffer's Savitzky-Golay fits use its own median sample interval, equal to 1e-15
+        np.testing.assert_allclose(a["poincare"][k], b["poincare"][k], rtol=1e-9, atol=1e-15, err_msg=f"poincare/{k}")
+
+
+def test_chunk_borders_at_every_sample_near_an_impact(record, whole):
+    ev, _ = whole
+    assert ev["impacts"]["t"].size > 100
+    # the first chunk border at each sample from 40 before to 40 after two impacts' onsets (and
+    # the later borders at multiples of that size, elsewhere in the record)
+    for k in (10, ev["impacts"]["t"].size // 2):
+        m = int(np.searchsorted(record.t, ev["impacts"]["t"][k]))
+        for d in range(-40, 41):
+            part, _ = extract_events(RecordStream.from_record(record), chunk_samples=m + d)
+            _same(ev, part)
+
+
+@pytest.mark.parametrize("size", [97, 1000, 4099])
+def test_small_chunks_give_the_same_events(record, whole, size):
+    ev, attrs = whole
+    part, part_attrs = extract_events(RecordStream.from_record(record), chunk_samples=size)
+    _same(ev, part)
+    for key in ("n_impacts", "n_unconfirmed", "noise_sigma", "timing_sigma_median", "t_start", "t_stop"):
+        assert part_attrs[key] == attrs[key], key
+
+
+@pytest.mark.parametrize("suffix", [".h5", ".csv", ".tdms"])
+def test_a_file_streamed_in_chunks_gives_the_events_of_the_file_read_whole(tmp_path, record, suffix):
+    path = tmp_path / f"r{suffix}"
+    if suffix == ".tdms":
+        _write_tdms(path, record)
+        options = {"channel": "x", "phase_channel": "phase"}
+    else:
+        write_record(path, record.t, record.x, omega=W, meta=dict(record.meta), phase=record.phase)
+        options = {}
+    ref, ref_attrs = extract_events(read_record(path, **options))
+    with open_record_stream(path, **options) as stream:
+        ev, attrs = extract_events(stream, chunk_samples=5000)
+    assert ev["impacts"]["t"].size > 100 and ev["poincare"]["t"].size > 100
+    _same(ref, ev)
+    assert attrs["record"] == ref_attrs["record"] == str(path)
+
+
+def _write_tdms(path, record):
+    from nptdms import ChannelObject, GroupObject, RootObject, TdmsWriter
+
+    wf = {"wf_increment": float(record.t[1] - record.t[0]), "wf_start_offset": float(record.t[0])}
+    root = {"omega": W, "x_impact": record.meta["x_impact"] * 1e3}
+    with TdmsWriter(str(path)) as w:
+        for part in np.array_split(np.arange(record.t.size), 3):  # three segments, as a logger writes them
+            w.write_segment(
+                [
+                    RootObject(properties=root),
+                    GroupObject("rig"),
+                    ChannelObject("rig", "x", record.x[part] * 1e3, properties={**wf, "unit_string": "mm"}),
+                    ChannelObject("rig", "phase", record.phase[part], properties={**wf, "unit_string": "rad"}),
+                ]
+            )
