@@ -7,32 +7,33 @@ import sys
 import time
 
 from impactosc.cli.identify import _identify
-from impactosc.cli.options import model_from_args, read_record_args
+from impactosc.cli.options import model_from_args, open_record_args, read_record_args
 from impactosc.cli.parser import build_parser
 from impactosc.io.names import split_assignment
 
 
 def _extract(args) -> int:
     from impactosc.io.files import check_writable, write_run
-    from impactosc.records.extract import ExtractOptions, extract_events
+    from impactosc.records.extract import LEADING_SAMPLES, ExtractOptions, extract_events
 
     check_writable(args.output)
     x_impact, x_impact_source = _model_x_impact(args) if args.x_impact is None else (args.x_impact, None)
-    rec = read_record_args(args, omega=args.omega)
     options = ExtractOptions(
         noise=args.noise,
         x_impact_method=args.x_impact_method,
         contact_exponent=args.contact_exponent,
         delay=args.sensor_delay,
     )
-    if x_impact is None and "x_impact" not in rec.meta and args.x_impact_method == "contact":
-        minutes = (rec.t[-1] - rec.t[0]) / 60.0
-        print(
-            f"{args.record}: no x_impact given; fitting the contact law to the record's turning points "
-            f"(about {5 * minutes * (rec.t.size / (rec.t[-1] - rec.t[0])) / 2000:.0f} s for {minutes:.1g} min of record)",
-            file=sys.stderr,
-        )
-    events, attrs = extract_events(rec, x_impact, options)
+    with open_record_args(args, omega=args.omega) as stream:
+        if x_impact is None and "x_impact" not in stream.meta and args.x_impact_method == "contact":
+            lead = min(stream.n_samples or LEADING_SAMPLES, LEADING_SAMPLES)
+            minutes = lead * stream.dt / 60.0
+            print(
+                f"{args.record}: no x_impact given; fitting the contact law to the turning points of the record's "
+                f"first {minutes:.2g} min (about {5 * minutes / (2000 * stream.dt):.0f} s)",
+                file=sys.stderr,
+            )
+        events, attrs = extract_events(stream, x_impact, options, progress=_progress_printer(args.record, stream))
     if x_impact_source:
         attrs["x_impact_source"] = x_impact_source
     write_run(args.output, events, attrs, sources=[args.record])
@@ -49,6 +50,20 @@ def _extract(args) -> int:
         f"(sample interval {attrs['sample_interval']:.3g} s){section}"
     )
     return 0
+
+
+def _progress_printer(name, stream, every=0.1, min_samples=20_000_000):
+    """A progress callback printing to stderr at each tenth of a long record (none for a short one)."""
+    if not stream.n_samples or stream.n_samples < min_samples:
+        return None
+    start, shown = time.perf_counter(), [0.0]
+
+    def show(done):
+        if done >= shown[0] + every or done >= 1.0:
+            shown[0] = done
+            print(f"{name}: {100 * done:.0f} % extracted ({time.perf_counter() - start:.0f} s)", file=sys.stderr)
+
+    return show
 
 
 def _model_x_impact(args) -> tuple[float | None, str | None]:

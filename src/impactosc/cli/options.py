@@ -136,6 +136,13 @@ def read_options(args) -> dict:
     }
 
 
+def open_record_args(args, omega=None):
+    """The record of the options of :func:`add_record_options`, opened to be read in chunks."""
+    from impactosc.records.streams import open_record_stream
+
+    return open_record_stream(args.record, omega=omega, **read_options(args))
+
+
 def read_record_args(args, omega=None):
     from impactosc.records.formats import read_record
 
