@@ -165,3 +165,24 @@ def test_sweep_record_segments_match_the_attractor(ramp):
             assert abs(np.median(xs[branch == b]) - level) < (10e-6 if ref.size == 1 else 15e-6), (w, b)
         checked += 1
     assert checked == 19
+
+
+def test_sweep_segments_of_a_record_read_in_chunks_are_the_whole_records():
+    # a stepped sweep read in chunks of 997 samples (a few forcing periods at 1 kHz): the same
+    # Poincare points and segments as the record in memory (to 1e-10: each buffer's fits use its
+    # own median sample interval, whose last bits follow the rounding of its time stamps)
+    from impactosc.records.poincare import poincare_points, stream_poincare_points
+    from impactosc.records.slow_sweep import sweep_segments
+    from impactosc.records.streams import RecordStream
+
+    rec = _stepped_record([30.0, 30.5, 31.0, 30.5], 20.0, jitter=0.05, seed=5)
+    whole = poincare_points(rec, source="encoder")
+    for size in (997, 5000, 10**6):
+        part = stream_poincare_points(RecordStream.from_record(rec), "encoder", chunk_samples=size)
+        for k in whole:
+            np.testing.assert_allclose(part[k], whole[k], rtol=1e-10, atol=1e-15, err_msg=f"{k}, chunks of {size}")
+    pts, info = sweep_segments(rec, 0.25, 5.0)
+    spts, sinfo = sweep_segments(RecordStream.from_record(rec), 0.25, 5.0)
+    assert sinfo == info
+    for k in pts:
+        np.testing.assert_allclose(spts[k], pts[k], rtol=1e-10, atol=1e-15, err_msg=k)

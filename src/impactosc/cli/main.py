@@ -7,7 +7,7 @@ import sys
 import time
 
 from impactosc.cli.identify import _identify
-from impactosc.cli.options import model_from_args, open_record_args, read_record_args
+from impactosc.cli.options import model_from_args, open_record_args
 from impactosc.cli.parser import build_parser
 from impactosc.io.names import split_assignment
 
@@ -85,9 +85,9 @@ def _sweep_extract(args) -> int:
     from impactosc.records.slow_sweep import sweep_segments, write_sweep_points
 
     check_writable(args.output)
-    rec = read_record_args(args)
-    points, info = sweep_segments(rec, args.bin_width, args.settle, min_points=args.min_points)
-    write_sweep_points(args.output, points, info, label=args.label or rec.label, sources=[args.record])
+    with open_record_args(args) as stream:
+        points, info = sweep_segments(stream, args.bin_width, args.settle, min_points=args.min_points)
+    write_sweep_points(args.output, points, info, label=args.label or stream.label, sources=[args.record])
     print(
         f"{args.output}: {info['n_segments']} segments of w {points['record_omega'].min():.4g}.."
         f"{points['record_omega'].max():.4g} rad/s, {points['x'].size} Poincare points "

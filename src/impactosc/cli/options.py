@@ -141,9 +141,3 @@ def open_record_args(args, omega=None):
     from impactosc.records.streams import open_record_stream
 
     return open_record_stream(args.record, omega=omega, **read_options(args))
-
-
-def read_record_args(args, omega=None):
-    from impactosc.records.formats import read_record
-
-    return read_record(args.record, omega=omega, **read_options(args))

@@ -49,7 +49,7 @@ import numpy as np
 from impactosc.records.contacts import _peaks, _segment_argmax, hysteresis_contacts
 from impactosc.records.impact_times import derivative_scales, time_impacts, window_samples
 from impactosc.records.obstacle_estimate import estimate_x_impact
-from impactosc.records.poincare import PHASE_FIT_HALF, poincare_attrs, poincare_points
+from impactosc.records.poincare import poincare_attrs, poincare_between, poincare_margin
 from impactosc.records.record import Record
 from impactosc.records.sample_fits import estimate_noise
 from impactosc.records.streams import RecordStream
@@ -203,14 +203,7 @@ def _settings(head: Record, sigma, x_impact, hyst, o: ExtractOptions):
     windows = window_samples(sigma, rate, scales, o.timing_window)
     lookback = max(windows) + o.fit_points + 2
     margin = lookback + o.peak_half_width + 2
-    period = None
-    if head.omega is not None:
-        period = 2 * math.pi / head.omega
-    elif head.phase is not None and head.t.size > 1 and head.phase[-1] > head.phase[0]:
-        period = 2 * math.pi * (t[-1] - t[0]) / (head.phase[-1] - head.phase[0])
-    if period is not None:  # the Poincare points' w and fits reach a period and a few samples out
-        margin = max(margin, int(2 * period * rate) + 2 * PHASE_FIT_HALF + 8)
-    return scales, windows, lookback, margin
+    return scales, windows, lookback, max(margin, poincare_margin(head))
 
 
 def _confirmed(x, onsets, ends, level):
@@ -250,12 +243,9 @@ def _buffer_events(t, x, phase, scan: _Scan, final, c: dict, head: Record):
     penetrations = {"t": pen_t, "h": np.maximum(pen_x - c["xi"], 0.0)}
     poincare = None
     if c["poincare"]:
-        part = dataclasses.replace(head, t=t, x=x, phase=phase)
-        p = poincare_points(part)
         lo = t[done] if scan.emitted > 0 else -math.inf
         hi = math.inf if final else t[e1] if e1 < n else t[-1] + 1.0
-        inside = (p["t"] >= lo) & (p["t"] < hi)
-        poincare = {k: v[inside] for k, v in p.items()}
+        poincare = poincare_between(dataclasses.replace(head, t=t, x=x, phase=phase), lo, hi)
     if en.size:
         scan.last_end = int(en[-1]) + b0
     # the next buffer starts a lookback before e1, in the hysteresis state there

@@ -16,7 +16,16 @@ import numpy as np
 
 from impactosc.records.record import Record
 
-__all__ = ["phase_crossings", "poincare_points", "poincare_phase_source", "poincare_attrs", "record_set_poincare"]
+__all__ = [
+    "phase_crossings",
+    "poincare_points",
+    "poincare_between",
+    "poincare_margin",
+    "stream_poincare_points",
+    "poincare_phase_source",
+    "poincare_attrs",
+    "record_set_poincare",
+]
 
 #: Samples either side of a phase crossing in its straight-line fit.  Why 10: the fit
 #: averages the encoder's quantization (one count, 1.5 mrad at 4096 per revolution) over 20
@@ -97,6 +106,58 @@ def poincare_points(rec: Record, half=3, source: str = "auto") -> dict:
     xs = savgol_filter(rec.x, win, 2)
     vs = savgol_filter(rec.x, win, 2, deriv=1, delta=dt)
     return {"t": tp, "x": np.interp(tp, rec.t, xs), "v": np.interp(tp, rec.t, vs), **out}
+
+
+def poincare_between(rec: Record, lo: float, hi: float, source: str = "auto") -> dict:
+    """The Poincare points of ``rec`` with lo <= t < hi (one buffer of a record read in chunks:
+    the points whose fits, and w's neighbouring crossings, lie inside it)."""
+    p = poincare_points(rec, source=source)
+    inside = (p["t"] >= lo) & (p["t"] < hi)
+    return {k: v[inside] for k, v in p.items()}
+
+
+def poincare_margin(rec: Record) -> int:
+    """Samples a section's Poincare point reaches out on either side: its w from the
+    neighbouring crossings (a forcing period each way, three at the slowest w of ``rec``'s end)
+    and the fits around them."""
+    rate = 1.0 / rec.dt
+    if rec.phase is not None and rec.t.size > 1:
+        half = rec.t.size // 2
+        turns = (rec.phase[-1] - rec.phase[half]) / (2 * math.pi)
+        period = (rec.t[-1] - rec.t[half]) / turns if turns > 0 else rec.t[-1] - rec.t[0]
+    elif rec.omega is not None:
+        period = 2 * math.pi / rec.omega
+    else:
+        return 0
+    return int(3 * period * rate) + 2 * PHASE_FIT_HALF + 8
+
+
+def stream_poincare_points(stream, source: str = "auto", chunk_samples: int = 1 << 20) -> dict:
+    """:func:`poincare_points` of a record read in chunks (a
+    :class:`impactosc.records.streams.RecordStream`): memory bounded by the chunk and the
+    margin each point needs (:func:`poincare_margin`), the same points as the whole record's."""
+    parts, carry, done = [], None, -math.inf
+    chunks = stream.chunks(chunk_samples)
+    chunk = next(chunks, None)
+    while chunk is not None:
+        following = next(chunks, None)
+        t, x, phase = chunk.t, chunk.x, chunk.phase
+        if carry is not None:
+            t, x = np.concatenate([carry[0], t]), np.concatenate([carry[1], x])
+            phase = None if phase is None else np.concatenate([carry[2], phase])
+        rec = Record(t, x, stream.omega, stream.meta, stream.path, phase)
+        margin = poincare_margin(rec)
+        final = following is None
+        end = t.size if final else max(t.size - margin, 0)
+        hi = math.inf if final else (t[end] if end < t.size else t[-1])
+        if final or hi > done:
+            parts.append(poincare_between(rec, done, hi, source))
+            done = max(done, hi)
+        k = max(end - margin, 0)
+        carry = (t[k:], x[k:], None if phase is None else phase[k:])
+        chunk = following
+    keys = parts[0].keys() if parts else ("t", "x", "v")
+    return {key: np.concatenate([p[key] for p in parts]) if parts else np.empty(0) for key in keys}
 
 
 def poincare_attrs(rec: Record, points: dict) -> dict:

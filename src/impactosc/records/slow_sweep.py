@@ -43,7 +43,7 @@ import math
 import numpy as np
 
 from impactosc.io.files import atomic_write, check_writable, stamp_h5
-from impactosc.records.poincare import poincare_points
+from impactosc.records.poincare import poincare_points, stream_poincare_points
 from impactosc.records.record import Record
 
 __all__ = ["sweep_segments", "write_sweep_points"]
@@ -64,9 +64,12 @@ def _bins(w, bin_width, edge_hysteresis):
 
 
 def sweep_segments(
-    rec: Record, bin_width: float, settle: float, *, min_points: int = 5, edge_hysteresis: float = 0.1
+    rec, bin_width: float, settle: float, *, min_points: int = 5, edge_hysteresis: float = 0.1
 ) -> tuple[dict, dict]:
     """Cut a slow-sweep record into segments of quasi-constant measured w.
+
+    ``rec``: a :class:`Record`, or a :class:`impactosc.records.streams.RecordStream` read in
+    chunks (the same points, memory bounded whatever the record's length).
 
     ``bin_width`` (rad/s): width of the w bins; ``settle`` (s): time discarded at the start of
     each segment (and of the record); ``min_points``: fewest Poincare points a kept segment
@@ -75,7 +78,8 @@ def sweep_segments(
     ``segment_stop`` (time of its first and last kept point), ``omega_spread``; info holds
     the counts of segments kept and dropped and of points discarded while settling.
     """
-    if rec.phase is None:
+    streamed = not isinstance(rec, Record)
+    if (not rec.has_phase) if streamed else rec.phase is None:
         raise ValueError(
             f"{rec.path}: a sweep record needs a phase (encoder) channel: w(t) is measured from it "
             "(name it with phase_channel / --phase-channel)"
@@ -88,7 +92,8 @@ def sweep_segments(
         raise ValueError(f"edge_hysteresis must be in [0, 0.5) bin widths, got {edge_hysteresis}")
     if min_points < 1:
         raise ValueError(f"min_points must be >= 1, got {min_points}")
-    p = poincare_points(rec, source="encoder")
+    p = stream_poincare_points(rec, "encoder") if streamed else poincare_points(rec, source="encoder")
+    t_first = rec.t0 if streamed else rec.t[0]
     t, x, w = p["t"], p["x"], p["omega"]
     b = _bins(w, bin_width, edge_hysteresis)
     starts = np.flatnonzero(np.diff(b, prepend=b[:1] - 1)) if b.size else np.empty(0, int)
@@ -97,7 +102,7 @@ def sweep_segments(
     seg = {k: [] for k in ("record_omega", "n_points", "segment_start", "segment_stop", "omega_spread")}
     n_short = n_settling = 0
     for a, z in zip(starts.tolist(), stops.tolist()):
-        t_enter = rec.t[0] if a == 0 else t[a]
+        t_enter = t_first if a == 0 else t[a]
         keep = np.arange(a, z)[t[a:z] >= t_enter + settle]
         n_settling += (z - a) - keep.size
         if keep.size < min_points:
