@@ -14,11 +14,11 @@ import logging
 
 from impactosc.io.files import write_run
 from impactosc.records.extract import ExtractOptions, extract_events
-from impactosc.records.formats import read_record
+from impactosc.records.streams import open_record_stream
 
 p = snakemake.params
-rec = read_record(snakemake.input.record, **p.reader)
-events, attrs = extract_events(rec, p.x_impact, ExtractOptions(noise=p.noise))
+with open_record_stream(snakemake.input.record, **p.reader) as rec:  # read in chunks: any length
+    events, attrs = extract_events(rec, p.x_impact, ExtractOptions(noise=p.noise))
 write_run(snakemake.output.events, events, attrs, sources=snakemake.input.record)
 logging.info(
     f"{rec.path} ({rec.label}): {attrs['n_impacts']} impacts; x_impact {attrs['x_impact']:.6g} m "

@@ -372,19 +372,26 @@ def short_crossings(t, x, i, xi, n, sigma, floors=None):
     return tc, v, st, np.abs(crb)
 
 
-def _keep_order(tc, v, st, crb, t, x, i, xi):
+def _keep_order(tc, v, st, crb, t, x, i, xi, after=-math.inf):
     """Times of adjacent crossings can overlap (only without hysteresis, where every noise
-    crossing is one): keep the order with the linear interpolation inside [t_i, t_i+1]
-    (sequential: each onset is compared with the previous one's final time)."""
+    crossing is one, and fits of neighbouring onsets find the same crossing): both of an
+    overlapping pair take the linear interpolation inside their own [t_i, t_i+1], until the
+    times increase (they do once all are interpolated: the onsets are distinct samples).
+    ``after``: the time of the impact before the first (of the previous chunk), which stays."""
     dt = t[i + 1] - t[i]
-    lin = t[i] + dt * (xi - x[i]) / (x[i + 1] - x[i])
-    overlap = np.zeros(i.size, bool)
-    prev = -math.inf
-    for k, tk in enumerate(tc.tolist()):
-        overlap[k] = tk <= prev
-        prev = float(lin[k]) if overlap[k] else tk
+    lin = np.concatenate([[after], t[i] + dt * (xi - x[i]) / (x[i + 1] - x[i])])
+    out = np.concatenate([[after], tc])
+    overlap = np.zeros(i.size + 1, bool)
+    while True:
+        bad = np.flatnonzero(out[1:] <= out[:-1])
+        if not bad.size:
+            break
+        overlap[bad] = overlap[bad + 1] = True
+        overlap[0] = False
+        out[overlap] = lin[overlap]
+    out, overlap = out[1:], overlap[1:]
     return (
-        np.where(overlap, lin, tc),
+        out,
         np.where(overlap, (x[i + 1] - x[i]) / dt, v),
         np.where(overlap, np.maximum(st, dt), st),
         np.where(overlap, np.nan, crb),
@@ -399,7 +406,7 @@ def window_samples(sigma, rate, scales, window=None):
     return tuple(max(int(min(w, PROBE_WINDOW) * rate), 1) for w in (w2, w3))
 
 
-def time_impacts(t, x, onsets, floors, xi, sigma, *, windows, short_points=5):
+def time_impacts(t, x, onsets, floors, xi, sigma, *, windows, short_points=5, after=-math.inf):
     """Times of the impacts at ``onsets``: the windowed fits of :func:`fit_crossings`, the short
     fit where those find none.
 
@@ -407,7 +414,8 @@ def time_impacts(t, x, onsets, floors, xi, sigma, *, windows, short_points=5):
     most the longest window back: what makes a record cut in chunks give the same times).
     windows: (n_max2, n_max3) from :func:`window_samples`.  Returns a dict of arrays: ``t``,
     ``v``, ``sigma_t``, ``crb_t`` (the fit's std at the crossing, before the short fit's dwell
-    floor), ``fit_start`` (time of the fit's first sample), ``fit_samples`` and ``fit_degree``.
+    floor), ``fit_start`` (time of the fit's first sample), ``fit_samples`` and ``fit_degree``;
+    the times increase, and follow ``after`` (the last impact timed before these).
     """
     onsets, floors = np.asarray(onsets, dtype=np.int64), np.asarray(floors, dtype=np.int64)
     tc, vc, sc, first, count, degree = fit_crossings(t, x, onsets, floors, xi, sigma, *windows)
@@ -419,7 +427,7 @@ def time_impacts(t, x, onsets, floors, xi, sigma, *, windows, short_points=5):
         first[short] = np.maximum(i - short_points + 1, 0)
         count[short] = i - first[short] + 1
         degree[short] = 2
-    tc, vc, sc, crb, overlap = _keep_order(tc, vc, sc, crb, t, x, onsets, xi)
+    tc, vc, sc, crb, overlap = _keep_order(tc, vc, sc, crb, t, x, onsets, xi, after)
     count[overlap], degree[overlap], first[overlap] = 2, 1, onsets[overlap]
     return {
         "t": tc,
