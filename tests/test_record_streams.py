@@ -263,3 +263,23 @@ def test_chunked_reading_memory_does_not_grow_with_the_record(tmp_path):
         assert count == n
     # chunks of 32768 samples: a few MB whatever the length (the 4 M record alone is 64 MB)
     assert peaks[4_000_000] < 8e6 and peaks[4_000_000] < 1.3 * peaks[1_000_000]
+
+
+@pytest.mark.parametrize("fmt", ["h5", "tdms", "csv"])
+def test_read_records_of_a_duration_reads_the_leading_samples(tmp_path, fmt):
+    # identification's reading of long records: the first 0.3 s of each file, the values of a
+    # whole read; a duration that is not positive is named
+    from impactosc.records.formats import read_records
+
+    t, x, phase = _signal()
+    path = _write(tmp_path, fmt, t, x, phase)
+    whole = read_record(path, **OPTIONS[fmt])
+    (part,) = read_records([path], duration=0.3, **OPTIONS[fmt])
+    n = int(round(0.3 / DT)) + 1
+    assert part.t.size == n
+    np.testing.assert_array_equal(part.t, whole.t[:n])
+    np.testing.assert_array_equal(part.x, whole.x[:n])
+    np.testing.assert_array_equal(part.phase, whole.phase[:n])
+    assert part.omega == whole.omega and part.meta == whole.meta
+    with pytest.raises(ValueError, match="duration must be > 0 s, got -1"):
+        read_records([path], duration=-1.0, **OPTIONS[fmt])

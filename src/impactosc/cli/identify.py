@@ -158,7 +158,7 @@ def _identify_run(args) -> int:
         raise ValueError(f"--stages: window lengths must be > 0 forcing periods, got {args.stages}")
     base, source = _stated_model(args)
     fixed = _fixed_quantities(args.fix, base)
-    records = read_records(args.record, **read_options(args))
+    records = read_records(args.record, duration=args.duration, **read_options(args))
     check_forcing_phase(records)  # before any fitting: a clear error, not a failed fit
     say = _progress(args, "identify")
     stages = tuple(args.stages)

@@ -329,6 +329,13 @@ def _add_identify_parser(sub) -> None:
         help="window lengths of the successive fits, forcing periods; each starts from the one before, the "
         f"last gives the estimate and its errors (default {' '.join(f'{p:g}' for p in STAGES)})",
     )
+    idp.add_argument(
+        "--duration",
+        type=finite_number,
+        metavar="S",
+        help="fit only the first S seconds of each record file, read in chunks (a long record's rest is never "
+        "loaded; a minute or two of a chaotic record pins the parameters; default: whole records)",
+    )
     idp.add_argument("--table", metavar="FILE", help="also write the parameter table (.csv or .md)")
     idp.add_argument(
         "--choose-model",

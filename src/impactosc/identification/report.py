@@ -171,4 +171,4 @@ def configured_inputs(section: dict, model: dict, paths) -> tuple:
     if section["mass"] is not None:
         base = dataclasses.replace(base, m=float(section["mass"]))
     read = {k: v for k, v in section["read"].items() if v is not None}
-    return base, read_records(list(paths), **read)
+    return base, read_records(list(paths), duration=section.get("duration"), **read)

@@ -1,8 +1,9 @@
 """Impact events from a sampled, noisy displacement record (the rig's path to the statistics).
 
 Why: the model's events are located exactly on the integrator's dense output; a measured
-record only has samples (1-5 kHz) with sensor noise.  This module turns a
-:class:`impactosc.records.record.Record` into the same event datasets as ``impactosc simulate``
+record only has samples (1-50 kHz) with sensor noise.  This module turns a
+:class:`impactosc.records.record.Record`, or a record file read in chunks
+(:class:`impactosc.records.streams.RecordStream`), into the same event datasets as ``impactosc simulate``
 (``impacts/t, v``; ``penetrations/t, h``; ``poincare/t, x, v`` when omega is known), so
 every downstream rule treats a record and a simulation alike.
 
@@ -36,6 +37,13 @@ Method
 
 When x_impact is not known, :func:`impactosc.records.obstacle_estimate.estimate_x_impact`
 estimates it from the record.
+
+Records of any length: the noise level, the timing windows and the x_impact estimate come from
+the record's first :data:`LEADING_SAMPLES`; then each chunk is searched with the samples before
+it that its events need carried over (the longest fit window, a few forcing periods for the
+Poincare points, the hysteresis state and the previous contact's end), and an event is taken
+from the buffer in which it is complete.  So memory is bounded by the chunk, and the events do
+not depend on where the chunks are cut.
 """
 
 from __future__ import annotations

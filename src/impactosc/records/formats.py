@@ -233,9 +233,22 @@ def is_record_set(path) -> bool:
     return False
 
 
-def read_records(paths, **options) -> list[Record]:
-    """Records of several files, each a record (read with ``options``, as read_record) or a record set."""
+def read_records(paths, *, duration=None, **options) -> list[Record]:
+    """Records of several files, each a record (read with ``options``, as read_record) or a record set.
+
+    ``duration`` (s): of each record file only its first ``duration`` seconds, read in chunks (a
+    long record's samples beyond them are never read into memory); None: whole records.
+    """
+    if duration is not None and not (np.isfinite(duration) and duration > 0):
+        raise ValueError(f"duration must be > 0 s, got {duration}")
     out = []
     for path in paths:
-        out += read_record_set(path) if is_record_set(path) else [read_record(path, **options)]
+        if is_record_set(path):
+            out += read_record_set(path)
+        elif duration is None:
+            out.append(read_record(path, **options))
+        else:
+            with open_record_stream(path, **options) as stream:
+                c = stream.read(0, int(round(duration / stream.dt)) + 1)
+                out.append(Record(c.t, c.x, stream.omega, dict(stream.meta), stream.path, c.phase))
     return out
