@@ -42,12 +42,14 @@ def _segments(omega, transient, t_end, periods):
 
 
 class _H5Out:
-    def __init__(self, tmp, omega, meta):
+    def __init__(self, tmp, omega, meta, compression):
         import h5py
 
         self.f = h5py.File(tmp, "w")
         g = self.f.create_group("record")
-        opts = dict(shape=(0,), maxshape=(None,), dtype=float, chunks=(_H5_CHUNK,), compression="gzip", shuffle=True)
+        opts = dict(shape=(0,), maxshape=(None,), dtype=float, chunks=(_H5_CHUNK,))
+        if compression is not None:
+            opts.update(compression=compression, shuffle=True)
         self.t, self.x = g.create_dataset("t", **opts), g.create_dataset("x", **opts)
         self.f.attrs["units"] = "m"
         self.f.attrs["omega"] = float(omega)
@@ -106,6 +108,7 @@ def write_long_surrogate(
     rtol=1e-10,
     atol=1e-12,
     truth_path=None,
+    h5_compression="gzip",
 ):
     """Write the surrogate record of the model at ``omega`` on [transient, transient + duration]
     to ``path`` (``.h5``/``.hdf5`` or ``.tdms``), simulated and written in segments of about
@@ -116,7 +119,8 @@ def write_long_surrogate(
     chained runs differ from its single run by the solver's tolerance, ~1e-13 m on a periodic
     attractor); with ``drift`` or ``clock_jitter`` on those are drawn chunk by chunk
     (:func:`impactosc.records.surrogate.sensor_samples`).  Metadata: ``surrogate_meta``'s
-    plus ``surrogate_segment_periods``.  HDF5: ``record/t``, ``record/x`` (chunked, gzip);
+    plus ``surrogate_segment_periods``.  HDF5: ``record/t``, ``record/x`` (chunked; gzip with
+    the shuffle filter, or ``h5_compression=None`` for an uncompressed file as a DAQ writes it);
     TDMS: group ``record``, channel ``x`` (unit m, ``wf_start_offset`` = transient,
     ``wf_increment`` = 1 / rate), one TDMS segment per simulated segment.  Written atomically.
 
@@ -129,6 +133,8 @@ def write_long_surrogate(
     suffix = path.suffix.lower()
     if suffix not in (".h5", ".hdf5", ".tdms"):
         raise ValueError(f"{path}: a long surrogate is written as .h5 or .tdms, not {path.suffix!r}")
+    if h5_compression not in ("gzip", None):
+        raise ValueError(f"h5_compression must be 'gzip' or None, got {h5_compression!r}")
     o = options or SurrogateOptions()
     omega, transient, duration, segment = float(omega), float(transient), float(duration), float(segment)
     for name, v, low in (("omega", omega, 0.0), ("duration", duration, 0.0), ("segment", segment, 0.0)):
@@ -174,7 +180,10 @@ def write_long_surrogate(
         return x[m:], v[m:], None, j0 + m
 
     with atomic_write(path) as tmp:
-        out = _TdmsOut(tmp, omega, meta, transient, 1.0 / o.rate) if suffix == ".tdms" else _H5Out(tmp, omega, meta)
+        if suffix == ".tdms":
+            out = _TdmsOut(tmp, omega, meta, transient, 1.0 / o.rate)
+        else:
+            out = _H5Out(tmp, omega, meta, h5_compression)
         ok = False
         try:
             for i, (a, b) in enumerate(segments):
