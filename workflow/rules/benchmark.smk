@@ -62,6 +62,31 @@ rule benchmark_taylor:
         "../scripts/benchmark_taylor.py"
 
 
+# Opt-in (about 6 min, 3 GB of scratch disk at a time): snakemake -j2 benchmark_extraction.
+# Throughput and peak memory of impactosc extract against sample rate and record length, HDF5 and
+# TDMS: each surrogate record written to a scratch folder, extracted in a fresh process, checked
+# against its exact impacts and deleted. A timing job (threads: timing_threads).
+rule benchmark_extraction:
+    input:
+        cache=NUMBA_CACHE,
+    output:
+        csv=BENCHMARK_EXTRACTION_CSV,
+        md=BENCHMARK_EXTRACTION_MD,
+        png=supplementary("benchmark", "extraction_scaling")[0],
+        pdf=supplementary("benchmark", "extraction_scaling")[1],
+    log:
+        logfile("benchmark", "benchmark_extraction"),
+    benchmark:
+        benchmark_file("benchmark", "benchmark_extraction")
+    threads: timing_threads
+    params:
+        be=config["benchmark_extraction"],
+        model=config["model"],
+        scratch=config["benchmark_extraction"]["scratch"] or BENCHMARK_EXTRACTION_SCRATCH,
+    script:
+        "../scripts/benchmark_extraction.py"
+
+
 # Randomized differential testing: scenes drawn from a box wider than model BC,
 # the core against SciPy LSODA at two tolerances over the horizon where those agree.
 # Opt-in (about 15 min of CPU for 200 scenes): snakemake -j2 random_scenes.
