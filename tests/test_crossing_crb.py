@@ -106,3 +106,39 @@ def test_windowed_fit_attains_its_bound_and_states_it():
     # sigma / v = 6e-5 s: measured median |error| 7.3e-6 s over 500 samples
     assert np.median(out["fit_samples"]) > 100
     assert np.median(np.abs(err)) < 0.25 * sigma / v
+
+
+def test_grazing_contacts_refitted_through_the_contact():
+    # contacts 3 um deep (x = xI + H - a/2 s^2, crossing at 4.2 mm/s) under 5 um noise at 20 kHz:
+    # noise triggers the onset a ms early, where the approach's fit does not reach xI; the refit
+    # over approach and contact times them all, and its sigma_t holds
+    from impactosc.records.contacts import _segment_argmax, hysteresis_contacts
+    from impactosc.records.impact_times import time_impacts, window_samples
+
+    rng = np.random.default_rng(11)
+    rate, sigma, xi, H, a = 20_000.0, 5e-6, -2e-3, 3e-6, 3.0
+    block, trials = 1200, 800
+    k = np.arange(trials * block)
+    t = k / rate
+    s = (k % block - 800 - np.repeat(rng.uniform(0, 1, trials), block)) / rate  # the vertex 40 ms into each block
+    x = xi + H - a / 2 * s**2 + rng.normal(0, sigma, t.size)
+    true = t[::block] - s[::block] - np.sqrt(2 * H / a)
+    on, en, _ = hysteresis_contacts(x, xi, 5 * sigma)
+    j = _segment_argmax(x, on + 1, en)
+    keep = np.flatnonzero(x[j] >= xi + 3 * sigma)  # the contacts noise lifts above 15 um are found
+    blk, first = np.unique(on[keep] // block, return_index=True)
+    on, en, j = on[keep][first], en[keep][first], j[keep][first]
+    windows = window_samples(sigma, rate, (150.0, 5000.0))
+    out = {}
+    for refit in (False, True):
+        r = time_impacts(
+            t, x, on, blk * block, xi, sigma, windows=windows, peaks=j if refit else None, ends=en if refit else None
+        )
+        z = (r["t"] - true[blk]) / r["sigma_t"]
+        out[refit] = (np.sum(r["fit_samples"] <= 5), np.mean(np.abs(z) < 2), np.sqrt(np.mean(z**2)))
+    assert on.size > 150
+    # measured: without the refit 40 of 203 fall back to the five-sample fit, 82 % within 2
+    # sigma_t and rms z 4.3; with it none, 94 % and 1.09
+    assert out[False][0] > 20 and out[False][1] < 0.9
+    assert out[True][0] == 0
+    assert out[True][1] > 0.9 and 0.8 < out[True][2] < 1.25

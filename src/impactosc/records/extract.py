@@ -246,12 +246,22 @@ def _buffer_events(t, x, phase, scan: _Scan, final, c: dict, head: Record):
     on, en = onsets[keep], ends[keep]
     prev_end = np.concatenate([[scan.last_end - b0], en[:-1]])
     floors = np.maximum(np.maximum(prev_end, on - c["lookback"]), 0).astype(np.int64)
+    j = _segment_argmax(x, on + 1, en)
     impacts = time_impacts(
-        t, x, on, floors, c["xi"], c["sigma"], windows=c["windows"], short_points=c["fit_points"], after=scan.last_time
+        t,
+        x,
+        on,
+        floors,
+        c["xi"],
+        c["sigma"],
+        windows=c["windows"],
+        peaks=j,
+        ends=en,
+        short_points=c["fit_points"],
+        after=scan.last_time,
     )
     if impacts["t"].size:
         scan.last_time = float(impacts["t"][-1])
-    j = _segment_argmax(x, on + 1, en)
     pen_t, pen_x = _peaks(t, x, j, c["half"])
     penetrations = {"t": pen_t, "h": np.maximum(pen_x - c["xi"], 0.0)}
     poincare = None

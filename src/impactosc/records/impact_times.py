@@ -54,6 +54,9 @@ BIAS_SHARE = 0.25
 MIN_SAMPLES_QUADRATIC, MIN_SAMPLES_CUBIC = 4, 8
 #: Longest window of any fit, and the one in which the derivative scales are measured (s).
 PROBE_WINDOW = 0.05
+#: A contact is grazing when its largest sample stays below x_impact + this many noise std
+#: (a penetration of a few um: its force bends the motion by a fraction of the noise).
+GRAZE_SIGMAS = 6.0
 #: A turning point is passed (scanning back from a crossing) when the signal rises this many
 #: noise std above its running minimum.
 TURN_SIGMAS = 6.0
@@ -237,11 +240,73 @@ def _last_at_or_before(t, k, tp):
 
 
 @njit(cache=True)
-def fit_crossings(t, x, onsets, floors, xi, sigma, n_max2, n_max3):
+def _fit_one(t, x, i, ks, tp, xi, sigma, n_max2, n_max3):
+    """The windowed fit of one crossing from the first estimate tp (the iteration of
+    :func:`fit_crossings`): (t, v, sigma_t, first sample, samples, degree), degree 0 if none."""
+    out = (math.nan, math.nan, math.nan, 0, 0, 0)
+    for _ in range(4):
+        ke = _last_at_or_before(t, i, tp)
+        avail = ke - ks + 1
+        n2, n3 = min(avail, n_max2), min(avail, n_max3)
+        d, n = 0, 0
+        if n2 >= MIN_SAMPLES_QUADRATIC:
+            d, n = 2, n2
+        if n3 >= MIN_SAMPLES_CUBIC and (d == 0 or _end_factor(n3, 3) < _end_factor(n2, 2)):
+            d, n = 3, n3
+        if d == 0:
+            break
+        k0 = ke - n + 1
+        c, M, mid, half = _poly_fit(t, x, k0, ke, d)
+        s, dp = _root(c, xi, (tp - mid) / half)
+        if not abs(s - 1.0) < 0.5:  # no crossing near the window's end
+            break
+        g = np.empty(d + 1)
+        g[0] = 1.0
+        for j in range(1, d + 1):
+            g[j] = g[j - 1] * s
+        var = max(g @ _solve(M, g), 0.0)
+        tp = mid + s * half
+        out = (tp, dp / half, sigma * math.sqrt(var) * half / dp, k0, n, d)
+    return out
+
+
+@njit(cache=True)
+def _fit_through(t, x, ks, ke, tp, xi, sigma, n_max2, n_max3):
+    """One fit over samples ks..ke (at most the longest window, ending at ke) solved for the
+    upward crossing of xi nearest tp inside it: the refit of a grazing contact."""
+    avail = ke - ks + 1
+    n2, n3 = min(avail, n_max2), min(avail, n_max3)
+    d, n = 0, 0
+    if n2 >= MIN_SAMPLES_QUADRATIC:
+        d, n = 2, n2
+    if n3 >= MIN_SAMPLES_CUBIC and (d == 0 or _end_factor(n3, 3) < _end_factor(n2, 2)):
+        d, n = 3, n3
+    if d == 0:
+        return math.nan, math.nan, math.nan, 0, 0, 0
+    k0 = ke - n + 1
+    c, M, mid, half = _poly_fit(t, x, k0, ke, d)
+    s, dp = _root(c, xi, (tp - mid) / half)
+    if not abs(s) <= 1.0:
+        return math.nan, math.nan, math.nan, 0, 0, 0
+    g = np.empty(d + 1)
+    g[0] = 1.0
+    for j in range(1, d + 1):
+        g[j] = g[j - 1] * s
+    var = max(g @ _solve(M, g), 0.0)
+    return mid + s * half, dp / half, sigma * math.sqrt(var) * half / dp, k0, n, d
+
+
+@njit(cache=True)
+def fit_crossings(t, x, onsets, floors, xi, sigma, n_max2, n_max3, peaks, ends, graze_level):
     """Crossing time, velocity and std of each onset (the last sample below xi before a crossing).
 
     floors: first sample each fit may use (after the previous contact).  n_max2, n_max3: most
     samples in the quadratic's and the cubic's window (:func:`window_lengths` times the rate).
+    peaks, ends: each contact's largest sample and its end (the re-arming sample).  A grazing
+    contact (its largest sample below ``graze_level``) whose crossing the approach alone does not
+    reach (the fitted curve stays below xi: noise triggered the onset well before the slow
+    crossing) is fitted again over the approach and the whole contact (:func:`_fit_through`):
+    so shallow a contact barely bends the motion.
     Returns (t, v, sigma_t, first sample, samples, degree); degree 0 where no fit was found (the
     caller times those impacts otherwise).
     """
@@ -253,30 +318,10 @@ def fit_crossings(t, x, onsets, floors, xi, sigma, n_max2, n_max3):
         i = onsets[q]
         ks = _approach_start(x, i, floors[q], xi, rise)
         tp = t[i] + (t[i + 1] - t[i]) * (xi - x[i]) / (x[i + 1] - x[i])
-        for _ in range(4):
-            ke = _last_at_or_before(t, i, tp)
-            avail = ke - ks + 1
-            n2, n3 = min(avail, n_max2), min(avail, n_max3)
-            d, n = 0, 0
-            if n2 >= MIN_SAMPLES_QUADRATIC:
-                d, n = 2, n2
-            if n3 >= MIN_SAMPLES_CUBIC and (d == 0 or _end_factor(n3, 3) < _end_factor(n2, 2)):
-                d, n = 3, n3
-            if d == 0:
-                break
-            k0 = ke - n + 1
-            c, M, mid, half = _poly_fit(t, x, k0, ke, d)
-            s, dp = _root(c, xi, (tp - mid) / half)
-            if not abs(s - 1.0) < 0.5:  # no crossing near the window's end
-                break
-            g = np.empty(d + 1)
-            g[0] = 1.0
-            for j in range(1, d + 1):
-                g[j] = g[j - 1] * s
-            var = max(g @ _solve(M, g), 0.0)
-            tp = mid + s * half
-            tc[q], vc[q], sc[q] = tp, dp / half, sigma * math.sqrt(var) * half / dp
-            first[q], count[q], degree[q] = k0, n, d
+        r = _fit_one(t, x, i, ks, tp, xi, sigma, n_max2, n_max3)
+        if r[5] == 0 and ends[q] > i + 1 and x[peaks[q]] < graze_level:
+            r = _fit_through(t, x, ks, ends[q] - 1, tp, xi, sigma, n_max2, n_max3)
+        tc[q], vc[q], sc[q], first[q], count[q], degree[q] = r
     return tc, vc, sc, first, count, degree
 
 
@@ -406,19 +451,25 @@ def window_samples(sigma, rate, scales, window=None):
     return tuple(max(int(min(w, PROBE_WINDOW) * rate), 1) for w in (w2, w3))
 
 
-def time_impacts(t, x, onsets, floors, xi, sigma, *, windows, short_points=5, after=-math.inf):
+def time_impacts(t, x, onsets, floors, xi, sigma, *, windows, peaks=None, ends=None, short_points=5, after=-math.inf):
     """Times of the impacts at ``onsets``: the windowed fits of :func:`fit_crossings`, the short
     fit where those find none.
 
     floors: the first sample each impact's fits may use (after the previous contact, and at
     most the longest window back: what makes a record cut in chunks give the same times).
-    windows: (n_max2, n_max3) from :func:`window_samples`.  Returns a dict of arrays: ``t``,
+    windows: (n_max2, n_max3) from :func:`window_samples`.  peaks, ends: each contact's largest
+    sample and its end (for the refit of grazing contacts, :func:`fit_crossings`; None: no
+    refit).  Returns a dict of arrays: ``t``,
     ``v``, ``sigma_t``, ``crb_t`` (the fit's std at the crossing, before the short fit's dwell
     floor), ``fit_start`` (time of the fit's first sample), ``fit_samples`` and ``fit_degree``;
     the times increase, and follow ``after`` (the last impact timed before these).
     """
     onsets, floors = np.asarray(onsets, dtype=np.int64), np.asarray(floors, dtype=np.int64)
-    tc, vc, sc, first, count, degree = fit_crossings(t, x, onsets, floors, xi, sigma, *windows)
+    if peaks is None or ends is None:
+        peaks, ends = onsets, onsets  # no refit
+    peaks, ends = np.asarray(peaks, dtype=np.int64), np.asarray(ends, dtype=np.int64)
+    graze = xi + GRAZE_SIGMAS * sigma
+    tc, vc, sc, first, count, degree = fit_crossings(t, x, onsets, floors, xi, sigma, *windows, peaks, ends, graze)
     crb = sc.copy()
     short = np.flatnonzero(degree == 0)
     if short.size:
