@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 
 import h5py
+import numpy as np
 import pytest
 
 from impactosc.identification.fitted_parameters import FIELDS
@@ -65,6 +66,14 @@ def test_identify_recovers_model_bc_from_the_example(example, capsys):
     assert "stage 3/3" in run.stderr  # progress
     table = (out / "parameters.md").read_text()
     assert "| k |" in table and "| xI |" in table and "fitted" in table
+    # the covariance of the eight fitted quantities, positive definite, agreeing with the
+    # rounded correlation for reading and with the standard errors (per unit mass: x m)
+    names, units, cov = model.covariance
+    assert names == model.correlation[0] and len(names) == len(units) == 8
+    np.linalg.cholesky(cov)
+    d = np.sqrt(np.diag(cov))
+    np.testing.assert_allclose(cov / np.outer(d, d), model.correlation[1], atol=5e-7)
+    assert d[names.index("k/m")] * model.params.m == pytest.approx(model.stderr["k"], rel=1e-12)
 
 
 def test_the_model_file_drives_simulate(example, tmp_path):

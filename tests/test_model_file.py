@@ -222,3 +222,51 @@ def test_figures_and_table_name_the_model(rig, tmp_path):
     out = [tmp_path / f"table.{ext}" for ext in ("csv", "md", "html")]
     merge_tables([rows], *out, model=source["description"])
     assert f"Model: model file {rig}." in out[1].read_text() and f"Model: model file {rig}." in out[2].read_text()
+
+
+def _ill_conditioned_covariance():
+    """A covariance like an identification's: two quantities correlated at 0.9999997 (b and n3
+    of a contact law), two at about -0.97; its correlation's smallest eigenvalue is 1.3e-7."""
+    rng = np.random.default_rng(9)
+    A = rng.normal(size=(5, 5))
+    A[:, 1] = A[:, 0] + 1e-3 * rng.normal(size=5)
+    A[:, 3] = -A[:, 2] + 0.2 * rng.normal(size=5)
+    scale = np.array([3.0, 1e-2, 0.4, 2e-3, 5e-7])
+    return (A.T @ A + 1e-7 * np.eye(5)) * np.outer(scale, scale)
+
+
+def test_covariance_written_at_full_precision_is_read_back_positive_definite(tmp_path):
+    cov = _ill_conditioned_covariance()
+    d = np.sqrt(np.diag(cov))
+    corr = cov / np.outer(d, d)
+    # the correlation rounded to 6 decimals (as written for reading) is not positive definite:
+    # why the covariance itself is in the file
+    assert np.linalg.eigvalsh(np.round(corr, 6))[0] < 0 < np.linalg.eigvalsh(corr)[0]
+    names, units = ["k/m", "c/m", "T/m", "b", "xI"], ["1/s^2", "1/s", "m/s^2", "(s/m)^n3", "m"]
+    path = write_model_file(
+        tmp_path / "rig.yaml", RIG, covariance=(names, units, cov), correlation=(names, np.round(corr, 6))
+    )
+    got_names, got_units, got = read_model_file(path).covariance
+    assert got_names == names and got_units == units
+    assert np.array_equal(got, cov)  # every bit: YAML floats are written as repr
+    np.linalg.cholesky(got)
+    assert read_model_file(write_model_file(tmp_path / "plain.yaml", RIG)).covariance is None
+
+
+@pytest.mark.parametrize(
+    ("matrix", "expected"),
+    [
+        ([[1.0, 2.0], [2.0, 1.0]], "not positive definite"),
+        ([[1.0, 0.5], [0.4, 1.0]], "not symmetric"),
+        ([[1.0, 0.0, 0.0]], "need a finite 2 x 2 matrix"),
+    ],
+)
+def test_a_bad_covariance_is_named_with_the_file(tmp_path, matrix, expected):
+    path = tmp_path / "bad.yaml"
+    path.write_text(
+        f"format: {FORMAT}\nparameters: {{k: 1500.0}}\ncovariance: {{names: [k/m, c/m], matrix: {matrix}}}\n"
+    )
+    with pytest.raises(ValueError, match=f"model file .*bad.yaml: covariance: .*{expected}"):
+        read_model_file(path)
+    with pytest.raises(ValueError, match=expected):
+        write_model_file(tmp_path / "w.yaml", RIG, covariance=(["k/m", "c/m"], ["1/s^2", "1/s"], matrix))

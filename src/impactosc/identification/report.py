@@ -14,7 +14,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from impactosc.identification.fitted_parameters import FIELDS, NAMES, PER_MASS
+from impactosc.identification.fitted_parameters import FIELDS, NAMES, PER_MASS, UNITS
 from impactosc.identification.staged_fit import Identification
 from impactosc.io.files import atomic_write, stamp_h5
 from impactosc.model.model_file import write_model_file
@@ -70,7 +70,8 @@ def parameter_table(ident: Identification, truth=None) -> list[dict]:
 
 
 def write_identified_model(path, ident: Identification, *, name: str | None = None) -> Path:
-    """The model file of an identification: parameters, standard errors, correlation, records."""
+    """The model file of an identification: parameters, standard errors, the covariance of the
+    fitted quantities (full precision) and their correlation (rounded, for reading), records."""
     m = ident.params.m
     stderr, fixed = {}, dict(_NOT_FITTED)
     for i, nm in enumerate(NAMES):
@@ -85,6 +86,7 @@ def write_identified_model(path, ident: Identification, *, name: str | None = No
         ident.params,
         stderr=stderr,
         fixed=fixed,
+        covariance=(ident.free_names, [u for u, f in zip(UNITS, ident.free) if f], ident.fit.cov),
         correlation=(ident.free_names, np.round(ident.correlation, 6)),
         records=records,
         fit={

@@ -11,11 +11,17 @@ line, the Python API and the workflow config read it through :func:`read_model_f
       m:  {value: 8.735, unit: kg, fixed: true, note: given (mass is not identifiable)}
       k:  {value: 1418.9, unit: N/m, stderr: 3.1}
       xI: -2.086e-3                          # a plain number is a value in SI units
-    correlation: {names: [k/m, c/m], matrix: [[1.0, 0.2], [0.2, 1.0]]}   # optional
+    covariance: {names: [k/m, c/m], units: [1/s^2, 1/s], matrix: [[0.25, 0.01], [0.01, 0.01]]}   # optional
+    correlation: {names: [k/m, c/m], matrix: [[1.0, 0.2], [0.2, 1.0]]}   # optional, for reading
     records: [{path: run3.tdms, sha256: ..., omega: 40.86}]              # optional
     fit: {chi2_dof: 1.02, n_windows: 40}                                  # optional, free
     package_version: 0.1.0                   # written by write_model_file, with git_commit
     created: 2025-03-01T12:00:00+00:00       # and this timestamp
+
+The covariance is that of the quantities the identification fitted (per unit mass), written at
+full precision: a correlation rounded for reading is not positive definite when two quantities
+correlate at 0.99 and more (b and n3 of a contact law), so uncertainty is propagated from the
+covariance (:attr:`ModelFile.covariance`, checked symmetric positive definite when read).
 
 A parameter the file leaves out takes model BC's value (:attr:`ModelFile.defaulted` names
 them). Values are SI in the units of ``impactosc.model.parameters.PARAM_UNITS``; a unit
@@ -45,6 +51,7 @@ _TOP_KEYS = (
     "format",
     "name",
     "parameters",
+    "covariance",
     "correlation",
     "records",
     "fit",
@@ -68,10 +75,42 @@ class ModelFile:
     defaulted: tuple = ()
 
     @property
+    def covariance(self) -> tuple[list, list, np.ndarray] | None:
+        """(names, units, matrix) of the fitted quantities' covariance, when the file has one:
+        symmetric and positive definite (checked when the file was read)."""
+        cov = self.meta.get("covariance")
+        if cov is None:
+            return None
+        return list(cov["names"]), list(cov.get("units", [])), _spd(cov["matrix"], len(cov["names"]), self.path)
+
+    @property
     def correlation(self) -> tuple[list, np.ndarray] | None:
         """(names, matrix) of the parameters' correlation, when the file has one."""
         corr = self.meta.get("correlation")
         return None if corr is None else (list(corr["names"]), np.asarray(corr["matrix"], dtype=float))
+
+
+def _spd(matrix, n, where) -> np.ndarray:
+    """The covariance matrix as an n x n array, symmetrised, or a ValueError naming ``where``
+    when it is not square, not symmetric (beyond rounding) or not positive definite."""
+    try:
+        a = np.asarray(matrix, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{where}: covariance: the matrix is not a table of numbers") from None
+    if a.shape != (n, n) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{where}: covariance: need a finite {n} x {n} matrix for its {n} names, got shape {a.shape}")
+    scale = np.sqrt(np.abs(np.outer(np.diag(a), np.diag(a))))
+    if np.any(np.abs(a - a.T) > 1e-12 * scale):
+        raise ValueError(f"{where}: covariance: the matrix is not symmetric")
+    a = 0.5 * (a + a.T)
+    try:
+        np.linalg.cholesky(a)
+    except np.linalg.LinAlgError:
+        raise ValueError(
+            f"{where}: covariance: the matrix is not positive definite (smallest eigenvalue "
+            f"{np.linalg.eigvalsh(a)[0]:.3g}); it cannot describe the uncertainty of a fit"
+        ) from None
+    return a
 
 
 def _unknown(key, names, what: str = "key", absent=()) -> str:
@@ -120,13 +159,15 @@ def write_model_file(
     stderr: dict | None = None,
     fixed: dict | None = None,
     correlation: tuple[list[str], np.ndarray] | None = None,
+    covariance: tuple[list[str], list[str], np.ndarray] | None = None,
     records: list[dict] | None = None,
     fit: dict | None = None,
     name: str | None = None,
 ) -> Path:
     """Write `params` as a model file (atomically), with each parameter's unit, its standard
     error (`stderr`: name -> value), whether it was held fixed (`fixed`: name -> why), the
-    correlation of the fitted quantities (names, matrix), the `records` it was identified
+    correlation of the fitted quantities (names, matrix) and their covariance (names, units,
+    matrix; written at full precision, checked positive definite), the `records` it was identified
     from, free `fit` diagnostics, and the package version, git commit and time."""
     stderr, fixed = dict(stderr or {}), dict(fixed or {})
     _check_names(stderr, "stderr")
@@ -145,6 +186,13 @@ def write_model_file(
     if name is not None:
         doc["name"] = str(name)
     doc["parameters"] = parameters
+    if covariance is not None:
+        names, units, matrix = list(covariance[0]), [str(u) for u in covariance[1]], covariance[2]
+        if len(units) != len(names):
+            raise ValueError(f"covariance: {len(units)} units for {len(names)} names")
+        matrix = _spd(matrix, len(names), "covariance to write")
+        # repr-exact floats: the matrix read back is the one written
+        doc["covariance"] = {"names": [str(n) for n in names], "units": units, "matrix": matrix.tolist()}
     if correlation is not None:
         names, matrix = list(correlation[0]), np.asarray(correlation[1], dtype=float)
         if matrix.shape != (len(names), len(names)):
@@ -235,6 +283,11 @@ def read_model_file(path) -> ModelFile:
             f"model file {path}: parameters.{bad}: {exc}" if bad else f"model file {path}: {exc}"
         ) from None
     meta = {k: v for k, v in doc.items() if k not in ("format", "parameters")}
+    cov = meta.get("covariance")
+    if cov is not None:  # checked here, so a bad matrix is named when the file is read
+        if not isinstance(cov, dict) or not isinstance(cov.get("names"), list) or "matrix" not in cov:
+            raise ValueError(f"model file {path}: covariance: need a mapping with names and matrix")
+        _spd(cov["matrix"], len(cov["names"]), f"model file {path}")
     defaulted = tuple(k for k in NAMES if k not in values)
     return ModelFile(params, stderr, fixed, meta, str(path), defaulted)
 
