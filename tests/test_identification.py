@@ -146,6 +146,21 @@ def test_identified_parameters_cover_the_truth(chaos_record):
     # the errors are small: a few per mille for the ratios, well below a micrometre for xI
     assert ident.stderr[NAMES.index("xI")] < 1e-6
     assert np.all(ident.stderr[:5] / th[:5] < 0.02)
+    # the surrogate record declares its truth: the parameter table shows it and each error in
+    # standard errors (the z above, in the ModelParams fields' units)
+    from impactosc.identification.report import parameter_markdown, parameter_table
+    from impactosc.records.surrogate import record_truth
+
+    assert record_truth([chaos_record]) == truth
+    rows = parameter_table(ident, truth=record_truth([chaos_record]))
+    np.testing.assert_allclose([r["z"] for r in rows], z, rtol=1e-9)
+    assert [r["truth"] for r in rows][NAMES.index("xI")] == truth.xI
+    table = parameter_markdown(rows, ident)
+    assert "| truth | error / stderr |" in table and f"| {z[NAMES.index('k/m')]:+.2f} |" in table
+    # a rig's record (no truth in its metadata), or records of two different models: no truth
+    assert record_truth([Record(chaos_record.t, chaos_record.x, 40.86, {}, "<rig>")]) is None
+    other = {**chaos_record.meta, "true_c": truth.c * 1.01}
+    assert record_truth([chaos_record, Record(chaos_record.t, chaos_record.x, 40.86, other, "<b>")]) is None
 
 
 def test_a_record_without_contacts_fixes_the_contact_law_and_says_why():

@@ -21,6 +21,7 @@ from impactosc.identification.report import (
 )
 from impactosc.identification.staged_fit import identify
 from impactosc.io.files import write_table, write_text
+from impactosc.records.surrogate import record_truth
 
 p = snakemake.params
 g = p.identification
@@ -29,7 +30,7 @@ ident = identify(records, base=base, stages=tuple(g["stages"]), rtol=p.solver["r
 write_identified_model(snakemake.output.model, ident)
 prediction = ident.prediction()
 write_fit_windows(snakemake.output.windows, ident, prediction, sources=list(snakemake.input.records))
-rows = parameter_table(ident)
+rows = parameter_table(ident, truth=record_truth(records))  # a surrogate's truth, else none
 write_table(snakemake.output.csv, rows, sources=list(snakemake.input.records))
 write_text(snakemake.output.md, parameter_markdown(rows, ident))
 for nm, why in ident.fixed.items():

@@ -152,6 +152,7 @@ def _identify_run(args) -> int:
     from impactosc.identification.report import parameter_markdown, parameter_table, write_identified_model
     from impactosc.identification.staged_fit import identify
     from impactosc.records.formats import read_records
+    from impactosc.records.surrogate import record_truth
 
     _check_identify_outputs(args)
     if not all(periods > 0 for periods in args.stages):
@@ -182,7 +183,7 @@ def _identify_run(args) -> int:
             )
     # written only now: an error or an interrupt above leaves no output behind
     write_identified_model(args.output, ident)
-    rows = parameter_table(ident)
+    rows = parameter_table(ident, truth=record_truth(records))  # a surrogate's truth, else none
     if args.table:
         _write_rows(args.table, rows, parameter_markdown(rows, ident), args.record)
     if choice:

@@ -45,7 +45,12 @@ def _sha256(path) -> str | None:
 
 
 def parameter_table(ident: Identification, truth=None) -> list[dict]:
-    """One row per fitted quantity: per unit mass and as a ModelParams field, with errors."""
+    """One row per fitted quantity: per unit mass and as a ModelParams field, with errors.
+
+    truth: the model the records sample, when known (a surrogate's,
+    :func:`impactosc.records.surrogate.record_truth`): each row then has ``truth`` (field units)
+    and ``z``, the error in standard errors (value - truth) / stderr of the fitted ones.
+    """
     m = ident.params.m
     rows = []
     for i, nm in enumerate(NAMES):
@@ -65,6 +70,8 @@ def parameter_table(ident: Identification, truth=None) -> list[dict]:
         }
         if truth is not None:
             row["truth"] = float(getattr(truth, FIELDS[i]))
+            fitted = ident.free[i] and row["field_stderr"] > 0
+            row["z"] = (row["field_value"] - row["truth"]) / row["field_stderr"] if fitted else math.nan
         rows.append(row)
     return rows
 
@@ -142,6 +149,7 @@ def _value(v, se):
 
 def parameter_markdown(rows: list[dict], ident: Identification) -> str:
     """The parameter table as Markdown, with the fit's residual and window counts."""
+    truth = bool(rows) and "truth" in rows[0]
     lines = [
         f"# Identified model ({', '.join(r['label'] for r in ident.records)})",
         "",
@@ -150,14 +158,22 @@ def parameter_markdown(rows: list[dict], ident: Identification) -> str:
         f"{ident.fit.iterations} iterations of the last stage, {'converged' if ident.fit.converged else 'NOT converged'}; "
         f"{ident.seconds:.1f} s. Standard errors from the Jacobian, scaled by the residual variance.",
         "",
-        "| parameter | value +- standard error | relative | unit | status |",
-        "|---|---|---|---|---|",
+        "| parameter | value +- standard error | relative | unit | status |"
+        + (" truth | error / stderr |" if truth else ""),
+        "|---|---|---|---|---|" + ("---|---|" if truth else ""),
     ]
     for r in rows:
         rel = f"{r['relative_stderr']:.2e}" if math.isfinite(r["relative_stderr"]) else ""
-        lines.append(
-            f"| {r['field']} | {_value(r['field_value'], r['field_stderr'])} | {rel} | {r['unit']} | {r['status']} |"
-        )
+        line = f"| {r['field']} | {_value(r['field_value'], r['field_stderr'])} | {rel} | {r['unit']} | {r['status']} |"
+        if truth:
+            z = f"{r['z']:+.2f}" if math.isfinite(r["z"]) else ""
+            line += f" {r['truth']:.6g} | {z} |"
+        lines.append(line)
+    if truth:
+        lines += [
+            "",
+            "truth: the model the surrogate records sample (their metadata); a fit that holds has |z| < 2 mostly.",
+        ]
     return "\n".join(lines) + "\n"
 
 

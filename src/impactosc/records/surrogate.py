@@ -34,6 +34,7 @@ __all__ = [
     "surrogate_run",
     "sample_run",
     "surrogate_record",
+    "record_truth",
     "surrogate_meta",
     "sensor_samples",
     "surrogate_sweep",
@@ -142,8 +143,13 @@ def mismatched_params(params: ModelParams | None, mismatch: dict) -> ModelParams
     return dataclasses.replace(params, **{k: getattr(params, k) * (1 + r) for k, r in mismatch.items()})
 
 
+#: Prefix of the metadata keys that carry a surrogate's true model parameters (true_k, true_c, ...).
+TRUE_PREFIX = "true_"
+
+
 def surrogate_meta(o: SurrogateOptions, params: ModelParams, extra=None) -> dict:
-    """The metadata a surrogate record carries: its label, settings, x_impact and sensor_delay."""
+    """The metadata a surrogate record carries: its label, settings, x_impact, sensor_delay and
+    the model it samples (``true_<parameter>``: the truth an identification is scored against)."""
     meta = {
         "label": LABEL,
         "source": "surrogate",
@@ -164,8 +170,21 @@ def surrogate_meta(o: SurrogateOptions, params: ModelParams, extra=None) -> dict
         meta["surrogate_clock_jitter_s"] = o.clock_jitter
     if o.quantum > 0:
         meta["surrogate_quantum_m"] = o.quantum
+    meta.update({TRUE_PREFIX + f.name: float(getattr(params, f.name)) for f in dataclasses.fields(params)})
     meta.update(extra or {})
     return meta
+
+
+def record_truth(records) -> ModelParams | None:
+    """The model the records sample, when every record is a surrogate declaring the same one
+    (:func:`surrogate_meta`); else None (a rig's records have no truth)."""
+    found = set()
+    for rec in records:
+        values = {f.name: rec.meta.get(TRUE_PREFIX + f.name) for f in dataclasses.fields(ModelParams)}
+        if any(v is None for v in values.values()):
+            return None
+        found.add(tuple(sorted((k, float(v)) for k, v in values.items())))
+    return ModelParams(**dict(found.pop())) if len(found) == 1 else None
 
 
 def sensor_samples(traj, o: SurrogateOptions, rng, state: dict | None = None):
