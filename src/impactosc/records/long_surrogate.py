@@ -94,6 +94,22 @@ class _TdmsOut:
         self.w.close()
 
 
+def _check_arguments(path, truth_path, h5_compression, *, omega, transient, duration, segment) -> None:
+    """The errors of :func:`write_long_surrogate`'s arguments, each named, before any work."""
+    if path.suffix.lower() not in (".h5", ".hdf5", ".tdms"):
+        raise ValueError(f"{path}: a long surrogate is written as .h5 or .tdms, not {path.suffix!r}")
+    if h5_compression not in ("gzip", None):
+        raise ValueError(f"h5_compression must be 'gzip' or None, got {h5_compression!r}")
+    for name, v in (("omega", omega), ("duration", duration), ("segment", segment)):
+        if not (math.isfinite(v) and v > 0):
+            raise ValueError(f"{name} must be > 0, got {v}")
+    if not (math.isfinite(transient) and transient >= 0):
+        raise ValueError(f"transient must be >= 0 s, got {transient}")
+    check_writable(path)
+    if truth_path is not None:
+        check_writable(truth_path)
+
+
 def write_long_surrogate(
     path,
     omega,
@@ -131,20 +147,11 @@ def write_long_surrogate(
     """
     path = Path(path)
     suffix = path.suffix.lower()
-    if suffix not in (".h5", ".hdf5", ".tdms"):
-        raise ValueError(f"{path}: a long surrogate is written as .h5 or .tdms, not {path.suffix!r}")
-    if h5_compression not in ("gzip", None):
-        raise ValueError(f"h5_compression must be 'gzip' or None, got {h5_compression!r}")
-    o = options or SurrogateOptions()
     omega, transient, duration, segment = float(omega), float(transient), float(duration), float(segment)
-    for name, v, low in (("omega", omega, 0.0), ("duration", duration, 0.0), ("segment", segment, 0.0)):
-        if not (math.isfinite(v) and v > low):
-            raise ValueError(f"{name} must be > 0, got {v}")
-    if not (math.isfinite(transient) and transient >= 0):
-        raise ValueError(f"transient must be >= 0 s, got {transient}")
-    check_writable(path)
-    if truth_path is not None:
-        check_writable(truth_path)
+    _check_arguments(
+        path, truth_path, h5_compression, omega=omega, transient=transient, duration=duration, segment=segment
+    )
+    o = options or SurrogateOptions()
     p = mismatched_params(params, o.mismatch)
     P = 2 * math.pi / omega
     periods = max(1, round(segment / P))
@@ -208,17 +215,29 @@ def write_long_surrogate(
             ok = True
         finally:
             out.close(ok)
+    truth = _truth_within(truth, transient, t_end)
+    if truth_path is not None:
+        _write_truth(truth_path, truth, omega=omega, transient=transient, duration=duration)
+    return path, truth
+
+
+def _truth_within(truth, transient, t_end) -> dict:
+    """The exact events gathered per segment, joined, on [transient, t_end]."""
+    out = {}
     for kind in truth:
         cols = {
             c: np.concatenate([np.atleast_1d(np.asarray(v, dtype=float)) for v in vs]) for c, vs in truth[kind].items()
         }
         keep = (cols["t"] >= transient) & (cols["t"] <= t_end)
-        truth[kind] = {c: v[keep] for c, v in cols.items()}
-    if truth_path is not None:
-        with atomic_write(truth_path) as tmp, open(tmp, "wb") as f:
-            flat = {f"{kind}_{c}": v for kind, cols in truth.items() for c, v in cols.items()}
-            np.savez(f, omega=omega, transient=transient, duration=duration, **flat)
-    return path, truth
+        out[kind] = {c: v[keep] for c, v in cols.items()}
+    return out
+
+
+def _write_truth(truth_path, truth, **settings) -> None:
+    """The truth as an .npz (``impacts_t``, ``poincare_x``, ... and the settings), atomically."""
+    with atomic_write(truth_path) as tmp, open(tmp, "wb") as f:
+        flat = {f"{kind}_{c}": v for kind, cols in truth.items() for c, v in cols.items()}
+        np.savez(f, **settings, **flat)
 
 
 def read_truth(path) -> dict:
