@@ -211,3 +211,37 @@ def test_branch_comparison_follows_one_of_two_coexisting_orbits():
     assert np.max(np.abs(orbits[0] - orbits[1])) > 100e-6  # two orbits, not one
     for (x0, v0), orbit in zip(states, orbits):
         assert np.max(np.abs(_orbit_from(near, 20.25, x0, v0, 3, 400) - orbit)) < BRANCH_TOL
+
+
+def test_model_choice_compares_criteria_on_the_samples_every_candidate_fitted():
+    # candidate "small" fits better on its own samples because it left out a badly fitted block
+    # that "large" kept; on the common blocks "large" fits better: AIC/BIC follow the rms of the
+    # common samples shown beside them, not the own-sample rms
+    from impactosc.identification.choice import BLOCK, choice_markdown, rank
+
+    def row(name, n_free, rss_by_block, n):
+        rec, blk = zip(*rss_by_block)
+        return {
+            "law": name,
+            "friction": "dry friction",
+            "free": "k/m c/m",
+            "not_pinned": "",
+            "n_free": n_free,
+            "n": n,
+            "rms_m": 1e-6,
+            "held_out_rms_m": 1e-6,
+            "blocks": {"record": [r for r, _ in rec], "block": [b for _, b in rec], "rss": list(blk)},
+        }
+
+    common = [((0, b), 1e-9) for b in range(10)]
+    small = row("small", 6, [((0, b), 2e-9) for b in range(10)], 10 * BLOCK)
+    large = row("large", 7, [*common, ((0, 10), 1e-6)], 11 * BLOCK)
+    ranked = rank([small, large])
+    assert [r["law"] for r in ranked] == ["large", "small"]
+    assert all(r["n_common"] == 10 * BLOCK and "blocks" not in r for r in ranked)
+    assert ranked[0]["rms_common_m"] == pytest.approx(np.sqrt(10 * 1e-9 / (10 * BLOCK)))
+    n = 10 * BLOCK
+    assert ranked[1]["delta_bic"] == pytest.approx(n * np.log(2.0) - np.log(n), rel=1e-9)
+    assert f"{10 * BLOCK} samples every candidate fitted" in choice_markdown(ranked)
+    with pytest.raises(ValueError, match="share no samples"):
+        rank([row("a", 6, [((0, 1), 1e-9)], BLOCK), row("b", 6, [((1, 1), 1e-9)], BLOCK)])

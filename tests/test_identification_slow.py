@@ -67,4 +67,4 @@ def test_model_choice_finds_the_true_contact_law(law):
     assert (best["law"], best["friction"]) == (law, "dry friction"), [(r["law"], r["friction"], r["bic"]) for r in rows]
     # when the true law is nested in the runner-up (model BC), the runner-up's BIC is worse by
     # ln N - chi2(1): beyond ln N - 9 unless chi2(1) > 9 (probability 0.3 %)
-    assert rows[1]["delta_bic"] > math.log(best["n"]) - 9
+    assert rows[1]["delta_bic"] > math.log(best["n_common"]) - 9

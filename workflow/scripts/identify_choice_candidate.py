@@ -1,7 +1,7 @@
 """Fit one candidate of the model choice (contact law x friction) on the configured records.
 
 Reads input.cache, input.records, params (identification, model, solver) and wildcards.candidate (a number
-of impactosc.identification.choice.candidates()); writes output.json (fit, held-out error, AIC, BIC).
+of impactosc.identification.choice.candidates()); writes output.json (fit, held-out error, residuals by block for the AIC and BIC).
 """
 
 from _logging import configure_logging, mock_snakemake
@@ -31,5 +31,5 @@ row = fit_candidate(
     rtol=p.solver["rtol"],
     progress=logging.info,
 )
-logging.info(f"rms {row['rms_m'] * 1e6:.3f} um, held out {row['held_out_rms_m'] * 1e6:.3f} um, BIC {row['bic']:.1f}")
+logging.info(f"rms {row['rms_m'] * 1e6:.3f} um on {row['n']} samples, held out {row['held_out_rms_m'] * 1e6:.3f} um")
 write_json(snakemake.output.json, {"row": row}, sources=list(snakemake.input.records))

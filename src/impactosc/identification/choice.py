@@ -7,8 +7,12 @@ the same windows; two yardsticks say which the data support:
 
 * prediction error on held-out windows (every ``every``-th block of the records, never fitted:
   only their start states are, with the candidate's parameters), the direct test of a model;
-* AIC and BIC of the fit, N ln(RSS / N) + penalty x (free parameters + 2 per chain of joined
-  windows).  The windows are the same for every candidate, so only the free parameters differ.
+* AIC and BIC of the fit, N ln(RSS / N) + penalty x free parameters, on the samples every
+  candidate fitted: each fit cuts its windows at its own obstacle estimate and leaves out the
+  windows it fits far worse than the rest, so the candidates' own samples differ, and criteria
+  of different samples do not compare.  The residuals are summed in blocks of
+  :data:`BLOCK` samples of each record; the blocks every candidate covered whole are the common
+  samples (the start states, two per chain of windows, are alike for every candidate there).
 
 The supported model is the one with the smallest BIC: a larger model whose extra parameter the
 records do not need pays ln N per parameter, so the true nested law wins when it is the simpler
@@ -41,6 +45,34 @@ CONTACT_LAWS = {
 #: Friction: with the dry friction T fitted, or without it.
 FRICTION = {"dry friction": {}, "no dry friction": {"T/m": 0.0}}
 _B, _N3, _XI = (NAMES.index(nm) for nm in ("b", "n3", "xI"))
+#: Samples per block of a record in which each candidate's residuals are summed (the common
+#: samples of the AIC and BIC are the blocks every candidate covered whole).
+BLOCK = 64
+
+
+def _block_residuals(ident) -> dict:
+    """The fit's residual sum of squares in each block of BLOCK samples of each record that its
+    windows cover whole: {"record": [...], "block": [...], "rss": [...]}."""
+    w = ident.windows
+    r = ident.prediction() - w.y
+    rec = np.repeat(w.record, w.n)
+    idx = np.concatenate([np.arange(a, a + n) for a, n in zip(w.start, w.n)]) if w.size else np.empty(0, int)
+    key = rec.astype(np.int64) * (1 << 40) + idx // BLOCK
+    keys, inverse, counts = np.unique(key, return_inverse=True, return_counts=True)
+    rss = np.bincount(inverse, weights=np.nan_to_num(r, nan=1e6) ** 2)
+    whole = counts == BLOCK
+    return {
+        "record": (keys[whole] >> 40).tolist(),
+        "block": (keys[whole] & ((1 << 40) - 1)).tolist(),
+        "rss": rss[whole].tolist(),
+    }
+
+
+def _not_pinned(ident) -> str:
+    """The quantities the records did not pin, fixed at the stated value: 'name = value' each."""
+    return " ".join(
+        f"{nm}={ident.theta[NAMES.index(nm)]:.4g}" for nm, why in ident.fixed.items() if "not identifiable" in why
+    )
 
 
 def _held_out_error(records, ident, every, rtol):
@@ -86,26 +118,39 @@ def fit_candidate(records, law, friction, *, base=None, start=None, every=4, sta
         err, n_held = _held_out_error(records, ident, every, rtol)
     res = ident.fit
     n = res.n_samples
-    k = n - res.dof  # free parameters and the free start states (two per chain of joined windows)
     return {
         "law": law,
         "friction": friction,
         "free": " ".join(ident.free_names),
+        "not_pinned": _not_pinned(ident),
         "n_free": int(ident.free.sum()),
         "rss_m2": res.rss,
         "n": n,
         "rms_m": math.sqrt(res.rss / n),
         "held_out_rms_m": err,
         "n_held_out": n_held,
-        "aic": n * math.log(res.rss / n) + 2 * k,
-        "bic": n * math.log(res.rss / n) + k * math.log(n),
         "seconds": ident.seconds,
         **{f"{nm}": float(v) for nm, v in zip(NAMES, ident.theta)},
+        "blocks": _block_residuals(ident),
     }
 
 
 def rank(rows: list[dict]) -> list[dict]:
-    """Rows sorted by BIC, with their differences to the best and the supported one marked."""
+    """Rows with AIC and BIC on the samples every candidate fitted (``n_common``, ``rms_common_m``;
+    the block residuals are dropped), sorted by BIC, with their differences to the best and the
+    supported one marked."""
+    keys = [set(zip(r["blocks"]["record"], r["blocks"]["block"])) for r in rows]
+    common = set.intersection(*keys) if keys else set()
+    if not common:
+        raise ValueError("the candidates' fits share no samples; their AIC and BIC cannot be compared")
+    n = len(common) * BLOCK
+    for r in rows:
+        b = r.pop("blocks")
+        rss = sum(v for rec, blk, v in zip(b["record"], b["block"], b["rss"]) if (rec, blk) in common)
+        r["n_common"] = n
+        r["rms_common_m"] = math.sqrt(rss / n)
+        r["aic"] = n * math.log(rss / n) + 2 * r["n_free"]
+        r["bic"] = n * math.log(rss / n) + r["n_free"] * math.log(n)
     rows = sorted(rows, key=lambda r: r["bic"])
     best_aic = min(r["aic"] for r in rows)
     best_held = min(r["held_out_rms_m"] for r in rows)
@@ -133,27 +178,33 @@ def choose_model(
         say(f"candidate {law}, {fr}")
         rows.append(fit_candidate(records, law, fr, base=base, start=start, every=every, stages=stages, rtol=rtol))
         r = rows[-1]
-        say(f"  rms {r['rms_m'] * 1e6:.3f} um, held out {r['held_out_rms_m'] * 1e6:.3f} um, BIC {r['bic']:.1f}")
+        say(f"  rms {r['rms_m'] * 1e6:.3f} um on {r['n']} samples, held out {r['held_out_rms_m'] * 1e6:.3f} um")
     return rank(rows)
 
 
 def choice_markdown(rows: list[dict]) -> str:
     """The ranked candidates as Markdown: which model the records support, and by how much."""
     best = rows[0]
+    own = [r["n"] for r in rows]
     lines = [
         "# Model choice: which contact law and friction the records support",
         "",
         f"Supported (smallest BIC): **{best['law']}, {best['friction']}**. Fits on the windows outside the "
         "held-out blocks; held-out error: rms residual of the held-out windows with only their start states "
-        "fitted. AIC and BIC count the free parameters and two start-state entries per chain of joined windows.",
+        f"fitted. Each fit has its own windows ({min(own)}-{max(own)} samples: it cuts them at its own obstacle "
+        "estimate and leaves out those it fits far worse than the rest); AIC and BIC, and the rms beside them, "
+        f"are those of the {best['n_common']} samples every candidate fitted, with the free parameters as "
+        "penalty. Not pinned: what the records could not determine for that candidate, fixed at the stated "
+        "value shown.",
         "",
-        "| contact law | friction | free | rms fit (um) | rms held out (um) | dAIC | dBIC |",
-        "|---|---|---|---|---|---|---|",
+        "| contact law | friction | free | not pinned | rms fit (um), own samples | rms fit (um), common samples "
+        "| rms held out (um) | dAIC | dBIC |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         held = f"{r['held_out_rms_m'] * 1e6:.3f}" + (" (best)" if r["best_held_out"] else "")
         lines.append(
-            f"| {r['law']} | {r['friction']} | {r['free']} | {r['rms_m'] * 1e6:.3f} | {held} | "
-            f"{r['delta_aic']:.1f} | {r['delta_bic']:.1f} |"
+            f"| {r['law']} | {r['friction']} | {r['free']} | {r['not_pinned'] or '-'} | {r['rms_m'] * 1e6:.3f} "
+            f"({r['n']}) | {r['rms_common_m'] * 1e6:.3f} | {held} | {r['delta_aic']:.1f} | {r['delta_bic']:.1f} |"
         )
     return "\n".join(lines) + "\n"
