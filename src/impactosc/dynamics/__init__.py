@@ -27,6 +27,8 @@ export(
         "switch_at_period_doubling": "impactosc.dynamics.arclength",
         "follow": "impactosc.dynamics.bifurcation_points",
         "locate": "impactosc.dynamics.bifurcation_points",
+        "point_sensitivities": "impactosc.dynamics.point_sensitivity",
+        "delta_method_se": "impactosc.dynamics.point_sensitivity",
         "feigenbaum_ratios": "impactosc.dynamics.cascade",
         "trace_curve": "impactosc.dynamics.two_parameter",
         "start_point": "impactosc.dynamics.two_parameter",
