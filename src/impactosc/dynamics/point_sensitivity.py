@@ -15,6 +15,11 @@ both partial derivatives at the located point by fourth-order central difference
 orbit shot at (w* +- h, p) and (w*, p +- h_i) (:func:`impactosc.dynamics.shooting.central_difference`):
 the orbit is re-shot, the point is not relocated.  The delta method then gives the point's
 standard error from a covariance C of the parameters, se(w*) = sqrt(s^T C s).
+
+The check beside it (:func:`relocated_draws`): parameters drawn from C, the point relocated for
+each draw; the spread of the relocated points is what the delta method's se must match where the
+point depends linearly on the parameters within their uncertainty (not near a codimension-2
+point, where the test function's w-derivative vanishes).
 """
 
 from __future__ import annotations
@@ -25,10 +30,10 @@ import math
 import numpy as np
 
 from impactosc.dynamics.bifurcation_points import TEST_FUNCTIONS
-from impactosc.dynamics.shooting import PeriodicOrbit, central_difference, shoot
+from impactosc.dynamics.shooting import PeriodicOrbit, ShootingError, central_difference, shoot
 from impactosc.model.parameters import ModelParams
 
-__all__ = ["FIELDS", "point_sensitivities", "delta_method_se"]
+__all__ = ["FIELDS", "point_sensitivities", "delta_method_se", "relocated_draws"]
 
 #: The model's parameters an identification fits (ModelParams fields), in its order.
 FIELDS = ("k", "c", "T", "m0e", "kI", "b", "n3", "xI")
@@ -83,3 +88,51 @@ def delta_method_se(sensitivities: dict, names, covariance) -> float:
         raise ValueError(f"covariance of shape {C.shape} for {len(names)} names")
     s = np.array([sensitivities.get(n, 0.0) for n in names])
     return float(math.sqrt(max(s @ C @ s, 0.0)))
+
+
+def relocated_draws(
+    kind: str,
+    omega: float,
+    orbit: PeriodicOrbit,
+    params: ModelParams,
+    names,
+    covariance,
+    draws: int,
+    *,
+    seed: int = 0,
+    sensitivities: dict | None = None,
+    width: float = 6.0,
+) -> np.ndarray:
+    """The point of ``kind`` (located at ``omega`` on ``orbit``'s branch) relocated for each of
+    ``draws`` parameter sets drawn from N(params, covariance) over the fields ``names``.
+
+    Each draw's bracket is the delta method's prediction +- ``width`` standard errors (at least
+    1e-6 rad/s), widened until the test function changes sign; bisection to 1e-4 of the standard
+    error.  nan where no bracket was found within 10 widenings (the point has left the branch).
+    """
+    from impactosc.dynamics.bifurcation_points import locate
+
+    C = np.asarray(covariance, dtype=float)
+    s = sensitivities or point_sensitivities(kind, omega, orbit, params, fields=tuple(names))
+    se = delta_method_se(s, names, C)
+    slope = np.array([s.get(n, 0.0) for n in names])
+    rng = np.random.default_rng(seed)
+    base = np.array([float(getattr(params, n)) for n in names])
+    g = TEST_FUNCTIONS[kind]
+    start = [orbit.x0, orbit.v0]
+    out = np.full(int(draws), math.nan)
+    for i, values in enumerate(rng.multivariate_normal(base, C, size=int(draws))):
+        p = dataclasses.replace(params, **dict(zip(names, map(float, values))))
+        guess = omega + float(slope @ (values - base))
+        half = max(width * se, 1e-6)
+        for _ in range(10):
+            try:
+                lo = shoot(start, guess - half, orbit.n_periods, p)
+                hi = shoot([lo.x0, lo.v0], guess + half, orbit.n_periods, p)
+            except ShootingError:  # a draw whose orbit cannot be shot is left out (nan)
+                break
+            if g(lo.monodromy) * g(hi.monodromy) < 0:
+                out[i] = locate(kind, lo, hi, p, tol=max(1e-4 * se, 1e-12))[0]
+                break
+            half *= 2
+    return out
