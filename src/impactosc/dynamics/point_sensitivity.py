@@ -13,7 +13,10 @@ a fold, det M - 1 for a Neimark-Sacker pair).  By implicit differentiation
 
 both partial derivatives at the located point by fourth-order central differences of g on the
 orbit shot at (w* +- h, p) and (w*, p +- h_i) (:func:`impactosc.dynamics.shooting.central_difference`):
-the orbit is re-shot, the point is not relocated.  The delta method then gives the point's
+the orbit is re-shot, the point is not relocated.  A grazing (:func:`impactosc.dynamics.grazing.locate_orbit_grazing`)
+solves gap(w, p) = 0, gap the orbit's smallest near-miss gap, which exists on one side only: its
+derivatives are taken on orbits with gaps of 2e-7 and 1e-7 m on that side, with steps that keep
+the gap open, and extrapolated to gap 0 (Richardson: the error linear in the gap cancels).  The delta method then gives the point's
 standard error from a covariance C of the parameters, se(w*) = sqrt(s^T C s).
 
 The check beside it (:func:`relocated_draws`): parameters drawn from C, the point relocated for
@@ -30,7 +33,7 @@ import math
 import numpy as np
 
 from impactosc.dynamics.bifurcation_points import TEST_FUNCTIONS
-from impactosc.dynamics.shooting import PeriodicOrbit, ShootingError, central_difference, shoot
+from impactosc.dynamics.shooting import DEFAULT_STEP, SCALE, PeriodicOrbit, ShootingError, central_difference, shoot
 from impactosc.model.parameters import ModelParams
 
 __all__ = ["FIELDS", "point_sensitivities", "delta_method_se", "relocated_draws"]
@@ -49,35 +52,82 @@ def _step(params: ModelParams, field: str) -> float:
     return ABSOLUTE_STEP[field] if field == "xI" or value == 0.0 else RELATIVE_STEP * abs(value)
 
 
+def _grazing_step(params: ModelParams, field: str) -> float:
+    """100 times smaller than :func:`_step`: the gap of 1e-7 m stays open."""
+    return 1e-2 * _step(params, field)
+
+
 def point_sensitivities(
     kind: str, omega: float, orbit: PeriodicOrbit, params: ModelParams | None = None, fields=FIELDS
 ) -> dict:
     """dw*/dp for each field of ``fields`` (rad/s per unit of the field) of the point of ``kind``
-    located at ``omega`` on the branch of ``orbit`` (the orbit returned by ``locate``)."""
-    if kind not in TEST_FUNCTIONS:
-        raise ValueError(f"kind must be one of {sorted(TEST_FUNCTIONS)}, got {kind!r}")
+    ("period_doubling", "fold", "neimark_sacker" or "grazing") located at ``omega``, ``orbit``
+    the orbit its locator returned (for a grazing, the last one on the near-miss side)."""
+    if kind not in (*TEST_FUNCTIONS, "grazing"):
+        raise ValueError(f"kind must be one of {sorted([*TEST_FUNCTIONS, 'grazing'])}, got {kind!r}")
     unknown = [f for f in fields if f not in {f.name for f in dataclasses.fields(ModelParams)}]
     if unknown:
         raise ValueError(f"unknown model parameter(s) {unknown}")
     params = params or ModelParams()
+    if kind == "grazing":
+        return _grazing_sensitivities(orbit, params, fields)
     g = TEST_FUNCTIONS[kind]
     start = [orbit.x0, orbit.v0]
 
     def test_function(w, p):
         return g(shoot(start, w, orbit.n_periods, p).monodromy)
 
-    g_w = central_difference(lambda s: test_function(omega + s, params), OMEGA_STEP)
-    if not (math.isfinite(g_w) and g_w != 0.0):
-        raise ValueError(f"{kind} at w = {omega}: the test function does not cross zero there (dg/dw = {g_w})")
+    return _implicit(test_function, omega, OMEGA_STEP, params, fields, _step, kind)
+
+
+def _implicit(f, omega, w_step, params, fields, step_of, what) -> dict:
+    """-(df/dp) / (df/dw) at (omega, params) by central differences (steps ``w_step`` and
+    ``step_of(params, field)``), for each field."""
+    f_w = central_difference(lambda s: f(omega + s, params), w_step)
+    if not (math.isfinite(f_w) and f_w != 0.0):
+        raise ValueError(f"{what} at w = {omega}: its defining function does not cross zero there (slope {f_w})")
     out = {}
     for field in fields:
         base = float(getattr(params, field))
-        g_p = central_difference(
-            lambda s, field=field, base=base: test_function(omega, dataclasses.replace(params, **{field: base + s})),
-            _step(params, field),
+        f_p = central_difference(
+            lambda s, fd=field, b=base: f(omega, dataclasses.replace(params, **{fd: b + s})), step_of(params, field)
         )
-        out[field] = -g_p / g_w
+        out[field] = -f_p / f_w
     return out
+
+
+#: Near-miss gaps (m) of the two orbits a grazing's derivatives are taken on.
+GRAZING_GAPS = (2e-7, 1e-7)
+
+
+def _grazing_sensitivities(orbit, params, fields) -> dict:
+    """Sensitivities of a grazing from its near-miss side, extrapolated to gap 0 (module docstring)."""
+    from impactosc.dynamics.grazing import orbit_events
+
+    def gap(w, p, ref, size):
+        step = min(DEFAULT_STEP, 1e-3 * size / SCALE[0])  # the monodromy's orbits miss the obstacle too
+        return orbit_events(shoot([ref.x0, ref.v0], w, ref.n_periods, p, step=step), p)["min_gap"]
+
+    g0 = orbit_events(orbit, params)["min_gap"]
+    slope = (gap(orbit.omega + 1e-6, params, orbit, g0) - g0) / 1e-6
+    found = []
+    for size in GRAZING_GAPS:
+        w = orbit.omega + (size - g0) / slope
+        ref = shoot([orbit.x0, orbit.v0], w, orbit.n_periods, params, step=min(DEFAULT_STEP, 1e-3 * size / SCALE[0]))
+        g_ref = gap(w, params, ref, size)
+        found.append(
+            _implicit(
+                lambda om, p, ref=ref, g_ref=g_ref: gap(om, p, ref, g_ref),
+                w,
+                0.2 * g_ref / abs(slope),
+                params,
+                fields,
+                _grazing_step,
+                "grazing",
+            )
+        )
+    far, near = found  # error linear in the gap: 2 near - far is the value at gap 0
+    return {f: 2 * near[f] - far[f] for f in fields}
 
 
 def delta_method_se(sensitivities: dict, names, covariance) -> float:
@@ -106,33 +156,70 @@ def relocated_draws(
     """The point of ``kind`` (located at ``omega`` on ``orbit``'s branch) relocated for each of
     ``draws`` parameter sets drawn from N(params, covariance) over the fields ``names``.
 
-    Each draw's bracket is the delta method's prediction +- ``width`` standard errors (at least
-    1e-6 rad/s), widened until the test function changes sign; bisection to 1e-4 of the standard
-    error.  nan where no bracket was found within 10 widenings (the point has left the branch).
+    Each draw starts from the delta method's prediction and a half width of ``width`` standard
+    errors (at least 1e-6 rad/s), doubled until the relocation finds the point: a bracket of the
+    test function bisected to 1e-4 of the standard error, or for a grazing two near-miss orbits
+    beyond the prediction (from half a standard error out).  nan where none was found within 10 doublings (the point has left the
+    branch).
     """
-    from impactosc.dynamics.bifurcation_points import locate
-
     C = np.asarray(covariance, dtype=float)
     s = sensitivities or point_sensitivities(kind, omega, orbit, params, fields=tuple(names))
     se = delta_method_se(s, names, C)
     slope = np.array([s.get(n, 0.0) for n in names])
     rng = np.random.default_rng(seed)
     base = np.array([float(getattr(params, n)) for n in names])
-    g = TEST_FUNCTIONS[kind]
-    start = [orbit.x0, orbit.v0]
+    relocate = _grazing_relocation(omega, orbit) if kind == "grazing" else _bracket_relocation(kind, orbit)
     out = np.full(int(draws), math.nan)
     for i, values in enumerate(rng.multivariate_normal(base, C, size=int(draws))):
         p = dataclasses.replace(params, **dict(zip(names, map(float, values))))
         guess = omega + float(slope @ (values - base))
-        half = max(width * se, 1e-6)
+        # a grazing is approached from close near-miss orbits (the secant overshoots from far ones)
+        half = max((0.5 if kind == "grazing" else width) * se, 1e-6)
         for _ in range(10):
             try:
-                lo = shoot(start, guess - half, orbit.n_periods, p)
-                hi = shoot([lo.x0, lo.v0], guess + half, orbit.n_periods, p)
+                w = relocate(p, guess, half, se)
             except ShootingError:  # a draw whose orbit cannot be shot is left out (nan)
                 break
-            if g(lo.monodromy) * g(hi.monodromy) < 0:
-                out[i] = locate(kind, lo, hi, p, tol=max(1e-4 * se, 1e-12))[0]
+            if w is not None:
+                out[i] = w
                 break
             half *= 2
     return out
+
+
+def _bracket_relocation(kind, orbit):
+    """Relocation of a test function's root: bisection between guess -+ half, or None when the
+    test function has one sign there."""
+    from impactosc.dynamics.bifurcation_points import locate
+
+    g = TEST_FUNCTIONS[kind]
+
+    def relocate(p, guess, half, se):
+        lo = shoot([orbit.x0, orbit.v0], guess - half, orbit.n_periods, p)
+        hi = shoot([lo.x0, lo.v0], guess + half, orbit.n_periods, p)
+        if g(lo.monodromy) * g(hi.monodromy) >= 0:
+            return None
+        return locate(kind, lo, hi, p, tol=max(1e-4 * se, 1e-12))[0]
+
+    return relocate
+
+
+def _grazing_relocation(omega, orbit):
+    """Relocation of a grazing from two orbits half and 2 half beyond the guess on the near-miss
+    side (that of ``orbit``), or None when either has no near miss there."""
+    from impactosc.dynamics.grazing import locate_orbit_grazing, orbit_events
+
+    side = 1.0 if orbit.omega >= omega else -1.0
+
+    def relocate(p, guess, half, se):
+        far = shoot([orbit.x0, orbit.v0], guess + 2 * side * half, orbit.n_periods, p)
+        near = shoot([far.x0, far.v0], guess + side * half, orbit.n_periods, p)
+        gaps = [orbit_events(o, p)["min_gap"] for o in (far, near)]
+        if not all(math.isfinite(g) and g > 0 for g in gaps):
+            return None
+        try:
+            return locate_orbit_grazing(far, near, p)[0]
+        except ShootingError:  # the secant overshot the grazing: try from further out
+            return None
+
+    return relocate
