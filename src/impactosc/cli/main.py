@@ -1,4 +1,4 @@
-"""Command line: ``impactosc simulate|extract|sweep-extract|surrogate|identify ...`` (see ``impactosc <command> --help``)."""
+"""Command line: ``impactosc simulate|extract|sweep-extract|surrogate|identify|predict ...`` (see ``impactosc <command> --help``)."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ import time
 from impactosc.cli.identify import _identify
 from impactosc.cli.options import model_from_args, open_record_args
 from impactosc.cli.parser import build_parser
+from impactosc.cli.predict import _predict
 from impactosc.io.names import split_assignment
 
 
@@ -203,6 +204,7 @@ COMMANDS = {
     "sweep-extract": _sweep_extract,
     "surrogate": _surrogate,
     "identify": _identify,
+    "predict": _predict,
 }
 
 

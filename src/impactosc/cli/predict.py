@@ -1,0 +1,65 @@
+"""The predict command: a model file's bifurcation points on its period-1 branch, with the
+standard errors its covariance gives them (:mod:`impactosc.identification.predictions`)."""
+
+from __future__ import annotations
+
+import math
+import sys
+
+
+def _markdown(rows, model_path, w_range) -> str:
+    lines = [
+        f"# Predicted bifurcation points of {model_path}",
+        "",
+        f"The period-1 branch over w in [{w_range[0]:g}, {w_range[1]:g}] rad/s; each point located on it and "
+        "its standard error from the model file's covariance (delta method, sensitivities by implicit "
+        "differentiation; impactosc.dynamics.point_sensitivity).",
+        "",
+        "| point | w (rad/s) | standard error (rad/s) | w - 2 se | w + 2 se | note |",
+        "|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        se = r["se"]
+        band = (f"{r['omega'] - 2 * se:.6f} | {r['omega'] + 2 * se:.6f}") if math.isfinite(se) else " | "
+        lines.append(
+            f"| {r['kind'].replace('_', ' ')} | {r['omega']:.8f} | {se:.3g} | {band} | {r['note']} |"
+            if math.isfinite(se)
+            else f"| {r['kind'].replace('_', ' ')} | {r['omega']:.8f} | | | | {r['note']} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def _predict(args) -> int:
+    from impactosc.cli.identify import _write_rows
+    from impactosc.identification.predictions import field_covariance, predicted_points
+    from impactosc.io.files import check_writable
+    from impactosc.model.model_file import read_model_file
+
+    if args.output:
+        check_writable(args.output)
+    lo, hi = args.w_range
+    if not 0 < lo < hi:
+        raise ValueError(f"--w-range must be 0 < LO < HI, got {lo} {hi}")
+    seed = args.seed_omega if args.seed_omega is not None else 0.5 * (lo + hi)
+    model = read_model_file(args.model_file)
+    cov = field_covariance(model)
+    if cov is None:
+        print(f"{args.model_file}: no covariance (a stated model): the points come without errors", file=sys.stderr)
+
+    def say(message):
+        if not args.quiet:
+            print(f"predict: {message}", file=sys.stderr)
+
+    rows = predicted_points(model.params, cov, w_range=(lo, hi), seed_omega=seed, progress=say)
+    text = _markdown(rows, args.model_file, (lo, hi))
+    if args.output:
+        _write_rows(args.output, rows, text, [args.model_file])
+    for r in rows:
+        se = f" +- {r['se']:.3g} rad/s (2 se: {r['omega'] - 2 * r['se']:.6f} .. {r['omega'] + 2 * r['se']:.6f})"
+        print(
+            f"{r['kind'].replace('_', ' ')} at w = {r['omega']:.8f}"
+            + (se if math.isfinite(r["se"]) else f" ({r['note']})")
+        )
+    if not rows:
+        print(f"no grazing, period doubling or fold on the period-1 branch in [{lo:g}, {hi:g}] rad/s")
+    return 0

@@ -1,0 +1,97 @@
+"""Predictions of an identified model with error bars: its located bifurcation points on the
+period-1 branch, each with the standard error the model's covariance gives it.
+
+Why here: the model file states the covariance of the quantities identification fits (per unit
+mass: k/m, c/m, ...); the points' sensitivities are to the model's own parameters (k, c, ...).
+This module turns the one into the other and runs the branch, the location and the delta method
+(:mod:`impactosc.dynamics.point_sensitivity`) for a model file.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from impactosc.identification.fitted_parameters import FIELDS, NAMES, PER_MASS
+from impactosc.model.model_file import ModelFile
+from impactosc.model.parameters import ModelParams
+
+__all__ = ["field_covariance", "predicted_points"]
+
+
+def field_covariance(model: ModelFile) -> tuple[list[str], np.ndarray] | None:
+    """The model file's covariance in the model's parameters (k, c, ... : a per-mass quantity's
+    rows and columns times the mass), or None when the file states none (model BC's)."""
+    found = model.covariance
+    if found is None:
+        return None
+    names, _units, cov = found
+    unknown = [n for n in names if n not in NAMES]
+    if unknown:
+        raise ValueError(f"{model.path}: covariance names {unknown}, not quantities identification fits ({NAMES})")
+    idx = [NAMES.index(n) for n in names]
+    scale = np.array([model.params.m if PER_MASS[i] else 1.0 for i in idx])
+    return [FIELDS[i] for i in idx], cov * np.outer(scale, scale)
+
+
+def _orbit_of(point: dict, params: ModelParams):
+    """The orbit to differentiate at: the located one; for a grazing, 1e-3 rad/s into its
+    near-miss side (the neighbour with fewer impacts; a gap of some 0.1 um there), shot with
+    difference steps well inside that gap."""
+    from impactosc.dynamics.shooting import shoot
+
+    w, step = point["omega"], {}
+    if point["kind"] == "grazing":
+        before, after = point["impacts"]
+        toward = point["w_after"] if after < before else point["w_before"]
+        w += math.copysign(1e-3, toward - w)
+        step = {"step": 1e-6}
+    return shoot([point["x0"], point["v0"]], w, point["n_periods"], params, **step)
+
+
+def predicted_points(
+    params: ModelParams,
+    covariance: tuple[list[str], np.ndarray] | None = None,
+    *,
+    w_range=(19.0, 45.0),
+    seed_omega: float = 30.0,
+    ds: float = 0.05,
+    max_points: int = 4000,
+    progress=None,
+) -> list[dict]:
+    """The grazings, period doublings and folds of the period-1 branch (seeded from rest at
+    ``seed_omega``, continued over ``w_range``), each with ``se`` (rad/s; nan without a
+    covariance) and its sensitivity to each parameter the covariance names (``d_<field>``)."""
+    from impactosc.dynamics.branch_segments import seed_from_rest, trace_segment
+    from impactosc.dynamics.point_sensitivity import delta_method_se, point_sensitivities
+    from impactosc.dynamics.shooting import ShootingError
+
+    lo, hi = (float(w) for w in w_range)
+    if not (0 < lo < seed_omega < hi):
+        raise ValueError(f"need 0 < w_range[0] < seed_omega < w_range[1], got {lo}, {seed_omega}, {hi}")
+    say = progress or (lambda message: None)
+    say(f"period-1 orbit at w = {seed_omega} from rest")
+    seed = seed_from_rest(seed_omega, 1, params)
+    segment = trace_segment(seed=seed, ds=ds, w_range=(lo, hi), max_points=max_points, params=params, log=say)
+    fields, cov = covariance if covariance is not None else ([], None)
+    rows = []
+    for point in segment["special_points"]:
+        row = {"kind": point["kind"], "omega": point["omega"], "n_periods": point["n_periods"]}
+        if not point["located"]:
+            rows.append({**row, "se": math.nan, "note": f"not located: {point.get('why', '')}"})
+            continue
+        if cov is None:
+            rows.append({**row, "se": math.nan, "note": "no covariance in the model"})
+            continue
+        say(f"{point['kind']} at w = {point['omega']:.8f}: sensitivities")
+        try:
+            orbit = _orbit_of(point, params)
+            sens = point_sensitivities(point["kind"], point["omega"], orbit, params, fields=tuple(fields))
+        except (ShootingError, ValueError) as exc:  # e.g. a fold, where the orbit is not locally unique
+            rows.append({**row, "se": math.nan, "note": f"no sensitivity: {exc}"})
+            continue
+        rows.append(
+            {**row, "se": delta_method_se(sens, fields, cov), "note": "", **{f"d_{f}": sens[f] for f in fields}}
+        )
+    return rows
