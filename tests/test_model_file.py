@@ -270,3 +270,15 @@ def test_a_bad_covariance_is_named_with_the_file(tmp_path, matrix, expected):
         read_model_file(path)
     with pytest.raises(ValueError, match=expected):
         write_model_file(tmp_path / "w.yaml", RIG, covariance=(["k/m", "c/m"], ["1/s^2", "1/s"], matrix))
+
+
+def test_a_covariance_asymmetric_by_rounding_is_written_symmetric(tmp_path):
+    # a fit's covariance (the inverse of an ill-conditioned matrix) is symmetric only to its
+    # rounding: written symmetrised, read back symmetric
+    cov = _ill_conditioned_covariance()
+    noisy = cov * (1 + 1e-10 * np.random.default_rng(2).normal(size=cov.shape))
+    names, units = ["k/m", "c/m", "T/m", "b", "xI"], ["1/s^2", "1/s", "m/s^2", "(s/m)^n3", "m"]
+    path = write_model_file(tmp_path / "rig.yaml", RIG, covariance=(names, units, noisy))
+    _, _, got = read_model_file(path).covariance
+    assert np.array_equal(got, got.T)
+    np.testing.assert_allclose(got, cov, rtol=1e-9)

@@ -91,16 +91,18 @@ class ModelFile:
 
 
 def _spd(matrix, n, where) -> np.ndarray:
-    """The covariance matrix as an n x n array, symmetrised, or a ValueError naming ``where``
-    when it is not square, not symmetric (beyond rounding) or not positive definite."""
+    """The covariance matrix as an n x n array, symmetrised (what is written), or a ValueError
+    naming ``where`` when it is not square, not symmetric (beyond rounding) or not positive definite."""
     try:
         a = np.asarray(matrix, dtype=float)
     except (TypeError, ValueError):
         raise ValueError(f"{where}: covariance: the matrix is not a table of numbers") from None
     if a.shape != (n, n) or not np.all(np.isfinite(a)):
         raise ValueError(f"{where}: covariance: need a finite {n} x {n} matrix for its {n} names, got shape {a.shape}")
+    # a fit's covariance, the inverse of an ill-conditioned matrix, is symmetric to its rounding
+    # (1e-10 of the scale and below); a matrix asymmetric beyond 1e-6 is not a covariance
     scale = np.sqrt(np.abs(np.outer(np.diag(a), np.diag(a))))
-    if np.any(np.abs(a - a.T) > 1e-12 * scale):
+    if np.any(np.abs(a - a.T) > 1e-6 * scale):
         raise ValueError(f"{where}: covariance: the matrix is not symmetric")
     a = 0.5 * (a + a.T)
     try:
