@@ -44,6 +44,8 @@ def test_stated_standard_errors_cover_the_truth():
         assert r["draws"] == 24, name
         assert r["within_2se"] >= 22, (name, r)
     for d in draws:
+        # the model file a user reads back states a covariance the delta method can use
+        assert d["covariance_pd"], d["covariance_error"]
         assert d["branch_w_beyond_tol"] == 0, d
         assert d["branch_periodic_w"] >= 50, d  # most of the grid is periodic in both models
 

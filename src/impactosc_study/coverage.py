@@ -40,7 +40,9 @@ import math
 import numpy as np
 
 from impactosc.identification.fitted_parameters import NAMES, theta_of
+from impactosc.identification.report import write_identified_model
 from impactosc.identification.staged_fit import identify
+from impactosc.model.model_file import read_model_file
 from impactosc.model.parameters import ModelParams
 from impactosc.records.obstacle_estimate import estimate_x_impact
 from impactosc.records.record import Record
@@ -259,9 +261,31 @@ def identification_draw(
         row[f"{nm}_se"] = float(se)
         row[f"{nm}_z"] = float((ident.theta[i] - th[i]) / se) if ident.free[i] and se > 0 else math.nan
     row["all_within_2se"] = bool(all(abs(row[f"{nm}_z"]) <= 2 for nm in NAMES if math.isfinite(row[f"{nm}_z"])))
+    row.update(covariance_as_written(ident))
     if branch_omegas is not None:
         row.update(branch_distance(truth, ident.params, branch_omegas))
     return row
+
+
+def covariance_as_written(ident) -> dict:
+    """Whether the covariance a user reads back from the model file of ``ident`` is positive
+    definite (what the delta method needs), and the smallest eigenvalue of its correlation (how
+    close to singular the fit is)."""
+    import tempfile
+    from pathlib import Path
+
+    with tempfile.TemporaryDirectory() as folder:
+        path = write_identified_model(Path(folder) / "model.yaml", ident)
+        try:
+            _names, _units, cov = read_model_file(path).covariance
+        except ValueError as exc:
+            return {"covariance_pd": False, "covariance_error": str(exc), "correlation_min_eig": math.nan}
+    d = np.sqrt(np.diag(cov))
+    return {
+        "covariance_pd": True,
+        "covariance_error": "",
+        "correlation_min_eig": float(np.linalg.eigvalsh(cov / np.outer(d, d))[0]),
+    }
 
 
 def coverage_table(rows: list[dict]) -> list[dict]:
@@ -287,6 +311,21 @@ def coverage_table(rows: list[dict]) -> list[dict]:
     return out
 
 
+def _covariance_line(draws: list[dict]) -> list[str]:
+    """What the draws' model files say of their covariance, as read back by a user."""
+    rows = [d for d in draws if "covariance_pd" in d]
+    if not rows:
+        return []
+    pd = sum(bool(d["covariance_pd"]) for d in rows)
+    eig = [d["correlation_min_eig"] for d in rows if d["covariance_pd"]]
+    smallest = f"; smallest eigenvalue of its correlation {min(eig):.2e} (median {np.median(eig):.2e})" if eig else ""
+    return [
+        f"The covariance read back from each draw's model file is symmetric positive definite in {pd}/{len(rows)} "
+        f"draws{smallest}.",
+        "",
+    ]
+
+
 def coverage_markdown(table: list[dict], draws: list[dict]) -> str:
     """The coverage table and the Fig 2 branch comparison as Markdown."""
     n = len(draws)
@@ -297,6 +336,7 @@ def coverage_markdown(table: list[dict], draws: list[dict]) -> str:
         f"{n} draws; every parameter within 2 stated standard errors at once in {joint}/{n} draws "
         "(for 8 independent parameters at 95.4 % each that is expected in about 69 %).",
         "",
+        *_covariance_line(draws),
         "| parameter | within 1 se | within 2 se | mean z | sd z | median relative se |",
         "|---|---|---|---|---|---|",
     ]
