@@ -30,7 +30,7 @@ from impactosc.dynamics.grazing import locate_orbit_grazing
 from impactosc.dynamics.shooting import ATOL, RTOL, PeriodicOrbit, ShootingError, shoot
 from impactosc.model.parameters import ModelParams
 
-__all__ = ["orbit_sample", "seed_from_rest", "special_points", "trace", "trace_segment"]
+__all__ = ["drawn_values", "orbit_sample", "seed_from_rest", "special_points", "trace", "trace_segment"]
 
 
 def orbit_sample(orbit: PeriodicOrbit, params: ModelParams | None = None) -> dict:
@@ -40,21 +40,16 @@ def orbit_sample(orbit: PeriodicOrbit, params: ModelParams | None = None) -> dic
     without one), the multipliers, and det M beside Liouville's bound exp(-c N 2 pi / (m w))."""
     p = params or ModelParams()
     period = orbit.n_periods * 2 * math.pi / orbit.omega
-    run = simulate(
-        orbit.omega, 0.0, period, x0=orbit.x0, v0=orbit.v0, params=params, rtol=RTOL, atol=ATOL,
-        record=("impacts", "near_misses", "poincare"),
-    )  # fmt: skip
-    t = run.events["impacts"]["t"]
-    isis = np.diff(np.append(t, t[0] + period)) if t.size else np.empty(0)
-    gaps = run.events["near_misses"]["gap"]
+    drawn = drawn_values(orbit.x0, orbit.v0, orbit.omega, orbit.n_periods, params)
+    gaps = drawn["gaps"]
     return {
         "omega": orbit.omega,
         "x0": orbit.x0,
         "v0": orbit.v0,
-        "poincare_x": run.events["poincare"]["x"].tolist(),
-        "poincare_v": run.events["poincare"]["v"].tolist(),
-        "isis": isis.tolist(),
-        "impacts": int(t.size),
+        "poincare_x": drawn["poincare_x"].tolist(),
+        "poincare_v": drawn["poincare_v"].tolist(),
+        "isis": drawn["isis"].tolist(),
+        "impacts": int(drawn["isis"].size),
         "min_gap": float(gaps.min()) if gaps.size else math.inf,
         "mu_re": orbit.multipliers.real.tolist(),
         "mu_im": orbit.multipliers.imag.tolist(),
@@ -62,6 +57,24 @@ def orbit_sample(orbit: PeriodicOrbit, params: ModelParams | None = None) -> dic
         "det": float(np.linalg.det(orbit.monodromy)),
         "det_bound": math.exp(-p.c / p.m * period),
         "residual": orbit.residual,
+    }
+
+
+def drawn_values(x0: float, v0: float, omega: float, n_periods: int, params: ModelParams | None = None) -> dict:
+    """What Figs 2 and 3b draw of one orbit period from (x0, v0) at phase 0: the Poincare points
+    (x, v at t = k 2 pi / w, k = 1..N), the inter-impact intervals (cyclic, from the first
+    impact after phase 0) and the near-miss gaps, at the shooting's tolerances."""
+    period = n_periods * 2 * math.pi / omega
+    run = simulate(
+        omega, 0.0, period, x0=x0, v0=v0, params=params, rtol=RTOL, atol=ATOL,
+        record=("impacts", "near_misses", "poincare"),
+    )  # fmt: skip
+    t = run.events["impacts"]["t"]
+    return {
+        "poincare_x": np.asarray(run.events["poincare"]["x"]),
+        "poincare_v": np.asarray(run.events["poincare"]["v"]),
+        "isis": np.diff(np.append(t, t[0] + period)) if t.size else np.empty(0),
+        "gaps": np.asarray(run.events["near_misses"]["gap"]),
     }
 
 

@@ -36,7 +36,7 @@ from impactosc.dynamics.bifurcation_points import TEST_FUNCTIONS
 from impactosc.dynamics.shooting import DEFAULT_STEP, SCALE, PeriodicOrbit, ShootingError, central_difference, shoot
 from impactosc.model.parameters import ModelParams
 
-__all__ = ["FIELDS", "point_sensitivities", "delta_method_se", "relocated_draws"]
+__all__ = ["FIELDS", "parameter_step", "point_sensitivities", "delta_method_se", "relocated_draws"]
 
 #: The model's parameters an identification fits (ModelParams fields), in its order.
 FIELDS = ("k", "c", "T", "m0e", "kI", "b", "n3", "xI")
@@ -47,14 +47,14 @@ RELATIVE_STEP = 1e-6
 ABSOLUTE_STEP = {"b": 1e-6, "n3": 1e-6, "T": 1e-6, "xI": 1e-8}
 
 
-def _step(params: ModelParams, field: str) -> float:
+def parameter_step(params: ModelParams, field: str) -> float:
     value = float(getattr(params, field))
     return ABSOLUTE_STEP[field] if field == "xI" or value == 0.0 else RELATIVE_STEP * abs(value)
 
 
 def _grazing_step(params: ModelParams, field: str) -> float:
-    """100 times smaller than :func:`_step`: the gap of 1e-7 m stays open."""
-    return 1e-2 * _step(params, field)
+    """100 times smaller than :func:`parameter_step`: the gap of 1e-7 m stays open."""
+    return 1e-2 * parameter_step(params, field)
 
 
 def point_sensitivities(
@@ -77,7 +77,7 @@ def point_sensitivities(
     def test_function(w, p):
         return g(shoot(start, w, orbit.n_periods, p).monodromy)
 
-    return _implicit(test_function, omega, OMEGA_STEP, params, fields, _step, kind)
+    return _implicit(test_function, omega, OMEGA_STEP, params, fields, parameter_step, kind)
 
 
 def _implicit(f, omega, w_step, params, fields, step_of, what) -> dict:
