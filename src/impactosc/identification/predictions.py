@@ -17,7 +17,7 @@ from impactosc.identification.fitted_parameters import FIELDS, NAMES, PER_MASS
 from impactosc.model.model_file import ModelFile
 from impactosc.model.parameters import ModelParams
 
-__all__ = ["field_covariance", "predicted_points"]
+__all__ = ["branch_band", "field_covariance", "point_errors", "predicted_points"]
 
 
 def field_covariance(model: ModelFile) -> tuple[list[str], np.ndarray] | None:
@@ -64,8 +64,6 @@ def predicted_points(
     ``seed_omega``, continued over ``w_range``), each with ``se`` (rad/s; nan without a
     covariance) and its sensitivity to each parameter the covariance names (``d_<field>``)."""
     from impactosc.dynamics.branch_segments import seed_from_rest, trace_segment
-    from impactosc.dynamics.point_sensitivity import delta_method_se, point_sensitivities
-    from impactosc.dynamics.shooting import ShootingError
 
     lo, hi = (float(w) for w in w_range)
     if not (0 < lo < seed_omega < hi):
@@ -74,9 +72,19 @@ def predicted_points(
     say(f"period-1 orbit at w = {seed_omega} from rest")
     seed = seed_from_rest(seed_omega, 1, params)
     segment = trace_segment(seed=seed, ds=ds, w_range=(lo, hi), max_points=max_points, params=params, log=say)
+    return point_errors(segment["special_points"], params, covariance, progress=progress)
+
+
+def point_errors(points: list[dict], params: ModelParams, covariance, *, progress=None) -> list[dict]:
+    """Each located point of a branch segment (its ``special_points``) with ``se`` (rad/s; nan
+    without a covariance, or where the point has no sensitivity, e.g. a fold) and ``d_<field>``."""
+    from impactosc.dynamics.point_sensitivity import delta_method_se, point_sensitivities
+    from impactosc.dynamics.shooting import ShootingError
+
+    say = progress or (lambda message: None)
     fields, cov = covariance if covariance is not None else ([], None)
     rows = []
-    for point in segment["special_points"]:
+    for point in points:
         row = {"kind": point["kind"], "omega": point["omega"], "n_periods": point["n_periods"]}
         if not point["located"]:
             rows.append({**row, "se": math.nan, "note": f"not located: {point.get('why', '')}"})
@@ -95,3 +103,35 @@ def predicted_points(
             {**row, "se": delta_method_se(sens, fields, cov), "note": "", **{f"d_{f}": sens[f] for f in fields}}
         )
     return rows
+
+
+def branch_band(segment: dict, params: ModelParams, covariance, *, max_points: int = 100, progress=None) -> dict:
+    """The band of a branch segment (as :func:`impactosc.dynamics.branch_segments.trace_segment`
+    returns it): at up to ``max_points`` of its sampled orbits, evenly spread along the branch,
+    the Poincare points and inter-impact intervals with their standard errors (nan where an
+    orbit cannot be differentiated, e.g. at a grazing)."""
+    from impactosc.dynamics.orbit_sensitivity import band_standard_errors, orbit_sensitivities
+    from impactosc.dynamics.shooting import ShootingError, shoot
+
+    fields, cov = covariance
+    samples = segment["points"]
+    chosen = np.unique(np.linspace(0, len(samples) - 1, min(int(max_points), len(samples))).round().astype(int))
+    band = {"omega": [], "stable": [], "poincare_x": [], "se_poincare_x": [], "isis": [], "se_isis": []}
+    for count, i in enumerate(chosen if samples else []):
+        sample = samples[i]
+        if progress and count % 20 == 0:
+            progress(f"band: orbit {count + 1} of {chosen.size}, w = {sample['omega']:.4f}")
+        try:
+            orbit = shoot([sample["x0"], sample["v0"]], sample["omega"], segment["n_periods"], params)
+            se = band_standard_errors(orbit_sensitivities(orbit, params, tuple(fields)), fields, cov)
+        except (ShootingError, np.linalg.LinAlgError):  # e.g. at a fold: I - M singular
+            se = {
+                "poincare_x": np.full(len(sample["poincare_x"]), np.nan),
+                "isis": np.full(len(sample["isis"]), np.nan),
+            }
+        band["omega"].append(sample["omega"])
+        band["stable"].append(bool(sample["stable"]))
+        for q in ("poincare_x", "isis"):
+            band[q].append(list(sample[q]))
+            band[f"se_{q}"].append([float(v) for v in se[q]])
+    return band
