@@ -7,31 +7,9 @@ import math
 import sys
 
 
-def _markdown(rows, model_path, w_range) -> str:
-    lines = [
-        f"# Predicted bifurcation points of {model_path}",
-        "",
-        f"The period-1 branch over w in [{w_range[0]:g}, {w_range[1]:g}] rad/s; each point located on it and "
-        "its standard error from the model file's covariance (delta method, sensitivities by implicit "
-        "differentiation; impactosc.dynamics.point_sensitivity).",
-        "",
-        "| point | w (rad/s) | standard error (rad/s) | w - 2 se | w + 2 se | note |",
-        "|---|---|---|---|---|---|",
-    ]
-    for r in rows:
-        se = r["se"]
-        band = (f"{r['omega'] - 2 * se:.6f} | {r['omega'] + 2 * se:.6f}") if math.isfinite(se) else " | "
-        lines.append(
-            f"| {r['kind'].replace('_', ' ')} | {r['omega']:.8f} | {se:.3g} | {band} | {r['note']} |"
-            if math.isfinite(se)
-            else f"| {r['kind'].replace('_', ' ')} | {r['omega']:.8f} | | | | {r['note']} |"
-        )
-    return "\n".join(lines) + "\n"
-
-
 def _predict(args) -> int:
     from impactosc.cli.identify import _write_rows
-    from impactosc.identification.predictions import field_covariance, predicted_points
+    from impactosc.identification.predictions import field_covariance, points_markdown, predicted_points
     from impactosc.io.files import check_writable
     from impactosc.model.model_file import read_model_file
 
@@ -51,7 +29,7 @@ def _predict(args) -> int:
             print(f"predict: {message}", file=sys.stderr)
 
     rows = predicted_points(model.params, cov, w_range=(lo, hi), seed_omega=seed, progress=say)
-    text = _markdown(rows, args.model_file, (lo, hi))
+    text = points_markdown(rows, args.model_file, (lo, hi))
     if args.output:
         _write_rows(args.output, rows, text, [args.model_file])
     for r in rows:

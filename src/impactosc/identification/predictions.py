@@ -17,7 +17,7 @@ from impactosc.identification.fitted_parameters import FIELDS, NAMES, PER_MASS
 from impactosc.model.model_file import ModelFile
 from impactosc.model.parameters import ModelParams
 
-__all__ = ["branch_band", "field_covariance", "point_errors", "predicted_points"]
+__all__ = ["branch_band", "field_covariance", "point_errors", "points_markdown", "predicted_points"]
 
 
 def field_covariance(model: ModelFile) -> tuple[list[str], np.ndarray] | None:
@@ -135,3 +135,26 @@ def branch_band(segment: dict, params: ModelParams, covariance, *, max_points: i
             band[q].append(list(sample[q]))
             band[f"se_{q}"].append([float(v) for v in se[q]])
     return band
+
+
+def points_markdown(rows, model_path, w_range) -> str:
+    """The located points with their standard errors as a Markdown table."""
+    lines = [
+        f"# Predicted bifurcation points of {model_path}",
+        "",
+        f"The period-1 branch over w in [{w_range[0]:g}, {w_range[1]:g}] rad/s; each point located on it and "
+        "its standard error from the model file's covariance (delta method, sensitivities by implicit "
+        "differentiation; impactosc.dynamics.point_sensitivity).",
+        "",
+        "| point | w (rad/s) | standard error (rad/s) | w - 2 se | w + 2 se | note |",
+        "|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        se = r["se"]
+        band = (f"{r['omega'] - 2 * se:.6f} | {r['omega'] + 2 * se:.6f}") if math.isfinite(se) else " | "
+        lines.append(
+            f"| {r['kind'].replace('_', ' ')} | {r['omega']:.8f} | {se:.3g} | {band} | {r['note']} |"
+            if math.isfinite(se)
+            else f"| {r['kind'].replace('_', ' ')} | {r['omega']:.8f} | | | | {r['note']} |"
+        )
+    return "\n".join(lines) + "\n"
