@@ -133,14 +133,17 @@ def _model_from_file(model: dict) -> dict:
     `model["file"]` when one is named (other keys beside it must equal the file's values)."""
     if model.get("file") is None:
         model.pop("file", None)
-        return {"file": None, "description": "model BC (paper)"}  # model_file.BC_DESCRIPTION
-    from impactosc.model.model_file import (
-        resolve_model,  # only here: it imports numba, which the plotting jobs do without
+        # model BC is stated exactly: no covariance, no error bars
+        return {"file": None, "description": "model BC (paper)", "covariance": False}  # model_file.BC_DESCRIPTION
+    from impactosc.model.model_file import (  # only here: they import numba, which the plotting jobs do without
+        read_model_file,
+        resolve_model,
     )
 
     path = model.pop("file")
     try:
         params, description = resolve_model(path)
+        covariance = read_model_file(path).meta.get("covariance") is not None
     except (ValueError, FileNotFoundError) as exc:
         raise ConfigError(f"invalid configuration:\n  model.file: {exc}") from None
     values = params.to_dict()
@@ -152,7 +155,7 @@ def _model_from_file(model: dict) -> dict:
         )
     model.clear()
     model.update(values)
-    return {"file": str(path), "description": description}
+    return {"file": str(path), "description": description, "covariance": covariance}
 
 
 def validate_config(config: dict, schema_path) -> dict:

@@ -112,6 +112,8 @@ rule fig02:
         sweeps=expand(BIF_SWEEP, sweep=BIF["fig02"]["sweep"]),
         stats=rules.bifurcation_tables.output.stats,
         experimental=BIF["fig02"]["experimental"]["file"] if BIF["fig02"]["experimental"] else [],
+        # a model with a covariance: its points' error bars and its branches' bands (predictions.smk)
+        bands=prediction_bands,
     output:
         png=report(figure(2)[0], caption="../report/fig02.rst", category=BIF_REPORT),
         pdf=figure(2)[1],
@@ -134,6 +136,7 @@ rule fig03b:
     input:
         sweeps=expand(BIF_SWEEP, sweep=BIF["fig03b"]["sweep"]),
         stats=rules.bifurcation_tables.output.stats,
+        bands=prediction_bands,
     output:
         png=report(panel("fig03b")[0], caption="../report/fig03b.rst", category=BIF_REPORT),
         pdf=panel("fig03b")[1],
@@ -145,6 +148,7 @@ rule fig03b:
         figure="fig03b",
         names=[BIF["fig03b"]["sweep"]],
         model=config["model"],
+        model_source=config["model_source"],
         zoom_near=23.0,
         zoom_half_width=0.6,
     # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)

@@ -47,8 +47,12 @@ def timing_threads(wildcards):
     such as SLURM without --cores, where each job has its own allocation; a plain
     `threads: workflow.cores` would stop the whole workflow from parsing there).
     Without it: one core, like any job (docs/performance.md says what that changes in the timings)."""
-    if not config["timing"]["exclusive"]:
-        return 1
+    return available_cores() if config["timing"]["exclusive"] else 1
+
+
+def available_cores(wildcards=None):
+    """Every core of a local run (snakemake -jN: N); 1 where no total is defined (an executor
+    such as SLURM without --cores, where each job has its own allocation)."""
     try:
         return workflow.cores
     except WorkflowError:
@@ -205,6 +209,33 @@ def orbit_parent(wildcards):
     """The parent segment's file of a doubled orbit segment (its located doublings seed it)."""
     parent = config["periodic_orbits"]["segments"][wildcards.segment].get("doubling_of")
     return {"parent": ORBIT_SEGMENT.format(segment=parent["segment"])} if parent else {}
+
+
+# predictions group (a model file with a covariance: the located points with their standard
+# errors, the segments' bands; Figs 2 and 3b draw them)
+PREDICTION_SEGMENT = study_path("runs/predictions/{segment}.json")
+PREDICTION_TABLE = study_path("tables/predictions/predicted_points.csv")
+PREDICTION_MD = study_path("tables/predictions/predicted_points.md")
+PREDICTION_CHECK_CSV = study_path("tables/predictions/monte_carlo_check.csv")
+PREDICTION_CHECK_MD = study_path("tables/predictions/monte_carlo_check.md")
+
+
+def segment_period(name):
+    """Forcing periods of a segment's orbits: its seed's, or twice its parent's."""
+    spec = config["periodic_orbits"]["segments"][name]
+    return spec["seed"]["n_periods"] if "seed" in spec else 2 * segment_period(spec["doubling_of"]["segment"])
+
+
+PREDICTION_SEGMENTS = [
+    name
+    for name in config["periodic_orbits"]["segments"]
+    if segment_period(name) <= config["predictions"]["max_period"]
+]
+
+
+def prediction_bands(wildcards):
+    """The segments' bands, for a figure of a model with a covariance (none for model BC)."""
+    return expand(PREDICTION_SEGMENT, segment=PREDICTION_SEGMENTS) if config["model_source"]["covariance"] else []
 
 
 # two_parameter group (the orbits group's located bifurcations continued in w and xI or m0e;

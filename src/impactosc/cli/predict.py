@@ -29,7 +29,13 @@ def _predict(args) -> int:
             print(f"predict: {message}", file=sys.stderr)
 
     rows = predicted_points(model.params, cov, w_range=(lo, hi), seed_omega=seed, progress=say)
-    text = points_markdown(rows, args.model_file, (lo, hi))
+    text = points_markdown(
+        rows,
+        title=f"Predicted bifurcation points of {args.model_file}",
+        description=f"The period-1 branch over w in [{lo:g}, {hi:g}] rad/s; each point located on it and its "
+        "standard error from the model file's covariance (delta method, sensitivities by implicit "
+        "differentiation; impactosc.dynamics.point_sensitivity).",
+    )
     if args.output:
         _write_rows(args.output, rows, text, [args.model_file])
     for r in rows:

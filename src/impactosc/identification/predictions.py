@@ -17,7 +17,15 @@ from impactosc.identification.fitted_parameters import FIELDS, NAMES, PER_MASS
 from impactosc.model.model_file import ModelFile
 from impactosc.model.parameters import ModelParams
 
-__all__ = ["branch_band", "field_covariance", "point_errors", "points_markdown", "predicted_points"]
+__all__ = [
+    "branch_band",
+    "field_covariance",
+    "point_errors",
+    "points_markdown",
+    "predicted_points",
+    "relocated_point",
+    "check_row",
+]
 
 
 def field_covariance(model: ModelFile) -> tuple[list[str], np.ndarray] | None:
@@ -105,6 +113,53 @@ def point_errors(points: list[dict], params: ModelParams, covariance, *, progres
     return rows
 
 
+def relocated_point(
+    point: dict, params: ModelParams, covariance, draws: int, *, seed: int = 0, sensitivities: dict | None = None
+) -> np.ndarray:
+    """The Monte Carlo check of a located point's standard error: the point (an entry of a
+    segment's ``special_points``) relocated for each of ``draws`` parameter sets drawn from the
+    covariance (nan where it was not found, e.g. it left the branch)."""
+    from impactosc.dynamics.point_sensitivity import relocated_draws
+
+    fields, cov = covariance
+    orbit = _orbit_of(point, params)
+    return relocated_draws(
+        point["kind"], point["omega"], orbit, params, fields, cov, int(draws), seed=seed, sensitivities=sensitivities
+    )
+
+
+def check_row(row: dict, relocated, others: list[dict], *, agree: float = 0.15, near: float = 5.0) -> dict:
+    """One row of the Monte Carlo check: the point's delta-method ``se`` against the spread of
+    its ``relocated`` draws, a verdict (the two agree within ``agree``, relative), and the other
+    located points of its branch within ``near`` standard errors (near a codimension-2 point or
+    a fold the point is not linear in the parameters over its uncertainty, and the two may differ)."""
+    w = np.asarray(relocated, dtype=float)
+    found = w[np.isfinite(w)]
+    spread = float(np.std(found, ddof=1)) if found.size > 1 else math.nan
+    se = row["se"]
+    ratio = spread / se if se > 0 else math.nan
+    close = [
+        f"{o['kind'].replace('_', ' ')} at w = {o['omega']:.4f} ({abs(o['omega'] - row['omega']) / se:.1f} se)"
+        for o in others
+        if o is not row and math.isfinite(se) and abs(o["omega"] - row["omega"]) <= near * se
+    ]
+    verdict = "agree" if abs(ratio - 1.0) <= agree else "DISAGREE"
+    missing = w.size - found.size
+    notes = close + ([f"{missing} draws not relocated (the point left the branch)"] if missing else [])
+    return {
+        "kind": row["kind"],
+        "omega": row["omega"],
+        "se_delta": se,
+        "spread_monte_carlo": spread,
+        "ratio": ratio,
+        "mean_shift_in_se": float((np.mean(found) - row["omega"]) / se) if found.size and se > 0 else math.nan,
+        "draws": int(w.size),
+        "relocated": int(found.size),
+        "verdict": verdict,
+        "near": "; ".join(notes),
+    }
+
+
 def branch_band(segment: dict, params: ModelParams, covariance, *, max_points: int = 100, progress=None) -> dict:
     """The band of a branch segment (as :func:`impactosc.dynamics.branch_segments.trace_segment`
     returns it): at up to ``max_points`` of its sampled orbits, evenly spread along the branch,
@@ -137,24 +192,22 @@ def branch_band(segment: dict, params: ModelParams, covariance, *, max_points: i
     return band
 
 
-def points_markdown(rows, model_path, w_range) -> str:
-    """The located points with their standard errors as a Markdown table."""
+def points_markdown(rows, *, title: str, description: str) -> str:
+    """The located points with their standard errors as a Markdown table (with the segment of
+    each where the rows name theirs)."""
+    segments = any("segment" in r for r in rows)
     lines = [
-        f"# Predicted bifurcation points of {model_path}",
+        f"# {title}",
         "",
-        f"The period-1 branch over w in [{w_range[0]:g}, {w_range[1]:g}] rad/s; each point located on it and "
-        "its standard error from the model file's covariance (delta method, sensitivities by implicit "
-        "differentiation; impactosc.dynamics.point_sensitivity).",
+        description,
         "",
-        "| point | w (rad/s) | standard error (rad/s) | w - 2 se | w + 2 se | note |",
-        "|---|---|---|---|---|---|",
+        ("| segment " if segments else "")
+        + "| point | w (rad/s) | standard error (rad/s) | w - 2 se | w + 2 se | note |",
+        ("|---" if segments else "") + "|---|---|---|---|---|---|",
     ]
     for r in rows:
         se = r["se"]
-        band = (f"{r['omega'] - 2 * se:.6f} | {r['omega'] + 2 * se:.6f}") if math.isfinite(se) else " | "
-        lines.append(
-            f"| {r['kind'].replace('_', ' ')} | {r['omega']:.8f} | {se:.3g} | {band} | {r['note']} |"
-            if math.isfinite(se)
-            else f"| {r['kind'].replace('_', ' ')} | {r['omega']:.8f} | | | | {r['note']} |"
-        )
+        band = f"{se:.3g} | {r['omega'] - 2 * se:.6f} | {r['omega'] + 2 * se:.6f}" if math.isfinite(se) else " | | "
+        first = f"| {r.get('segment', '')} " if segments else ""
+        lines.append(f"{first}| {r['kind'].replace('_', ' ')} | {r['omega']:.8f} | {band} | {r['note']} |")
     return "\n".join(lines) + "\n"

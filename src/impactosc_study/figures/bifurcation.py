@@ -13,6 +13,7 @@ from matplotlib import pyplot as plt
 from matplotlib.colors import BoundaryNorm, ListedColormap
 
 from impactosc_study.figures.style import DOUBLE, apply_style
+from impactosc_study.figures.uncertainty import band_width_panel, draw_bands, draw_point_errors, points_text
 
 MM = 1e3  # m -> mm
 CM = 1 / 2.54
@@ -127,16 +128,24 @@ def _poincare_axes(ax, w, x, x_obstacle, title, marks=(), color="k", abandoned=(
     mark_transitions(ax, marks, loc="lower left", anchor=(0.42, 0.01))
 
 
-def fig02_poincare(w, x, x_obstacle, *, experimental=None, marks=(), abandoned=(), model="model BC"):
+def fig02_poincare(w, x, x_obstacle, *, experimental=None, marks=(), abandoned=(), model="model BC", uncertainty=None):
     """Fig 2: Poincare diagrams at increasing w, measured (left) and numerical (right).
 
     experimental: None or (w, x, label) of a measured (or clearly labelled surrogate)
     diagram; without one the left panel says where to supply it. model: the numerical
-    panel's model, as :func:`impactosc_study.figures.model_label` names it.
+    panel's model, as :func:`impactosc_study.figures.model_label` names it. uncertainty: the
+    predictions of a model with a covariance (:mod:`.uncertainty`): its branches as bands, its
+    points as w +- 2 se, the band's width and the points listed below.
     """
     apply_style()
-    fig, axes = plt.subplots(1, 2, figsize=(DOUBLE, 6.5 * CM), sharey=True)
-    left, right = axes
+    if uncertainty:
+        fig = plt.figure(figsize=(DOUBLE, 10 * CM))
+        grid = fig.add_gridspec(2, 2, height_ratios=[3, 1.2])
+        left = fig.add_subplot(grid[0, 0])
+        right = fig.add_subplot(grid[0, 1], sharey=left)
+        draw_bands(right, uncertainty, "poincare_x", MM)
+    else:
+        fig, (left, right) = plt.subplots(1, 2, figsize=(DOUBLE, 6.5 * CM), sharey=True)
     if experimental is not None:
         we, xe, label = experimental
         _poincare_axes(left, we, xe, x_obstacle, label)
@@ -166,25 +175,39 @@ def fig02_poincare(w, x, x_obstacle, *, experimental=None, marks=(), abandoned=(
     )
     right.tick_params(labelleft=True)
     right.set_xlim(np.min(w), np.max(w))
+    if uncertainty:
+        draw_point_errors(right, uncertainty)
+        band_width_panel(fig.add_subplot(grid[1, 1], sharex=right), uncertainty, "poincare_x", 1e6, "µm")
+        points_text(fig.add_subplot(grid[1, 0]), uncertainty, model)
     return fig
 
 
-def fig03b_isi(w, s, *, marks=(), zoom=None, start=None, axes=None):
+def fig03b_isi(w, s, *, marks=(), zoom=None, start=None, axes=None, uncertainty=None, model="the model"):
     """Fig 3b: ISI diagram S_j against w (decreasing w), with an optional zoomed panel.
 
     zoom: None or (w_lo, w_hi) drawn as a second panel (e.g. around the grazing);
     start: the first w of the sweep, marked with an arrow showing the direction;
-    axes: existing axes to draw into (one, or two with a zoom), e.g. inside Fig 3.
+    axes: existing axes to draw into (one, or two with a zoom), e.g. inside Fig 3;
+    uncertainty, model: as for :func:`fig02_poincare`.
     """
     apply_style()
+    below = None
     if axes is not None:
         fig = axes[0].figure
+    elif uncertainty:
+        fig = plt.figure(figsize=(DOUBLE, 10 * CM))
+        grid = fig.add_gridspec(2, 2, height_ratios=[3, 1.2], width_ratios=[2.2, 1])
+        axes = [fig.add_subplot(grid[0, 0]), *([fig.add_subplot(grid[0, 1])] if zoom is not None else [])]
+        below = [fig.add_subplot(grid[1, 0], sharex=axes[0]), fig.add_subplot(grid[1, 1])]
     elif zoom is None:
         fig, ax = plt.subplots(figsize=(DOUBLE, 6.5 * CM))
         axes = [ax]
     else:
         fig, axes = plt.subplots(1, 2, figsize=(DOUBLE, 6.5 * CM), width_ratios=[2.2, 1])
     ax = axes[0]
+    if uncertainty:
+        for a in axes:
+            draw_bands(a, uncertainty, "isis")
     diagram_panel(ax, w, s)
     ax.set_xlabel(r"$\omega$ (rad/s)")
     ax.set_ylabel(r"$S_j$ (s)")
@@ -211,6 +234,12 @@ def fig03b_isi(w, s, *, marks=(), zoom=None, start=None, axes=None):
         z.set_title("zoom: grazing")
         mark_transitions(z, [(m, k) for m, k in marks if lo <= m <= hi], legend=False)
         ax.axvspan(lo, hi, facecolor="0.93", edgecolor="0.6", lw=0.5, zorder=0)
+    if uncertainty:
+        for a in axes:
+            draw_point_errors(a, uncertainty, legend=a is ax)
+        if below is not None:
+            band_width_panel(below[0], uncertainty, "isis", 1e3, "ms")
+            points_text(below[1], uncertainty, model)
     return fig
 
 
