@@ -14,7 +14,7 @@ import logging
 
 from impactosc.dynamics.maps import load_map, merge_maps, save_map
 from impactosc_study.figures import save_figure
-from impactosc_study.figures.bifurcation import map2d_figure
+from impactosc_study.figures.two_parameter import map2d_figure
 
 UNITS = {"xI": (1e3, "mm"), "m0e": (1e3, "g m")}
 

@@ -16,7 +16,7 @@ from impactosc.dynamics.maps import load_map
 from impactosc.dynamics.two_parameter_map import SEPARATION_COLUMNS, UNITS, separation
 from impactosc.io.files import read_json, write_csv, write_text
 from impactosc_study.figures import save_figure
-from impactosc_study.figures.bifurcation import map2d_curves_figure
+from impactosc_study.figures.two_parameter import map2d_curves_figure
 from impactosc_study.paper.table import to_markdown
 
 
