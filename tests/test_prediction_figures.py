@@ -24,12 +24,12 @@ def _predictions():
         "poincare_x": [[-1e-3 - 1e-5 * i] for i in range(6)],
         "se_poincare_x": [[2e-6]] * 6,
         "isis": [[2 * math.pi / wi] for wi in w],
-        "se_isis": [[1e-4], [1e-4], [math.nan], [1e-4], [1e-4], [1e-4]],
+        "se_isis": [[1e-4], [1e-4], [None], [1e-4], [1e-4], [1e-4]],  # a nan, read from JSON
     }
     points = [
         {"kind": "grazing", "omega": 30.5, "n_periods": 1, "se": 0.05, "note": ""},
         {"kind": "period_doubling", "omega": 34.5, "n_periods": 1, "se": 0.1, "note": ""},
-        {"kind": "fold", "omega": 33.5, "n_periods": 1, "se": math.nan, "note": "no sensitivity"},
+        {"kind": "fold", "omega": 33.5, "n_periods": 1, "se": None, "note": "no sensitivity"},  # nan, read from JSON
     ]
     return [{"segment": "period1", "n_periods": 1, "points": points, "band": band}]
 
@@ -51,7 +51,7 @@ def test_band_and_error_bars_are_two_standard_errors():
     fill = ax.collections[0].get_paths()[0].vertices
     # the band of the first run spans x +- 2 se = +- 4e-6 m = +- 4e-3 mm
     assert fill[:, 1].max() - fill[:, 1].min() == pytest.approx((2e-5 + 8e-6) * 1e3, rel=1e-9)
-    draw_point_errors(ax, _predictions())
+    draw_point_errors(ax, _predictions(), (29, 36))
     bars = [c for c in ax.containers if hasattr(c, "has_xerr") and c.has_xerr]
     widths = sorted(np.ptp(b.lines[2][0].get_segments()[0][:, 0]) for b in bars)
     assert widths == pytest.approx([0.2, 0.4])  # 2 x 2 se of the grazing and of the doubling; the fold has none
@@ -64,7 +64,7 @@ def test_figures_with_uncertainty_have_the_width_panel_and_the_list():
     w = np.linspace(29, 36, 50)
     fig = fig02_poincare(w, -1e-3 + 0 * w, -2e-3, uncertainty=_predictions(), model="rig")
     assert len(fig.axes) == 4
-    assert "30.5000 $\\pm$ 0.05 rad/s" in fig.axes[3].texts[0].get_text()
+    assert "grazing, period 1: 30.5000 $\\pm$ 0.05" in fig.axes[3].texts[0].get_text()
     plt.close(fig)
     fig = fig03b_isi(w, 2 * np.pi / w, zoom=(30, 31), uncertainty=_predictions(), model="rig")
     assert len(fig.axes) == 4

@@ -46,6 +46,8 @@ def main(inp, params, threads, out):
     parts = max(1, int(threads))
     shares = [len(a) for a in np.array_split(np.arange(check["draws"]), parts)]
     jobs, index = [], []
+    for row in found["points"]:
+        row["se"] = math.nan if row["se"] is None else row["se"]  # JSON writes nan as null
     for i, (point, row) in enumerate(zip(segment["special_points"], found["points"])):
         if not math.isfinite(row["se"]):
             continue  # a fold, or a point not located: no se to check (the table says why)

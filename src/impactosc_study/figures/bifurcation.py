@@ -141,6 +141,7 @@ def fig02_poincare(w, x, x_obstacle, *, experimental=None, marks=(), abandoned=(
         left = fig.add_subplot(grid[0, 0])
         right = fig.add_subplot(grid[0, 1], sharey=left)
         draw_bands(right, uncertainty, "poincare_x", MM)
+        draw_point_errors(right, uncertainty, (np.min(w), np.max(w)))  # in the transitions' legend
     else:
         fig, (left, right) = plt.subplots(1, 2, figsize=(DOUBLE, 6.5 * CM), sharey=True)
     if experimental is not None:
@@ -173,7 +174,6 @@ def fig02_poincare(w, x, x_obstacle, *, experimental=None, marks=(), abandoned=(
     right.tick_params(labelleft=True)
     right.set_xlim(np.min(w), np.max(w))
     if uncertainty:
-        draw_point_errors(right, uncertainty)
         band_width_panel(fig.add_subplot(grid[1, 1], sharex=right), uncertainty, "poincare_x", 1e6, "µm")
         points_text(fig.add_subplot(grid[1, 0]), uncertainty, model)
     return fig
@@ -203,8 +203,9 @@ def fig03b_isi(w, s, *, marks=(), zoom=None, start=None, axes=None, uncertainty=
         fig, axes = plt.subplots(1, 2, figsize=(DOUBLE, 6.5 * CM), width_ratios=[2.2, 1])
     ax = axes[0]
     if uncertainty:
-        for a in axes:
-            draw_bands(a, uncertainty, "isis")
+        for a, span in zip(axes, [(np.min(w), np.max(w)), zoom]):
+            draw_bands(a, uncertainty, "isis", label=a is ax)
+            draw_point_errors(a, uncertainty, span, label=a is ax)  # in the transitions' legend
     diagram_panel(ax, w, s)
     ax.set_xlabel(r"$\omega$ (rad/s)")
     ax.set_ylabel(r"$S_j$ (s)")
@@ -231,12 +232,9 @@ def fig03b_isi(w, s, *, marks=(), zoom=None, start=None, axes=None, uncertainty=
         z.set_title("zoom: grazing")
         mark_transitions(z, [(m, k) for m, k in marks if lo <= m <= hi], legend=False)
         ax.axvspan(lo, hi, facecolor="0.93", edgecolor="0.6", lw=0.5, zorder=0)
-    if uncertainty:
-        for a in axes:
-            draw_point_errors(a, uncertainty, legend=a is ax)
-        if below is not None:
-            band_width_panel(below[0], uncertainty, "isis", 1e3, "ms")
-            points_text(below[1], uncertainty, model)
+    if below is not None:
+        band_width_panel(below[0], uncertainty, "isis", 1e3, "ms")
+        points_text(below[1], uncertainty, model)
     return fig
 
 

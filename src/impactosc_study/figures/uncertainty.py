@@ -69,21 +69,23 @@ def draw_bands(ax, predictions: list[dict], quantity: str, scale: float = 1.0, *
 
 
 def _located(predictions):
-    return [p for found in predictions for p in found["points"] if math.isfinite(p["se"])]
+    """The points with a standard error (a JSON file writes a missing one, nan, as null)."""
+    return [p for found in predictions for p in found["points"] if p["se"] is not None and math.isfinite(p["se"])]
 
 
-def draw_point_errors(ax, predictions: list[dict], *, height: float = 0.06, legend: bool = True):
-    """Each located point with a standard error as w +- 2 se: a horizontal error bar at
-    ``height`` (axes fraction) above the w axis."""
+def draw_point_errors(ax, predictions: list[dict], w_range, *, height: float = 0.06, label: bool = True):
+    """Each located point with a standard error within ``w_range`` as w +- 2 se: a horizontal
+    error bar at ``height`` (axes fraction) above the w axis, labelled once per kind for the
+    axes' legend (``label``)."""
     tr = blended_transform_factory(ax.transData, ax.transAxes)
-    handles = {}
-    lo, hi = ax.get_xlim()
+    seen = set()
+    lo, hi = w_range
     for p in _located(predictions):
         if not lo <= p["omega"] <= hi:
             continue
         marker, color = POINT_STYLE.get(p["kind"], ("^", "0.3"))
-        name = p["kind"].replace("_", " ")
-        bar = ax.errorbar(
+        name = f"{p['kind'].replace('_', ' ')}: $\\omega \\pm 2$ se"
+        ax.errorbar(
             p["omega"],
             height,
             xerr=2 * p["se"],
@@ -96,13 +98,9 @@ def draw_point_errors(ax, predictions: list[dict], *, height: float = 0.06, lege
             transform=tr,
             zorder=5,
             clip_on=False,
+            label=name if label and name not in seen else None,
         )
-        handles.setdefault(f"{name}: $\\omega \\pm 2$ se", bar)
-    if legend and handles:
-        earlier = ax.get_legend()  # e.g. the transitions' marks: kept beside this one
-        ax.legend(list(handles.values()), list(handles), loc="upper left", fontsize=6, frameon=True, framealpha=0.9)
-        if earlier is not None:
-            ax.add_artist(earlier)
+        seen.add(name)
 
 
 def band_width_panel(ax, predictions: list[dict], quantity: str, scale: float, unit: str):
@@ -120,8 +118,10 @@ def points_text(ax, predictions: list[dict], model: str):
     """The located points with their standard errors, as text in an empty panel."""
     ax.axis("off")
     rows = [
-        f"{p['kind'].replace('_', ' ')} (period {p['n_periods']}): {p['omega']:.4f} $\\pm$ {p['se']:.2g} rad/s"
+        f"{p['kind'].replace('_', ' ')}, period {p['n_periods']}: {p['omega']:.4f} $\\pm$ {p['se']:.2g}"
         for p in sorted(_located(predictions), key=lambda p: p["omega"])
     ]
-    text = f"located points of {model}\n(1 se, from its covariance)\n\n" + ("\n".join(rows) or "none located")
+    text = f"located points of {model}\n(w $\\pm$ 1 se from its covariance, rad/s)\n\n" + (
+        "\n".join(rows) or "none located"
+    )
     ax.text(0.0, 1.0, text, va="top", ha="left", fontsize=6.5, transform=ax.transAxes)
