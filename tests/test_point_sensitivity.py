@@ -126,3 +126,39 @@ def test_grazing_delta_method_se_is_the_spread_of_relocated_draws(grazing):
     ws = relocated_draws("grazing", w, orbit, p, names, C, 200, seed=1, sensitivities=s)
     assert not np.isnan(ws).any()
     assert np.std(ws, ddof=1) == pytest.approx(delta_method_se(s, names, C), rel=0.15)
+
+
+def test_curve_point_sensitivities_are_the_points_at_the_curves_start(doubling):
+    """A two-parameter curve's band: its extended system, differentiated at the curve's point at
+    the model's own xI, gives the same dw*/dp as the one-parameter point (the same doubling)."""
+    from impactosc.dynamics.curve_sensitivity import curve_point_sensitivities
+    from impactosc.dynamics.two_parameter import CurveProblem, start_point
+
+    p, _bracket, w, orbit = doubling
+    problem = CurveProblem("period_doubling", "xI", 1, p)
+    start = start_point(problem, w, orbit.x0, orbit.v0)
+    point = {"omega": start.orbit.omega, "value": start.value, "x0": start.orbit.x0, "v0": start.orbit.v0}
+    fields = ("k", "c", "n3")
+    ours = curve_point_sensitivities(problem, point, fields)
+    theirs = point_sensitivities("period_doubling", w, orbit, p, fields=fields)
+    # measured against the relocated doubling: the curve's 2.9e-4 (c) and the point's 6.2e-5
+    # apart at most; 1e-3 allows both, far below what a band shows
+    for f in fields:
+        assert ours[f] == pytest.approx(theirs[f], rel=1e-3), f
+    with pytest.raises(ValueError, match="the curve's own parameter"):
+        curve_point_sensitivities(problem, point, ("k", "xI"))
+
+
+def test_normal_draws_follow_a_badly_scaled_covariance():
+    """Variances 30 orders apart (an identified model's kI against xI), correlated at 0.99: the
+    draws' sample covariance, scaled to a correlation, is the matrix's within sampling error."""
+    from impactosc.dynamics.point_sensitivity import normal_draws
+
+    sd = np.array([1e6, 1.0, 1e-9])
+    R = np.array([[1.0, 0.99, -0.5], [0.99, 1.0, -0.45], [-0.5, -0.45, 1.0]])
+    x = normal_draws(np.random.default_rng(0), [2e8, 5.0, -2e-3], R * np.outer(sd, sd), 100_000)
+    got = np.cov(x.T) / np.outer(sd, sd)
+    # a sample correlation of 1e5 draws is within 5 / sqrt(1e5) = 0.016 of the true one
+    np.testing.assert_allclose(got, R, atol=0.016)
+    # and the mean within 5 of its standard errors, sd / sqrt(1e5)
+    assert np.all(np.abs(x.mean(axis=0) - [2e8, 5.0, -2e-3]) <= 5 * sd / np.sqrt(x.shape[0]))

@@ -233,6 +233,21 @@ PREDICTION_SEGMENTS = [
 ]
 
 
+PRED_REPORT = "Predictions with error bars (a model with a covariance)"
+
+
+def model_with_covariance(wildcards):
+    """The model file, which must state a covariance (what every prediction job propagates)."""
+    source = config["model_source"]
+    if not source["covariance"]:
+        raise WorkflowError(
+            f"predictions need a model file with a covariance (one written by impactosc identify); the model "
+            f"here is {source['description']}, stated exactly: run e.g. snakemake -j2 predictions --config "
+            "study=myrig model_file=rig.yaml"
+        )
+    return source["file"]
+
+
 def prediction_bands(wildcards):
     """The segments' bands, for a figure of a model with a covariance (none for model BC)."""
     return expand(PREDICTION_SEGMENT, segment=PREDICTION_SEGMENTS) if config["model_source"]["covariance"] else []
@@ -246,6 +261,7 @@ TWO_POINTS_MD = study_path("tables/two_parameter/curve_points.md")
 TWO_CODIM_CSV = study_path("tables/two_parameter/codim_two.csv")
 TWO_SEPARATION_CSV = study_path("tables/two_parameter/map_separation.csv")
 TWO_SEPARATION_MD = study_path("tables/two_parameter/map_separation.md")
+TWO_BAND = study_path("runs/two_parameter/{curve}_band.json")  # a model with a covariance: w* +- se along the curve
 
 
 def curve_segment(wildcards):

@@ -6,19 +6,6 @@
 # bars when the model has a covariance. Targets: predictions, prediction_check.
 
 PRED = config["predictions"]
-PRED_REPORT = "Predictions with error bars (a model with a covariance)"
-
-
-def model_with_covariance(wildcards):
-    """The model file, which must state a covariance (what every prediction job propagates)."""
-    source = config["model_source"]
-    if not source["covariance"]:
-        raise WorkflowError(
-            f"predictions need a model file with a covariance (one written by impactosc identify); the model "
-            f"here is {source['description']}, stated exactly: run e.g. snakemake -j2 predictions --config "
-            "study=myrig model_file=rig.yaml"
-        )
-    return source["file"]
 
 
 rule prediction_segment:

@@ -1,7 +1,9 @@
 # Two-parameter bifurcation curves (beyond the paper; opt-in): each located point of the orbits
 # group's table named in config two_parameter.curves continued in w and a second parameter (xI or
 # m0e) by pseudo-arclength, one job per curve; their table; and the curves drawn over the 2-D map of
-# bifurcation.smk with the map's cells checked against them. Targets: two_parameter, map2d_curves.
+# bifurcation.smk with the map's cells checked against them. For a model file with a covariance,
+# each curve's band (w* +- se from the other parameters' covariance, one job per curve) and the
+# curves drawn with their bands. Targets: two_parameter, map2d_curves, two_parameter_bands.
 
 TWO = config["two_parameter"]
 TWO_CURVES = list(TWO["curves"])
@@ -69,3 +71,43 @@ rule map2d_curves:
         marks=[s["omega"] for s in config["scenes"].values()],
     script:
         "../scripts/map2d_curves.py"
+
+
+rule two_parameter_band:
+    input:
+        curve=TWO_CURVE,
+        model=model_with_covariance,
+        cache=NUMBA_CACHE,
+    output:
+        band=TWO_BAND,
+    log:
+        logfile("two_parameter", "two_parameter_band_{curve}"),
+    benchmark:
+        benchmark_file("two_parameter", "two_parameter_band_{curve}")
+    wildcard_constraints:
+        curve="|".join(TWO_CURVES) or "none",
+    params:
+        band_points=TWO["band_points"],
+    script:
+        "../scripts/two_parameter_band.py"
+
+
+rule two_parameter_bands:
+    input:
+        curves=expand(TWO_CURVE, curve=TWO_CURVES),
+        bands=expand(TWO_BAND, curve=TWO_CURVES),
+    output:
+        png=report(
+            supplementary("two_parameter", "curves_bands")[0],
+            caption="../report/two_parameter_bands.rst",
+            category=PRED_REPORT,
+        ),
+        pdf=supplementary("two_parameter", "curves_bands")[1],
+    log:
+        logfile("two_parameter", "two_parameter_bands"),
+    params:
+        names=TWO_CURVES,
+        model=config["model"],
+        model_source=config["model_source"],
+    script:
+        "../scripts/two_parameter_bands.py"

@@ -36,7 +36,7 @@ from impactosc.dynamics.bifurcation_points import TEST_FUNCTIONS
 from impactosc.dynamics.shooting import DEFAULT_STEP, SCALE, PeriodicOrbit, ShootingError, central_difference, shoot
 from impactosc.model.parameters import ModelParams
 
-__all__ = ["FIELDS", "parameter_step", "point_sensitivities", "delta_method_se", "relocated_draws"]
+__all__ = ["FIELDS", "parameter_step", "point_sensitivities", "delta_method_se", "normal_draws", "relocated_draws"]
 
 #: The model's parameters an identification fits (ModelParams fields), in its order.
 FIELDS = ("k", "c", "T", "m0e", "kI", "b", "n3", "xI")
@@ -148,6 +148,21 @@ def delta_method_se(sensitivities: dict, names, covariance) -> float:
     return float(math.sqrt(max(s @ C @ s, 0.0)))
 
 
+def normal_draws(rng, mean, covariance, size: int) -> np.ndarray:
+    """``size`` draws from N(mean, covariance), by the Cholesky factor of the correlation.
+
+    Why not numpy's multivariate_normal: an identified model's variances span 30 orders of
+    magnitude (kI in N/m^1.5 against xI in m); numpy checks the matrix with an absolute
+    tolerance of 1e-8 and warns that such a positive-definite matrix is not, and it factors the
+    matrix itself by SVD, which is not scale-invariant. Scaled to a correlation first, the
+    factor does not depend on the units."""
+    C = np.asarray(covariance, dtype=float)
+    sd = np.sqrt(np.diag(C))
+    L = np.linalg.cholesky(C / np.outer(sd, sd))
+    z = rng.standard_normal((int(size), sd.size))
+    return np.asarray(mean, dtype=float) + (z @ L.T) * sd
+
+
 def relocated_draws(
     kind: str,
     omega: float,
@@ -178,7 +193,7 @@ def relocated_draws(
     base = np.array([float(getattr(params, n)) for n in names])
     relocate = _grazing_relocation(omega, orbit) if kind == "grazing" else _bracket_relocation(kind, orbit)
     out = np.full(int(draws), math.nan)
-    for i, values in enumerate(rng.multivariate_normal(base, C, size=int(draws))):
+    for i, values in enumerate(normal_draws(rng, base, C, int(draws))):
         p = dataclasses.replace(params, **dict(zip(names, map(float, values))))
         guess = omega + float(slope @ (values - base))
         # a grazing is approached from close near-miss orbits (the secant overshoots from far ones)

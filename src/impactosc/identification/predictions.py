@@ -192,6 +192,37 @@ def branch_band(segment: dict, params: ModelParams, covariance, *, max_points: i
     return band
 
 
+def curve_band(curve: dict, params: ModelParams, covariance, *, max_points: int = 25, progress=None) -> dict:
+    """The band of a two-parameter curve (as :func:`impactosc.dynamics.two_parameter.curve_record`
+    writes it): at up to ``max_points`` of its points, evenly spread, the standard error of w* at
+    that value of the curve's parameter, from the covariance of the model's other parameters (the
+    curve's own parameter is its axis); nan where the point cannot be differentiated."""
+    from impactosc.dynamics.curve_sensitivity import curve_point_sensitivities
+    from impactosc.dynamics.point_sensitivity import delta_method_se
+    from impactosc.dynamics.shooting import ShootingError
+    from impactosc.dynamics.two_parameter import CurveProblem
+
+    fields, cov = covariance
+    keep = [i for i, f in enumerate(fields) if f != curve["parameter"]]
+    others, sub = [fields[i] for i in keep], np.asarray(cov)[np.ix_(keep, keep)]
+    problem = CurveProblem(curve["kind"], curve["parameter"], curve["n_periods"], params)
+    points = curve["points"]
+    chosen = np.unique(np.linspace(0, len(points) - 1, min(int(max_points), len(points))).round().astype(int))
+    band = {"omega": [], "value": [], "se": []}
+    for count, i in enumerate(chosen if points else []):
+        point = points[i]
+        if progress and count % 5 == 0:
+            progress(f"curve band: point {count + 1} of {chosen.size}, w = {point['omega']:.4f}")
+        try:
+            se = delta_method_se(curve_point_sensitivities(problem, point, tuple(others)), others, sub)
+        except (ShootingError, np.linalg.LinAlgError, ValueError):  # e.g. a stencil across a kink
+            se = math.nan
+        band["omega"].append(point["omega"])
+        band["value"].append(point["value"])
+        band["se"].append(se)
+    return band
+
+
 def points_markdown(rows, *, title: str, description: str) -> str:
     """The located points with their standard errors as a Markdown table (with the segment of
     each where the rows name theirs)."""
@@ -206,7 +237,7 @@ def points_markdown(rows, *, title: str, description: str) -> str:
         ("|---" if segments else "") + "|---|---|---|---|---|---|",
     ]
     for r in rows:
-        se = r["se"]
+        se = math.nan if r["se"] is None else r["se"]  # rows read from JSON: a missing se is null
         band = f"{se:.3g} | {r['omega'] - 2 * se:.6f} | {r['omega'] + 2 * se:.6f}" if math.isfinite(se) else " | | "
         first = f"| {r.get('segment', '')} " if segments else ""
         lines.append(f"{first}| {r['kind'].replace('_', ' ')} | {r['omega']:.8f} | {band} | {r['note']} |")

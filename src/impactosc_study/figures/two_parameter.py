@@ -13,7 +13,7 @@ from matplotlib import pyplot as plt
 from impactosc_study.figures.bifurcation import CM, _period_class, _period_colors
 from impactosc_study.figures.style import DOUBLE, apply_style
 
-__all__ = ["map2d_figure", "map2d_curves_figure"]
+__all__ = ["map2d_figure", "map2d_curves_figure", "curves_band_figure"]
 
 PARAMETER_LABELS = {"xI": r"obstacle $x_I$", "m0e": r"unbalance $m_0 e$"}
 
@@ -86,4 +86,35 @@ def map2d_curves_figure(omega, values, period, curves, parameter: str, unit_scal
     name = PARAMETER_LABELS.get(parameter, parameter)
     ax.set_title(rf"bifurcation curves continued in ($\omega$, {name}) over the 2-D map")
     ax.legend(loc="upper center", fontsize=6, framealpha=0.85)  # over the period-1 region, uniform
+    return fig
+
+
+def curves_band_figure(curves: dict, bands: dict, parameter: str, unit_scale: float, unit: str, *, own, model: str):
+    """Two-parameter curves, each with its band: w* +- 2 se as horizontal bars at the band's
+    points and as thin lines through their ends (``curves``, ``bands``: the workflow's curve and
+    band files by name; ``own``: the model's value of the parameter, dotted)."""
+    apply_style()
+    fig, ax = plt.subplots(figsize=(DOUBLE, 9.0 * CM))
+    for name, curve in curves.items():
+        color = CURVE_COLORS.get(curve["kind"], "tab:purple")
+        w = [p["omega"] for p in curve["points"]]
+        v = np.array([p["value"] for p in curve["points"]]) * unit_scale
+        ax.plot(w, v, color=color, lw=1.0, label=name.replace("_", " "))
+        band = bands[name]
+        bw, bv, se = (np.asarray(band[k], dtype=float) for k in ("omega", "value", "se"))
+        ok = np.isfinite(se)
+        ax.errorbar(bw[ok], bv[ok] * unit_scale, xerr=2 * se[ok], fmt="none", ecolor=color, elinewidth=0.8, capsize=2)
+        for sign in (-1, 1):
+            ax.plot(bw[ok] + sign * 2 * se[ok], bv[ok] * unit_scale, color=color, lw=0.5, ls=":")
+        codim = curve.get("codim_two", [])
+        if codim:
+            ax.plot([c["omega"] for c in codim], [c["value"] * unit_scale for c in codim], "*", color="gold", mec="k",
+                    mew=0.5, ms=9)  # fmt: skip
+    ax.axhline(own * unit_scale, color="0.4", lw=0.6, ls=":")
+    ax.errorbar([], [], xerr=[], fmt="none", ecolor="0.3", capsize=2, label=r"$\omega^* \pm 2$ se")
+    ax.set_xlabel(r"$\omega$ (rad/s)")
+    name = PARAMETER_LABELS.get(parameter, parameter)
+    ax.set_ylabel(f"{name} ({unit})")
+    ax.set_title(rf"bifurcation curves in ($\omega$, {name}) of {model}, with $\pm 2$ se from its covariance")
+    ax.legend(loc="best", fontsize=6, framealpha=0.85)
     return fig
