@@ -107,7 +107,9 @@ class Explorer:
             "w", "y", source=self.src["record"], size=3, color="#d95f02", alpha=0.7, legend_label="record"
         )
         self.fig_diagram.legend.visible = False
-        self.obstacle = Span(name="obstacle", location=v.params.xI, dimension="width", line_color="#b22222", line_dash="dashed")
+        self.obstacle = Span(
+            name="obstacle", location=v.params.xI, dimension="width", line_color="#b22222", line_dash="dashed"
+        )
         self.chosen = Span(name="chosen_w", location=v.omega, dimension="height", line_color="#2ca02c", line_alpha=0.7)
         self.fig_diagram.add_layout(self.obstacle)
         self.fig_diagram.add_layout(self.chosen)

@@ -59,7 +59,7 @@ class View:
     params: ModelParams = field(default_factory=ModelParams)
     n_transient: int = 100
     n_record: int = 50
-    n_initial: int = 300
+    n_initial: int = 600
     omega: float = 40.86
     model_file: str | None = None
     file_params: ModelParams | None = None  # the model file's values, the page's defaults
