@@ -57,6 +57,7 @@ def diagram_batch(omegas, settings: SweepSettings, x0: float, v0: float, first_t
                 "isi": res.isi(i).tolist(),
                 "x_end": float(res.x_end[i]),
                 "v_end": float(res.v_end[i]),
+                "cpu": float(res.cpu_time[i]),  # s of the worker's CPU: the cost without other load
             }
         )
     return {"columns": cols, "x_end": float(res.x_end[-1]), "v_end": float(res.v_end[-1])}
