@@ -4,6 +4,8 @@ scheduler's lanes and its dropping of stale requests, and the command's errors."
 from __future__ import annotations
 
 import itertools
+import subprocess
+import sys
 import threading
 from concurrent.futures import ThreadPoolExecutor
 
@@ -127,3 +129,14 @@ def test_explore_command_errors(tmp_path, capsys):
     assert "low to high" in capsys.readouterr().err
     assert main(["explore", "--no-browser", "--record", str(tmp_path / "none.csv")]) == 2
     assert "none.csv" in capsys.readouterr().err
+
+
+def test_the_library_and_its_commands_import_without_bokeh():
+    code = (
+        "import sys; sys.modules['bokeh'] = None\n"  # import bokeh now raises ImportError
+        "import impactosc, impactosc.cli.main, impactosc.dynamics, impactosc.explorer.view\n"
+        "from impactosc.cli.main import main\n"
+        "print(main(['explore', '--no-browser']))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.stdout.strip() == "2" and "needs Bokeh" in out.stderr

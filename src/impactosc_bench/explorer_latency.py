@@ -61,7 +61,7 @@ def time_attractor(s: Scheduler, view: View, omega: float, seed) -> float:
     return time.perf_counter() - t0
 
 
-def measure(repeats: int, workers: int = 2) -> list[dict]:
+def measure_latency(repeats: int, workers: int = 2) -> list[dict]:
     """The three waits, each its median over `repeats` (the attractor's over OMEGAS as well)."""
     s = Scheduler(workers)
     warm = s.warm()
@@ -117,7 +117,7 @@ def main(argv=None) -> int:
     parser.add_argument("--workers", type=int, default=2, help="worker processes (default 2)")
     parser.add_argument("--output", default="results/benchmarks/explorer_latency.md", help="Markdown table to write")
     args = parser.parse_args(argv)
-    text = markdown(measure(args.repeats, args.workers), args.workers)
+    text = markdown(measure_latency(args.repeats, args.workers), args.workers)
     print(text, end="")
     out = Path(args.output)
     out.parent.mkdir(parents=True, exist_ok=True)
