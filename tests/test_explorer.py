@@ -140,3 +140,15 @@ def test_the_library_and_its_commands_import_without_bokeh():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.stdout.strip() == "2" and "needs Bokeh" in out.stderr
+
+
+@pytest.mark.parametrize("n", [2, 3, 5, 9, 39, 40, 400])
+def test_config_snippet_chunks_fit_its_grid(n):
+    from impactosc.dynamics.sweep import regular_grid
+    from impactosc.dynamics.sweep_chunks import plan_chunks
+
+    b = yaml.safe_load(config_snippet(View(w_lo=30.0, w_hi=31.0, n_columns=n)))["bifurcation"]
+    sweep = b["sweeps"]["increasing"]
+    grid = regular_grid(sweep["start"], sweep["stop"], sweep["step"])
+    assert grid.size == n
+    assert len(plan_chunks(grid.size, b["chunks"], b["stride"])) == b["chunks"]

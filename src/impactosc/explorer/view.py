@@ -159,8 +159,14 @@ def config_snippet(view: View, study: str = "explore") -> str:
         base = ModelParams()
         model = {k: v for k, v in view.params.to_dict().items() if view.model_file or v != getattr(base, k)}
         lines.append("model: {" + ", ".join(f"{k}: {v!r}" for k, v in model.items()) + "}")
+    # the workflow splits a sweep into chunks seeded by a coarse pass over every stride-th w
+    # (impactosc.dynamics.sweep_chunks): a short grid needs a short stride and few chunks
+    stride = 10 if view.n_columns >= 40 else max(1, view.n_columns // 4)
+    chunks = min(4, (view.n_columns - 1) // stride + 1)
     lines += [
         "bifurcation:",
+        f"  chunks: {chunks}",
+        f"  stride: {stride}",
         "  per_w:",
         f"    n_transient: {view.n_transient}",
         f"    n_record: {view.n_record}",
