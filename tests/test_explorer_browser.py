@@ -22,6 +22,7 @@ pytest.importorskip("selenium")
 
 from selenium import webdriver
 from selenium.webdriver.chrome.service import Service
+from selenium.webdriver.common.action_chains import ActionChains
 
 from impactosc.explorer.server import free_port
 
@@ -93,6 +94,13 @@ def _model(driver, name: str, attr: str):
     )
 
 
+def _range(driver) -> tuple[float, float]:
+    r = driver.execute_script(
+        "const r = Bokeh.documents[0].get_model_by_name('diagram_figure').x_range; return [r.start, r.end]"
+    )
+    return float(r[0]), float(r[1])
+
+
 def _data(driver, source: str, column: str) -> list:
     return driver.execute_script(
         f"return Array.from(Bokeh.documents[0].get_model_by_name('{source}').data['{column}'] || [])"
@@ -148,10 +156,19 @@ def test_explorer_in_browser(browser, server):
     first = _wait(lambda: _diagram_done(d, 30, 42), "the first diagram")
     _wait(lambda: "w = 35 rad/s" in _model(d, "orbit", "text"), "the first attractor")
 
-    # zoom: a box zoom sets the diagram's w range; the window is recomputed at full resolution
+    # zoom: a box drawn with the mouse on the diagram (its active drag tool) sets its w range, and
+    # the window is recomputed at full resolution; then a range typed exactly (as a box zoom sets it)
+    canvas = d.execute_script(DEEP + "return found.filter(n => n.tagName === 'CANVAS')[0];")
+    width, height = canvas.size["width"], canvas.size["height"]
+    start = (-int(0.2 * width), -int(0.2 * height))  # offsets from the canvas's centre
+    drag = ActionChains(d).move_to_element_with_offset(canvas, *start).click_and_hold()
+    drag.move_by_offset(int(0.15 * width), int(0.3 * height)).release().perform()
+    lo, hi = _wait(lambda: _range(d) if _range(d)[1] - _range(d)[0] < 6 else None, "the box zoom")
+    boxed = _wait(lambda: _diagram_done(d, lo, hi), "the diagram of the drawn box")
+    assert boxed != first and float(_model(d, "w_lo", "value")) == pytest.approx(lo, rel=1e-5)
     d.execute_script("Bokeh.documents[0].get_model_by_name('diagram_figure').x_range.setv({start: 36.5, end: 38.5})")
     zoomed = _wait(lambda: _diagram_done(d, 36.5, 38.5), "the zoomed diagram")
-    assert zoomed != first and _model(d, "w_lo", "value") == "36.5"
+    assert zoomed != boxed and _model(d, "w_lo", "value") == "36.5"
 
     # a typed w: its attractor, and (period 2 past the doubling at 37.28) the shot orbit's multipliers
     series_before = _data(d, "series", "x")
