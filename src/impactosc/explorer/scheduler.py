@@ -104,9 +104,13 @@ class Scheduler:
 
     # ------------------------------------------------------------------ requests
 
-    def warm(self, timeout: float = 120.0) -> float:
-        """Start every worker and load the compiled core in it; returns the seconds taken."""
+    def warm(self, timeout: float = 900.0) -> float:
+        """Start every worker and load the compiled core in it; returns the seconds taken.
+
+        One worker first: without numba's cache on disk it compiles the core (minutes) and
+        writes the cache, which the others then load in a second, instead of all compiling."""
         t0 = time.perf_counter()
+        self._pool.submit(work.warm).result(timeout=timeout)
         for f in [self._pool.submit(work.warm) for _ in range(self.workers)]:
             f.result(timeout=timeout)
         return time.perf_counter() - t0

@@ -8,6 +8,7 @@ worker pool is started and warmed before the first page is served, and shared by
 from __future__ import annotations
 
 import contextlib
+import signal
 import socket
 import sys
 
@@ -53,16 +54,21 @@ def make_server(
 def serve(
     view: View, *, port: int = 5006, workers: int = 2, record=None, browser=True, snippet_path="explore_view.yaml"
 ) -> None:
-    """Serve the explorer until interrupted; prints the address (and opens it unless `browser`
-    is false)."""
+    """Serve the explorer until interrupted (Ctrl-C or SIGTERM); prints the address (and opens
+    it unless `browser` is false). The worker processes end with the server: they are not
+    daemons and would outlive a parent that did not shut the pool down."""
     server, pool = make_server(view, port=port, workers=workers, record=record, snippet_path=snippet_path)
+    loop = server.io_loop
+    previous = signal.signal(signal.SIGTERM, lambda *_: loop.add_callback_from_signal(loop.stop))
     try:
         server.start()
         url = f"http://localhost:{port}/"
         print(f"impactosc explore: serving {url} (Ctrl-C stops it)", flush=True)
         if browser:
-            server.io_loop.add_callback(server.show, "/")
-        server.io_loop.start()
+            loop.add_callback(server.show, "/")
+        loop.start()
     finally:
-        pool.shutdown(wait=False, cancel_futures=True)
+        signal.signal(signal.SIGTERM, previous)
+        server.stop()
+        pool.shutdown(wait=True, cancel_futures=True)
         sys.stdout.flush()
