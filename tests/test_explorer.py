@@ -152,3 +152,10 @@ def test_config_snippet_chunks_fit_its_grid(n):
     grid = regular_grid(sweep["start"], sweep["stop"], sweep["step"])
     assert grid.size == n
     assert len(plan_chunks(grid.size, b["chunks"], b["stride"])) == b["chunks"]
+
+
+def test_located_points_of_a_window():
+    """Model BC's first period doubling, located in a window around it (as the page's button does)."""
+    points = work.located_points(ModelParams(), 36.9, 37.5)
+    assert [p["kind"] for p in points] == ["period doubling"]
+    assert points[0]["omega"] == pytest.approx(37.2843239, abs=1e-6)

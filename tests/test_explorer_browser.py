@@ -1,7 +1,8 @@
 """The explorer in a real browser: headless Chromium (Debian's chromium and chromedriver, never a
 downloaded one) drives `impactosc explore` served on a free port.
 
-It loads the page, zooms the diagram, types a w, moves the xI slider, writes the config, types
+It loads the page, zooms the diagram, types a w, moves the xI slider, locates the period-1
+branch's points, writes the config, types
 bad values and loads a record that does not parse; it reads the plots' data from the page's
 Bokeh document and keeps a screenshot in tests/artifacts/explorer.png (the docs show it).
 Without Chromium the test is skipped, except under CI (CI set), where it fails.
@@ -189,6 +190,12 @@ def test_explorer_in_browser(browser, server):
         timeout=40,
     )
     moved = _data(d, "diagram", "w")
+
+    # the located points of the period-1 branch in the window, and the nearest to the w shown
+    _click(d, "Locate points")
+    _wait(lambda: "located on the period-1 branch" in _model(d, "located", "text"), "the located points", timeout=60)
+    assert "period doubling" in _model(d, "located", "text") and len(_data(d, "points", "w")) >= 1
+    _wait(lambda: "nearest located points" in _model(d, "orbit", "text"), "the nearest located points")
     ARTIFACT.parent.mkdir(exist_ok=True)
     d.save_screenshot(str(ARTIFACT))
 

@@ -93,6 +93,7 @@ class Explorer:
             "series": ColumnDataSource(_empty("t", "x", "v"), name="series"),
             "poincare": ColumnDataSource(_empty("x", "v"), name="poincare"),
             "impact_map": ColumnDataSource(_empty("s", "s_next"), name="impact_map"),
+            "points": ColumnDataSource(_empty("w", "kind"), name="points"),
         }
 
     def _build_figures(self):
@@ -106,6 +107,7 @@ class Explorer:
         self.fig_diagram.scatter(
             "w", "y", source=self.src["record"], size=3, color="#d95f02", alpha=0.7, legend_label="record"
         )
+        self.fig_diagram.vspan(x="w", source=self.src["points"], line_color="#ff7f0e", line_dash="dotted", line_width=2)
         self.fig_diagram.legend.visible = False
         self.obstacle = Span(
             name="obstacle", location=v.params.xI, dimension="width", line_color="#b22222", line_dash="dashed"
@@ -181,6 +183,9 @@ class Explorer:
         self.record_path = TextInput(title="record file (Poincare points overlaid)", name="record_path", width=300)
         self.record_button = Button(label="Load record", name="load_record", width=110)
         self.record_button.on_click(self._on_record)
+        self.locate_button = Button(label="Locate points", name="locate_points", width=120)
+        self.locate_button.on_click(self._on_locate)
+        self.points = Div(text="", name="located", width=760)
         self.write_button = Button(label="Write config", name="write_config", button_type="success", width=110)
         self.write_button.on_click(self._on_write)
         self.message = Div(text="", name="message", width=760, styles={"color": "#b22222", "font-weight": "bold"})
@@ -192,10 +197,10 @@ class Explorer:
         controls = row(self.w_lo, self.w_hi, self.n_cols, self.quantity, self.direction, self.recompute)
         params = row(*self.sliders.values(), self.omega)
         fields = row(*self.fields.values())
-        record = row(self.record_path, self.record_button, self.write_button)
+        record = row(self.record_path, self.record_button, self.locate_button, self.write_button)
         views = row(self.fig_series, self.fig_phase, self.fig_map)
         return column(
-            self.message, controls, params, fields, self.fig_diagram, self.status, views, self.orbit, record,
+            self.message, controls, params, fields, self.fig_diagram, self.status, views, self.orbit, record, self.points,
             self.snippet,
         )  # fmt: skip
 
@@ -298,8 +303,28 @@ class Explorer:
         gap = f"; smallest near-miss gap {out['gap']:.3g} m" if math.isfinite(out["gap"]) else ""
         self.orbit.text = (
             f"<b>w = {out['omega']:g} rad/s</b>: {what}, {len(out['impact_t'])} impacts in 60 periods{gap}"
+            + self._nearest_points(out["omega"])
         )
         self._attractor_text = self.orbit.text
+
+    def _nearest_points(self, omega: float) -> str:
+        """The located points (if any were asked for) on either side of `omega`."""
+        data = self.src["points"].data
+        if not data["w"]:
+            return ""
+        below = [(w, k) for w, k in zip(data["w"], data["kind"]) if w <= omega]
+        above = [(w, k) for w, k in zip(data["w"], data["kind"]) if w > omega]
+        near = ([max(below)] if below else []) + ([min(above)] if above else [])
+        return "<br>nearest located points: " + ", ".join(f"{k} at w = {w:.6f} ({w - omega:+.4g})" for w, k in near)
+
+    def _draw_points(self, gen: int, points: list) -> None:
+        if not self.scheduler.is_current("points", gen):
+            return
+        self.src["points"].data = {"w": [p["omega"] for p in points], "kind": [p["kind"] for p in points]}
+        listed = ", ".join(f"{p['kind']} at w = {p['omega']:.6f}" for p in points) or "none"
+        self.points.text = f"located on the period-1 branch in [{self.view.w_lo:g}, {self.view.w_hi:g}]: {listed}"
+        if getattr(self, "_attractor_text", ""):
+            self.orbit.text = self.orbit.text.split("<br>nearest located")[0] + self._nearest_points(self.view.omega)
 
     def _draw_orbit(self, gen: int, out: dict) -> None:
         if not self.scheduler.is_current("attractor", gen):
@@ -374,6 +399,9 @@ class Explorer:
             params = with_parameter(self.view.params, name, new)
             self.say(parameter_warning(params))
             self.view = self.view.replace(params=params)
+            self.scheduler.cancel("points")  # located points belong to the model they were found for
+            self.src["points"].data = _empty("w", "kind")
+            self.points.text = ""
             for span in (self.obstacle, self.series_obstacle, self.phase_obstacle):
                 span.location = params.xI
             self.request_diagram()
@@ -396,6 +424,17 @@ class Explorer:
                 self.doc.add_next_tick_callback(lambda: (self.say(), self._show_record(f.result())))
 
         future.add_done_callback(done)
+
+    def _on_locate(self) -> None:
+        self.points.text = (
+            f"locating the period-1 branch's grazings, period doublings and folds in [{self.view.w_lo:g}, "
+            f"{self.view.w_hi:g}] (a continuation: seconds to a minute) ..."
+        )
+        self.scheduler.points(
+            self.view,
+            on_points=lambda gen, pts: self.doc.add_next_tick_callback(partial(self._draw_points, gen, pts)),
+            on_error=lambda gen, m: self.doc.add_next_tick_callback(partial(self._draw_error, "points", gen, m)),
+        )
 
     def _on_write(self) -> None:
         def apply():

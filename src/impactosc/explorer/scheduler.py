@@ -30,9 +30,9 @@ import numpy as np
 from impactosc.explorer import work
 from impactosc.explorer.view import View
 
-__all__ = ["Scheduler", "make_pool", "lane_plan", "DIAGRAM", "ATTRACTOR"]
+__all__ = ["Scheduler", "make_pool", "lane_plan", "DIAGRAM", "ATTRACTOR", "POINTS"]
 
-DIAGRAM, ATTRACTOR = "diagram", "attractor"
+DIAGRAM, ATTRACTOR, POINTS = "diagram", "attractor", "points"
 #: Columns in a lane's first batch and in every later one: small first (first columns fast),
 #: larger after (fewer hand-overs)
 FIRST_BATCH, BATCH = 3, 8
@@ -74,8 +74,8 @@ class Scheduler:
         self._owns_pool = pool is None
         self._pool = pool or make_pool(self.workers)
         self._lock = threading.Lock()
-        self._generation = {DIAGRAM: 0, ATTRACTOR: 0}
-        self._futures: dict[str, list[Future]] = {DIAGRAM: [], ATTRACTOR: []}
+        self._generation = {DIAGRAM: 0, ATTRACTOR: 0, POINTS: 0}
+        self._futures: dict[str, list[Future]] = {DIAGRAM: [], ATTRACTOR: [], POINTS: []}
         self._counter = itertools.count(1)
 
     # ------------------------------------------------------------------ generations
@@ -93,6 +93,10 @@ class Scheduler:
         for f in stale:
             f.cancel()
         return gen
+
+    def cancel(self, kind: str) -> None:
+        """Drop the current request of `kind` (its results will not be handed on)."""
+        self._next(kind)
 
     def _submit(self, kind: str, generation: int, fn, *args) -> Future | None:
         with self._lock:
@@ -209,6 +213,27 @@ class Scheduler:
 
         if future is not None:
             future.add_done_callback(got_attractor)
+        return gen
+
+    def points(
+        self, view: View, on_points: Callable[[int, list], None], on_error: Callable[[int, str], None] | None = None
+    ) -> int:
+        """The located points of the period-1 branch over the view's window; returns the generation."""
+        gen = self._next(POINTS)
+        future = self._submit(POINTS, gen, work.located_points, view.params, view.w_lo, view.w_hi)
+
+        def got(f: Future):
+            if f.cancelled() or not self.is_current(POINTS, gen):
+                return
+            exc = f.exception()
+            if exc is not None:
+                if on_error is not None:
+                    on_error(gen, f"located points: {type(exc).__name__}: {exc}")
+                return
+            on_points(gen, f.result())
+
+        if future is not None:
+            future.add_done_callback(got)
         return gen
 
     def call(self, fn, *args) -> Future:

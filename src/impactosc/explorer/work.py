@@ -10,6 +10,9 @@ arguments and results cross the process boundary by pickling. Nothing here knows
   series, Poincare points, intervals and the period of the Poincare sequence;
 - :func:`periodic_orbit`: that orbit shot and its Floquet multipliers
   (:func:`impactosc.dynamics.shooting.shoot`, :func:`impactosc.dynamics.branch_segments.orbit_sample`);
+- :func:`located_points`: the grazings, period doublings and folds of the period-1 branch in a
+  window (:func:`impactosc.dynamics.branch_segments.trace_segment`), on demand (seconds to tens of
+  seconds: a continuation with every point shot);
 - :func:`record_points`: a rig record's Poincare points (:func:`impactosc.records.extract_events`).
 """
 
@@ -26,7 +29,7 @@ from impactosc.dynamics.sweep import OK, SweepSettings, continuation
 from impactosc.model.parameters import ModelParams
 from impactosc.statistics.periods import detect_period
 
-__all__ = ["warm", "diagram_batch", "attractor", "periodic_orbit", "record_points"]
+__all__ = ["warm", "diagram_batch", "attractor", "periodic_orbit", "located_points", "record_points"]
 
 #: Poincare repetition tolerances of the period reading (those of the workflow's diagram reading)
 PERIOD_TOL = (1e-6, 1e-4)
@@ -119,6 +122,21 @@ def periodic_orbit(omega: float, params: ModelParams, y, n_periods: int) -> dict
         "min_gap": sample["min_gap"],
         "newton_steps": orbit.newton_steps,
     }
+
+
+def located_points(params: ModelParams, w_lo: float, w_hi: float, ds: float = 0.05) -> list[dict]:
+    """The located special points (kind, w) of the period-1 branch over [w_lo, w_hi], continued
+    both ways from the orbit the simulation from rest settles on at the window's middle."""
+    from impactosc.dynamics.branch_segments import seed_from_rest, trace_segment
+
+    seed = seed_from_rest(0.5 * (w_lo + w_hi), 1, params)
+    segment = trace_segment(seed=seed, ds=ds, w_range=(w_lo, w_hi), max_points=4000, params=params)
+    points = [
+        {"kind": p["kind"].replace("_", " "), "omega": float(p["omega"])}
+        for p in segment["special_points"]
+        if p["located"] and w_lo <= p["omega"] <= w_hi
+    ]
+    return sorted(points, key=lambda p: p["omega"])
 
 
 def record_points(path: str, omega: float | None = None) -> dict:
