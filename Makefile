@@ -41,7 +41,7 @@ $(UV): $(UV_LOCK)
 $(BIN)/python: | $(UV)
 	$(UV) venv --quiet --clear --no-python-downloads --python "$$($(PYTHON) -c 'import sys; print(sys.executable)')" $(VENV)
 
-# The tested environment: every package pinned with its hashes (extras test, peers, slurm, docs),
+# The tested environment: every package pinned with its hashes (extras test, peers, slurm, docs, explore),
 # exactly (sync removes what the lock does not list), then the package itself, built by the
 # locked setuptools (no unpinned build environment). Bytecode is compiled at install, as pip
 # does and uv does not by default: without it every job of the workflow compiles numba, SciPy
@@ -57,7 +57,7 @@ install: $(VENV)/.installed
 # Refresh the locks after changing pyproject's dependencies or UV_VERSION (uv resolves for every
 # platform from its configured index, PyPI unless the user's uv configuration says otherwise).
 lock: $(UV)
-	$(UV) pip compile pyproject.toml --extra test --extra peers --extra slurm --extra docs --universal \
+	$(UV) pip compile pyproject.toml --extra test --extra peers --extra slurm --extra docs --extra explore --universal \
 		--python-version 3.11 --generate-hashes --quiet -o $(LOCK)
 	echo "uv==$(UV_VERSION)" | $(UV) pip compile - --universal --python-version 3.11 --generate-hashes \
 		--quiet -o $(UV_LOCK)

@@ -7,6 +7,9 @@
   ``{{ gallery }}`` every figure with its caption (``workflow/report/NAME.rst``, the captions of
   ``snakemake --report``); the PNGs are copied into the site at build time, none is committed.
   Before a build the page says which command makes them.
+* ``{{ screenshot: tests/artifacts/NAME.png by COMMAND }}`` shows a screenshot a test saved
+  (the explorer's browser test); copied into the site at build time when it exists, else the page
+  names the command that makes it.
 * ``{{ include: PATH }}`` inserts a file of the repository (the changelog, the config reference).
 * ``$...$`` and ``$$...$$`` (found by pymdownx.arithmatex) become MathML at build time: no
   JavaScript, no CDN. A ``$`` left in a page's text outside code fails the build.
@@ -32,6 +35,8 @@ log = logging.getLogger("mkdocs.plugins.impactosc")
 GENERATED = re.compile(r"\{\{\s*generated:\s*(\S+?)(?:\s+by\s+(.+?))?\s*\}\}")
 INCLUDE = re.compile(r"\{\{\s*include:\s*(\S+?)\s*\}\}")
 FIGURE = re.compile(r"\{\{\s*figure:\s*(\S+?)(?:\s+by\s+(.+?))?\s*\}\}")
+SCREENSHOT = re.compile(r"\{\{\s*screenshot:\s*(\S+?)(?:\s+by\s+(.+?))?\s*\}\}")
+ARTIFACTS = ROOT / "tests" / "artifacts"  # what the tests save (git-ignored)
 GALLERY_MARK = re.compile(r"\{\{\s*gallery\s*\}\}")
 API = re.compile(r"^::: ([\w.]+)", re.M)
 
@@ -59,6 +64,7 @@ GALLERY = [
 TARGETS = {"measured_noise_study": "measured_noise_figure", "identify": "identify_figure"}
 CAPTION_OF = {"basins_fine": "basins"}
 SITE_FIGURES = "figures"  # where the PNGs go in the site
+SITE_SCREENSHOTS = "screenshots"  # where the tests' screenshots go in the site
 
 
 def figures_dir(root: Path | None = None) -> Path:
@@ -179,9 +185,20 @@ def _figure(match: re.Match, prefix: str) -> str:
     return _not_built(f"The figure `{path}`", f"by `{command}`" if command else "by the workflow")
 
 
+def _screenshot(match: re.Match, prefix: str) -> str:
+    path, command = match.group(1), match.group(2)
+    if (ROOT / path).is_file():
+        return f"![{Path(path).stem}]({prefix}{SITE_SCREENSHOTS}/{Path(path).name})"
+    return _not_built(f"The screenshot `{path}`", f"by `{command}`" if command else "by the tests")
+
+
 def on_files(files, config):
-    """The built PNGs of the study into the site, under figures/ (copied at build time)."""
+    """The built PNGs of the study into the site, under figures/, and the tests' screenshots
+    under screenshots/ (copied at build time)."""
     from mkdocs.structure.files import File
+
+    for png in sorted(ARTIFACTS.glob("*.png")) if ARTIFACTS.is_dir() else []:
+        files.append(File.generated(config, f"{SITE_SCREENSHOTS}/{png.name}", abs_src_path=str(png)))
 
     directory = figures_dir()
     for png in sorted(directory.rglob("*.png")) if directory.is_dir() else []:
@@ -286,6 +303,7 @@ def on_page_markdown(markdown, page, config, files):
     prefix = "../" * page.file.src_uri.count("/")
     markdown = GALLERY_MARK.sub(lambda m: gallery_markdown(figures_dir(), prefix), markdown)
     markdown = FIGURE.sub(lambda m: _figure(m, prefix), markdown)
+    markdown = SCREENSHOT.sub(lambda m: _screenshot(m, prefix), markdown)
     return GENERATED.sub(_generated, markdown)
 
 

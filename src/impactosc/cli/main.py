@@ -1,4 +1,4 @@
-"""Command line: ``impactosc simulate|extract|sweep-extract|surrogate|identify|predict ...`` (see ``impactosc <command> --help``)."""
+"""Command line: ``impactosc simulate|extract|sweep-extract|surrogate|identify|predict|explore ...`` (see ``impactosc <command> --help``)."""
 
 from __future__ import annotations
 
@@ -6,6 +6,7 @@ import math
 import sys
 import time
 
+from impactosc.cli.explore import _explore
 from impactosc.cli.identify import _identify
 from impactosc.cli.options import model_from_args, open_record_args
 from impactosc.cli.parser import build_parser
@@ -205,6 +206,7 @@ COMMANDS = {
     "surrogate": _surrogate,
     "identify": _identify,
     "predict": _predict,
+    "explore": _explore,
 }
 
 

@@ -39,7 +39,48 @@ def build_parser() -> argparse.ArgumentParser:
     _add_surrogate_parser(sub)
     _add_identify_parser(sub)
     _add_predict_parser(sub)
+    _add_explore_parser(sub)
     return parser
+
+
+def _add_explore_parser(sub) -> None:
+    """The explore command: the live explorer in the browser."""
+    exp = sub.add_parser(
+        "explore",
+        help="explore the dynamics live in the browser: bifurcation diagram, attractors, periodic orbits",
+        description="Start a local web app (a Bokeh server; extra 'explore') and print its address: the "
+        "bifurcation diagram (Poincare x or the intervals S_j against w, either sweep direction; box-zoom "
+        "recomputes the window), the attractor of a clicked or typed w (time series, phase portrait, Poincare "
+        "points, impact map; a periodic one shot with its Floquet multipliers), sliders and fields for the "
+        "model's parameters, a record's Poincare points overlaid, and a button that writes the view as a config "
+        "file with the snakemake command that draws it as a figure.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="Examples:\n  impactosc explore\n  impactosc explore --model rig.yaml --record examples/record_example.csv "
+        "--port 5007 --no-browser",
+    )
+    exp.add_argument("--record", metavar="FILE", help="a record (.csv, .h5, .tdms) whose Poincare points are overlaid")
+    exp.add_argument("--port", type=int, default=5006, help="local port to serve on (default 5006)")
+    exp.add_argument("--no-browser", action="store_true", help="print the address only, do not open a browser")
+    exp.add_argument(
+        "--w-range",
+        type=finite_number,
+        nargs=2,
+        default=[20.0, 45.0],
+        metavar=("LO", "HI"),
+        help="the diagram's first window, rad/s (default 20 45)",
+    )
+    exp.add_argument("--columns", type=int, default=200, help="columns of the diagram (default 200)")
+    exp.add_argument(
+        "--omega", type=finite_number, default=40.86, help="w of the first attractor shown (default 40.86)"
+    )
+    exp.add_argument("--workers", type=int, default=2, help="worker processes (default 2: both cores)")
+    exp.add_argument(
+        "--snippet",
+        metavar="FILE",
+        default="explore_view.yaml",
+        help="where 'Write config' writes the view's config (default explore_view.yaml)",
+    )
+    add_model_options(exp, "The model explored: model BC's, or those of --model, then each --param.")
 
 
 def _add_predict_parser(sub) -> None:

@@ -1,0 +1,186 @@
+"""What the explorer's page shows, read from its fields, and written as a study's config.
+
+Why a module of its own: everything a user types passes through here, and every bad value (text
+in a number field, w <= 0, a range the wrong way round, a parameter the model refuses) becomes a
+:class:`InputError` with a message the page shows, before anything is scheduled or redrawn. The
+same view, written as a config snippet, rebuilds the picture as a figure of the workflow.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import shlex
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from impactosc.dynamics.sweep import SweepSettings
+from impactosc.model.parameters import PARAMETERS, ModelParams
+
+__all__ = [
+    "InputError",
+    "View",
+    "parse_number",
+    "parse_omega",
+    "parse_range",
+    "with_parameter",
+    "config_snippet",
+    "snakemake_command",
+]
+
+#: The diagram's quantities: Poincare x (the workflow's Fig 2) or the intervals S_j (Fig 3b).
+QUANTITIES = ("x", "isi")
+DIRECTIONS = ("increasing", "decreasing")
+#: The figure target of each quantity (bifurcation.fig02 / fig03b name the sweep they draw).
+TARGETS = {"x": "fig02", "isi": "fig03b"}
+#: Parameters with a slider of their own; every other one has a field.
+SLIDERS = ("xI", "m0e")
+
+
+class InputError(ValueError):
+    """A value typed in the page that the explorer refuses; its message is shown in the page."""
+
+
+@dataclass(frozen=True)
+class View:
+    """The picture the page asks for: the diagram's window and grid, its quantity and direction,
+    the model, the per-w lengths of the continuation, and the w whose attractor is shown.
+
+    The per-w lengths are the explorer's own (short, for speed); the config snippet writes them
+    so that the figure the workflow draws is the picture on the screen."""
+
+    w_lo: float = 20.0
+    w_hi: float = 45.0
+    n_columns: int = 200
+    quantity: str = "x"
+    direction: str = "increasing"
+    params: ModelParams = field(default_factory=ModelParams)
+    n_transient: int = 100
+    n_record: int = 50
+    n_initial: int = 600
+    omega: float = 40.86
+    model_file: str | None = None
+    file_params: ModelParams | None = None  # the model file's values, the page's defaults
+
+    def omegas(self) -> np.ndarray:
+        """The diagram's grid in sweep order (a decreasing sweep starts at w_hi)."""
+        w = np.linspace(self.w_lo, self.w_hi, self.n_columns)
+        return w if self.direction == "increasing" else w[::-1].copy()
+
+    def settings(self) -> SweepSettings:
+        return SweepSettings(
+            n_transient=self.n_transient, n_record=self.n_record, n_initial=self.n_initial, params=self.params
+        )
+
+    def replace(self, **changes) -> View:
+        return dataclasses.replace(self, **changes)
+
+
+def parse_number(text, name: str, *, positive: bool = False) -> float:
+    """A finite number from a field's text, or InputError naming the field."""
+    try:
+        value = float(str(text).strip())
+    except ValueError:
+        raise InputError(f"{name}: {text!r} is not a number") from None
+    if not math.isfinite(value):
+        raise InputError(f"{name}: {text!r} is not finite")
+    if positive and value <= 0:
+        raise InputError(f"{name} must be > 0, got {value:g}")
+    return value
+
+
+def parse_omega(text) -> float:
+    """The w of the attractor panel (rad/s, > 0)."""
+    return parse_number(text, "w", positive=True)
+
+
+def parse_range(lo_text, hi_text) -> tuple[float, float]:
+    """The diagram's window (rad/s): both > 0 and lo < hi (the sweep direction is its own choice)."""
+    lo = parse_number(lo_text, "w from", positive=True)
+    hi = parse_number(hi_text, "w to", positive=True)
+    if not lo < hi:
+        raise InputError(f"the w range must run from low to high, got {lo:g} .. {hi:g}")
+    return lo, hi
+
+
+def parse_columns(text, limit: int = 2000) -> int:
+    """The number of diagram columns (2 .. limit)."""
+    value = parse_number(text, "columns")
+    if value != int(value) or not 2 <= value <= limit:
+        raise InputError(f"columns must be a whole number in 2..{limit}, got {text!r}")
+    return int(value)
+
+
+def with_parameter(params: ModelParams, name: str, text) -> ModelParams:
+    """The model with one parameter set from a field's text; the model's own checks (a mass
+    > 0, ...) become InputError. A value outside the tested ranges is allowed (the page says so
+    through the warning text it returns with the model in :func:`parameter_warning`)."""
+    if name not in {p[0] for p in PARAMETERS}:
+        raise InputError(f"unknown model parameter {name!r}")
+    value = parse_number(text, name)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return dataclasses.replace(params, **{name: value})
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
+
+
+def parameter_warning(params: ModelParams) -> str:
+    """The model's warning when a parameter lies outside the tested ranges, else ''."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ModelParams(**params.to_dict())
+    return "; ".join(str(w.message) for w in caught)
+
+
+def _number(value: float) -> str:
+    return repr(float(value)) if value != int(value) or abs(value) >= 1e6 else f"{value:.1f}"
+
+
+def config_snippet(view: View, study: str = "explore") -> str:
+    """The view as a config file for the workflow: the model (every parameter that differs from
+    the model file's or model BC's), the per-w lengths, the sweep of the window in its direction
+    with the view's step, and the figure that draws the diagram's quantity from that sweep."""
+    step = (view.w_hi - view.w_lo) / (view.n_columns - 1)
+    start, stop = (view.w_lo, view.w_hi) if view.direction == "increasing" else (view.w_hi, view.w_lo)
+    lines = [
+        "# The explorer's view as a study of its own (impactosc explore)",
+        f"study: {study}",
+    ]
+    if view.model_file and view.params == view.file_params:
+        lines.append(f"model: {{file: {view.model_file}}}")
+    else:
+        # the workflow refuses a model file beside keys that differ from it: every value, written out
+        if view.model_file:
+            lines.append(f"# the parameters of {view.model_file}, changed in the explorer")
+        base = ModelParams()
+        model = {k: v for k, v in view.params.to_dict().items() if view.model_file or v != getattr(base, k)}
+        lines.append("model: {" + ", ".join(f"{k}: {v!r}" for k, v in model.items()) + "}")
+    # the workflow splits a sweep into chunks seeded by a coarse pass over every stride-th w
+    # (impactosc.dynamics.sweep_chunks): a short grid needs a short stride and few chunks
+    stride = 10 if view.n_columns >= 40 else max(1, view.n_columns // 4)
+    chunks = min(4, (view.n_columns - 1) // stride + 1)
+    lines += [
+        "bifurcation:",
+        f"  chunks: {chunks}",
+        f"  stride: {stride}",
+        "  per_w:",
+        f"    n_transient: {view.n_transient}",
+        f"    n_record: {view.n_record}",
+        f"    n_initial: {view.n_initial}",
+        "  sweeps:",
+        f"    {view.direction}: {{start: {_number(start)}, stop: {_number(stop)}, step: {step!r}}}",
+        f"  {TARGETS[view.quantity]}: {{sweep: {view.direction}}}",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def snakemake_command(view: View, config_path: str) -> str:
+    """The command that draws the view's diagram as a figure of the study the snippet names."""
+    return (
+        f".venv/bin/snakemake -j2 {TARGETS[view.quantity]} --configfile config/config.yaml "
+        f"{shlex.quote(str(config_path))}"
+    )
