@@ -41,9 +41,11 @@ def test_predict_gives_the_doubling_with_its_standard_error(model, tmp_path, cap
                 str(model),
                 "--w-range",
                 "36.9",
-                "37.6",
+                "39.2",
                 "--seed-omega",
                 "37.0",
+                "--max-period",
+                "2",
                 "--output",
                 str(out),
                 "--quiet",
@@ -53,10 +55,13 @@ def test_predict_gives_the_doubling_with_its_standard_error(model, tmp_path, cap
     )
     printed = capsys.readouterr().out
     # the doubling at 37.2843 rad/s; its standard error 0.0911 rad/s, which 200 relocated draws
-    # confirm (0.0919, tests/test_point_sensitivity.py)
-    assert "period doubling at w = 37.28432" in printed and "+- 0.0911 rad/s" in printed
+    # confirm (0.0920, tests/test_point_sensitivity.py)
+    assert "period 1: period doubling at w = 37.28432" in printed and "+- 0.0911 rad/s" in printed
+    # the doubled branch born there doubles again at 39.036294 rad/s, as the workflow's period2
+    # segment locates it (39.0362941)
+    assert "period 2 from w = 37.2843: period doubling at w = 39.036294" in printed
     table = out.read_text()
-    assert "| period doubling | 37.2843239" in table and "| 0.0911 |" in table
+    assert "| period 1 | period doubling | 37.2843239" in table and "| 0.0911 |" in table
 
 
 def test_predict_bad_input_is_named(model, tmp_path, capsys):

@@ -87,7 +87,7 @@ def _add_predict_parser(sub) -> None:
     """The predict command: located points with standard errors from a model file."""
     pred = sub.add_parser(
         "predict",
-        help="locate a model file's bifurcation points on its period-1 branch, with standard errors",
+        help="locate a model file's bifurcation points on its period-1 branch (and doubled ones), with standard errors",
         description="Continue the model's period-1 branch (seeded from rest), locate its grazings, period "
         "doublings and folds, and give each the standard error the model file's covariance implies (delta "
         "method; each point's sensitivity to every fitted parameter by implicit differentiation of the "
@@ -95,7 +95,8 @@ def _add_predict_parser(sub) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog="Example (a model identified from the example record):\n"
         "  impactosc identify examples/record_example.tdms --group rig --channel cart --phase-channel encoder "
-        "--output rig.yaml\n  impactosc predict rig.yaml --w-range 20 40 --output points.md",
+        "--output rig.yaml\n  impactosc predict rig.yaml --w-range 20 40 --output points.md\n"
+        "  impactosc predict rig.yaml --max-period 4   # and the doubled branches' points up to period 4",
     )
     pred.add_argument("model_file", metavar="MODEL.yaml", help="the model file (impactosc identify writes one)")
     pred.add_argument(
@@ -111,6 +112,14 @@ def _add_predict_parser(sub) -> None:
         type=finite_number,
         metavar="W",
         help="w at which the period-1 orbit is found from rest (default: the range's middle)",
+    )
+    pred.add_argument(
+        "--max-period",
+        type=int,
+        default=1,
+        metavar="N",
+        help="also follow the doubled branches born at the located period doublings, up to orbits of N "
+        "forcing periods (2, 4, ...; default 1: the period-1 branch only)",
     )
     pred.add_argument("--output", metavar="FILE", help="also write the points as a table (.csv or .md)")
     pred.add_argument("--quiet", action="store_true", help="no progress lines on stderr")

@@ -18,6 +18,8 @@ def _predict(args) -> int:
     lo, hi = args.w_range
     if not 0 < lo < hi:
         raise ValueError(f"--w-range must be 0 < LO < HI, got {lo} {hi}")
+    if args.max_period < 1:
+        raise ValueError(f"--max-period must be >= 1, got {args.max_period}")
     seed = args.seed_omega if args.seed_omega is not None else 0.5 * (lo + hi)
     model = read_model_file(args.model_file)
     cov = field_covariance(model)
@@ -28,11 +30,15 @@ def _predict(args) -> int:
         if not args.quiet:
             print(f"predict: {message}", file=sys.stderr)
 
-    rows = predicted_points(model.params, cov, w_range=(lo, hi), seed_omega=seed, progress=say)
+    rows = predicted_points(
+        model.params, cov, w_range=(lo, hi), seed_omega=seed, max_period=args.max_period, progress=say
+    )
     text = points_markdown(
         rows,
         title=f"Predicted bifurcation points of {args.model_file}",
-        description=f"The period-1 branch over w in [{lo:g}, {hi:g}] rad/s; each point located on it and its "
+        description=f"The period-1 branch over w in [{lo:g}, {hi:g}] rad/s"
+        + (f" and its doubled branches up to period {args.max_period}" if args.max_period > 1 else "")
+        + "; each point located on its branch and its "
         "standard error from the model file's covariance (delta method, sensitivities by implicit "
         "differentiation; impactosc.dynamics.point_sensitivity).",
     )
@@ -41,7 +47,7 @@ def _predict(args) -> int:
     for r in rows:
         se = f" +- {r['se']:.3g} rad/s (2 se: {r['omega'] - 2 * r['se']:.6f} .. {r['omega'] + 2 * r['se']:.6f})"
         print(
-            f"{r['kind'].replace('_', ' ')} at w = {r['omega']:.8f}"
+            f"{r['segment']}: {r['kind'].replace('_', ' ')} at w = {r['omega']:.8f}"
             + (se if math.isfinite(r["se"]) else f" ({r['note']})")
         )
     if not rows:

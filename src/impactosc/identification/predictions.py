@@ -66,21 +66,43 @@ def predicted_points(
     seed_omega: float = 30.0,
     ds: float = 0.05,
     max_points: int = 4000,
+    max_period: int = 1,
     progress=None,
 ) -> list[dict]:
     """The grazings, period doublings and folds of the period-1 branch (seeded from rest at
-    ``seed_omega``, continued over ``w_range``), each with ``se`` (rad/s; nan without a
-    covariance) and its sensitivity to each parameter the covariance names (``d_<field>``)."""
+    ``seed_omega``, continued over ``w_range``) and, up to orbits of ``max_period`` forcing
+    periods, of the doubled branches born at its located doublings (and theirs): each with its
+    ``segment``, ``se`` (rad/s; nan without a covariance) and its sensitivity to each parameter
+    the covariance names (``d_<field>``)."""
     from impactosc.dynamics.branch_segments import seed_from_rest, trace_segment
 
     lo, hi = (float(w) for w in w_range)
     if not (0 < lo < seed_omega < hi):
         raise ValueError(f"need 0 < w_range[0] < seed_omega < w_range[1], got {lo}, {seed_omega}, {hi}")
+    if int(max_period) < 1:
+        raise ValueError(f"max_period must be >= 1, got {max_period}")
     say = progress or (lambda message: None)
     say(f"period-1 orbit at w = {seed_omega} from rest")
-    seed = seed_from_rest(seed_omega, 1, params)
-    segment = trace_segment(seed=seed, ds=ds, w_range=(lo, hi), max_points=max_points, params=params, log=say)
-    return point_errors(segment["special_points"], params, covariance, progress=progress)
+    options = {"ds": ds, "w_range": (lo, hi), "max_points": max_points, "params": params, "log": say}
+    segment = trace_segment(seed=seed_from_rest(seed_omega, 1, params), **options)
+    rows = [
+        {"segment": "period 1", **r} for r in point_errors(segment["special_points"], params, covariance, progress=say)
+    ]
+    parents = [segment]
+    while parents:
+        parent = parents.pop(0)
+        if 2 * parent["n_periods"] > int(max_period):
+            continue
+        for point in parent["special_points"]:
+            if point["kind"] != "period_doubling" or not point["located"]:
+                continue
+            name = f"period {2 * parent['n_periods']} from w = {point['omega']:.4f}"
+            say(f"{name}: the doubled branch")
+            child = trace_segment(parent_doubling=point, **options)
+            found = point_errors(child["special_points"], params, covariance, progress=say)
+            rows += [{"segment": name, **r} for r in found]
+            parents.append(child)
+    return rows
 
 
 def point_errors(points: list[dict], params: ModelParams, covariance, *, progress=None) -> list[dict]:
