@@ -197,7 +197,7 @@ def relocated_draws(
         p = dataclasses.replace(params, **dict(zip(names, map(float, values))))
         guess = omega + float(slope @ (values - base))
         # a grazing is approached from close near-miss orbits (the secant overshoots from far ones)
-        half = max((0.5 if kind == "grazing" else width) * se, 1e-6)
+        half = max(0.5 * se, GRAZING_START) if kind == "grazing" else max(width * se, 1e-6)
         for _ in range(10):
             try:
                 w = relocate(p, guess, half, se)
@@ -227,6 +227,14 @@ def _bracket_relocation(kind, orbit):
     return relocate
 
 
+#: A grazing is relocated from near-miss orbits at least this far (rad/s) from its predicted w,
+#: shot with difference steps of 1e-6 of the scale (1 nm): nearer, with gaps of a few nm, the
+#: shooting's default stencil (0.1 um) reaches the obstacle and its Newton fails, which left
+#: every draw of an identified model (se 7.7e-6 rad/s) unrelocated.
+GRAZING_START = 1e-3
+GRAZING_SHOT_STEP = 1e-6
+
+
 def _grazing_relocation(omega, orbit):
     """Relocation of a grazing from two orbits half and 2 half beyond the guess on the near-miss
     side (that of ``orbit``), or None when either has no near miss there."""
@@ -235,8 +243,9 @@ def _grazing_relocation(omega, orbit):
     side = 1.0 if orbit.omega >= omega else -1.0
 
     def relocate(p, guess, half, se):
-        far = shoot([orbit.x0, orbit.v0], guess + 2 * side * half, orbit.n_periods, p)
-        near = shoot([far.x0, far.v0], guess + side * half, orbit.n_periods, p)
+        step = {"step": GRAZING_SHOT_STEP}
+        far = shoot([orbit.x0, orbit.v0], guess + 2 * side * half, orbit.n_periods, p, **step)
+        near = shoot([far.x0, far.v0], guess + side * half, orbit.n_periods, p, **step)
         gaps = [orbit_events(o, p)["min_gap"] for o in (far, near)]
         if not all(math.isfinite(g) and g > 0 for g in gaps):
             return None
