@@ -86,3 +86,22 @@ def test_monte_carlo_verdicts():
     near = check_row(point, draws, [point, fold], near=5.0)
     assert near["relocated"] == 200 and near["draws"] == 202
     assert "fold at w = 37.3000 (3.0 se)" in near["near"] and "2 draws not relocated" in near["near"]
+
+
+def test_curves_with_bands_draw_two_standard_errors_and_the_width():
+    from matplotlib import pyplot as plt
+
+    from impactosc_study.figures.two_parameter import curves_band_figure
+
+    curve = {
+        "kind": "period_doubling",
+        "points": [{"omega": 37.0 + 0.1 * i, "value": -2e-3 - 1e-4 * i} for i in range(5)],
+    }
+    band = {"omega": [37.0, 37.2, 37.4], "value": [-2e-3, -2.2e-3, -2.4e-3], "se": [0.01, None, 0.02]}
+    fig = curves_band_figure({"d": curve}, {"d": band}, "xI", 1e3, "mm", own=-2.086e-3, model="rig")
+    ax, width = fig.axes
+    bars = [c for c in ax.containers if c.has_xerr and len(c.lines[2][0].get_segments())]
+    assert sorted(np.ptp(seg[:, 0]) for seg in bars[0].lines[2][0].get_segments()) == pytest.approx([0.04, 0.08])
+    # the width panel: 2 se at the two points that have one (the null one, nan, is left out)
+    np.testing.assert_allclose(width.lines[0].get_xdata(), [0.02, 0.04])
+    plt.close(fig)

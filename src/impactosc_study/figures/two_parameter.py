@@ -91,30 +91,39 @@ def map2d_curves_figure(omega, values, period, curves, parameter: str, unit_scal
 
 def curves_band_figure(curves: dict, bands: dict, parameter: str, unit_scale: float, unit: str, *, own, model: str):
     """Two-parameter curves, each with its band: w* +- 2 se as horizontal bars at the band's
-    points and as thin lines through their ends (``curves``, ``bands``: the workflow's curve and
-    band files by name; ``own``: the model's value of the parameter, dotted)."""
+    points and as thin lines through their ends (left), and 2 se itself against the parameter
+    (right: at a diagram's scale a band of micro-rad/s is thinner than its line). ``curves``,
+    ``bands``: the workflow's curve and band files by name; ``own``: the model's value of the
+    parameter, dotted."""
     apply_style()
-    fig, ax = plt.subplots(figsize=(DOUBLE, 9.0 * CM))
+    fig, (ax, width) = plt.subplots(1, 2, figsize=(DOUBLE, 9.0 * CM), sharey=True, width_ratios=[3, 1])
     for name, curve in curves.items():
         color = CURVE_COLORS.get(curve["kind"], "tab:purple")
         w = [p["omega"] for p in curve["points"]]
         v = np.array([p["value"] for p in curve["points"]]) * unit_scale
         ax.plot(w, v, color=color, lw=1.0, label=name.replace("_", " "))
         band = bands[name]
-        bw, bv, se = (np.asarray(band[k], dtype=float) for k in ("omega", "value", "se"))
+        bw, bv, se = (
+            np.array([np.nan if x is None else x for x in band[k]], dtype=float) for k in ("omega", "value", "se")
+        )
         ok = np.isfinite(se)
         ax.errorbar(bw[ok], bv[ok] * unit_scale, xerr=2 * se[ok], fmt="none", ecolor=color, elinewidth=0.8, capsize=2)
         for sign in (-1, 1):
             ax.plot(bw[ok] + sign * 2 * se[ok], bv[ok] * unit_scale, color=color, lw=0.5, ls=":")
+        width.plot(2 * se[ok], bv[ok] * unit_scale, "o-", color=color, ms=2, lw=0.8)
         codim = curve.get("codim_two", [])
         if codim:
             ax.plot([c["omega"] for c in codim], [c["value"] * unit_scale for c in codim], "*", color="gold", mec="k",
                     mew=0.5, ms=9)  # fmt: skip
-    ax.axhline(own * unit_scale, color="0.4", lw=0.6, ls=":")
+    for a in (ax, width):
+        a.axhline(own * unit_scale, color="0.4", lw=0.6, ls=":")
     ax.errorbar([], [], xerr=[], fmt="none", ecolor="0.3", capsize=2, label=r"$\omega^* \pm 2$ se")
     ax.set_xlabel(r"$\omega$ (rad/s)")
     name = PARAMETER_LABELS.get(parameter, parameter)
     ax.set_ylabel(f"{name} ({unit})")
-    ax.set_title(rf"bifurcation curves in ($\omega$, {name}) of {model}, with $\pm 2$ se from its covariance")
+    ax.set_title(rf"bifurcation curves in ($\omega$, {name}) of {model}, $\pm 2$ se from its covariance", fontsize=8)
     ax.legend(loc="best", fontsize=6, framealpha=0.85)
+    width.set_xscale("log")
+    width.set_xlabel(r"2 se of $\omega^*$ (rad/s)")
+    width.set_title("the band's width", fontsize=8)
     return fig
