@@ -77,8 +77,13 @@ def test_figures_with_uncertainty_have_the_width_panel_and_the_list():
 def test_monte_carlo_verdicts():
     rng = np.random.default_rng(0)
     point = {"kind": "period_doubling", "omega": 37.0, "se": 0.1}
-    agree = check_row(point, 37.0 + 0.1 * rng.standard_normal(4000), [point])
+    draws = 37.0 + 0.1 * rng.standard_normal(4000)
+    agree = check_row(point, draws, [point], linear=draws - 0.03)
     assert agree["verdict"] == "agree" and agree["ratio"] == pytest.approx(1.0, abs=0.05)
+    # relocated 0.3 se from the linear prediction of every draw; the spread's sampling error
+    assert agree["nonlinearity_in_se"] == pytest.approx(0.3) and agree["spread_sampling_error"] == pytest.approx(
+        1 / np.sqrt(2 * 3999)
+    )
     wide = check_row(point, 37.0 + 0.13 * rng.standard_normal(4000), [point])
     assert wide["verdict"] == "DISAGREE"
     fold = {"kind": "fold", "omega": 37.3, "se": math.nan}

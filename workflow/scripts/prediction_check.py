@@ -58,17 +58,19 @@ def main(inp, params, threads, out):
     start = time.perf_counter()
     with ProcessPoolExecutor(parts) as pool:
         results = list(pool.map(_part, jobs))
-    relocated = {i: np.concatenate([r for j, r in zip(index, results) if j == i]) for i in set(index)}
+    relocated = {i: np.concatenate([r[0] for j, r in zip(index, results) if j == i]) for i in set(index)}
+    linear = {i: np.concatenate([r[1] for j, r in zip(index, results) if j == i]) for i in set(index)}
     rows = []
     for i, row in enumerate(found["points"]):
         if i in relocated:
-            rows.append(check_row(row, relocated[i], found["points"], agree=check["agree"], near=check["near"]))
+            rows.append(check_row(row, relocated[i], found["points"], linear=linear[i], agree=check["agree"],
+                                  near=check["near"]))  # fmt: skip
             logging.info("%s at w = %.6f: se %.4g, spread %.4g", row["kind"], row["omega"], row["se"],
                          rows[-1]["spread_monte_carlo"])  # fmt: skip
         else:
             rows.append({"kind": row["kind"], "omega": row["omega"], "verdict": "not checked", "near": row["note"]})
-    columns = ["kind", "omega", "se_delta", "spread_monte_carlo", "ratio", "mean_shift_in_se", "draws", "relocated",
-               "verdict", "near"]  # fmt: skip
+    columns = ["kind", "omega", "se_delta", "spread_monte_carlo", "ratio", "spread_sampling_error",
+               "nonlinearity_in_se", "mean_shift_in_se", "draws", "relocated", "verdict", "near"]  # fmt: skip
     table = [{c: r.get(c, "") for c in columns} for r in rows]
     shown = [{c: _shown(c, v) for c, v in r.items()} for r in table]
     write_csv(out.csv, table, sources=[inp.segment, inp.band, inp.model])
@@ -78,7 +80,10 @@ def main(inp, params, threads, out):
         f"Model: {params.model_source['description']}. {check['draws']} parameter sets drawn from the model file's "
         "covariance; each located point relocated for every draw (a test function's root bisected, or a grazing "
         "from two near-miss orbits); the spread of the relocated points (sd) against the delta method's standard "
-        f"error. Verdict: agree within {check['agree']:.0%}. 'near' names other located points within "
+        f"error. Verdict: agree within {check['agree']:.0%}; the spread of {check['draws']} draws is itself uncertain "
+        "by its sampling error (relative, 1 / sqrt(2 (n - 1))). nonlinearity_in_se: the rms distance of the "
+        "relocated points from the delta method's prediction of each draw, in standard errors (near 0: the point "
+        "is linear in the parameters, and a ratio off 1 is sampling). 'near' names other located points within "
         f"{check['near']:g} standard errors: there the point is not linear in the parameters over its uncertainty "
         f"(a codimension-2 point, a fold) and the two may differ. {time.perf_counter() - start:.0f} s on {parts} "
         "processes.\n\n" + to_markdown(shown, columns) + "\n",

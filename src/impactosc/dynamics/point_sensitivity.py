@@ -175,15 +175,18 @@ def relocated_draws(
     seed: int = 0,
     sensitivities: dict | None = None,
     width: float = 6.0,
-) -> np.ndarray:
+    with_linear: bool = False,
+) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
     """The point of ``kind`` (located at ``omega`` on ``orbit``'s branch) relocated for each of
-    ``draws`` parameter sets drawn from N(params, covariance) over the fields ``names``.
+    ``draws`` parameter sets drawn from N(params, covariance) over the fields ``names``; with
+    ``with_linear``, also the delta method's prediction for each draw (where they differ, the
+    point is not linear in the parameters over their uncertainty).
 
     Each draw starts from the delta method's prediction and a half width of ``width`` standard
     errors (at least 1e-6 rad/s), doubled until the relocation finds the point: a bracket of the
     test function bisected to 1e-4 of the standard error, or for a grazing two near-miss orbits
-    beyond the prediction (from half a standard error out).  nan where none was found within 10 doublings (the point has left the
-    branch).
+    beyond the prediction (from half a standard error out, at least GRAZING_START).  nan where
+    none was found within 10 doublings (the point has left the branch).
     """
     C = np.asarray(covariance, dtype=float)
     s = sensitivities or point_sensitivities(kind, omega, orbit, params, fields=tuple(names))
@@ -192,10 +195,10 @@ def relocated_draws(
     rng = np.random.default_rng(seed)
     base = np.array([float(getattr(params, n)) for n in names])
     relocate = _grazing_relocation(omega, orbit) if kind == "grazing" else _bracket_relocation(kind, orbit)
-    out = np.full(int(draws), math.nan)
+    out, linear = np.full(int(draws), math.nan), np.empty(int(draws))
     for i, values in enumerate(normal_draws(rng, base, C, int(draws))):
         p = dataclasses.replace(params, **dict(zip(names, map(float, values))))
-        guess = omega + float(slope @ (values - base))
+        guess = linear[i] = omega + float(slope @ (values - base))
         # a grazing is approached from close near-miss orbits (the secant overshoots from far ones)
         half = max(0.5 * se, GRAZING_START) if kind == "grazing" else max(width * se, 1e-6)
         for _ in range(10):
@@ -207,7 +210,7 @@ def relocated_draws(
                 out[i] = w
                 break
             half *= 2
-    return out
+    return (out, linear) if with_linear else out
 
 
 def _bracket_relocation(kind, orbit):

@@ -137,26 +137,31 @@ def point_errors(points: list[dict], params: ModelParams, covariance, *, progres
 
 def relocated_point(
     point: dict, params: ModelParams, covariance, draws: int, *, seed: int = 0, sensitivities: dict | None = None
-) -> np.ndarray:
+) -> tuple[np.ndarray, np.ndarray]:
     """The Monte Carlo check of a located point's standard error: the point (an entry of a
     segment's ``special_points``) relocated for each of ``draws`` parameter sets drawn from the
-    covariance (nan where it was not found, e.g. it left the branch)."""
+    covariance (nan where it was not found, e.g. it left the branch), and the delta method's
+    prediction for each draw."""
     from impactosc.dynamics.point_sensitivity import relocated_draws
 
     fields, cov = covariance
     orbit = _orbit_of(point, params)
     return relocated_draws(
-        point["kind"], point["omega"], orbit, params, fields, cov, int(draws), seed=seed, sensitivities=sensitivities
-    )
+        point["kind"], point["omega"], orbit, params, fields, cov, int(draws), seed=seed, sensitivities=sensitivities,
+        with_linear=True,
+    )  # fmt: skip
 
 
-def check_row(row: dict, relocated, others: list[dict], *, agree: float = 0.15, near: float = 5.0) -> dict:
+def check_row(row: dict, relocated, others: list[dict], *, linear=None, agree: float = 0.15, near: float = 5.0) -> dict:
     """One row of the Monte Carlo check: the point's delta-method ``se`` against the spread of
-    its ``relocated`` draws, a verdict (the two agree within ``agree``, relative), and the other
-    located points of its branch within ``near`` standard errors (near a codimension-2 point or
-    a fold the point is not linear in the parameters over its uncertainty, and the two may differ)."""
+    its ``relocated`` draws, a verdict (the two agree within ``agree``, relative), the spread's own
+    sampling error, how far the relocated points lie from the delta method's ``linear``
+    prediction of each draw (rms, in se: ~0 where the spread differs by sampling alone), and the
+    other located points of its branch within ``near`` standard errors (near a codimension-2
+    point or a fold the point is not linear in the parameters over its uncertainty)."""
     w = np.asarray(relocated, dtype=float)
-    found = w[np.isfinite(w)]
+    ok = np.isfinite(w)
+    found = w[ok]
     spread = float(np.std(found, ddof=1)) if found.size > 1 else math.nan
     se = row["se"]
     ratio = spread / se if se > 0 else math.nan
@@ -174,6 +179,12 @@ def check_row(row: dict, relocated, others: list[dict], *, agree: float = 0.15, 
         "se_delta": se,
         "spread_monte_carlo": spread,
         "ratio": ratio,
+        "spread_sampling_error": 1.0 / math.sqrt(2 * (found.size - 1)) if found.size > 1 else math.nan,
+        "nonlinearity_in_se": (
+            float(np.sqrt(np.mean(((found - np.asarray(linear, dtype=float)[ok]) / se) ** 2)))
+            if linear is not None and found.size and se > 0
+            else math.nan
+        ),
         "mean_shift_in_se": float((np.mean(found) - row["omega"]) / se) if found.size and se > 0 else math.nan,
         "draws": int(w.size),
         "relocated": int(found.size),
