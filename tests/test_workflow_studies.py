@@ -14,8 +14,10 @@ import sys
 from pathlib import Path
 
 import h5py
+import numpy as np
 import pytest
 
+from impactosc.io.files import read_json
 from impactosc.model.model_file import write_model_file
 from impactosc.model.parameters import ModelParams
 
@@ -49,14 +51,18 @@ def _state(folder):
 
 @pytest.fixture(scope="module")
 def two_studies(tmp_path_factory):
-    """The paper's study, then Fig 2 of study myrig (c = 6.9 N s/m from a model file: close enough
-    to model BC that the tiny branch still brackets its grazing, which Fig 2's reading needs);
-    the paper's files as they were before myrig was built."""
+    """The paper's study, then Fig 2 and the predictions of study myrig (c = 6.9 N s/m from a model
+    file with a covariance, as identification writes one: close enough to model BC that the tiny
+    branch still brackets its grazing, which Fig 2's reading needs); the paper's files as they
+    were before myrig was built."""
     work = tmp_path_factory.mktemp("studies")
     _snakemake(work, PAPER_TARGETS)
     paper = _state(work / "results" / "paper")
-    rig = write_model_file(work / "rig.yaml", ModelParams(c=6.9), name="test rig")
-    _snakemake(work, ["fig02"], "--config", "study=myrig", f"model_file={rig}")
+    p = ModelParams(c=6.9)
+    se = np.array([0.005 * p.k / p.m, 0.01 * p.c / p.m, 1e-6])
+    covariance = (["k/m", "c/m", "xI"], ["1/s^2", "1/s", "m"], np.diag(se**2))
+    rig = write_model_file(work / "rig.yaml", p, covariance=covariance, name="test rig")
+    _snakemake(work, ["fig02", "predictions"], "--config", "study=myrig", f"model_file={rig}")
     return work, paper
 
 
@@ -74,6 +80,24 @@ def test_second_study_leaves_the_paper_study_untouched(two_studies):
     for study, c in (("paper", 6.6511), ("myrig", 6.9)):
         with h5py.File(work / "results" / study / "runs" / "bifurcation" / "increasing.h5") as f:
             assert f.attrs["param_c"] == c
+
+
+def test_a_model_with_a_covariance_gets_its_error_bars(two_studies):
+    """myrig's model states a covariance: Fig 2 took its segments' predictions (located points
+    with standard errors, bands), and the predictions' table lists them; the paper's model BC,
+    stated exactly, has none."""
+    work, _before = two_studies
+    found = read_json(work / "results" / "myrig" / "runs" / "predictions" / "period1.json")
+    doublings = [q for q in found["points"] if q["kind"] == "period_doubling"]
+    assert doublings and all(q["se"] > 0 for q in doublings), found["points"]
+    se_x = [v for orbit in found["band"]["se_poincare_x"] for v in orbit if v is not None]
+    assert se_x and all(v >= 0 for v in se_x) and max(se_x) > 0
+    table = (work / "results" / "myrig" / "tables" / "predictions" / "predicted_points.md").read_text()
+    assert "| period1 | period doubling | 37.2" in table
+    assert not (work / "results" / "paper" / "runs" / "predictions").exists()
+    # the paper's study asked for predictions: the rule says what it needs
+    run = _snakemake(work, ["predictions"], "-n", check=False)
+    assert run.returncode != 0 and "predictions need a model file with a covariance" in run.stdout + run.stderr
 
 
 def test_compare_studies_overlays_the_built_study(two_studies):
