@@ -69,3 +69,5 @@ def test_predict_bad_input_is_named(model, tmp_path, capsys):
     assert "none.yaml" in capsys.readouterr().err
     assert main(["predict", str(model), "--w-range", "40", "30"]) == 2
     assert "--w-range must be 0 < LO < HI" in capsys.readouterr().err
+    assert main(["predict", str(model), "--max-period", "0"]) == 2
+    assert "--max-period must be >= 1, got 0" in capsys.readouterr().err
