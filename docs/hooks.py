@@ -36,7 +36,7 @@ GENERATED = re.compile(r"\{\{\s*generated:\s*(\S+?)(?:\s+by\s+(.+?))?\s*\}\}")
 INCLUDE = re.compile(r"\{\{\s*include:\s*(\S+?)\s*\}\}")
 FIGURE = re.compile(r"\{\{\s*figure:\s*(\S+?)(?:\s+by\s+(.+?))?\s*\}\}")
 SCREENSHOT = re.compile(r"\{\{\s*screenshot:\s*(\S+?)(?:\s+by\s+(.+?))?\s*\}\}")
-ARTIFACTS = ROOT / "tests" / "artifacts"  # what the tests save (git-ignored)
+ARTIFACTS = Path("tests") / "artifacts"  # what the tests save (git-ignored), under ROOT
 GALLERY_MARK = re.compile(r"\{\{\s*gallery\s*\}\}")
 API = re.compile(r"^::: ([\w.]+)", re.M)
 
@@ -44,8 +44,9 @@ STUDY = "paper"
 CAPTIONS = ROOT / "workflow" / "report"
 # The gallery's order: each caption workflow/report/NAME.rst belongs to the figure NAME.png of
 # the study's figures directory (top level or a group's folder). Captions that are no figure of
-# the paper's gallery (compare_studies: its files are named after the other study, opt-in):
-NOT_FIGURES = {"workflow", "paper_vs_replication", "compare_studies"}
+# the paper's gallery (compare_studies: its files are named after the other study, opt-in;
+# two_parameter_bands: a model with a covariance only, which the paper's model BC is not):
+NOT_FIGURES = {"workflow", "paper_vs_replication", "compare_studies", "two_parameter_bands"}
 GALLERY = [
     (
         "The paper's figures",
@@ -197,7 +198,8 @@ def on_files(files, config):
     under screenshots/ (copied at build time)."""
     from mkdocs.structure.files import File
 
-    for png in sorted(ARTIFACTS.glob("*.png")) if ARTIFACTS.is_dir() else []:
+    artifacts = ROOT / ARTIFACTS
+    for png in sorted(artifacts.glob("*.png")) if artifacts.is_dir() else []:
         files.append(File.generated(config, f"{SITE_SCREENSHOTS}/{png.name}", abs_src_path=str(png)))
 
     directory = figures_dir()

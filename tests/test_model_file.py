@@ -175,10 +175,11 @@ def test_config_model_file_replaces_the_model(rig):
     config["model"] = {"file": str(rig), "k": 1500.0}  # equal to the file's: no ambiguity
     cfg = validate_config(config, SCHEMA)
     assert ModelParams(**cfg["model"]) == RIG
-    assert cfg["model_source"] == {"file": str(rig), "description": f"model file {rig}"}
+    assert cfg["model_source"] == {"file": str(rig), "description": f"model file {rig}", "covariance": False}
     assert validate_config(yaml.safe_load(CONFIG.read_text()), SCHEMA)["model_source"] == {
         "file": None,
         "description": BC_DESCRIPTION,
+        "covariance": False,
     }
 
 

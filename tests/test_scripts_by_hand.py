@@ -86,11 +86,19 @@ def workflow():
 # Rules whose job exists only with a second study built beside the paper's (compare.study):
 # tests/test_workflow_studies.py runs them end to end.
 NEEDS_SECOND_STUDY = {"compare_studies"}
+# Rules whose job exists only for a model file that states a covariance (not the paper's model
+# BC): checked on a workflow with such a model below.
+NEEDS_COVARIANCE = {
+    "prediction_segment",
+    "predictions",
+    "prediction_check",
+    "two_parameter_band",
+    "two_parameter_bands",
+}
 
 
-def test_docstrings_name_every_input_and_output_of_their_rules(workflow):
-    """Each script's default rule runs it, its default wildcards make a job of every rule that runs
-    it, and its docstring names that job's every input and output."""
+def _docstring_problems(workflow, keep) -> list[str]:
+    """What the scripts' docstrings fail to name of the jobs of the rules ``keep`` accepts."""
     scripts = helper.rule_scripts(workflow)
     assert {p.name for p in SCRIPT_FILES} == {p.name for p in scripts}, "a script no rule runs, or a rule's missing"
     problems = []
@@ -101,12 +109,34 @@ def test_docstrings_name_every_input_and_output_of_their_rules(workflow):
         rules = scripts[path.resolve()]
         if rule not in rules:
             problems.append(f"{path.name}: mock_snakemake({rule!r}) but the rules running it are {rules}")
-        for name in [r for r in rules if r not in NEEDS_SECOND_STUDY]:
+        for name in [r for r in rules if keep(r)]:
             job = helper.job_snakemake(workflow, name, defaults, script=path.resolve())
             for kind, files in (("input", job.input), ("output", job.output)):
                 for key, _ in helper.named_files(files):
                     if not re.search(rf"\b{kind}\.{re.escape(key)}\b", text):
                         problems.append(f"{path.name}: rule {name}'s {kind}.{key} not in the docstring")
+    return problems
+
+
+def test_docstrings_name_every_input_and_output_of_their_rules(workflow):
+    """Each script's default rule runs it, its default wildcards make a job of every rule that runs
+    it, and its docstring names that job's every input and output."""
+    problems = _docstring_problems(workflow, lambda r: r not in NEEDS_SECOND_STUDY | NEEDS_COVARIANCE)
+    assert not problems, "\n".join(problems)
+
+
+def test_docstrings_of_the_predictions_rules(tmp_path):
+    """The same for the rules of a model with a covariance, on a workflow whose model file has one."""
+    import numpy as np
+
+    from impactosc.model.model_file import write_model_file
+    from impactosc.model.parameters import ModelParams
+
+    rig = write_model_file(tmp_path / "rig.yaml", ModelParams(), covariance=(["c/m"], ["1/s"], np.array([[1e-6]])))
+    config = tmp_path / "rig_config.yaml"
+    config.write_text(f"model: {{file: {rig}}}\n")
+    with helper.open_workflow([config]) as wf:
+        problems = _docstring_problems(wf, lambda r: r in NEEDS_COVARIANCE)
     assert not problems, "\n".join(problems)
 
 

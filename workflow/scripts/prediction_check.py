@@ -1,9 +1,8 @@
 """The Monte Carlo check of the predicted points' standard errors (rule prediction_check).
 
-Reads input.segment (the orbit segment of params.check.segment), input.band (its predictions: the points' se
-and sensitivities), input.model (the model file with its covariance) and params.check (draws, seed, agree,
-near); writes output.csv and output.md: per located point the delta method's se beside the spread of the point
-relocated for each of the draws, with a verdict and the other points within `near` standard errors.
+Reads input.cache, input.segment (segment params.check.segment), input.band (its points' se), input.model and
+params.check; writes output.csv and output.md: per point the delta method's se beside the spread of the point
+relocated for each draw from the covariance, with a verdict and the other points within `near` standard errors.
 """
 
 from _logging import configure_logging, mock_snakemake

@@ -1,6 +1,6 @@
 """One segment's predictions with error bars: its located points with their standard errors and its band.
 
-Reads input.segment (an orbit segment, rule orbit_segment), input.model (a model file with a covariance) and
+Reads input.cache, input.segment (an orbit segment, rule orbit_segment), input.model (a model file with a covariance) and
 params.band_points; writes output.band (JSON: points, each with se and its sensitivities; band: at each chosen
 orbit its w, stability, Poincare points and intervals with their standard errors).
 """

@@ -1,6 +1,6 @@
 """One two-parameter curve's band: w* and its standard error at points along the curve.
 
-Reads input.curve (rule two_parameter_curve), input.model (a model file with a covariance) and
+Reads input.cache, input.curve (rule two_parameter_curve), input.model (a model file with a covariance) and
 params.band_points; writes output.band (JSON: w, the curve parameter's value and se of w at each chosen point).
 """
 
