@@ -6,8 +6,8 @@ parameter (or for every Monte Carlo draw) costs a bisection of shots each; the p
 defining equation gives its sensitivities at the price of a few shots.
 
 A point located by :func:`impactosc.dynamics.bifurcation_points.locate` solves g(w, p) = 0, g the
-test function of the orbit's monodromy matrix (det(M + I) for a period doubling, det(M - I) for
-a fold, det M - 1 for a Neimark-Sacker pair).  By implicit differentiation
+test function of the orbit's monodromy matrix (det(M + I) for a period doubling, det M - 1 for
+a Neimark-Sacker pair).  By implicit differentiation
 
     dw*/dp_i = -(dg/dp_i) / (dg/dw),
 
@@ -16,7 +16,10 @@ orbit shot at (w* +- h, p) and (w*, p +- h_i) (:func:`impactosc.dynamics.shootin
 the orbit is re-shot, the point is not relocated.  A grazing (:func:`impactosc.dynamics.grazing.locate_orbit_grazing`)
 solves gap(w, p) = 0, gap the orbit's smallest near-miss gap, which exists on one side only: its
 derivatives are taken on orbits with gaps of 2e-7 and 1e-7 m on that side, with steps that keep
-the gap open, and extrapolated to gap 0 (Richardson: the error linear in the gap cancels).  The delta method then gives the point's
+the gap open, and extrapolated to gap 0 (Richardson: the error linear in the gap cancels).  A
+fold, where the branch turns and no orbit exists on one side of w*, moves by the part of a
+parameter's push on the map that its orbit cannot absorb: dw*/dp = -(psi . dP/dp) / (psi . dP/dw),
+psi the left null vector of M - I (:func:`_fold_sensitivities`).  The delta method then gives the point's
 standard error from a covariance C of the parameters, se(w*) = sqrt(s^T C s).
 
 The check beside it (:func:`relocated_draws`): parameters drawn from C, the point relocated for
@@ -28,15 +31,33 @@ point, where the test function's w-derivative vanishes).
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 
 import numpy as np
 
 from impactosc.dynamics.bifurcation_points import TEST_FUNCTIONS
-from impactosc.dynamics.shooting import DEFAULT_STEP, SCALE, PeriodicOrbit, ShootingError, central_difference, shoot
+from impactosc.dynamics.shooting import (
+    DEFAULT_STEP,
+    SCALE,
+    PeriodicOrbit,
+    ShootingError,
+    central_difference,
+    monodromy,
+    shoot,
+    stroboscopic_map,
+)
 from impactosc.model.parameters import ModelParams
 
-__all__ = ["FIELDS", "parameter_step", "point_sensitivities", "delta_method_se", "normal_draws", "relocated_draws"]
+__all__ = [
+    "FIELDS",
+    "parameter_step",
+    "point_sensitivities",
+    "delta_method_se",
+    "normal_draws",
+    "relocated_draws",
+    "fold_near",
+]
 
 #: The model's parameters an identification fits (ModelParams fields), in its order.
 FIELDS = ("k", "c", "T", "m0e", "kI", "b", "n3", "xI")
@@ -79,6 +100,8 @@ def point_sensitivities(
     params = params or ModelParams()
     if kind == "grazing":
         return _grazing_sensitivities(orbit, params, fields)
+    if kind == "fold":
+        return _fold_sensitivities(orbit, params, fields)
     g = TEST_FUNCTIONS[kind]
     start = [orbit.x0, orbit.v0]
 
@@ -101,6 +124,28 @@ def _implicit(f, omega, w_step, params, fields, step_of, what) -> dict:
             lambda s, fd=field, b=base: f(omega, dataclasses.replace(params, **{fd: b + s})), step_of(params, field)
         )
         out[field] = -f_p / f_w
+    return out
+
+
+def _fold_sensitivities(orbit, params, fields) -> dict:
+    """A fold's w* moves by dw*/dp = -(psi . dP/dp) / (psi . dP/dw), psi the left null vector of
+    M - I: the part of a parameter's push that the orbit cannot absorb by moving along the
+    branch (which turns there, so no orbit exists on one side of w* and the test function's
+    w-derivative cannot be taken). The map's derivatives at the fold's own state; no Newton."""
+    y, w, n = np.array([orbit.x0, orbit.v0]), orbit.omega, orbit.n_periods
+    # M afresh at the state (a corrector's M may be of a neighbouring point): psi must be M's at the fold
+    psi = np.linalg.svd(monodromy(y, w, n, params)[1] - np.eye(2))[0][:, -1]
+    f_w = float(psi @ central_difference(lambda s: stroboscopic_map(y, w + s, n, params), OMEGA_STEP))
+    if not (math.isfinite(f_w) and f_w != 0.0):
+        raise ValueError(f"fold at w = {w}: the map does not move across the fold's direction with w")
+    out = {}
+    for field in fields:
+        base = float(getattr(params, field))
+        push = central_difference(
+            lambda s, fd=field, b=base: stroboscopic_map(y, w, n, dataclasses.replace(params, **{fd: b + s})),
+            parameter_step(params, field),
+        )
+        out[field] = -float(psi @ push) / f_w
     return out
 
 
@@ -194,7 +239,9 @@ def relocated_draws(
     slope = np.array([s.get(n, 0.0) for n in names])
     rng = np.random.default_rng(seed)
     base = np.array([float(getattr(params, n)) for n in names])
-    relocate = _grazing_relocation(omega, orbit) if kind == "grazing" else _bracket_relocation(kind, orbit)
+    relocate = {"grazing": _grazing_relocation, "fold": _fold_relocation}.get(kind, _bracket_relocation)(
+        kind, omega, orbit
+    )
     out, linear = np.full(int(draws), math.nan), np.empty(int(draws))
     for i, values in enumerate(normal_draws(rng, base, C, int(draws))):
         p = dataclasses.replace(params, **dict(zip(names, map(float, values))))
@@ -213,7 +260,7 @@ def relocated_draws(
     return (out, linear) if with_linear else out
 
 
-def _bracket_relocation(kind, orbit):
+def _bracket_relocation(kind, omega, orbit):
     """Relocation of a test function's root: bisection between guess -+ half, or None when the
     test function has one sign there."""
     from impactosc.dynamics.bifurcation_points import locate
@@ -230,6 +277,45 @@ def _bracket_relocation(kind, orbit):
     return relocate
 
 
+#: A fold is relocated by following the branch from the fold's orbit both ways (its first
+#: point corrected onto the drawn parameters' branch) for at most this many points.
+FOLD_POINTS = 20
+
+
+def fold_near(orbit: PeriodicOrbit, params: ModelParams, ds: float):
+    """The fold of ``params``' branch nearest to ``orbit`` (a fold's orbit, e.g. of other
+    parameters): the branch followed from it along its null direction, both ways, with
+    arclength steps ``ds`` (its first point corrected onto the branch), until it turns in w; the
+    turning point located on the arclength (its BranchPoint), or None where it does not turn
+    within FOLD_POINTS points."""
+    from impactosc.dynamics.arclength import BranchPoint, locate_fold
+    from impactosc.dynamics.branch_segments import trace
+
+    null = np.linalg.svd((orbit.monodromy - np.eye(2)) * SCALE[None, :])[2][-1]  # scaled (x, v)
+    tangent = np.array([null[0], null[1], 0.0]) / np.linalg.norm(null)
+    options = {"ds": ds, "w_range": (orbit.omega - 1.0, orbit.omega + 1.0), "max_points": FOLD_POINTS, "params": params}
+    ahead, _ = trace(orbit, tangent=tangent, **options)
+    behind, _ = trace(orbit, tangent=-tangent, **options)
+    # one line through the start, which is left out (it is not on these parameters' branch), its
+    # tangents pointing one way; the fold may lie between the first points of either side
+    line = [BranchPoint(b.orbit, -b.tangent) for b in behind[:0:-1]] + ahead[1:]
+    for a, b in itertools.pairwise(line):
+        if np.sign(a.tangent[2]) != np.sign(b.tangent[2]):
+            return locate_fold(a, b, params, tol=1e-12)
+    return None
+
+
+def _fold_relocation(kind, omega, orbit):
+    """Relocation of a fold (:func:`fold_near`), with arclength steps of about the guessed
+    shift (4 half)."""
+
+    def relocate(p, guess, half, se):
+        found = fold_near(orbit, p, float(np.clip(4 * half, 1e-5, 2e-3)))
+        return None if found is None else found.orbit.omega
+
+    return relocate
+
+
 #: A grazing is relocated from near-miss orbits at least this far (rad/s) from its predicted w,
 #: shot with difference steps of 1e-6 of the scale (1 nm): nearer, with gaps of a few nm, the
 #: shooting's default stencil (0.1 um) reaches the obstacle and its Newton fails, which left
@@ -238,7 +324,7 @@ GRAZING_START = 1e-3
 GRAZING_SHOT_STEP = 1e-6
 
 
-def _grazing_relocation(omega, orbit):
+def _grazing_relocation(kind, omega, orbit):
     """Relocation of a grazing from two orbits half and 2 half beyond the guess on the near-miss
     side (that of ``orbit``), or None when either has no near miss there."""
     from impactosc.dynamics.grazing import locate_orbit_grazing, orbit_events

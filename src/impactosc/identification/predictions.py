@@ -44,11 +44,17 @@ def field_covariance(model: ModelFile) -> tuple[list[str], np.ndarray] | None:
 
 
 def _orbit_of(point: dict, params: ModelParams):
-    """The orbit to differentiate at: the located one; for a grazing, 1e-3 rad/s into its
-    near-miss side (the neighbour with fewer impacts; a gap of some 0.1 um there), shot with
-    difference steps well inside that gap."""
-    from impactosc.dynamics.shooting import shoot
+    """The orbit to differentiate at: the located one (a fold's state as located, its monodromy
+    at it); for a grazing, 1e-3 rad/s into its near-miss side (the neighbour with fewer impacts;
+    a gap of some 0.1 um there), shot with difference steps well inside that gap."""
+    from impactosc.dynamics.shooting import SCALE, PeriodicOrbit, monodromy, shoot
 
+    if point["kind"] == "fold":  # not locally unique, so no Newton: the located state as it is
+        y = np.array([point["x0"], point["v0"]])
+        image, M = monodromy(y, point["omega"], point["n_periods"], params)
+        mu = np.linalg.eigvals(M).astype(complex)
+        residual = float(np.max(np.abs(image - y) / SCALE))
+        return PeriodicOrbit(point["omega"], point["n_periods"], *y, M, mu[np.argsort(-np.abs(mu))], residual, 0)
     w, step = point["omega"], {}
     if point["kind"] == "grazing":
         before, after = point["impacts"]
