@@ -18,17 +18,16 @@ from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
-from impactosc.identification.predictions import check_row, field_covariance, relocated_point
+from impactosc.identification.predictions import check_row, read_model_with_covariance, relocated_point
 from impactosc.io.files import read_json, write_csv, write_text
-from impactosc.model.model_file import read_model_file
 from impactosc_study.paper.table import to_markdown
 
 
 def _part(job):
     """One share of one point's draws (a process of its own)."""
     model_path, point, draws, seed, sensitivities = job
-    model = read_model_file(model_path)
-    return relocated_point(point, model.params, field_covariance(model), draws, seed=seed, sensitivities=sensitivities)
+    model, covariance = read_model_with_covariance(model_path)
+    return relocated_point(point, model.params, covariance, draws, seed=seed, sensitivities=sensitivities)
 
 
 def _shown(column, value):
@@ -41,7 +40,7 @@ def _shown(column, value):
 def main(inp, params, threads, out):
     check = params.check
     segment, found = read_json(inp.segment), read_json(inp.band)
-    fields = field_covariance(read_model_file(inp.model))[0]
+    fields = read_model_with_covariance(inp.model)[1][0]
     parts = max(1, int(threads))
     shares = [len(a) for a in np.array_split(np.arange(check["draws"]), parts)]
     jobs, index = [], []

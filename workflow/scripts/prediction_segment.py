@@ -14,18 +14,14 @@ configure_logging(snakemake)
 import logging
 import time
 
-from impactosc.identification.predictions import branch_band, field_covariance, point_errors
+from impactosc.identification.predictions import branch_band, point_errors, read_model_with_covariance
 from impactosc.io.files import read_json, write_json
-from impactosc.model.model_file import read_model_file
 
 
 def main(inp, params, name, out):
     start = time.process_time()
     segment = read_json(inp.segment)
-    model = read_model_file(inp.model)
-    covariance = field_covariance(model)
-    if covariance is None:
-        raise ValueError(f"{inp.model}: the model file states no covariance; predictions have nothing to propagate")
+    model, covariance = read_model_with_covariance(inp.model)
 
     def say(message):
         logging.info("%s: %s", name, message)

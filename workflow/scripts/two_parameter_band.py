@@ -13,18 +13,14 @@ configure_logging(snakemake)
 import logging
 import time
 
-from impactosc.identification.predictions import curve_band, field_covariance
+from impactosc.identification.predictions import curve_band, read_model_with_covariance
 from impactosc.io.files import read_json, write_json
-from impactosc.model.model_file import read_model_file
 
 
 def main(inp, params, name, out):
     start = time.process_time()
     curve = read_json(inp.curve)
-    model = read_model_file(inp.model)
-    covariance = field_covariance(model)
-    if covariance is None:
-        raise ValueError(f"{inp.model}: the model file states no covariance; a band has nothing to propagate")
+    model, covariance = read_model_with_covariance(inp.model)
     band = curve_band(
         curve,
         model.params,

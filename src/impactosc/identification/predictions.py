@@ -43,6 +43,18 @@ def field_covariance(model: ModelFile) -> tuple[list[str], np.ndarray] | None:
     return [FIELDS[i] for i in idx], cov * np.outer(scale, scale)
 
 
+def read_model_with_covariance(path) -> tuple[ModelFile, tuple[list[str], np.ndarray]]:
+    """The model file at ``path`` and its covariance in the model's parameters
+    (:func:`field_covariance`); a ValueError naming the file when it states none."""
+    from impactosc.model.model_file import read_model_file
+
+    model = read_model_file(path)
+    covariance = field_covariance(model)
+    if covariance is None:
+        raise ValueError(f"{path}: the model file states no covariance: there is no uncertainty to propagate")
+    return model, covariance
+
+
 def _orbit_of(point: dict, params: ModelParams):
     """The orbit to differentiate at: the located one (a fold's state as located, its monodromy
     at it); for a grazing, 1e-3 rad/s into its near-miss side (the neighbour with fewer impacts;
