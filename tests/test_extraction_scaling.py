@@ -18,6 +18,7 @@ from impactosc_bench.extraction_scaling import (
 )
 
 
+@pytest.mark.slow  # about 17 s; the benchmark itself is the opt-in target benchmark_extraction
 def test_tiny_cases_measure_both_paths_and_find_the_true_impacts(tmp_path):
     scratch = tmp_path / "scratch"
     rows = extraction_scaling(["h5", "tdms"], [2000.0], [10.0], scratch, in_memory_max_samples=100_000)
