@@ -31,7 +31,15 @@ def test_every_tutorial_has_code():
         assert blocks(page), f"{page.name} has no sh or python block"
 
 
-@pytest.mark.parametrize("page", TUTORIALS, ids=[p.stem for p in TUTORIALS])
+#: The two longest tutorials (about 30 s each) run with the slow tests; the others by default.
+LONG = {"rig-record", "change-parameter"}
+
+
+@pytest.mark.parametrize(
+    "page",
+    [pytest.param(p, marks=pytest.mark.slow) if p.stem in LONG else p for p in TUTORIALS],
+    ids=[p.stem for p in TUTORIALS],
+)
 def test_tutorial_runs_as_written(page, tmp_path):
     work = tmp_path / "repo"
     shutil.copytree(REPO, work, ignore=SKIP)

@@ -238,6 +238,7 @@ GRAZING_GUESS = (23.0441223, (-0.003884048, -0.020664995))
 DOUBLING_GUESS = (37.2843239, (-0.007929, -0.128042))
 
 
+@pytest.mark.slow  # 13-15 s: the two-parameter curves are an opt-in target
 def test_grazing_and_doubling_at_another_obstacle_agree_with_time_simulation():
     """At xI = -2.5 mm. Measured: the grazing 1e-8 rad/s apart, the doubling 4e-8 (the
     bisections' resolution is 2e-8)."""
@@ -253,6 +254,7 @@ def test_grazing_and_doubling_at_another_obstacle_agree_with_time_simulation():
     assert abs(w - pd.orbit.omega) < 1e-6
 
 
+@pytest.mark.slow  # 13-15 s: the two-parameter curves are an opt-in target
 def test_the_fold_curve_has_a_cusp_where_the_two_folds_of_the_branch_merge():
     """At xI = -1.50 mm the two-impact branch, followed in w by the one-parameter code, turns at
     two folds; the fold curve from one of them turns at a cusp in (w, xI) and comes back to
