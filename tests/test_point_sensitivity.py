@@ -63,6 +63,16 @@ def test_delta_method_and_its_checks(doubling):
         point_sensitivities("period_doubling", w, orbit, p, fields=("stiffness",))
 
 
+def _identification_sized_covariance(p):
+    """(names, C): 0.3-2 % on k, c, T, m0e, 1 um on xI, two strong correlations (k-xI 0.6, c-T -0.9)."""
+    names = ["k", "c", "T", "m0e", "xI"]
+    se = np.array([0.005 * p.k, 0.01 * p.c, 0.02 * p.T, 0.003 * p.m0e, 1e-6])
+    R = np.eye(5)
+    R[0, 4] = R[4, 0] = 0.6
+    R[1, 2] = R[2, 1] = -0.9
+    return names, R * np.outer(se, se)
+
+
 @pytest.mark.slow
 def test_delta_method_se_is_the_spread_of_relocated_draws(doubling):
     """200 parameter sets drawn from a covariance of identification's size (0.3-2 % on the ratios,
@@ -70,12 +80,7 @@ def test_delta_method_se_is_the_spread_of_relocated_draws(doubling):
     from impactosc.dynamics.point_sensitivity import relocated_draws
 
     p, _bracket, w, orbit = doubling
-    names = ["k", "c", "T", "m0e", "xI"]
-    se = np.array([0.005 * p.k, 0.01 * p.c, 0.02 * p.T, 0.003 * p.m0e, 1e-6])
-    R = np.eye(5)
-    R[0, 4] = R[4, 0] = 0.6
-    R[1, 2] = R[2, 1] = -0.9
-    C = R * np.outer(se, se)
+    names, C = _identification_sized_covariance(p)
     s = point_sensitivities("period_doubling", w, orbit, p, fields=tuple(names))
     ws = relocated_draws("period_doubling", w, orbit, p, names, C, 200, seed=1, sensitivities=s)
     print(f"doubling: spread {np.std(ws, ddof=1):.4f} rad/s, delta method {delta_method_se(s, names, C):.4f}")
@@ -122,12 +127,7 @@ def test_grazing_delta_method_se_is_the_spread_of_relocated_draws(grazing):
     from impactosc.dynamics.point_sensitivity import relocated_draws
 
     p, _pair, w, orbit = grazing
-    names = ["k", "c", "T", "m0e", "xI"]
-    se = np.array([0.005 * p.k, 0.01 * p.c, 0.02 * p.T, 0.003 * p.m0e, 1e-6])
-    R = np.eye(5)
-    R[0, 4] = R[4, 0] = 0.6
-    R[1, 2] = R[2, 1] = -0.9
-    C = R * np.outer(se, se)
+    names, C = _identification_sized_covariance(p)
     s = point_sensitivities("grazing", w, orbit, p, fields=tuple(names))
     ws = relocated_draws("grazing", w, orbit, p, names, C, 200, seed=1, sensitivities=s)
     print(f"grazing: spread {np.std(ws, ddof=1):.4f} rad/s, delta method {delta_method_se(s, names, C):.4f}")
