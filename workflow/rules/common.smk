@@ -73,7 +73,7 @@ def scene(name):
 #   tables/<group>/   numbers (CSV/MD), incl. the group's rows of the paper table
 #   figures/          the paper's figures figNN (and fig03a, fig03b); supplementary ones in figures/<group>/
 #   logs/<group>/, benchmarks/<group>/   one file per job: <rule>[_<wildcards>]
-# Groups: scenes (simulate.smk), periodic, bifurcation, orbits (periodic_orbits.smk), two_parameter, chaotic, measured,
+# Groups: the rules files (scenes, periodic, bifurcation, orbits, two_parameter, chaotic, measured,
 # work_precision,
 # benchmark (benchmark.smk), combined (combined.smk: products that join several groups),
 # compare (compare.smk: this study's figures over another study's).
