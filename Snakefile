@@ -35,3 +35,7 @@ rule all:
         ALL_TARGETS,
         expand(SCENE_RUN, scene=config["scenes"]),
         [PAPER_TABLE_CSV, PAPER_TABLE_MD, PAPER_TABLE_HTML] if TABLE_ROWS else [],
+
+
+# Every rule's log and benchmark file, named after the rule (workflow/rules/common.smk)
+give_jobs_their_files()

@@ -19,10 +19,6 @@ rule basins_part:
         cache=NUMBA_CACHE,
     output:
         part=BASINS_PART,
-    log:
-        logfile("basins", "basins_part_{grid}_{chunk}"),
-    benchmark:
-        benchmark_file("basins", "basins_part_{grid}_{chunk}")
     wildcard_constraints:
         grid="|".join(BASINS_GRIDS),
         chunk=r"\d+",
@@ -43,10 +39,6 @@ rule basins:
         table=BASINS_TABLE.format(grid="coarse"),
         png=report(supplementary("basins", "basins")[0], caption="../report/basins.rst", category=BASINS_REPORT),
         pdf=supplementary("basins", "basins")[1],
-    log:
-        logfile("basins", "basins"),
-    benchmark:
-        benchmark_file("basins", "basins")
     params:
         **BASINS_COMMON,
     # merges the parts, classifies rest (0, 0), writes the table and draws the figure
@@ -63,10 +55,6 @@ use rule basins as basins_fine with:
         table=BASINS_TABLE.format(grid="fine"),
         png=report(supplementary("basins", "basins_fine")[0], caption="../report/basins.rst", category=BASINS_REPORT),
         pdf=supplementary("basins", "basins_fine")[1],
-    log:
-        logfile("basins", "basins_fine"),
-    benchmark:
-        benchmark_file("basins", "basins_fine")
 
 
 ALL_TARGETS.extend(rules.basins.output)

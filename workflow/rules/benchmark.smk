@@ -10,10 +10,6 @@ BC = config["benchmark_core"]
 rule cyrk_shim:
     output:
         marker=CYRK_SHIM,
-    log:
-        logfile("benchmark", "cyrk_shim"),
-    benchmark:
-        benchmark_file("benchmark", "cyrk_shim")
     priority: 15
     script:
         "../scripts/cyrk_shim.py"
@@ -28,10 +24,6 @@ rule benchmark_core:
         csv=BENCHMARK_CORE_CSV,
         headline=BENCHMARK_CORE_HEADLINE,
         md=BENCHMARK_CORE_MD,
-    log:
-        logfile("benchmark", "benchmark_core"),
-    benchmark:
-        benchmark_file("benchmark", "benchmark_core")
     priority: 5
     threads: timing_threads
     params:
@@ -53,8 +45,6 @@ rule benchmark_taylor:
     output:
         csv=BENCHMARK_TAYLOR_CSV,
         md=BENCHMARK_TAYLOR_MD,
-    log:
-        logfile("benchmark", "benchmark_taylor"),
     threads: timing_threads
     params:
         bt=config["benchmark_taylor"],
@@ -74,10 +64,6 @@ rule benchmark_extraction:
         md=BENCHMARK_EXTRACTION_MD,
         png=supplementary("benchmark", "extraction_scaling")[0],
         pdf=supplementary("benchmark", "extraction_scaling")[1],
-    log:
-        logfile("benchmark", "benchmark_extraction"),
-    benchmark:
-        benchmark_file("benchmark", "benchmark_extraction")
     threads: timing_threads
     params:
         be=config["benchmark_extraction"],
@@ -95,10 +81,6 @@ rule random_scenes_part:
         cache=NUMBA_CACHE,
     output:
         csv=RANDOM_SCENES_PART,
-    log:
-        logfile("benchmark", "random_scenes_part_{part}"),
-    benchmark:
-        benchmark_file("benchmark", "random_scenes_part_{part}")
     params:
         rs=config["random_scenes"],
     script:
@@ -111,10 +93,6 @@ rule random_scenes:
     output:
         csv=RANDOM_SCENES_CSV,
         md=RANDOM_SCENES_MD,
-    log:
-        logfile("benchmark", "random_scenes"),
-    benchmark:
-        benchmark_file("benchmark", "random_scenes")
     params:
         rs=config["random_scenes"],
     script:

@@ -23,10 +23,6 @@ rule bifurcation_coarse:
         cache=NUMBA_CACHE,
     output:
         seeds=BIF_COARSE,
-    log:
-        logfile("bifurcation", "bifurcation_coarse_{sweep}"),
-    benchmark:
-        benchmark_file("bifurcation", "bifurcation_coarse_{sweep}")
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
     priority: 8
@@ -47,10 +43,6 @@ rule bifurcation_chunk:
         seeds=lambda wc: expand(rules.bifurcation_coarse.output.seeds, sweep=wc.sweep) if int(wc.chunk) else [],
     output:
         chunk=BIF_CHUNK,
-    log:
-        logfile("bifurcation", "bifurcation_chunk_{sweep}_{chunk}"),
-    benchmark:
-        benchmark_file("bifurcation", "bifurcation_chunk_{sweep}_{chunk}")
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
         chunk=BIF_WILDCARDS["chunk"],
@@ -71,10 +63,6 @@ rule bifurcation_merge:
         coarse=lambda wc: expand(rules.bifurcation_coarse.output.seeds, sweep=wc.sweep) if BIF["chunks"] > 1 else [],
     output:
         sweep=BIF_SWEEP,
-    log:
-        logfile("bifurcation", "bifurcation_merge_{sweep}"),
-    benchmark:
-        benchmark_file("bifurcation", "bifurcation_merge_{sweep}")
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
     params:
@@ -93,10 +81,6 @@ rule bifurcation_tables:
         transitions=BIF_TABLES["transitions"],
         stats=BIF_STATS,
         rows=rows_file("bifurcation"),
-    log:
-        logfile("bifurcation", "bifurcation_tables"),
-    benchmark:
-        benchmark_file("bifurcation", "bifurcation_tables")
     params:
         names=BIF_SWEEPS,
         reading=BIF["reading"],
@@ -117,10 +101,6 @@ rule fig02:
     output:
         png=report(figure(2)[0], caption="../report/fig02.rst", category=BIF_REPORT),
         pdf=figure(2)[1],
-    log:
-        logfile("bifurcation", "fig02"),
-    benchmark:
-        benchmark_file("bifurcation", "fig02")
     params:
         figure="fig02",
         names=[BIF["fig02"]["sweep"]],
@@ -140,10 +120,6 @@ rule fig03b:
     output:
         png=report(panel("fig03b")[0], caption="../report/fig03b.rst", category=BIF_REPORT),
         pdf=panel("fig03b")[1],
-    log:
-        logfile("bifurcation", "fig03b"),
-    benchmark:
-        benchmark_file("bifurcation", "fig03b")
     params:
         figure="fig03b",
         names=[BIF["fig03b"]["sweep"]],
@@ -167,10 +143,6 @@ rule bifurcation_overlay:
             category=BIF_REPORT,
         ),
         pdf=supplementary("bifurcation", "bifurcation_overlay")[1],
-    log:
-        logfile("bifurcation", "bifurcation_overlay"),
-    benchmark:
-        benchmark_file("bifurcation", "bifurcation_overlay")
     params:
         figure="overlay",
         names=BIF["overlay"]["sweeps"],
@@ -185,10 +157,6 @@ rule bifurcation_benchmark:
         sweeps=expand(BIF_SWEEP, sweep=BIF_SWEEPS),
     output:
         json=BIF_BENCHMARK,
-    log:
-        logfile("bifurcation", "bifurcation_benchmark"),
-    benchmark:
-        benchmark_file("bifurcation", "bifurcation_benchmark")
     params:
         names=BIF_SWEEPS,
     script:
@@ -200,10 +168,6 @@ rule map2d_part:
         cache=NUMBA_CACHE,
     output:
         part=MAP2D_PART,
-    log:
-        logfile("bifurcation", "map2d_part_{chunk}"),
-    benchmark:
-        benchmark_file("bifurcation", "map2d_part_{chunk}")
     wildcard_constraints:
         chunk=BIF_WILDCARDS["chunk"],
     params:
@@ -222,10 +186,6 @@ rule map2d:
         map=MAP2D,
         png=report(supplementary("bifurcation", "map2d")[0], caption="../report/map2d.rst", category=BIF_REPORT),
         pdf=supplementary("bifurcation", "map2d")[1],
-    log:
-        logfile("bifurcation", "map2d"),
-    benchmark:
-        benchmark_file("bifurcation", "map2d")
     params:
         model=config["model"],
     script:

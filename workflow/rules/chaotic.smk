@@ -28,10 +28,6 @@ if CHAOTIC_MEMBER_NAMES:
             cache=NUMBA_CACHE,
         output:
             runs=expand(CHAOTIC_MEMBER_RUN, member=CHAOTIC_MEMBER_NAMES),
-        log:
-            logfile("chaotic", "chaotic_members"),
-        benchmark:
-            benchmark_file("chaotic", "chaotic_members")
         params:
             model=config["model"],
             solvers=[{k: CHAOTIC_MEMBERS[m][k] for k in ("rtol", "atol")} for m in CHAOTIC_MEMBER_NAMES],
@@ -55,10 +51,6 @@ rule chaotic_train_stats:
         events=lambda wc: CHAOTIC_TRAINS[wc.train][0],
     output:
         json=CHAOTIC_TRAIN_STATS,
-    log:
-        logfile("chaotic", "chaotic_train_stats_{train}"),
-    benchmark:
-        benchmark_file("chaotic", "chaotic_train_stats_{train}")
     wildcard_constraints:
         train="|".join(CHAOTIC_TRAINS),
     params:
@@ -74,10 +66,6 @@ rule chaotic_ensemble:
     output:
         json=CHAOTIC_ENSEMBLE_STATS,
         csv=CHAOTIC_ENSEMBLE_TABLE,
-    log:
-        logfile("chaotic", "chaotic_ensemble"),
-    benchmark:
-        benchmark_file("chaotic", "chaotic_ensemble")
     params:
         analysis=CHAOTIC["analysis"],
     script:
@@ -92,10 +80,6 @@ rule chaotic_stats:
     output:
         rows=rows_file("chaotic"),
         mixture=ISI_MIXTURE_TABLE,
-    log:
-        logfile("chaotic", "chaotic_stats"),
-    benchmark:
-        benchmark_file("chaotic", "chaotic_stats")
     params:
         command="snakemake -j1 chaotic_stats",
     script:
@@ -123,10 +107,6 @@ for _nn, _inputs in (
                 category=CHAOTIC_CAPTIONS,
             ),
             pdf=figure(_nn)[1],
-        log:
-            logfile("chaotic", f"fig{_nn:02d}"),
-        benchmark:
-            benchmark_file("chaotic", f"fig{_nn:02d}")
         params:
             figure=_nn,
             portrait_span=CHAOTIC["portrait_span"] if _nn == 6 else None,

@@ -11,10 +11,6 @@ rule fig03:
     output:
         png=report(figure(3)[0], caption="../report/fig03.rst", category="Impact map (paper Fig 3)"),
         pdf=figure(3)[1],
-    log:
-        logfile("combined", "fig03"),
-    benchmark:
-        benchmark_file("combined", "fig03")
     params:
         sweep=config["bifurcation"]["fig03b"]["sweep"],
         start=config["periodic"]["fig03a"]["start"],
@@ -32,10 +28,6 @@ rule paper_vs_replication:
         csv=PAPER_TABLE_CSV,
         md=PAPER_TABLE_MD,
         html=report(PAPER_TABLE_HTML, caption="../report/paper_vs_replication.rst", category="Paper vs replication"),
-    log:
-        logfile("combined", "paper_vs_replication"),
-    benchmark:
-        benchmark_file("combined", "paper_vs_replication")
     params:
         model=config["model_source"],
         study=config["study"],
@@ -49,15 +41,13 @@ build_jobs(rules.fig03, rules.paper_vs_replication)
 
 # The job time of the default build per group, from the benchmark file of every job (each
 # rules file lists its jobs with build_jobs): as inputs they make it the build's last job, and
-# it reruns when a job does. It has no benchmark of its own (it could not be in its table).
+# it reruns when a job does.
 rule build_times:
     input:
-        benchmarks=lambda wc: BUILD_BENCHMARKS,
+        benchmarks=build_benchmarks,
     output:
         csv=BUILD_TIMES_CSV,
         md=BUILD_TIMES_MD,
-    log:
-        logfile("combined", "build_times"),
     params:
         largest=10,
     script:

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import impactosc
 from snakemake.exceptions import WorkflowError
+from snakemake.io import strip_wildcard_constraints
 from impactosc_study.config import validate_config
 
 # After validation config["model"] holds exactly the ModelParams fields (model BC's, or those of
@@ -25,20 +26,25 @@ CORE_SOURCES = [str(Path(impactosc.__file__).parent / name) for name in impactos
 ALL_TARGETS = []
 # Each figure group appends the CSV of its rows of the paper-vs-replication table here.
 TABLE_ROWS = []
-# The benchmark file of every job of the default build (rule all); each rules file adds its
-# jobs' with build_jobs(). The build-time table (rule build_times) takes them all as inputs, so
-# it runs after every job of the build and again after any of them reruns, and reruns no job.
-BUILD_BENCHMARKS = []
+# The jobs of the default build (rule all), as (rule, wildcard values) pairs; each rules file adds
+# its jobs' with build_jobs(). The build-time table (rule build_times) takes their benchmark
+# files as inputs, so it runs after every job of the build and again after any of them reruns.
+BUILD_JOBS = []
 
 
 def build_jobs(*rules_, **wildcards):
-    """Count rules' jobs in the default build: each rule's benchmark file for every combination
-    of the wildcard values given as lists (as expand() makes them), or its one file without."""
-    for rule_ in rules_:
-        if not rule_.rule.benchmark:
-            raise WorkflowError(f"rule {rule_.rule.name} has no benchmark directive (benchmark_file(group, name))")
-        pattern = str(rule_.benchmark)
-        BUILD_BENCHMARKS.extend(expand(pattern, **wildcards) if wildcards else [pattern])
+    """Count rules' jobs in the default build: each rule's job for every combination of the
+    wildcard values given as lists (as expand() makes them), or its one job without."""
+    BUILD_JOBS.extend((rule_, wildcards) for rule_ in rules_)
+
+
+def build_benchmarks(wildcards=None):
+    """The benchmark file of every job of the default build (read once the rules have their files)."""
+    files = []
+    for rule_, values in BUILD_JOBS:
+        pattern = strip_wildcard_constraints(str(rule_.rule.benchmark))
+        files.extend(expand(pattern, **values) if values else [pattern])
+    return files
 
 
 def timing_threads(wildcards):
@@ -102,9 +108,31 @@ def logfile(group, name):
 
 
 def benchmark_file(group, name):
-    """Snakemake benchmark (wall time, CPU time, memory) of one job of a rule: every rule but
-    the aggregating targets has one, read by the build-time table (rule build_times)."""
+    """Snakemake benchmark (wall time, CPU time, memory) of one job of a rule, read by the
+    build-time table (rule build_times)."""
     return f"{RESULTS}/benchmarks/{group}/{name}.tsv"
+
+
+def give_jobs_their_files():
+    """Each script's job gets its log and benchmark file here, named after its rule and wildcards,
+    results/<study>/logs/<group>/<name>[_<wildcard>...].log and the same under benchmarks/ (.tsv),
+    <group> being the stem of the rules file that defines it (scenes for scenes.smk). No rule states a log
+    or a benchmark itself. Called once, at the end of the Snakefile, when every rule exists. The
+    build-time tables have no benchmark of their own (they could not be in their table)."""
+    for rule_ in workflow.rules:
+        if not rule_.script:  # the aggregating targets (all, identify, ...) run no job
+            continue
+        if rule_.log or rule_.benchmark:
+            raise WorkflowError(f"{rule_.name}: its log and benchmark come from give_jobs_their_files()")
+        group = Path(rule_.snakefile).stem
+        # the wildcards in the order of the first output's path, as the DAG lists a job's wildcards
+        order = sorted(rule_.wildcard_names, key=lambda w: str(rule_.output[0]).find(f"{{{w}"))
+        name = "_".join([rule_.name, *(f"{{{w}}}" for w in order)])
+        # as a log: or benchmark: directive would set them (the workflow's path modifier)
+        rule_.log_modifier = rule_.benchmark_modifier = workflow.modifier.path_modifier
+        rule_.set_log(logfile(group, name))
+        if not rule_.name.startswith("build_times"):
+            rule_.benchmark = benchmark_file(group, name)
 
 
 def figure(nn):

@@ -22,10 +22,6 @@ rule compare_studies:
             category="Comparison of studies",
         ),
         fig03b_pdf=COMPARE_FIGURES["fig03b"][1],
-    log:
-        logfile("compare", f"compare_studies_{COMPARE_STUDY}"),
-    benchmark:
-        benchmark_file("compare", f"compare_studies_{COMPARE_STUDY}")
     params:
         studies=[config["study"], COMPARE_STUDY],
         sweeps=[config["bifurcation"][name]["sweep"] for name in ("fig02", "fig03b")],

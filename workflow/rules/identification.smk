@@ -20,10 +20,6 @@ rule identify_surrogate:
         cache=NUMBA_CACHE,
     output:
         records=IDENT_SURROGATE,
-    log:
-        logfile("identification", "identify_surrogate"),
-    benchmark:
-        benchmark_file("identification", "identify_surrogate")
     params:
         **IDENT_COMMON,
         surrogate=config["measured"]["surrogate"],
@@ -40,10 +36,6 @@ rule identify_model:
         windows=IDENT_WINDOWS,
         csv=IDENT_TABLE_CSV,
         md=IDENT_TABLE_MD,
-    log:
-        logfile("identification", "identify_model"),
-    benchmark:
-        benchmark_file("identification", "identify_model")
     priority: 6
     params:
         **IDENT_COMMON,
@@ -62,10 +54,6 @@ rule identify_figure:
             category=IDENT_REPORT,
         ),
         pdf=supplementary("identification", "identify")[1],
-    log:
-        logfile("identification", "identify_figure"),
-    benchmark:
-        benchmark_file("identification", "identify_figure")
     script:
         "../scripts/identify_figure.py"
 
@@ -84,10 +72,6 @@ rule identify_choice_candidate:
         records=IDENT_RECORDS,
     output:
         json=IDENT_CHOICE_PART,
-    log:
-        logfile("identification", "identify_choice_{candidate}"),
-    benchmark:
-        benchmark_file("identification", "identify_choice_{candidate}")
     wildcard_constraints:
         candidate=r"\d+",
     params:
@@ -102,10 +86,6 @@ rule identify_choice:
     output:
         csv=IDENT_CHOICE_CSV,
         md=IDENT_CHOICE_MD,
-    log:
-        logfile("identification", "identify_choice"),
-    benchmark:
-        benchmark_file("identification", "identify_choice")
     script:
         "../scripts/identify_choice.py"
 
@@ -123,10 +103,6 @@ rule identify_coverage_part:
         cache=NUMBA_CACHE,
     output:
         json=IDENT_COVERAGE_PART,
-    log:
-        logfile("identification", "identify_coverage_{part}"),
-    benchmark:
-        benchmark_file("identification", "identify_coverage_{part}")
     wildcard_constraints:
         part=r"\d+",
     params:
@@ -142,9 +118,5 @@ rule identify_coverage:
         csv=IDENT_COVERAGE_CSV,
         md=IDENT_COVERAGE_MD,
         draws=IDENT_COVERAGE_DRAWS,
-    log:
-        logfile("identification", "identify_coverage"),
-    benchmark:
-        benchmark_file("identification", "identify_coverage")
     script:
         "../scripts/identify_coverage.py"

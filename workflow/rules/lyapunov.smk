@@ -16,10 +16,6 @@ rule lyapunov_members:
         cache=NUMBA_CACHE,
     output:
         runs=expand(LYAP_MEMBER, member=LYA_MEMBERS),
-    log:
-        logfile("lyapunov", "lyapunov_members"),
-    benchmark:
-        benchmark_file("lyapunov", "lyapunov_members")
     priority: 3
     params:
         chaos=LYA["chaos"],
@@ -35,10 +31,6 @@ rule lyapunov_checks:
         run=expand(LYAP_MEMBER, member=0),
     output:
         checks=LYAP_CHECKS,
-    log:
-        logfile("lyapunov", "lyapunov_checks"),
-    benchmark:
-        benchmark_file("lyapunov", "lyapunov_checks")
     params:
         chaos=LYA["chaos"],
         model=config["model"],
@@ -57,10 +49,6 @@ rule lyapunov_chaos:
             supplementary("lyapunov", "lyapunov_chaos")[0], caption="../report/lyapunov_chaos.rst", category=LYA_REPORT
         ),
         pdf=supplementary("lyapunov", "lyapunov_chaos")[1],
-    log:
-        logfile("lyapunov", "lyapunov_chaos"),
-    benchmark:
-        benchmark_file("lyapunov", "lyapunov_chaos")
     script:
         "../scripts/lyapunov_chaos.py"
 
@@ -70,10 +58,6 @@ rule lyapunov_sweep_part:
         sweep=BIF_SWEEP,
     output:
         part=LYAP_SWEEP_PART,
-    log:
-        logfile("lyapunov", "lyapunov_sweep_part_{sweep}_{chunk}"),
-    benchmark:
-        benchmark_file("lyapunov", "lyapunov_sweep_part_{sweep}_{chunk}")
     wildcard_constraints:
         chunk=r"\d+",
     # at the end of the sweeps' chain: start as soon as a sweep is merged
@@ -96,10 +80,6 @@ rule lyapunov_sweeps:
     output:
         lambdas=expand(LYAP_SWEEP, sweep=config["bifurcation"]["sweeps"]),
         signs=LYAP_SIGNS,
-    log:
-        logfile("lyapunov", "lyapunov_sweeps"),
-    benchmark:
-        benchmark_file("lyapunov", "lyapunov_sweeps")
     params:
         names=list(config["bifurcation"]["sweeps"]),
         chunks=LYA["sweeps"]["chunks"],
@@ -117,10 +97,6 @@ rule fig02_lyapunov:
             supplementary("lyapunov", "fig02_lyapunov")[0], caption="../report/fig02_lyapunov.rst", category=LYA_REPORT
         ),
         pdf=supplementary("lyapunov", "fig02_lyapunov")[1],
-    log:
-        logfile("lyapunov", "fig02_lyapunov"),
-    benchmark:
-        benchmark_file("lyapunov", "fig02_lyapunov")
     params:
         quantity="poincare",
         model=config["model"],
@@ -140,10 +116,6 @@ rule fig03b_lyapunov:
             category=LYA_REPORT,
         ),
         pdf=supplementary("lyapunov", "fig03b_lyapunov")[1],
-    log:
-        logfile("lyapunov", "fig03b_lyapunov"),
-    benchmark:
-        benchmark_file("lyapunov", "fig03b_lyapunov")
     params:
         quantity="isi",
         model=config["model"],

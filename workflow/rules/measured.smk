@@ -42,10 +42,6 @@ rule measured_surrogate:
         cache=NUMBA_CACHE,
     output:
         record=MEAS_SURROGATE,
-    log:
-        logfile("measured", "measured_surrogate_{kind}"),
-    benchmark:
-        benchmark_file("measured", "measured_surrogate_{kind}")
     wildcard_constraints:
         kind="chaos|sweep",
     params:
@@ -61,10 +57,6 @@ rule measured_chaos_events:
         record=MEAS_CHAOS_RECORD,
     output:
         events=MEAS_CHAOS_EVENTS,
-    log:
-        logfile("measured", "measured_chaos_events"),
-    benchmark:
-        benchmark_file("measured", "measured_chaos_events")
     params:
         x_impact=MEAS["chaos"]["x_impact"],
         noise=MEAS["chaos"]["noise"],
@@ -78,10 +70,6 @@ rule measured_fig02_points:
         records=MEAS_FIG02_RECORDS,
     output:
         points=MEAS_FIG02_POINTS,
-    log:
-        logfile("measured", "measured_fig02_points"),
-    benchmark:
-        benchmark_file("measured", "measured_fig02_points")
     params:
         segments=MEAS["fig02"]["segments"] if MEAS_FIG02_SWEEP else None,
         reader=MEAS["fig02"]["read"],
@@ -105,10 +93,6 @@ rule measured_noise_clean:
         cache=NUMBA_CACHE,
     output:
         runs=temp(expand(MEAS_NOISE_CLEAN_RUN, rate=[f"{r:g}" for r in MEAS_NOISE["rates"]])),
-    log:
-        logfile("measured", "measured_noise_clean"),
-    benchmark:
-        benchmark_file("measured", "measured_noise_clean")
     params:
         **MEAS_NOISE_COMMON,
         rates=MEAS_NOISE["rates"],
@@ -122,10 +106,6 @@ rule measured_noise_level:
     output:
         json=MEAS_NOISE_LEVEL_JSON,
         csv=MEAS_NOISE_LEVEL_CSV,
-    log:
-        logfile("measured", "measured_noise_level_{level}"),
-    benchmark:
-        benchmark_file("measured", "measured_noise_level_{level}")
     wildcard_constraints:
         level=r"\d+",
     params:
@@ -143,10 +123,6 @@ rule measured_noise_realism:
     output:
         json=MEAS_NOISE_REALISM_JSON,
         csv=MEAS_NOISE_REALISM_CSV,
-    log:
-        logfile("measured", "measured_noise_realism"),
-    benchmark:
-        benchmark_file("measured", "measured_noise_realism")
     params:
         **MEAS_NOISE_COMMON,
         study={k: MEAS_NOISE[k] for k in ("realism", "density_rate", "x_impact_span")},
@@ -163,10 +139,6 @@ rule measured_noise_study:
     output:
         csv=MEAS_NOISE_TABLE,
         json=MEAS_NOISE_STATS,
-    log:
-        logfile("measured", "measured_noise_study"),
-    benchmark:
-        benchmark_file("measured", "measured_noise_study")
     params:
         rates=MEAS_NOISE["rates"],
     script:
@@ -183,10 +155,6 @@ rule measured_noise_figure:
             category=MEAS_REPORT,
         ),
         pdf=supplementary("measured", "measured_noise_study")[1],
-    log:
-        logfile("measured", "measured_noise_figure"),
-    benchmark:
-        benchmark_file("measured", "measured_noise_figure")
     params:
         density_rate=MEAS_NOISE["density_rate"],
     script:
@@ -217,10 +185,6 @@ rule measured_x_impact_coverage_part:
         cache=NUMBA_CACHE,
     output:
         json=MEAS_XI_COVERAGE_PART,
-    log:
-        logfile("measured", "x_impact_coverage_{level}"),
-    benchmark:
-        benchmark_file("measured", "x_impact_coverage_{level}")
     wildcard_constraints:
         level=r"\d+",
     params:
@@ -241,10 +205,6 @@ rule measured_x_impact_coverage:
     output:
         csv=MEAS_XI_COVERAGE_TABLE,
         draws=MEAS_XI_COVERAGE_DRAWS,
-    log:
-        logfile("measured", "x_impact_coverage"),
-    benchmark:
-        benchmark_file("measured", "x_impact_coverage")
     script:
         "../scripts/measured_x_impact_coverage.py"
 
@@ -258,10 +218,6 @@ if MEAS_HOOK_CHAOS:
             noise=rules.measured_noise_study.output.json,
         output:
             rows=rows_file("measured"),
-        log:
-            logfile("measured", "measured_rows"),
-        benchmark:
-            benchmark_file("measured", "measured_rows")
         params:
             is_surrogate=MEAS["chaos"]["record"] is None,
             command="snakemake -j1 measured_rows",

@@ -16,10 +16,6 @@ rule orbit_segment:
         cache=NUMBA_CACHE,
     output:
         segment=ORBIT_SEGMENT,
-    log:
-        logfile("orbits", "orbit_segment_{segment}"),
-    benchmark:
-        benchmark_file("orbits", "orbit_segment_{segment}")
     wildcard_constraints:
         segment="|".join(ORB_SEGMENTS) or "none",
     priority: 5
@@ -41,10 +37,6 @@ rule orbits:
         csv=ORBIT_POINTS_TABLE,
         md=ORBIT_POINTS_MD,
         rows=rows_file("orbits"),
-    log:
-        logfile("orbits", "orbits"),
-    benchmark:
-        benchmark_file("orbits", "orbits")
     params:
         names=ORB_SEGMENTS,
         command="snakemake -j2 orbits",
@@ -61,10 +53,6 @@ rule fig02_orbits:
             supplementary("orbits", "fig02_orbits")[0], caption="../report/fig02_orbits.rst", category=ORB_REPORT
         ),
         pdf=supplementary("orbits", "fig02_orbits")[1],
-    log:
-        logfile("orbits", "fig02_orbits"),
-    benchmark:
-        benchmark_file("orbits", "fig02_orbits")
     params:
         figure="fig02",
         names=ORB_SEGMENTS,
@@ -83,10 +71,6 @@ rule fig03b_orbits:
             supplementary("orbits", "fig03b_orbits")[0], caption="../report/fig03b_orbits.rst", category=ORB_REPORT
         ),
         pdf=supplementary("orbits", "fig03b_orbits")[1],
-    log:
-        logfile("orbits", "fig03b_orbits"),
-    benchmark:
-        benchmark_file("orbits", "fig03b_orbits")
     params:
         figure="fig03b",
         names=ORB_SEGMENTS,

@@ -19,10 +19,6 @@ rule periodic_branch:
     output:
         branch=GRAZING_BRANCH,
         bisection=GRAZING_BISECTION,
-    log:
-        logfile("periodic", "periodic_branch"),
-    benchmark:
-        benchmark_file("periodic", "periodic_branch")
     priority: 10
     params:
         branch=PERIODIC["branch"],
@@ -38,10 +34,6 @@ rule periodic_from_rest:
         cache=NUMBA_CACHE,
     output:
         sweep=GRAZING_FROM_REST,
-    log:
-        logfile("periodic", "periodic_from_rest"),
-    benchmark:
-        benchmark_file("periodic", "periodic_from_rest")
     priority: 3
     params:
         scan=PERIODIC["from_rest"],
@@ -57,10 +49,6 @@ rule periodic_before_grazing:
         branch=rules.periodic_branch.output.branch,
     output:
         run=BRANCH_BEFORE_GRAZING_RUN,
-    log:
-        logfile("periodic", "periodic_before_grazing"),
-    benchmark:
-        benchmark_file("periodic", "periodic_before_grazing")
     params:
         scene=PERIODIC["before_grazing"],
         model=config["model"],
@@ -76,10 +64,6 @@ rule periodic_stats:
     output:
         stats=PERIODIC_STATS,
         spectrum=PERIOD4_SPECTRUM,
-    log:
-        logfile("periodic", "periodic_stats"),
-    benchmark:
-        benchmark_file("periodic", "periodic_stats")
     params:
         spectrum=PERIODIC["spectrum"],
         spectrum_of="after_grazing",
@@ -92,10 +76,6 @@ rule before_grazing_stats:
         before_grazing_branch=rules.periodic_before_grazing.output.run,
     output:
         stats=BEFORE_GRAZING_STATS,
-    log:
-        logfile("periodic", "before_grazing_stats"),
-    benchmark:
-        benchmark_file("periodic", "before_grazing_stats")
     params:
         spectrum=PERIODIC["spectrum"],
     # same statistics as rule periodic_stats, on the branch run: the script of that rule
@@ -110,10 +90,6 @@ rule grazing_stats:
         from_rest=rules.periodic_from_rest.output.sweep,
     output:
         stats=GRAZING_STATS,
-    log:
-        logfile("periodic", "grazing_stats"),
-    benchmark:
-        benchmark_file("periodic", "grazing_stats")
     params:
         paper_omegas=PERIODIC["grazing"]["paper_omegas"],
         n_fit=PERIODIC["grazing"]["n_fit"],
@@ -128,10 +104,6 @@ rule periodic_rows:
         grazing=rules.grazing_stats.output.stats,
     output:
         rows=rows_file("periodic"),
-    log:
-        logfile("periodic", "periodic_rows"),
-    benchmark:
-        benchmark_file("periodic", "periodic_rows")
     script:
         "../scripts/periodic_rows.py"
 
@@ -140,10 +112,6 @@ rule fig01:
     output:
         png=report(figure(1)[0], caption="../report/fig01.rst", category=PERIODIC_REPORT),
         pdf=figure(1)[1],
-    log:
-        logfile("periodic", "fig01"),
-    benchmark:
-        benchmark_file("periodic", "fig01")
     script:
         "../scripts/fig01.py"
 
@@ -154,10 +122,6 @@ rule fig03a:
     output:
         png=report(panel("fig03a")[0], caption="../report/fig03a.rst", category=PERIODIC_REPORT),
         pdf=panel("fig03a")[1],
-    log:
-        logfile("periodic", "fig03a"),
-    benchmark:
-        benchmark_file("periodic", "fig03a")
     params:
         start=PERIODIC["fig03a"]["start"],
         span=PERIODIC["fig03a"]["span"],
@@ -175,10 +139,6 @@ rule fig04:
     output:
         png=report(figure(4)[0], caption="../report/fig04.rst", category=PERIODIC_REPORT),
         pdf=figure(4)[1],
-    log:
-        logfile("periodic", "fig04"),
-    benchmark:
-        benchmark_file("periodic", "fig04")
     params:
         inset=PERIODIC["fig04"]["inset"],
     script:
@@ -192,10 +152,6 @@ rule fig05:
     output:
         png=report(figure(5)[0], caption="../report/fig05.rst", category=PERIODIC_REPORT),
         pdf=figure(5)[1],
-    log:
-        logfile("periodic", "fig05"),
-    benchmark:
-        benchmark_file("periodic", "fig05")
     script:
         "../scripts/fig05.py"
 
@@ -206,10 +162,6 @@ rule grazing:
     output:
         png=report(supplementary("periodic", "grazing")[0], caption="../report/grazing.rst", category=PERIODIC_REPORT),
         pdf=supplementary("periodic", "grazing")[1],
-    log:
-        logfile("periodic", "grazing"),
-    benchmark:
-        benchmark_file("periodic", "grazing")
     params:
         window=[PERIODIC["from_rest"]["start"], PERIODIC["from_rest"]["stop"]],
     script:

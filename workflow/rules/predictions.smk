@@ -15,10 +15,6 @@ rule prediction_segment:
         cache=NUMBA_CACHE,
     output:
         band=PREDICTION_SEGMENT,
-    log:
-        logfile("predictions", "prediction_segment_{segment}"),
-    benchmark:
-        benchmark_file("predictions", "prediction_segment_{segment}")
     wildcard_constraints:
         segment="|".join(PREDICTION_SEGMENTS) or "none",
     params:
@@ -33,8 +29,6 @@ rule predictions:
     output:
         csv=PREDICTION_TABLE,
         md=PREDICTION_MD,
-    log:
-        logfile("predictions", "predictions"),
     params:
         names=PREDICTION_SEGMENTS,
         model_source=config["model_source"],
@@ -51,10 +45,6 @@ rule prediction_check:
     output:
         csv=PREDICTION_CHECK_CSV,
         md=PREDICTION_CHECK_MD,
-    log:
-        logfile("predictions", "prediction_check"),
-    benchmark:
-        benchmark_file("predictions", "prediction_check")
     threads: available_cores
     params:
         check=PRED["check"],

@@ -7,10 +7,6 @@ rule numba_cache:
         sources=CORE_SOURCES,
     output:
         marker=NUMBA_CACHE,
-    log:
-        logfile("scenes", "numba_cache"),
-    benchmark:
-        benchmark_file("scenes", "numba_cache")
     priority: 20
     script:
         "../scripts/numba_cache.py"
@@ -21,10 +17,6 @@ rule simulate_scene:
         cache=NUMBA_CACHE,
     output:
         run=SCENE_RUN,
-    log:
-        logfile("scenes", "simulate_scene_{scene}"),
-    benchmark:
-        benchmark_file("scenes", "simulate_scene_{scene}")
     wildcard_constraints:
         scene="|".join(config["scenes"]),
     # lists of one: the script runs a list of scenes (rule chaotic_members runs several)

@@ -15,10 +15,6 @@ rule two_parameter_curve:
         cache=NUMBA_CACHE,
     output:
         curve=TWO_CURVE,
-    log:
-        logfile("two_parameter", "two_parameter_curve_{curve}"),
-    benchmark:
-        benchmark_file("two_parameter", "two_parameter_curve_{curve}")
     wildcard_constraints:
         curve="|".join(TWO_CURVES) or "none",
     params:
@@ -41,8 +37,6 @@ rule two_parameter:
         csv=TWO_POINTS_CSV,
         codim=TWO_CODIM_CSV,
         md=TWO_POINTS_MD,
-    log:
-        logfile("two_parameter", "two_parameter"),
     params:
         names=TWO_CURVES,
     script:
@@ -63,8 +57,6 @@ rule map2d_curves:
         pdf=supplementary("two_parameter", "map2d_curves")[1],
         separation=TWO_SEPARATION_CSV,
         md=TWO_SEPARATION_MD,
-    log:
-        logfile("two_parameter", "map2d_curves"),
     params:
         names=TWO_CURVES,
         model=config["model"],
@@ -80,10 +72,6 @@ rule two_parameter_band:
         cache=NUMBA_CACHE,
     output:
         band=TWO_BAND,
-    log:
-        logfile("two_parameter", "two_parameter_band_{curve}"),
-    benchmark:
-        benchmark_file("two_parameter", "two_parameter_band_{curve}")
     wildcard_constraints:
         curve="|".join(TWO_CURVES) or "none",
     params:
@@ -103,8 +91,6 @@ rule two_parameter_bands:
             category=PRED_REPORT,
         ),
         pdf=supplementary("two_parameter", "curves_bands")[1],
-    log:
-        logfile("two_parameter", "two_parameter_bands"),
     params:
         names=TWO_CURVES,
         model=config["model"],

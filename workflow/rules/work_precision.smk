@@ -24,10 +24,6 @@ rule wp_reference:
         cache=NUMBA_CACHE,
     output:
         json=WP_REFERENCE,
-    log:
-        logfile("work_precision", "wp_reference_{wp_scene}"),
-    benchmark:
-        benchmark_file("work_precision", "wp_reference_{wp_scene}")
     wildcard_constraints:
         wp_scene="|".join(WP["scenes"]),
     priority: 10
@@ -47,10 +43,6 @@ rule wp_measure:
         reference=WP_REFERENCE,
     output:
         csv=WP_MEASURE,
-    log:
-        logfile("work_precision", "wp_measure_{wp_scene}_{contestants}"),
-    benchmark:
-        benchmark_file("work_precision", "wp_measure_{wp_scene}_{contestants}")
     wildcard_constraints:
         wp_scene="|".join(WP["scenes"]),
         contestants="|".join(WP_CONTESTANTS),
@@ -69,10 +61,6 @@ rule wp_statistics:
         cache=NUMBA_CACHE,
     output:
         csv=WP_STATISTICS,
-    log:
-        logfile("work_precision", "wp_statistics"),
-    benchmark:
-        benchmark_file("work_precision", "wp_statistics")
     priority: 3
     params:
         model=config["model"],
@@ -91,10 +79,6 @@ rule wp_jit:
         cache=NUMBA_CACHE,
     output:
         json=WP_JIT,
-    log:
-        logfile("work_precision", "wp_jit"),
-    benchmark:
-        benchmark_file("work_precision", "wp_jit")
     params:
         cold=WP["jit_cold"],
     script:
@@ -116,10 +100,6 @@ rule work_precision:
             category=WP_CAPTIONS,
         ),
         pdf=supplementary("work_precision", "work_precision")[1],
-    log:
-        logfile("work_precision", "work_precision"),
-    benchmark:
-        benchmark_file("work_precision", "work_precision")
     params:
         levels=WP["headline_errors"],
     script:
@@ -131,10 +111,6 @@ rule hard_cases:
         cache=NUMBA_CACHE,
     output:
         csv=HARD_CASES_TABLE,
-    log:
-        logfile("work_precision", "hard_cases"),
-    benchmark:
-        benchmark_file("work_precision", "hard_cases")
     priority: 3
     params:
         hc=HC,
@@ -149,10 +125,6 @@ rule wp_rows:
         headline=rules.work_precision.output.headline,
     output:
         rows=rows_file("work_precision"),
-    log:
-        logfile("work_precision", "wp_rows"),
-    benchmark:
-        benchmark_file("work_precision", "wp_rows")
     params:
         command="snakemake -j2 work_precision hard_cases",
     script:
