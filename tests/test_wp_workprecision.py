@@ -162,8 +162,8 @@ def _stat_rows():
                 "isi_last_maximum": 0.2 + rng.normal(0, 5e-4),
             }
         )
-    good = dict(rows[0], kind="sweep", rtol=1e-6, wall_time=0.3)
-    bad = dict(rows[0], kind="sweep", rtol=1e-2, wall_time=0.1, n_impacts=3100.0)
+    good = dict(rows[0], kind="sweep", rtol=1e-6, rhs_evals=900_000)
+    bad = dict(rows[0], kind="sweep", rtol=1e-2, rhs_evals=300_000, n_impacts=3100.0)
     return [*rows, good, bad]
 
 

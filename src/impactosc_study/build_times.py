@@ -84,13 +84,14 @@ def _cell(v) -> str:
     return str(v)
 
 
-def build_times_markdown(groups: list[dict], largest: list[dict]) -> str:
-    """The Markdown page: the table per group with the total, then the largest jobs."""
+def build_times_markdown(groups: list[dict], largest: list[dict], target: str = "all", command: str = "make") -> str:
+    """The Markdown page of one tier (its ``target`` rule, built by ``command``): the table per
+    group with the total, then the largest jobs."""
     total = groups[-1] if groups else {"jobs": 0, "wall_s": 0.0, "cpu_s": math.nan}
     lines = [
         "# Build time",
         "",
-        f"Job time of the build of rule `all` (`make`): {total['jobs']} jobs, "
+        f"Job time of the build of rule `{target}` (`{command}`): {total['jobs']} jobs, "
         f"{_cell(total['wall_s'])} s of wall time summed over the jobs ({_cell(total['cpu_s'])} s of CPU time).",
         "Read from each job's Snakemake benchmark file (`results/<study>/benchmarks/<group>/<job>.tsv`) by the",
         "rule `build_times`. Jobs run side by side, so the build's own duration is shorter than the sum",

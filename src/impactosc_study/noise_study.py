@@ -6,16 +6,13 @@ this scores what extraction (:mod:`impactosc.records.extract`) recovers from the
 extra impacts, timing error against the stated sigma and the Cramer-Rao bound, penetration
 error, the obstacle estimate, and the train's statistics (C_V^2, ISI modes, ACF peaks).
 
-The study is one function (:func:`noise_study`) and, for a workflow that runs it as parallel
-jobs, its parts: each rate's clean run (:func:`clean_runs`, simulated once and shared by the
-levels), the rows of one noise level at every rate (:func:`noise_level_rows`, the same noise
-draws as the whole study), the sensor-realism rows (:func:`realism_rows`), and
-:func:`merge_levels`, which puts the levels' rows back in the study's order.
+The study is one function (:func:`noise_study`). A workflow runs it as parallel jobs, one per
+sampling rate (each rate's noise draws come from a generator of its own, so the study at one rate
+gives that rate's rows of the whole study) and one for the sensor-realism rows
+(:func:`realism_rows`), and concatenates them in the order of the rates.
 """
 
 from __future__ import annotations
-
-import itertools
 
 import numpy as np
 
@@ -27,21 +24,16 @@ from impactosc.records.surrogate import (
     REALISM_FIELDS,
     SurrogateOptions,
     mismatched_params,
-    sample_run,
     sensor_samples,
     surrogate_meta,
     surrogate_record,
-    surrogate_run,
 )
 from impactosc.statistics.impact_train import ImpactTrain
 from impactosc.statistics.train_analysis import analyse_train
 
 __all__ = [
     "TABLE_COLUMNS",
-    "clean_runs",
     "match_impacts",
-    "merge_levels",
-    "noise_level_rows",
     "noise_study",
     "realism_rows",
 ]
@@ -269,66 +261,6 @@ def noise_study(
     return out
 
 
-def noise_level_rows(
-    omega,
-    transient,
-    duration,
-    rates,
-    noises,
-    level,
-    *,
-    analysis=None,
-    mismatch=None,
-    seed=0,
-    params=None,
-    rtol=1e-10,
-    atol=1e-12,
-    x_impact_span=0.0,
-    x_impact_noise=(),
-    runs=None,
-):
-    """The rows of :func:`noise_study` for noise level ``noises[level]`` at every rate, alone.
-
-    Why: a workflow runs one job per level. Each rate's clean record is sampled from its clean
-    run (the same record as the study's: the simulation is deterministic) and the noise is the
-    study's own draw: one generator seeded with ``seed`` per rate gives the levels their noise
-    in turn, so the levels before this one are drawn and discarded. Level 0 also gives each
-    rate's exact-events row. Rows are grouped by rate, in the order of ``rates``:
-    :func:`merge_levels` relies on it.
-
-    runs : each rate's clean run as an (events, trajectory) pair, in the order of ``rates``
-        (from :func:`clean_runs`, or read back from the run files a workflow writes once for
-        every level's job); None: simulated here.
-    """
-    _check_x_impact_noise(noises, x_impact_noise)
-    if runs is not None and len(runs) != len(rates):
-        raise ValueError(f"{len(runs)} clean runs for {len(rates)} rates")
-    noise = noises[level]
-    out = []
-    for rate, run in zip(rates, runs or [None] * len(rates)):
-        rec0, truth = _clean_record(
-            omega, transient, duration, rate, mismatch=mismatch, seed=seed, params=params, rtol=rtol, atol=atol, run=run
-        )
-        if level == 0:
-            out.append(_exact_row(rate, rec0, truth, omega, analysis))
-        x = next(itertools.islice(_noisy_samples(rec0.x, noises, seed), level, None))
-        out.extend(_level_rows(rate, noise, rec0, truth, x, omega, analysis, x_impact_span, x_impact_noise))
-    return out
-
-
-def merge_levels(levels, n_rates):
-    """Rows of every level (a list per level, each from :func:`noise_level_rows` or the same rows
-    in another form, e.g. the table's cells) in the order of :func:`noise_study`: rate by rate,
-    and within a rate level by level. A level's rows come in ``n_rates`` equal groups."""
-    blocks = []
-    for i, rows in enumerate(levels):
-        if len(rows) % n_rates:
-            raise ValueError(f"noise level {i}: {len(rows)} rows do not split into {n_rates} rates")
-        k = len(rows) // n_rates
-        blocks.append([rows[j * k : (j + 1) * k] for j in range(n_rates)])
-    return [row for j in range(n_rates) for block in blocks for row in block[j]]
-
-
 def _check_x_impact_noise(noises, x_impact_noise):
     """x_impact_noise must name levels of the study (an estimate at a level not studied is a typo)."""
     stray = sorted(set(x_impact_noise) - set(noises))
@@ -336,28 +268,15 @@ def _check_x_impact_noise(noises, x_impact_noise):
         raise ValueError(f"x_impact_noise {stray} not among the study's noise levels {list(noises)}")
 
 
-def clean_runs(omega, transient, duration, rates, *, mismatch=None, params=None, rtol=1e-10, atol=1e-12):
-    """Each rate's clean run (:func:`impactosc.records.surrogate.surrogate_run`: exact events
-    and trajectory) for ``noise_level_rows(runs=...)``: simulated once, every level samples it."""
-    return [
-        surrogate_run(omega, transient, duration, _clean_options(rate, mismatch), params=params, rtol=rtol, atol=atol)
-        for rate in rates
-    ]
-
-
 def _clean_options(rate, mismatch, seed=0):
     """The surrogate's sensor at rate without noise (the study adds its own)."""
     return SurrogateOptions(rate=float(rate), noise=0.0, mismatch=mismatch or {}, seed=seed)
 
 
-def _clean_record(omega, transient, duration, rate, *, mismatch, seed, params, rtol, atol, run=None):
-    """The surrogate record sampled at rate without noise, and its exact events (the truth);
-    sampled from ``run`` (a clean run's (events, trajectory)) when given, else simulated."""
+def _clean_record(omega, transient, duration, rate, *, mismatch, seed, params, rtol, atol):
+    """The surrogate record sampled at rate without noise, and its exact events (the truth)."""
     base = _clean_options(rate, mismatch, seed)
-    if run is None:
-        return surrogate_record(omega, transient, duration, base, params=params, rtol=rtol, atol=atol)
-    events, trajectory = run
-    return sample_run(trajectory, omega, base, params=params), events
+    return surrogate_record(omega, transient, duration, base, params=params, rtol=rtol, atol=atol)
 
 
 def _exact_row(rate, rec0, truth, omega, analysis) -> dict:

@@ -1,7 +1,7 @@
 # Basins of attraction at one w (beyond the paper): which reference attractor (the branch's
 # period-1 orbit, the period-3 orbit past the grazing) each initial state (x0, v0) at phase 0
 # settles on, the fractions with their uncertainty, and where rest (0, 0) lies
-# (impactosc.dynamics.basins). Targets: basins (coarse grid, in the default build);
+# (impactosc.dynamics.basins). Targets: basins (coarse grid, in the tier beyond);
 # opt-in: basins_fine (the same ranges on a fine grid; the workload for a cluster, docs/workflow.md).
 #
 # As the 2-D map: the grid is split into `chunks` jobs of v0 rows (basins_part, wildcard
@@ -57,6 +57,6 @@ use rule basins as basins_fine with:
         pdf=supplementary("basins", "basins_fine")[1],
 
 
-ALL_TARGETS.extend(rules.basins.output)
-build_jobs(rules.basins_part, grid=["coarse"], chunk=range(BASINS_GRIDS["coarse"]["chunks"]))
-build_jobs(rules.basins)
+tier_products("beyond", rules.basins.output)
+tier_jobs("beyond", rules.basins_part, grid=["coarse"], chunk=range(BASINS_GRIDS["coarse"]["chunks"]))
+tier_jobs("beyond", rules.basins)

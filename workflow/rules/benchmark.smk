@@ -32,11 +32,7 @@ rule benchmark_core:
         "../scripts/benchmark_core.py"
 
 
-ALL_TARGETS.extend(rules.benchmark_core.output)
-build_jobs(rules.cyrk_shim, rules.benchmark_core)
-
-
-# Opt-in (about a minute): snakemake -j1 benchmark_taylor. Taylor steps against the core's
+# About a minute: snakemake -j1 benchmark_taylor. Taylor steps against the core's
 # DOP853 steps and heyoka on three pieces, and the core's time per period projected from them.
 rule benchmark_taylor:
     input:
@@ -52,7 +48,7 @@ rule benchmark_taylor:
         "../scripts/benchmark_taylor.py"
 
 
-# Opt-in (about 6 min, 3 GB of scratch disk at a time): snakemake -j2 benchmark_extraction.
+# About 6 min, 3 GB of scratch disk at a time: snakemake -j2 benchmark_extraction.
 # Throughput and peak memory of impactosc extract against sample rate and record length, HDF5 and
 # TDMS: each surrogate record written to a scratch folder, extracted in a fresh process, checked
 # against its exact impacts and deleted. A timing job (threads: timing_threads).
@@ -71,6 +67,54 @@ rule benchmark_extraction:
         scratch=config["benchmark_extraction"]["scratch"] or BENCHMARK_EXTRACTION_SCRATCH,
     script:
         "../scripts/benchmark_extraction.py"
+
+
+# The live explorer's waits through the scheduler its page uses: a timing job, whose worker
+# processes take the cores it claims.
+rule explorer_latency:
+    input:
+        cache=NUMBA_CACHE,
+    output:
+        md=EXPLORER_LATENCY_MD,
+    threads: timing_threads
+    params:
+        repeats=config["explorer_latency"]["repeats"],
+    script:
+        "../scripts/explorer_latency.py"
+
+
+# Every speed the tier measured, and the hard cases' verdict, as rows of the paper table's form
+rule benchmarks_report:
+    input:
+        wp_headline=WP_HEADLINE,
+        core_headline=BENCHMARK_CORE_HEADLINE,
+        hard=HARD_CASES_TABLE,
+    output:
+        csv=BENCHMARKS_REPORT_CSV,
+        md=BENCHMARKS_REPORT_MD,
+    params:
+        command="snakemake -j2 benchmarks_report",
+    script:
+        "../scripts/benchmarks_report.py"
+
+
+tier_products(
+    "benchmarks",
+    rules.benchmark_core.output,
+    rules.benchmark_taylor.output,
+    rules.benchmark_extraction.output,
+    rules.explorer_latency.output,
+    rules.benchmarks_report.output,
+)
+tier_jobs(
+    "benchmarks",
+    rules.cyrk_shim,
+    rules.benchmark_core,
+    rules.benchmark_taylor,
+    rules.benchmark_extraction,
+    rules.explorer_latency,
+    rules.benchmarks_report,
+)
 
 
 # Randomized differential testing: scenes drawn from a box wider than model BC,

@@ -192,18 +192,18 @@ rule map2d:
         "../scripts/map2d.py"
 
 
-ALL_TARGETS.extend(
-    [
-        *rules.fig02.output,
-        *rules.fig03b.output,
-        *rules.bifurcation_overlay.output,
-        *rules.bifurcation_tables.output,
-        rules.bifurcation_benchmark.output.json,
-    ]
+tier_products(
+    "paper", rules.fig02.output, rules.fig03b.output, rules.bifurcation_overlay.output, rules.bifurcation_tables.output
 )
 TABLE_ROWS.append(rules.bifurcation_tables.output.rows)
-build_jobs(rules.bifurcation_chunk, sweep=BIF_SWEEPS, chunk=range(BIF["chunks"]))
-build_jobs(rules.bifurcation_merge, sweep=BIF_SWEEPS)
+tier_jobs("paper", rules.bifurcation_chunk, sweep=BIF_SWEEPS, chunk=range(BIF["chunks"]))
+tier_jobs("paper", rules.bifurcation_merge, sweep=BIF_SWEEPS)
 if BIF["chunks"] > 1:  # the coarse pass seeds every chunk but the first
-    build_jobs(rules.bifurcation_coarse, sweep=BIF_SWEEPS)
-build_jobs(rules.bifurcation_tables, rules.fig02, rules.fig03b, rules.bifurcation_overlay, rules.bifurcation_benchmark)
+    tier_jobs("paper", rules.bifurcation_coarse, sweep=BIF_SWEEPS)
+tier_jobs("paper", rules.bifurcation_tables, rules.fig02, rules.fig03b, rules.bifurcation_overlay)
+# the sweeps' throughput, from the timing the sweep files carry
+tier_products("benchmarks", rules.bifurcation_benchmark.output)
+tier_jobs("benchmarks", rules.bifurcation_benchmark)
+# the 2-D map, which the two-parameter curves are drawn over (two_parameter.smk)
+tier_jobs("beyond", rules.map2d_part, chunk=range(BIF["map2d"]["chunks"]))
+tier_jobs("beyond", rules.map2d)

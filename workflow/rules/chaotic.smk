@@ -115,15 +115,15 @@ for _nn, _inputs in (
             "../scripts/chaotic_figure.py"
 
 
-ALL_TARGETS.extend(
-    [path for nn in range(6, 12) for path in figure(nn)]
-    + [
-        rules.chaotic_stats.output.mixture,
-        rules.chaotic_ensemble.output.csv,
-    ]
+tier_products(
+    "paper",
+    [path for nn in range(6, 12) for path in figure(nn)],
+    [rules.chaotic_stats.output.mixture, rules.chaotic_ensemble.output.csv],
 )
 TABLE_ROWS.append(rules.chaotic_stats.output.rows)
 if CHAOTIC_MEMBER_NAMES:
-    build_jobs(rules.chaotic_members)
-build_jobs(rules.chaotic_train_stats, train=list(CHAOTIC_TRAINS))
-build_jobs(rules.chaotic_ensemble, rules.chaotic_stats, *(getattr(rules, f"fig{nn:02d}") for nn in range(6, 12)))
+    tier_jobs("paper", rules.chaotic_members)
+tier_jobs("paper", rules.chaotic_train_stats, train=list(CHAOTIC_TRAINS))
+tier_jobs(
+    "paper", rules.chaotic_ensemble, rules.chaotic_stats, *(getattr(rules, f"fig{nn:02d}") for nn in range(6, 12))
+)

@@ -35,23 +35,28 @@ rule paper_vs_replication:
         "../scripts/paper_vs_replication.py"
 
 
-ALL_TARGETS.extend(rules.fig03.output)
-build_jobs(rules.fig03, rules.paper_vs_replication)
+tier_products("paper", rules.fig03.output, rules.paper_vs_replication.output)
+tier_jobs("paper", rules.fig03, rules.paper_vs_replication)
 
 
-# The job time of the default build per group, from the benchmark file of every job (each
-# rules file lists its jobs with build_jobs): as inputs they make it the build's last job, and
-# it reruns when a job does.
+# The job time of each tier per group, from the benchmark file of every job of the tier (each
+# rules file lists its jobs with tier_jobs): as inputs they make it the tier's last job, and it
+# reruns when a job does.
 rule build_times:
     input:
-        benchmarks=build_benchmarks,
+        benchmarks=tier_benchmarks,
     output:
         csv=BUILD_TIMES_CSV,
         md=BUILD_TIMES_MD,
+    wildcard_constraints:
+        tier="|".join(TIERS),
     params:
         largest=10,
+        target=lambda wc: TIERS[wc.tier][0],
+        command=lambda wc: TIERS[wc.tier][1],
     script:
         "../scripts/build_times.py"
 
 
-ALL_TARGETS.extend(rules.build_times.output)
+for _tier in TIERS:
+    tier_products(_tier, expand(rules.build_times.output, tier=_tier))

@@ -22,26 +22,37 @@ config = validate_config(config, workflow.source_path("../schemas/config.schema.
 # change, before any simulation runs, so parallel jobs only ever read it.
 CORE_SOURCES = [str(Path(impactosc.__file__).parent / name) for name in impactosc.CORE_SOURCES]
 
-# Each rules file appends its final products here (figures as figNN.png/.pdf, tables ...).
-ALL_TARGETS = []
-# Each figure group appends the CSV of its rows of the paper-vs-replication table here.
+# The three tiers, each a target of the Snakefile: the paper (target all, the default: every figure
+# and number of the paper, its table and the evidence the table cites), beyond the paper (target
+# beyond) and the benchmarks (target benchmarks, the jobs that time). Each rules file puts its final
+# products in a tier with tier_products() and its jobs with tier_jobs(); a rule in none is opt-in.
+# tier: its target rule and the make target that builds it
+TIERS = {"paper": ("all", "make"), "beyond": ("beyond", "make beyond"), "benchmarks": ("benchmarks", "make bench")}
+TIER_PRODUCTS = {tier: [] for tier in TIERS}
+# (rule, wildcard values) pairs per tier. The tier's build-time table (rule build_times) takes
+# their benchmark files as inputs, so it runs after every job of the tier and again after any of
+# them reruns.
+TIER_JOBS = {tier: [] for tier in TIERS}
+# Each group of the paper appends the CSV of its rows of the paper-vs-replication table here.
 TABLE_ROWS = []
-# The jobs of the default build (rule all), as (rule, wildcard values) pairs; each rules file adds
-# its jobs' with build_jobs(). The build-time table (rule build_times) takes their benchmark
-# files as inputs, so it runs after every job of the build and again after any of them reruns.
-BUILD_JOBS = []
 
 
-def build_jobs(*rules_, **wildcards):
-    """Count rules' jobs in the default build: each rule's job for every combination of the
+def tier_products(tier, *paths):
+    """Put final products (paths, or lists of them) in a tier's target."""
+    for path in paths:
+        TIER_PRODUCTS[tier].extend([path] if isinstance(path, str) else path)
+
+
+def tier_jobs(tier, *rules_, **wildcards):
+    """Count rules' jobs in a tier's build time: each rule's job for every combination of the
     wildcard values given as lists (as expand() makes them), or its one job without."""
-    BUILD_JOBS.extend((rule_, wildcards) for rule_ in rules_)
+    TIER_JOBS[tier].extend((rule_, wildcards) for rule_ in rules_)
 
 
-def build_benchmarks(wildcards=None):
-    """The benchmark file of every job of the default build (read once the rules have their files)."""
+def tier_benchmarks(wildcards):
+    """The benchmark file of every job of one tier (read once the rules have their files)."""
     files = []
-    for rule_, values in BUILD_JOBS:
+    for rule_, values in TIER_JOBS[wildcards.tier]:
         pattern = strip_wildcard_constraints(str(rule_.rule.benchmark))
         files.extend(expand(pattern, **values) if values else [pattern])
     return files
@@ -321,16 +332,19 @@ MEAS_CHAOS_EVENTS = study_path("runs/measured/chaos_events.h5")
 MEAS_FIG02_POINTS = study_path("runs/measured/fig02_experimental.h5")
 MEAS_NOISE_STATS = study_path("stats/measured/measured_noise_study.json")
 MEAS_NOISE_TABLE = study_path("tables/measured/measured_noise_study.csv")
-# the noise study's parts (one per noise level, one for the sensor-realism rows): slices of the two above
-MEAS_NOISE_LEVEL_JSON = study_path("stats/measured/noise_study/level{level}.json")
-MEAS_NOISE_LEVEL_CSV = study_path("stats/measured/noise_study/level{level}.csv")
+# the noise study's parts (one per sampling rate, one for the sensor-realism rows): slices of the two above
+MEAS_NOISE_RATE_JSON = study_path("stats/measured/noise_study/rate{rate}Hz.json")
+MEAS_NOISE_RATE_CSV = study_path("stats/measured/noise_study/rate{rate}Hz.csv")
 MEAS_NOISE_REALISM_JSON = study_path("stats/measured/noise_study/realism.json")
 MEAS_NOISE_REALISM_CSV = study_path("stats/measured/noise_study/realism.csv")
-# each sampling rate's clean run (no noise), simulated once for every level's job
-MEAS_NOISE_CLEAN_RUN = study_path("runs/measured/noise_study/clean_{rate}Hz.h5")
 MEAS_XI_COVERAGE_PART = study_path("stats/measured/x_impact_coverage/level{level}.json")
 MEAS_XI_COVERAGE_TABLE = study_path("tables/measured/x_impact_coverage.csv")
 MEAS_XI_COVERAGE_DRAWS = study_path("tables/measured/x_impact_coverage_draws.csv")
+
+# numerics group: the checks the paper's table cites, which time nothing
+NUMERICS_IMPACT_CHECKS = study_path("tables/numerics/impact_checks.csv")
+TOLERANCE_STATISTICS = study_path("tables/numerics/tolerance_statistics.csv")
+TOLERANCE_SUMMARY = study_path("tables/numerics/tolerance_statistics_summary.csv")
 
 # work_precision group (and the hard cases)
 # per scene, two jobs: the compiled contestants (the core, CyRK, heyoka's floor: a timing
@@ -341,14 +355,15 @@ WP_REFERENCE = study_path("runs/work_precision/{wp_scene}_reference.json")
 WP_JIT = study_path("runs/work_precision/jit.json")
 WP_TABLE = study_path("tables/work_precision/work_precision.csv")
 WP_HEADLINE = study_path("tables/work_precision/work_precision_headline.csv")
-WP_STATISTICS = study_path("tables/work_precision/work_precision_statistics.csv")
-WP_STATISTICS_SUMMARY = study_path("tables/work_precision/work_precision_statistics_summary.csv")
 HARD_CASES_TABLE = study_path("tables/work_precision/hard_cases.csv")
 
 # benchmark group
 BENCHMARK_CORE_CSV = study_path("tables/benchmark/benchmark_core.csv")
 BENCHMARK_CORE_MD = study_path("tables/benchmark/benchmark_core.md")
 BENCHMARK_CORE_HEADLINE = study_path("tables/benchmark/benchmark_core_headline.csv")
+BENCHMARKS_REPORT_CSV = study_path("tables/benchmark/benchmarks_report.csv")  # every speed measured, as table rows
+BENCHMARKS_REPORT_MD = study_path("tables/benchmark/benchmarks_report.md")
+EXPLORER_LATENCY_MD = study_path("tables/benchmark/explorer_latency.md")
 BENCHMARK_TAYLOR_CSV = study_path("tables/benchmark/benchmark_taylor.csv")
 BENCHMARK_TAYLOR_MD = study_path("tables/benchmark/benchmark_taylor.md")
 # extraction of long records: throughput and peak memory (opt-in: snakemake -j2 benchmark_extraction)
@@ -356,9 +371,9 @@ BENCHMARK_EXTRACTION_CSV = study_path("tables/benchmark/extraction_scaling.csv")
 BENCHMARK_EXTRACTION_MD = study_path("tables/benchmark/extraction_scaling.md")
 BENCHMARK_EXTRACTION_SCRATCH = study_path("runs/benchmark")  # records while measured (config scratch: null)
 
-# combined: the job time of the default build per group, from the benchmark files (rule build_times)
-BUILD_TIMES_CSV = study_path("tables/build_times.csv")
-BUILD_TIMES_MD = study_path("tables/build_times.md")
+# combined: the job time of each tier per group, from the benchmark files (rule build_times)
+BUILD_TIMES_CSV = study_path("tables/build_times_{tier}.csv")
+BUILD_TIMES_MD = study_path("tables/build_times_{tier}.md")
 
 # combined: the table of every number the paper states (named in the README: kept at the top)
 PAPER_TABLE_CSV = study_path("tables/paper_vs_replication.csv")

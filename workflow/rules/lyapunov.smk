@@ -124,10 +124,25 @@ rule fig03b_lyapunov:
         "../scripts/lyapunov_figure.py"
 
 
-ALL_TARGETS.extend(rules.lyapunov_chaos.output + rules.fig02_lyapunov.output + rules.fig03b_lyapunov.output)
-ALL_TARGETS.append(rules.lyapunov_sweeps.output.signs)
-build_jobs(rules.lyapunov_members)
-build_jobs(rules.lyapunov_sweep_part, sweep=list(config["bifurcation"]["sweeps"]), chunk=range(LYA["sweeps"]["chunks"]))
-build_jobs(
-    rules.lyapunov_checks, rules.lyapunov_chaos, rules.lyapunov_sweeps, rules.fig02_lyapunov, rules.fig03b_lyapunov
+tier_products(
+    "beyond",
+    rules.lyapunov_chaos.output,
+    rules.fig02_lyapunov.output,
+    rules.fig03b_lyapunov.output,
+    rules.lyapunov_sweeps.output.signs,
+)
+tier_jobs("beyond", rules.lyapunov_members)
+tier_jobs(
+    "beyond",
+    rules.lyapunov_sweep_part,
+    sweep=list(config["bifurcation"]["sweeps"]),
+    chunk=range(LYA["sweeps"]["chunks"]),
+)
+tier_jobs(
+    "beyond",
+    rules.lyapunov_checks,
+    rules.lyapunov_chaos,
+    rules.lyapunov_sweeps,
+    rules.fig02_lyapunov,
+    rules.fig03b_lyapunov,
 )

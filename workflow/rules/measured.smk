@@ -77,44 +77,32 @@ rule measured_fig02_points:
         "../scripts/measured_fig02_points.py"
 
 
-# The noise study as parallel jobs: one per noise level (every rate; the same noise draws as
-# the study in one process, impactosc_study.noise_study), each sampling the rates' clean runs
-# that one job simulates, and one for the sensor-realism rows (its own run, on the finer grid of
-# the anti-aliasing filter), merged into the table and the JSON the figure reads.
+# The noise study as parallel jobs: one per sampling rate (every noise level; a rate's noise draws
+# do not depend on the other rates', so the parts are the study's own rows, impactosc_study.noise_study)
+# and one for the sensor-realism rows (its own run, on the finer grid of the anti-aliasing filter),
+# merged into the table and the JSON the figure reads. The paper's tier has one part: the rate of the
+# surrogate's data-acquisition card (measured.surrogate.rate), whose rows the paper table states.
 MEAS_NOISE = MEAS["noise_study"]
 MEAS_NOISE_COMMON = {"surrogate": MEAS["surrogate"], "model": config["model"], "solver": config["solver"]}
-MEAS_NOISE_LEVELS = range(len(MEAS_NOISE["noise"]))
+MEAS_NOISE_RATES = [f"{rate:g}" for rate in MEAS_NOISE["rates"]]
+MEAS_NOISE_PAPER_RATE = f"{MEAS['surrogate']['rate']:g}"
 MEAS_NOISE_REALISM = bool(MEAS_NOISE.get("realism", {}).get("cases"))  # a realism job when cases are configured
 
 
-# temporary: read by the level jobs only (10-50 MB per rate, not compressed)
-rule measured_noise_clean:
+rule measured_noise_rate:
     input:
         cache=NUMBA_CACHE,
     output:
-        runs=temp(expand(MEAS_NOISE_CLEAN_RUN, rate=[f"{r:g}" for r in MEAS_NOISE["rates"]])),
-    params:
-        **MEAS_NOISE_COMMON,
-        rates=MEAS_NOISE["rates"],
-    script:
-        "../scripts/measured_noise_clean.py"
-
-
-rule measured_noise_level:
-    input:
-        runs=rules.measured_noise_clean.output.runs,
-    output:
-        json=MEAS_NOISE_LEVEL_JSON,
-        csv=MEAS_NOISE_LEVEL_CSV,
+        json=MEAS_NOISE_RATE_JSON,
+        csv=MEAS_NOISE_RATE_CSV,
     wildcard_constraints:
-        level=r"\d+",
+        rate=r"[0-9.e+]+",
     params:
         **MEAS_NOISE_COMMON,
-        # every level: a level's noise is drawn after the levels before it
-        study={k: MEAS_NOISE[k] for k in ("rates", "noise", "x_impact_span", "x_impact_noise")},
+        study={k: MEAS_NOISE[k] for k in ("noise", "x_impact_span", "x_impact_noise")},
         analysis=config["chaotic"]["analysis"],
     script:
-        "../scripts/measured_noise_level.py"
+        "../scripts/measured_noise_rate.py"
 
 
 rule measured_noise_realism:
@@ -132,15 +120,13 @@ rule measured_noise_realism:
 
 rule measured_noise_study:
     input:
-        level_json=expand(MEAS_NOISE_LEVEL_JSON, level=MEAS_NOISE_LEVELS),
-        level_csv=expand(MEAS_NOISE_LEVEL_CSV, level=MEAS_NOISE_LEVELS),
+        rate_json=expand(MEAS_NOISE_RATE_JSON, rate=MEAS_NOISE_RATES),
+        rate_csv=expand(MEAS_NOISE_RATE_CSV, rate=MEAS_NOISE_RATES),
         realism_json=[MEAS_NOISE_REALISM_JSON] if MEAS_NOISE_REALISM else [],
         realism_csv=[MEAS_NOISE_REALISM_CSV] if MEAS_NOISE_REALISM else [],
     output:
         csv=MEAS_NOISE_TABLE,
         json=MEAS_NOISE_STATS,
-    params:
-        rates=MEAS_NOISE["rates"],
     script:
         "../scripts/measured_noise_study.py"
 
@@ -161,21 +147,26 @@ rule measured_noise_figure:
         "../scripts/measured_noise_figure.py"
 
 
-ALL_TARGETS.extend(rules.measured_noise_figure.output + [rules.measured_noise_study.output.csv])
-build_jobs(rules.measured_noise_clean)
-build_jobs(rules.measured_noise_level, level=MEAS_NOISE_LEVELS)
-build_jobs(rules.measured_noise_study, rules.measured_noise_figure)
+# beyond the paper: the noise study at every rate, with the sensor-realism rows
+tier_products("beyond", rules.measured_noise_figure.output, rules.measured_noise_study.output.csv)
+# (the part at the surrogate card's rate is the paper's where the paper's rows read it, below)
+tier_jobs(
+    "beyond",
+    rules.measured_noise_rate,
+    rate=[r for r in MEAS_NOISE_RATES if not (MEAS_HOOK_CHAOS and r == MEAS_NOISE_PAPER_RATE)],
+)
+tier_jobs("beyond", rules.measured_noise_study, rules.measured_noise_figure)
 if MEAS_NOISE_REALISM:
-    build_jobs(rules.measured_noise_realism)
-# the surrogate's records and events, where a panel of another group is drawn from them
+    tier_jobs("beyond", rules.measured_noise_realism)
+# the paper: the surrogate's records and events, where a panel of another group is drawn from them
 if MEAS_HOOK_CHAOS:
-    build_jobs(rules.measured_chaos_events)
+    tier_jobs("paper", rules.measured_chaos_events)
     if MEAS["chaos"]["record"] is None:
-        build_jobs(rules.measured_surrogate, kind=["chaos"])
+        tier_jobs("paper", rules.measured_surrogate, kind=["chaos"])
 if MEAS_HOOK_FIG02:
-    build_jobs(rules.measured_fig02_points)
+    tier_jobs("paper", rules.measured_fig02_points)
     if not (MEAS_FIG02_SWEEP or MEAS["fig02"]["records"]):
-        build_jobs(rules.measured_surrogate, kind=["sweep"])
+        tier_jobs("paper", rules.measured_surrogate, kind=["sweep"])
 
 
 # Opt-in (about 6 min of CPU at the defaults): snakemake -j2 measured_x_impact_coverage.
@@ -215,7 +206,8 @@ if MEAS_HOOK_CHAOS:
         input:
             second=expand(CHAOTIC_TRAIN_STATS, train="second"),
             model=expand(CHAOTIC_TRAIN_STATS, train="model"),
-            noise=rules.measured_noise_study.output.json,
+            # the noise study's part at the surrogate card's rate
+            noise=expand(MEAS_NOISE_RATE_JSON, rate=MEAS_NOISE_PAPER_RATE),
         output:
             rows=rows_file("measured"),
         params:
@@ -225,4 +217,5 @@ if MEAS_HOOK_CHAOS:
             "../scripts/measured_rows.py"
 
     TABLE_ROWS.append(rules.measured_rows.output.rows)
-    build_jobs(rules.measured_rows)
+    tier_jobs("paper", rules.measured_rows)
+    tier_jobs("paper", rules.measured_noise_rate, rate=[MEAS_NOISE_PAPER_RATE])

@@ -168,7 +168,8 @@ rule grazing:
         "../scripts/grazing.py"
 
 
-ALL_TARGETS.extend(
+tier_products(
+    "paper",
     [
         *rules.fig01.output,
         *rules.fig03a.output,
@@ -178,10 +179,11 @@ ALL_TARGETS.extend(
         rules.grazing_stats.output.stats,
         rules.periodic_stats.output.stats,
         rules.before_grazing_stats.output.stats,
-    ]
+    ],
 )
 TABLE_ROWS.append(rules.periodic_rows.output.rows)
-build_jobs(
+tier_jobs(
+    "paper",
     rules.periodic_branch,
     rules.periodic_from_rest,
     rules.periodic_before_grazing,

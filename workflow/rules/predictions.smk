@@ -51,3 +51,11 @@ rule prediction_check:
         model_source=config["model_source"],
     script:
         "../scripts/prediction_check.py"
+
+
+# beyond the paper, for a model with a covariance (make beyond builds them for the model the paper's
+# study identifies, as a study of its own); the Monte Carlo check stays opt-in
+if config["model_source"]["covariance"]:
+    tier_products("beyond", rules.predictions.output)
+    tier_jobs("beyond", rules.prediction_segment, segment=PREDICTION_SEGMENTS)
+    tier_jobs("beyond", rules.predictions)

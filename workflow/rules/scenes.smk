@@ -28,5 +28,6 @@ rule simulate_scene:
         "../scripts/simulate_scene.py"
 
 
-build_jobs(rules.numba_cache)
-build_jobs(rules.simulate_scene, scene=list(config["scenes"]))
+tier_products("paper", expand(rules.simulate_scene.output.run, scene=list(config["scenes"])))
+tier_jobs("paper", rules.numba_cache)
+tier_jobs("paper", rules.simulate_scene, scene=list(config["scenes"]))

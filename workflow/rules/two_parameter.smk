@@ -97,3 +97,14 @@ rule two_parameter_bands:
         model_source=config["model_source"],
     script:
         "../scripts/two_parameter_bands.py"
+
+
+# beyond the paper: the curves, their table, the curves over the 2-D map (bifurcation.smk) and, for a
+# model with a covariance, their bands
+tier_products("beyond", rules.two_parameter.output, rules.map2d_curves.output)
+tier_jobs("beyond", rules.two_parameter_curve, curve=TWO_CURVES)
+tier_jobs("beyond", rules.two_parameter, rules.map2d_curves)
+if config["model_source"]["covariance"]:
+    tier_products("beyond", rules.two_parameter_bands.output)
+    tier_jobs("beyond", rules.two_parameter_band, curve=TWO_CURVES)
+    tier_jobs("beyond", rules.two_parameter_bands)

@@ -3,8 +3,9 @@
 # the compiled peers CyRK and heyoka's floor) over a tolerance sweep against a reference from
 # another method (wp_reference, computed once per scene beside other jobs; wp_measure, one job
 # for the compiled contestants and one for SciPy's); the chaotic statistics against tolerance
-# (wp_statistics); JIT compile time apart (wp_jit); then table, speed ratios and figure.
-# hard_cases: every hard case of impactosc_bench.hardcases at full length, one CSV.
+# (numerics.smk: tolerance_statistics); JIT compile time apart (wp_jit); then table, speed ratios
+# and figure. hard_cases: every hard case of impactosc_bench.hardcases at full length, one CSV.
+# All of it is the benchmarks tier.
 # The compiled contestants' job is a timing job (threads: timing_threads: the whole machine
 # when timing.exclusive is set); SciPy's, 100-1000x slower, is never exclusive.
 WP = config["work_precision"]
@@ -56,22 +57,6 @@ rule wp_measure:
         "../scripts/wp_measure.py"
 
 
-rule wp_statistics:
-    input:
-        cache=NUMBA_CACHE,
-    output:
-        csv=WP_STATISTICS,
-    priority: 3
-    params:
-        model=config["model"],
-        scene=scene(WP["statistics"]["scene"]),
-        stats=WP["statistics"],
-        atol_ratio=WP["atol_ratio"],
-        analysis=config["chaotic"]["analysis"],
-    script:
-        "../scripts/wp_statistics.py"
-
-
 # The cold compile is the numba_cache job's when it found the cache empty (a fresh clone);
 # otherwise (and work_precision.jit_cold) one in a fresh process with an empty temporary cache.
 rule wp_jit:
@@ -88,12 +73,11 @@ rule wp_jit:
 rule work_precision:
     input:
         scenes=expand(rules.wp_measure.output.csv, wp_scene=list(WP["scenes"]), contestants=WP_CONTESTANTS),
-        stats=rules.wp_statistics.output.csv,
+        stats=TOLERANCE_STATISTICS,  # the numerics group's, drawn under the speeds
         jit=rules.wp_jit.output.json,
     output:
         table=WP_TABLE,
         headline=WP_HEADLINE,
-        statistics_summary=WP_STATISTICS_SUMMARY,
         png=report(
             supplementary("work_precision", "work_precision")[0],
             caption="../report/work_precision.rst",
@@ -109,6 +93,7 @@ rule work_precision:
 rule hard_cases:
     input:
         cache=NUMBA_CACHE,
+        checks=NUMERICS_IMPACT_CHECKS,  # the numerics group's impact checks: the table's first rows
     output:
         csv=HARD_CASES_TABLE,
     priority: 3
@@ -118,22 +103,7 @@ rule hard_cases:
         "../scripts/hard_cases.py"
 
 
-rule wp_rows:
-    input:
-        hard=rules.hard_cases.output.csv,
-        summary=rules.work_precision.output.statistics_summary,
-        headline=rules.work_precision.output.headline,
-    output:
-        rows=rows_file("work_precision"),
-    params:
-        command="snakemake -j2 work_precision hard_cases",
-    script:
-        "../scripts/wp_rows.py"
-
-
-ALL_TARGETS.extend(rules.work_precision.output)
-ALL_TARGETS.extend(rules.hard_cases.output)
-TABLE_ROWS.append(rules.wp_rows.output.rows)
-build_jobs(rules.wp_reference, wp_scene=list(WP["scenes"]))
-build_jobs(rules.wp_measure, wp_scene=list(WP["scenes"]), contestants=WP_CONTESTANTS)
-build_jobs(rules.wp_statistics, rules.wp_jit, rules.work_precision, rules.hard_cases, rules.wp_rows)
+tier_products("benchmarks", rules.work_precision.output, rules.hard_cases.output)
+tier_jobs("benchmarks", rules.wp_reference, wp_scene=list(WP["scenes"]))
+tier_jobs("benchmarks", rules.wp_measure, wp_scene=list(WP["scenes"]), contestants=WP_CONTESTANTS)
+tier_jobs("benchmarks", rules.wp_jit, rules.work_precision, rules.hard_cases)

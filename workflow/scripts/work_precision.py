@@ -1,7 +1,7 @@
 """Assemble the work-precision outputs: merged table, speed ratios at equal error, figure.
 
-Reads input.scenes (per-scene measurements), input.stats (the statistics CSV), input.jit; writes
-output.table, output.headline (speed ratios), output.statistics_summary, output.png, output.pdf.
+Reads input.scenes (per-scene measurements), input.stats (the statistics against tolerance), input.jit;
+writes output.table, output.headline (speed ratios), output.png, output.pdf.
 """
 
 from _logging import configure_logging, mock_snakemake
@@ -14,7 +14,6 @@ import logging
 
 from impactosc.io.files import read_json, read_table, write_table
 from impactosc_bench.speed_at_error import speed_at_error_headline
-from impactosc_bench.tolerance_statistics import statistics_summary
 from impactosc_bench.work_precision_figure import plot_work_precision
 from impactosc_study.figures import save_figure
 
@@ -35,7 +34,6 @@ def main(scene_csvs, stats_csv, jit_json, levels, out):
         sources=[scene_csvs, jit_json],
     )
     stats = _stats_rows(read_table(stats_csv))
-    write_table(out.statistics_summary, statistics_summary(stats), sources=stats_csv)
     save_figure(plot_work_precision(rows, stats, jit=jit), out.png, out.pdf)
     logging.info("%d measurements, %d headline rows; wrote %s", len(rows), len(head), out.png)
 

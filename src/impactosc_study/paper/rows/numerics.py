@@ -1,35 +1,34 @@
-"""Rows on the numerics: the step-size cap the paper needed, against what the hard cases and the
-work-precision sweep show of ours.
+"""Rows on the numerics: the step-size cap the paper needed, against what the impact checks and
+the statistics-against-tolerance sweep show of ours.
 
-Why a module: the only numerics the paper states is Mathematica's MaxStepSize; these rows
-answer it from the benchmark tables (results/<study>/tables/work_precision/).
+Why a module: the only numerics the paper states is Mathematica's MaxStepSize; these rows answer
+it from checks that time nothing (results/<study>/tables/numerics/), so that two builds give the
+same table. Speeds belong to the benchmarks' report (impactosc_bench.report).
 """
 
 from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from impactosc_study.paper.numbers import MAX_STEP_SIZE
 
 __all__ = ["numerics_rows"]
 
 
-def numerics_rows(hard: list[dict], stats_summary: list[dict], head: list[dict], command: str) -> list[dict]:
+def numerics_rows(checks: list[dict], stats_summary: list[dict], command: str) -> list[dict]:
     """Rows for the paper-vs-replication table: the paper's only statement on numerics is
     that Mathematica needed MaxStepSize = 0.01 s (periodic) and 1e-5 s (chaotic) "to avoid
-    the omissions of impacts"; ours needs no cap, which the hard cases and the statistics
-    sweep document."""
+    the omissions of impacts"; ours needs no cap, which the impact checks (``checks``: the
+    grazing sweep and the chattering sequences) and the statistics sweep document."""
 
     def find(case, words):
-        return [r for r in hard if r["case"] == case and all(w in r["check"] for w in words)]
+        return [r for r in checks if r["case"] == case and all(w in r["check"] for w in words)]
 
     graz = find("grazing", ["classifies"])
     deep = find("grazing", ["shallowest"])
     miss = find("grazing", ["near-miss"])
     chat = find("chattering", ["minus the reference"])
-    n_fail = sum(1 for r in hard if r["passed"] in (False, "no"))
+    n_fail = sum(1 for r in checks if r["passed"] in (False, "no"))
     grazing = (
         f"{int(graz[0]['measured'])}/{int(graz[0]['bound'])} w through grazing classified as an independent "
         f"scan does; contacts down to {deep[0]['measured']:.1g} m and near misses down to "
@@ -41,22 +40,14 @@ def numerics_rows(hard: list[dict], stats_summary: list[dict], head: list[dict],
     conv = [r for r in stats_summary if r["converged"] in (True, "yes")]
     loosest = max((r["rtol"] for r in conv), default=math.nan)
     unconv = [r["rtol"] for r in stats_summary if r["converged"] not in (True, "yes")]
-    speed = [h for h in head if h["metric"] == "impact_time_error"]
-    speed_txt = "; ".join(
-        f"{h['scene']} at {h['error_level']:g} s: {h['speedup']:.0f}x {h['best_scipy']}"
-        if np.isfinite(h["speedup"])
-        else f"{h['scene']} at {h['error_level']:g} s: > {h['speedup_at_least']:.0f}x (SciPy stopped by the time budget)"
-        for h in speed
-        if np.isfinite(h["speedup"]) or np.isfinite(h.get("speedup_at_least", math.nan))
-    )
     return [
         {
             "section": "2.1 (numerics)",
             "quantity": "step-size cap needed so that no impact is omitted",
             "paper": f"Mathematica MaxStepSize = {MAX_STEP_SIZE['periodic']} s (periodic), "
             f"{MAX_STEP_SIZE['chaotic']} s (chaotic)",
-            "replication": f"no cap (event-split adaptive core): {grazing}{chatter}; {n_fail} of {len(hard)} hard-case "
-            "checks failed (results/<study>/tables/work_precision/hard_cases.csv)",
+            "replication": f"no cap (event-split adaptive core): {grazing}{chatter}; {n_fail} of {len(checks)} impact "
+            "checks failed (results/<study>/tables/numerics/impact_checks.csv)",
             "tolerance": "no impact missed or invented against independent references",
             "agrees": "n.a.",
             "command": command,
@@ -69,9 +60,8 @@ def numerics_rows(hard: list[dict], stats_summary: list[dict], head: list[dict],
                 f"counts, windows, C_V^2 and ISI maxima within 3 sd of an ensemble of realisations "
                 f"at every core rtol up to {loosest:g}"
                 + (f"; not at rtol {', '.join(f'{u:g}' for u in unconv)}" if unconv else "")
-                + (f". Speed at equal impact-time error, core vs fastest SciPy: {speed_txt}" if speed else "")
             ),
-            "tolerance": "3 sd of the ensemble (results/<study>/tables/work_precision/work_precision_statistics_summary.csv)",
+            "tolerance": "3 sd of the ensemble (results/<study>/tables/numerics/tolerance_statistics_summary.csv)",
             "agrees": "n.a.",
             "command": command,
         },

@@ -1,0 +1,22 @@
+"""The live explorer's waits (a new w's attractor, a 400-column diagram's first columns and whole),
+through the scheduler its page uses, with as many worker processes as the job has threads.
+
+Reads input.cache and params.repeats; writes output.md (the table, with the targets).
+"""
+
+from _logging import configure_logging, mock_snakemake
+
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("explorer_latency")
+configure_logging(snakemake)
+
+import logging
+
+from impactosc.io.files import write_text
+from impactosc_bench.explorer_latency import markdown, measure_latency
+
+workers = max(2, snakemake.threads)  # the page's default pool
+rows = measure_latency(snakemake.params.repeats, workers)
+write_text(snakemake.output.md, "# Explorer latency\n\n" + markdown(rows, workers))
+for r in rows:
+    logging.info(f"{r['what']}: median {r['median']:.3f} s, worst {r['worst']:.3f} s")
