@@ -1,6 +1,6 @@
-"""The workflow end to end: every rule of `snakemake all`, map2d and map2d_curves on config/tiny.yaml
-(short scenes, a few sweep points, a 2 x 2 map and a short curve over it, a short surrogate) in a
-temporary directory.
+"""The workflow end to end: every rule of `snakemake everything` (the three tiers: the paper, beyond
+it, the benchmarks) on config/tiny.yaml (short scenes, a few sweep points, a 2 x 2 map and a short
+curve over it, a short surrogate, tiny benchmarks) in a temporary directory.
 
 What it guards: the DAG is complete (every rule runs, no input is missing, every script
 writes what its rule declares), and a finished build is up to date (a second dry run has
@@ -20,7 +20,8 @@ from impactosc.io.files import read_csv
 REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = [sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile")]
 CONFIGS = ["--configfile", str(REPO / "config" / "config.yaml"), str(REPO / "config" / "tiny.yaml")]
-TARGETS = ["all", "map2d", "map2d_curves"]
+TARGETS = ["everything"]
+TIERS = ("paper", "beyond", "benchmarks")
 
 PAPER_FIGURES = [f"fig{nn:02d}" for nn in range(1, 12)] + ["fig03a", "fig03b"]
 SUPPLEMENTARY = [
@@ -66,22 +67,21 @@ def test_paper_table_and_benchmarks_are_written(tiny_build):
     assert md.count("\n|") > 20  # one row per number of the paper
     assert (tables / "benchmark" / "benchmark_core.md").read_text().startswith("# Core speed")
     assert (tables / "work_precision" / "hard_cases.csv").stat().st_size > 0
+    assert (tables / "benchmark" / "benchmarks_report.md").read_text().startswith("# Benchmarks")
 
 
-def test_build_time_table_counts_every_job(tiny_build):
+def test_build_time_tables_count_every_job(tiny_build):
     tables = tiny_build / "results" / "paper" / "tables"
-    groups = read_csv(tables / "build_times.csv", numbers=True)
-    total = groups[-1]
-    assert total["group"] == "total" and total["wall_s"] == pytest.approx(sum(g["wall_s"] for g in groups[:-1]))
-    # every job of `all` wrote a benchmark file and is counted (map2d and the two-parameter curves,
-    # also built here, are opt-in)
-    opt_in = [
-        *(tiny_build / "results" / "paper" / "benchmarks").rglob("map2d*.tsv"),
-        *(tiny_build / "results" / "paper" / "benchmarks" / "two_parameter").glob("*.tsv"),
-    ]
-    benchmarks = [p for p in (tiny_build / "results" / "paper" / "benchmarks").rglob("*.tsv") if p not in opt_in]
-    assert total["jobs"] == len(benchmarks) > 50
-    assert "| **total** |" in (tables / "build_times.md").read_text()
+    counted = 0
+    for tier in TIERS:
+        groups = read_csv(tables / f"build_times_{tier}.csv", numbers=True)
+        total = groups[-1]
+        assert total["group"] == "total" and total["wall_s"] == pytest.approx(sum(g["wall_s"] for g in groups[:-1]))
+        assert "| **total** |" in (tables / f"build_times_{tier}.md").read_text()
+        counted += total["jobs"]
+    # every job of the three tiers wrote a benchmark file and is counted in exactly one tier
+    benchmarks = list((tiny_build / "results" / "paper" / "benchmarks").rglob("*.tsv"))
+    assert counted == len(benchmarks) > 80
 
 
 def test_run_files_carry_provenance(tiny_build):

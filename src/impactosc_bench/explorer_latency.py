@@ -61,11 +61,12 @@ def time_attractor(s: Scheduler, view: View, omega: float, seed) -> float:
     return time.perf_counter() - t0
 
 
-def measure_latency(repeats: int, workers: int = 2) -> list[dict]:
-    """The three waits, each its median over `repeats` (the attractor's over OMEGAS as well)."""
+def measure_latency(repeats: int, workers: int = 2, columns: int = 400) -> list[dict]:
+    """The three waits, each its median over `repeats` (the attractor's over OMEGAS as well), on a
+    diagram of `columns` columns (the targets are set for 400)."""
     s = Scheduler(workers)
     warm = s.warm()
-    view = View(w_lo=20.0, w_hi=45.0, n_columns=400)
+    view = View(w_lo=20.0, w_hi=45.0, n_columns=columns)
     firsts, totals, cpus, seeds = [], [], [], {}
     for _ in range(repeats):
         first, total, seeds, cpu = time_diagram(s, view)
@@ -85,11 +86,11 @@ def measure_latency(repeats: int, workers: int = 2) -> list[dict]:
              median=statistics.median(seeded), worst=max(seeded), target=TARGETS["attractor"]),
         dict(what=f"a new w's attractor, from rest ({view.n_initial} + 60 periods)", runs=len(rest),
              median=statistics.median(rest), worst=max(rest), target=TARGETS["attractor"]),
-        dict(what=f"400-column diagram, first columns ({per_w})", runs=repeats, median=statistics.median(firsts),
+        dict(what=f"{columns}-column diagram, first columns ({per_w})", runs=repeats, median=statistics.median(firsts),
              worst=max(firsts), target=TARGETS["first"]),
-        dict(what=f"400-column diagram, complete ({per_w})", runs=repeats, median=statistics.median(totals),
+        dict(what=f"{columns}-column diagram, complete ({per_w})", runs=repeats, median=statistics.median(totals),
              worst=max(totals), target=TARGETS["diagram"]),
-        dict(what=f"400-column diagram, its columns' CPU time / {workers} (complete on {workers} idle cores)",
+        dict(what=f"{columns}-column diagram, its columns' CPU time / {workers} (complete on {workers} idle cores)",
              runs=repeats, median=statistics.median(cpus), worst=max(cpus), target=TARGETS["diagram"]),
         dict(what="workers started and the compiled core loaded (once, before the page is served)", runs=1,
              median=warm, worst=warm, target=float("nan")),

@@ -79,6 +79,7 @@ rule explorer_latency:
     threads: timing_threads
     params:
         repeats=config["explorer_latency"]["repeats"],
+        columns=config["explorer_latency"]["columns"],
     script:
         "../scripts/explorer_latency.py"
 

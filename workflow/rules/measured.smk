@@ -207,7 +207,7 @@ if MEAS_HOOK_CHAOS:
             second=expand(CHAOTIC_TRAIN_STATS, train="second"),
             model=expand(CHAOTIC_TRAIN_STATS, train="model"),
             # the noise study's part at the surrogate card's rate
-            noise=expand(MEAS_NOISE_RATE_JSON, rate=MEAS_NOISE_PAPER_RATE),
+            noise=MEAS_NOISE_RATE_JSON.format(rate=MEAS_NOISE_PAPER_RATE),
         output:
             rows=rows_file("measured"),
         params:

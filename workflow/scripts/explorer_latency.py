@@ -1,7 +1,7 @@
 """The live explorer's waits (a new w's attractor, a 400-column diagram's first columns and whole),
 through the scheduler its page uses, with as many worker processes as the job has threads.
 
-Reads input.cache and params.repeats; writes output.md (the table, with the targets).
+Reads input.cache, params.repeats and params.columns (of the diagram); writes output.md (the table, with the targets).
 """
 
 from _logging import configure_logging, mock_snakemake
@@ -16,7 +16,7 @@ from impactosc.io.files import write_text
 from impactosc_bench.explorer_latency import markdown, measure_latency
 
 workers = max(2, snakemake.threads)  # the page's default pool
-rows = measure_latency(snakemake.params.repeats, workers)
+rows = measure_latency(snakemake.params.repeats, workers, snakemake.params.columns)
 write_text(snakemake.output.md, "# Explorer latency\n\n" + markdown(rows, workers))
 for r in rows:
     logging.info(f"{r['what']}: median {r['median']:.3f} s, worst {r['worst']:.3f} s")
