@@ -48,6 +48,7 @@ if CHAOTIC_MEMBER_NAMES:
 
 rule chaotic_train_stats:
     input:
+        kernels=NUMBA_KERNELS,
         events=lambda wc: CHAOTIC_TRAINS[wc.train][0],
     output:
         json=CHAOTIC_TRAIN_STATS,
@@ -62,6 +63,7 @@ rule chaotic_train_stats:
 
 rule chaotic_ensemble:
     input:
+        kernels=NUMBA_KERNELS,
         runs=[CHAOTIC_SCENE_RUN] + expand(CHAOTIC_MEMBER_RUN, member=CHAOTIC_MEMBER_NAMES),
     output:
         json=CHAOTIC_ENSEMBLE_STATS,
@@ -74,6 +76,7 @@ rule chaotic_ensemble:
 
 rule chaotic_stats:
     input:
+        kernels=NUMBA_KERNELS,
         model=CHAOTIC_MODEL_STATS,
         ensemble=rules.chaotic_ensemble.output.json,
         run=CHAOTIC_SCENE_RUN,

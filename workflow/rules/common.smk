@@ -21,6 +21,12 @@ config = validate_config(config, workflow.source_path("../schemas/config.schema.
 # and shared by every job; the numba_cache rule fills it once, whenever those sources
 # change, before any simulation runs, so parallel jobs only ever read it.
 CORE_SOURCES = [str(Path(impactosc.__file__).parent / name) for name in impactosc.CORE_SOURCES]
+# The kernels of record extraction and of the mixture fits (numba, cached beside the core): one job
+# (rule numba_cache_kernels) compiles them, beside the core's compile, for every job that reads records.
+KERNEL_SOURCES = [
+    str(Path(impactosc.__file__).parent / name)
+    for name in ("records/impact_times.py", "records/contact_window.py", "statistics/mixture_kernels.py")
+]
 
 # The three tiers, each a target of the Snakefile: the paper (target all, the default: every figure
 # and number of the paper, its table and the evidence the table cites), beyond the paper (target
@@ -110,6 +116,7 @@ def study_path(path):
 # loaded, read by wp_jit as the cold JIT time) would describe whichever study ran first. Per
 # study, the second study's marker job finds the cache filled and only loads it (about 1 s).
 NUMBA_CACHE = study_path(".numba_cache_ready")  # marker: the core is compiled into the shared cache
+NUMBA_KERNELS = study_path(".numba_kernels_ready")  # marker: record and mixture kernels compiled (or why not)
 CYRK_SHIM = study_path(".cyrk_shim_ready")  # marker: the CyRK shim is built (or why it cannot be)
 
 

@@ -29,6 +29,7 @@ rule identify_surrogate:
 
 rule identify_model:
     input:
+        kernels=NUMBA_KERNELS,
         cache=NUMBA_CACHE,
         records=IDENT_RECORDS,
     output:
@@ -60,6 +61,7 @@ rule identify_figure:
 
 rule identify_choice_candidate:
     input:
+        kernels=NUMBA_KERNELS,
         cache=NUMBA_CACHE,
         records=IDENT_RECORDS,
     output:
@@ -101,6 +103,7 @@ if not IDENT["records"]:
 # Opt-in (about 2 min of CPU per draw): snakemake -j2 identify_coverage
 rule identify_coverage_part:
     input:
+        kernels=NUMBA_KERNELS,
         cache=NUMBA_CACHE,
     output:
         json=IDENT_COVERAGE_PART,

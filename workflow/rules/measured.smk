@@ -54,6 +54,7 @@ rule measured_surrogate:
 
 rule measured_chaos_events:
     input:
+        kernels=NUMBA_KERNELS,
         record=MEAS_CHAOS_RECORD,
     output:
         events=MEAS_CHAOS_EVENTS,
@@ -67,6 +68,7 @@ rule measured_chaos_events:
 
 rule measured_fig02_points:
     input:
+        kernels=NUMBA_KERNELS,
         records=MEAS_FIG02_RECORDS,
     output:
         points=MEAS_FIG02_POINTS,
@@ -91,6 +93,7 @@ MEAS_NOISE_REALISM = bool(MEAS_NOISE.get("realism", {}).get("cases"))  # a reali
 
 rule measured_noise_rate:
     input:
+        kernels=NUMBA_KERNELS,
         cache=NUMBA_CACHE,
     output:
         json=MEAS_NOISE_RATE_JSON,
@@ -107,6 +110,7 @@ rule measured_noise_rate:
 
 rule measured_noise_realism:
     input:
+        kernels=NUMBA_KERNELS,
         cache=NUMBA_CACHE,
     output:
         json=MEAS_NOISE_REALISM_JSON,
@@ -173,6 +177,7 @@ if MEAS_HOOK_FIG02:
 # Bias and coverage of the obstacle estimate's stated sigma over segments x noise seeds.
 rule measured_x_impact_coverage_part:
     input:
+        kernels=NUMBA_KERNELS,
         cache=NUMBA_CACHE,
     output:
         json=MEAS_XI_COVERAGE_PART,

@@ -12,6 +12,17 @@ rule numba_cache:
         "../scripts/numba_cache.py"
 
 
+# needs no core: runs beside numba_cache on the other core
+rule numba_cache_kernels:
+    input:
+        sources=KERNEL_SOURCES,
+    output:
+        marker=NUMBA_KERNELS,
+    priority: 20
+    script:
+        "../scripts/numba_cache_kernels.py"
+
+
 rule simulate_scene:
     input:
         cache=NUMBA_CACHE,
@@ -29,5 +40,5 @@ rule simulate_scene:
 
 
 tier_products("paper", expand(rules.simulate_scene.output.run, scene=list(config["scenes"])))
-tier_jobs("paper", rules.numba_cache)
+tier_jobs("paper", rules.numba_cache, rules.numba_cache_kernels)
 tier_jobs("paper", rules.simulate_scene, scene=list(config["scenes"]))

@@ -1,7 +1,7 @@
 """Spread of the key statistics over realisations of the chaotic attractor.
 
-Reads input.runs (the scene and its re-runs with other tolerances or initial states); writes output.json
-(ensemble_summary) and output.csv (one row of key numbers per run).
+Reads input.kernels (compiled kernels), input.runs (the scene and its re-runs with other tolerances or initial
+states); writes output.json (ensemble_summary) and output.csv (one row of key numbers per run).
 """
 
 from _logging import configure_logging, mock_snakemake

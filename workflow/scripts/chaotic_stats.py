@@ -1,7 +1,8 @@
 """Section 2.2 rows of the paper-vs-replication table and the ISI mixture table.
 
-Reads input.model (statistics JSON of the scene's train), input.ensemble (spread over realisations) and
-input.run (its trajectory window, for Fig 6b's spectrum); writes output.rows and output.mixture (CSV).
+Reads input.kernels (compiled kernels), input.model (statistics JSON of the scene's train), input.ensemble
+(spread over realisations) and input.run (its trajectory window, for Fig 6b's spectrum); writes output.rows
+and output.mixture (CSV).
 """
 
 from _logging import configure_logging, mock_snakemake

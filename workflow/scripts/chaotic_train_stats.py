@@ -1,6 +1,6 @@
 """Statistics of one impact train (model run or measured/surrogate record).
 
-Reads input.events (HDF5 run file) and params.analysis; writes output.json
+Reads input.kernels (compiled kernels), input.events (HDF5 run file) and params.analysis; writes output.json
 (impactosc.statistics.train_analysis.analyse_train).
 """
 

@@ -1,7 +1,9 @@
-"""The live explorer's waits (a new w's attractor, a 400-column diagram's first columns and whole),
-through the scheduler its page uses, with as many worker processes as the job has threads.
+"""The live explorer's waits, through the scheduler its page uses.
 
 Reads input.cache, params.repeats and params.columns (of the diagram); writes output.md (the table, with the targets).
+
+A new w's attractor, a diagram's first columns and the whole diagram, with as many worker processes as
+the job has threads (at least the page's two).
 """
 
 from _logging import configure_logging, mock_snakemake

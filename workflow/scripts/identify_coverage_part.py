@@ -1,7 +1,7 @@
 """One part of the identification coverage study: draws part, part + parts, ... of the seeds.
 
-Reads input.cache, params.coverage (identification.coverage) and wildcards.part; writes output.json (one
-row per draw, impactosc_study.coverage.identification_draw).
+Reads input.kernels (compiled kernels), input.cache, params.coverage (identification.coverage) and
+wildcards.part; writes output.json (one row per draw, impactosc_study.coverage.identification_draw).
 """
 
 from _logging import configure_logging, mock_snakemake

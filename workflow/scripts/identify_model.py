@@ -1,7 +1,8 @@
 """Identify the model from the configured records (or the surrogate record set).
 
-Reads input.cache, input.records and params (identification, model, solver); writes output.model (the
-model file), output.windows (fitted windows, for the figure), output.csv and output.md (parameters).
+Reads input.kernels (compiled kernels), input.cache, input.records and params (identification, model, solver);
+writes output.model (the model file), output.windows (fitted windows, for the figure), output.csv and
+output.md (parameters).
 """
 
 from _logging import configure_logging, mock_snakemake

@@ -1,8 +1,10 @@
-"""The checks that no impact is missed or invented, which the paper's table cites: the grazing sweep
-against an independent fixed-step scan and the chattering sequences against SciPy at rtol 1e-13.
+"""The checks that no impact is missed or invented, which the paper's table cites.
 
 Reads input.cache and params.hc (config hard_cases); writes output.csv (one row per check: case, check,
 measured, bound, unit, passed, detail). Nothing here is timed.
+
+The grazing sweep against an independent fixed-step scan and the chattering sequences against SciPy at
+rtol 1e-13.
 """
 
 from _logging import configure_logging, mock_snakemake

@@ -1,7 +1,8 @@
 """Extract impact events from one record (measured or surrogate).
 
-Reads input.record (impactosc.records.formats format), params.x_impact, params.noise (None: from the
-metadata, or estimated) and params.reader (a TDMS record's channels); writes output.events (a run file).
+Reads input.kernels (compiled kernels), input.record (impactosc.records.formats format), params.x_impact,
+params.noise (None: from the metadata, or estimated) and params.reader (a TDMS record's channels); writes
+output.events (a run file).
 """
 
 from _logging import configure_logging, mock_snakemake

@@ -1,7 +1,8 @@
 """Measured Poincare points for the Fig 2 left panel: per-w records, or one slow-sweep record.
 
-Reads input.records (a record set, or with params.segments one slow-sweep record read as params.reader
-says, cut into segments of quasi-constant w); writes output.points (HDF5: omega, x, with provenance).
+Reads input.kernels (compiled kernels), input.records (a record set, or with params.segments one slow-sweep
+record read as params.reader says, cut into segments of quasi-constant w); writes output.points (HDF5: omega,
+x, with provenance).
 """
 
 from _logging import configure_logging, mock_snakemake

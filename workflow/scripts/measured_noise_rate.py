@@ -1,7 +1,7 @@
 """One sampling rate of the noise study, at every noise level.
 
-Reads input.cache, params (study, surrogate, analysis, model, solver) and wildcards.rate (Hz); writes
-output.json (the rows, with ISI kernel densities) and output.csv.
+Reads input.kernels (compiled kernels), input.cache, params (study, surrogate, analysis, model, solver) and
+wildcards.rate (Hz); writes output.json (the rows, with ISI kernel densities) and output.csv.
 """
 
 from _logging import configure_logging, mock_snakemake

@@ -1,7 +1,7 @@
 """The sensor-realism rows of the noise study.
 
-Reads input.cache and params (study, surrogate, model, solver); writes output.json (the rows) and
-output.csv (the same rows as table cells), the last slice of the study's outputs.
+Reads input.kernels (compiled kernels), input.cache and params (study, surrogate, model, solver); writes
+output.json (the rows) and output.csv (the same rows as table cells), the last slice of the study's outputs.
 """
 
 from _logging import configure_logging, mock_snakemake

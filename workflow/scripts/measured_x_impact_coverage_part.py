@@ -1,7 +1,7 @@
 """One noise level of the obstacle-estimate coverage study.
 
-Reads input.cache, params (coverage, surrogate, model, solver) and wildcards.level (an exponent and noise
-pair); writes output.json (impactosc_study.coverage.x_impact_draws).
+Reads input.kernels (compiled kernels), input.cache, params (coverage, surrogate, model, solver) and
+wildcards.level (an exponent and noise pair); writes output.json (impactosc_study.coverage.x_impact_draws).
 """
 
 from _logging import configure_logging, mock_snakemake

@@ -28,5 +28,6 @@ export(
         "surrogate_run": "impactosc.records.surrogate",
         "surrogate_driven": "impactosc.records.surrogate",
         "write_long_surrogate": "impactosc.records.long_surrogate",
+        "warm_up_kernels": "impactosc.records.warm_up",
     },
 )
