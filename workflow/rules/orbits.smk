@@ -41,7 +41,7 @@ rule orbits:
         names=ORB_SEGMENTS,
         command="snakemake -j2 orbits",
     script:
-        "../scripts/orbit_table.py"
+        "../scripts/orbits.py"
 
 
 rule fig02_orbits:

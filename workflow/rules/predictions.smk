@@ -33,7 +33,7 @@ rule predictions:
         names=PREDICTION_SEGMENTS,
         model_source=config["model_source"],
     script:
-        "../scripts/prediction_table.py"
+        "../scripts/predictions.py"
 
 
 rule prediction_check:

@@ -40,7 +40,7 @@ rule two_parameter:
     params:
         names=TWO_CURVES,
     script:
-        "../scripts/two_parameter_table.py"
+        "../scripts/two_parameter.py"
 
 
 rule map2d_curves:
