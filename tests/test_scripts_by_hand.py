@@ -97,6 +97,20 @@ NEEDS_COVARIANCE = {
 }
 
 
+# A rule made with `use rule X as Y with:` runs X's script (docs/development.md): the only rules
+# whose script is named after another rule.
+USES_ANOTHER_RULES_SCRIPT = {"basins_fine": "basins"}
+
+
+def test_every_rule_runs_the_script_of_its_own_name(workflow):
+    """workflow/scripts/<rule>.py for every rule that runs a script; the targets run none."""
+    named = {r.name: Path(r.script).stem for r in workflow.rules if r.script}
+    wrong = {name: script for name, script in named.items() if script != USES_ANOTHER_RULES_SCRIPT.get(name, name)}
+    assert not wrong, f"rules running a script of another name: {wrong}"
+    targets = {r.name for r in workflow.rules if not r.script}
+    assert targets == {"all", "beyond", "benchmarks", "everything", "identify"}, targets
+
+
 def _docstring_problems(workflow, keep) -> list[str]:
     """What the scripts' docstrings fail to name of the jobs of the rules ``keep`` accepts."""
     scripts = helper.rule_scripts(workflow)
@@ -167,7 +181,7 @@ def test_mock_is_the_job_of_the_dag(workflow):
         assert list(mock.input) == job["input"], mock.rule
         assert list(mock.log) == job["log"], mock.rule
         assert dict(mock.wildcards.items()) == dict(w.split("=", 1) for w in job["wildcards"]), mock.rule
-    assert mocks[0].params.scenes[0]["omega"] == workflow.config["scenes"]["period4"]["omega"]
+    assert mocks[0].params.scene["omega"] == workflow.config["scenes"]["period4"]["omega"]
 
 
 def run_by_hand(script, workdir, *args):

@@ -30,10 +30,8 @@ rule bifurcation_coarse:
         **BIF_COMMON,
         grid=lambda wc: BIF["sweeps"][wc.sweep],
         stride=BIF["stride"],
-        part="coarse",
-    # the coarse pass is sweep part "coarse": the script of rule bifurcation_chunk
     script:
-        "../scripts/bifurcation_chunk.py"
+        "../scripts/bifurcation_coarse.py"
 
 
 rule bifurcation_chunk:
@@ -91,45 +89,32 @@ rule bifurcation_tables:
         "../scripts/bifurcation_tables.py"
 
 
-rule fig02:
-    input:
-        sweeps=expand(BIF_SWEEP, sweep=BIF["fig02"]["sweep"]),
-        stats=rules.bifurcation_tables.output.stats,
-        experimental=BIF["fig02"]["experimental"]["file"] if BIF["fig02"]["experimental"] else [],
-        # a model with a covariance: its points' error bars and its branches' bands (predictions.smk)
-        bands=prediction_bands,
-    output:
-        png=report(figure(2)[0], caption="../report/fig02.rst", category=BIF_REPORT),
-        pdf=figure(2)[1],
-    params:
-        figure="fig02",
-        names=[BIF["fig02"]["sweep"]],
-        model=config["model"],
-        model_source=config["model_source"],
-        experimental=BIF["fig02"]["experimental"],
-    # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
-    script:
-        "../scripts/bifurcation_figure.py"
-
-
-rule fig03b:
-    input:
-        sweeps=expand(BIF_SWEEP, sweep=BIF["fig03b"]["sweep"]),
-        stats=rules.bifurcation_tables.output.stats,
-        bands=prediction_bands,
-    output:
-        png=report(panel("fig03b")[0], caption="../report/fig03b.rst", category=BIF_REPORT),
-        pdf=panel("fig03b")[1],
-    params:
-        figure="fig03b",
-        names=[BIF["fig03b"]["sweep"]],
-        model=config["model"],
-        model_source=config["model_source"],
-        zoom_near=23.0,
-        zoom_half_width=0.6,
-    # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
-    script:
-        "../scripts/bifurcation_figure.py"
+# Fig 2 (Poincare points, the measured diagram beside them) and Fig 3b (intervals, zoom on the
+# grazing); a model with a covariance adds its points' error bars and its branches' bands (predictions.smk)
+fig02_and_fig03b(
+    None,
+    "bifurcation",
+    BIF_REPORT,
+    inputs=lambda fig, sweep: {
+        "sweeps": expand(BIF_SWEEP, sweep=sweep),
+        "stats": rules.bifurcation_tables.output.stats,
+        **(
+            {"experimental": BIF["fig02"]["experimental"]["file"]}
+            if fig == "fig02" and BIF["fig02"]["experimental"]
+            else {}
+        ),
+        "bands": prediction_bands,
+    },
+    params=lambda fig: {
+        "names": [BIF[fig]["sweep"]],
+        "model_source": config["model_source"],
+        **(
+            {"experimental": BIF["fig02"]["experimental"]}
+            if fig == "fig02"
+            else {"zoom_near": 23.0, "zoom_half_width": 0.6}
+        ),
+    },
+)
 
 
 rule bifurcation_overlay:
@@ -144,12 +129,10 @@ rule bifurcation_overlay:
         ),
         pdf=supplementary("bifurcation", "bifurcation_overlay")[1],
     params:
-        figure="overlay",
         names=BIF["overlay"]["sweeps"],
         model=config["model"],
-    # one script draws the bifurcation figures fig02, fig03b, bifurcation_overlay (params.figure)
     script:
-        "../scripts/bifurcation_figure.py"
+        "../scripts/bifurcation_overlay.py"
 
 
 rule bifurcation_benchmark:

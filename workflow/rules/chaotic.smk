@@ -8,7 +8,6 @@
 from impactosc.statistics.ensemble import ensemble_runs
 
 CHAOTIC = config["chaotic"]
-CHAOTIC_CAPTIONS = "Chaotic regime (Figs 6-11)"
 CHAOTIC_MEMBERS = ensemble_runs(scene(CHAOTIC["scene"]), config["solver"], CHAOTIC["ensemble"])
 CHAOTIC_MEMBER_NAMES = sorted(CHAOTIC_MEMBERS)
 CHAOTIC_SCENE_RUN = scene_run(CHAOTIC["scene"])
@@ -41,9 +40,9 @@ if CHAOTIC_MEMBER_NAMES:
                 for m in CHAOTIC_MEMBER_NAMES
             ],
         # ensemble members are scene runs with their own x0 and tolerances, all in one job (each
-        # takes less than a job's start-up): the script of rule simulate_scene
+        # takes less than a job's start-up)
         script:
-            "../scripts/simulate_scene.py"
+            "../scripts/chaotic_members.py"
 
 
 rule chaotic_train_stats:
@@ -89,33 +88,13 @@ rule chaotic_stats:
         "../scripts/chaotic_stats.py"
 
 
-for _nn, _inputs in (
-    (6, {"run": CHAOTIC_SCENE_RUN}),
-    (7, {"run": CHAOTIC_SCENE_RUN}),
-    (8, {"stats": CHAOTIC_STATS}),
-    (9, {"stats": CHAOTIC_STATS}),
-    (10, {"stats": CHAOTIC_STATS}),
-    (11, {"stats": CHAOTIC_MODEL_STATS}),
-):
-
-    rule:
-        name:
-            f"fig{_nn:02d}"
-        input:
-            **_inputs,
-        output:
-            png=report(
-                figure(_nn)[0],
-                caption=f"../report/fig{_nn:02d}.rst",
-                category=CHAOTIC_CAPTIONS,
-            ),
-            pdf=figure(_nn)[1],
-        params:
-            figure=_nn,
-            portrait_span=CHAOTIC["portrait_span"] if _nn == 6 else None,
-        # one script draws fig06..fig11 (params.figure selects): the chaotic figure family
-        script:
-            "../scripts/chaotic_figure.py"
+# one rule per figure (common.smk: chaotic_figure), each running workflow/scripts/<figure>.py
+chaotic_figure("fig06", run=CHAOTIC_SCENE_RUN, params={"portrait_span": CHAOTIC["portrait_span"]})
+chaotic_figure("fig07", run=CHAOTIC_SCENE_RUN)
+chaotic_figure("fig08", stats=CHAOTIC_STATS)
+chaotic_figure("fig09", stats=CHAOTIC_STATS)
+chaotic_figure("fig10", stats=CHAOTIC_STATS)
+chaotic_figure("fig11", stats=CHAOTIC_MODEL_STATS)
 
 
 tier_products(

@@ -131,6 +131,11 @@ def benchmark_file(group, name):
     return f"{RESULTS}/benchmarks/{group}/{name}.tsv"
 
 
+# The group of a rule made by a function of this file for another rules file (fig02_and_fig03b,
+# chaotic_figure): the rules file it was made for, not this one.
+RULE_GROUPS = {}
+
+
 def give_jobs_their_files():
     """Each script's job gets its log and benchmark file here, named after its rule and wildcards,
     results/<study>/logs/<group>/<name>[_<wildcard>...].log and the same under benchmarks/ (.tsv),
@@ -142,7 +147,7 @@ def give_jobs_their_files():
             continue
         if rule_.log or rule_.benchmark:
             raise WorkflowError(f"{rule_.name}: its log and benchmark come from give_jobs_their_files()")
-        group = Path(rule_.snakefile).stem
+        group = RULE_GROUPS.get(rule_.name, Path(rule_.snakefile).stem)
         # the wildcards in the order of the first output's path, as the DAG lists a job's wildcards
         order = sorted(rule_.wildcard_names, key=lambda w: str(rule_.output[0]).find(f"{{{w}"))
         name = "_".join([rule_.name, *(f"{{{w}}}" for w in order)])
@@ -166,6 +171,54 @@ def panel(name):
 def supplementary(group, name):
     """PNG and PDF paths of a supplementary figure of a group."""
     return [f"{RESULTS}/figures/{group}/{name}.png", f"{RESULTS}/figures/{group}/{name}.pdf"]
+
+
+def fig02_and_fig03b(layer, group, category, inputs, params=lambda fig: {}):
+    """Make the two rules of one layer of Figs 2 and 3b: fig02<_layer> and fig03b<_layer> (the
+    paper's own figures for layer None), each drawing the configured sweep of its figure (config
+    bifurcation.fig02.sweep, bifurcation.fig03b.sweep) with what the layer adds: ``inputs(figure,
+    sweep)`` and ``params(figure)`` give the layer's own inputs and params. The figure goes to the
+    paper's file (layer None) or to figures/<group>/; each rule runs workflow/scripts/<its name>.py,
+    its caption is workflow/report/<its name>.rst, its log and benchmark are in <group>."""
+    for fig in ("fig02", "fig03b"):
+        name = fig if layer is None else f"{fig}_{layer}"
+        sweep = config["bifurcation"][fig]["sweep"]
+        png, pdf = (figure(2) if fig == "fig02" else panel(fig)) if layer is None else supplementary(group, name)
+        RULE_GROUPS[name] = group
+
+        rule:
+            name:
+                name
+            input:
+                **inputs(fig, sweep),
+            output:
+                png=report(png, caption=f"../report/{name}.rst", category=category),
+                pdf=pdf,
+            params:
+                **params(fig),
+                model=config["model"],
+            script:
+                f"../scripts/{name}.py"
+
+
+def chaotic_figure(name, params=None, **inputs):
+    """Make the rule of one figure of the chaotic regime (paper Figs 6-11), drawn from ``inputs``
+    (the scene's run, or the trains' statistics) with ``params`` by workflow/scripts/<name>.py."""
+    RULE_GROUPS[name] = "chaotic"
+    nn = int(name.removeprefix("fig"))
+
+    rule:
+        name:
+            name
+        input:
+            **inputs,
+        output:
+            png=report(figure(nn)[0], caption=f"../report/{name}.rst", category="Chaotic regime (Figs 6-11)"),
+            pdf=figure(nn)[1],
+        params:
+            **(params or {}),
+        script:
+            f"../scripts/{name}.py"
 
 
 def rows_file(group):

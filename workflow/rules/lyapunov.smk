@@ -88,40 +88,16 @@ rule lyapunov_sweeps:
         "../scripts/lyapunov_sweeps.py"
 
 
-rule fig02_lyapunov:
-    input:
-        sweep=expand(BIF_SWEEP, sweep=config["bifurcation"]["fig02"]["sweep"]),
-        lambdas=expand(LYAP_SWEEP, sweep=config["bifurcation"]["fig02"]["sweep"]),
-    output:
-        png=report(
-            supplementary("lyapunov", "fig02_lyapunov")[0], caption="../report/fig02_lyapunov.rst", category=LYA_REPORT
-        ),
-        pdf=supplementary("lyapunov", "fig02_lyapunov")[1],
-    params:
-        quantity="poincare",
-        model=config["model"],
-    # one script draws both (params.quantity: poincare for Fig 2, isi for Fig 3b)
-    script:
-        "../scripts/lyapunov_figure.py"
-
-
-rule fig03b_lyapunov:
-    input:
-        sweep=expand(BIF_SWEEP, sweep=config["bifurcation"]["fig03b"]["sweep"]),
-        lambdas=expand(LYAP_SWEEP, sweep=config["bifurcation"]["fig03b"]["sweep"]),
-    output:
-        png=report(
-            supplementary("lyapunov", "fig03b_lyapunov")[0],
-            caption="../report/fig03b_lyapunov.rst",
-            category=LYA_REPORT,
-        ),
-        pdf=supplementary("lyapunov", "fig03b_lyapunov")[1],
-    params:
-        quantity="isi",
-        model=config["model"],
-    # one script draws both (params.quantity: poincare for Fig 2, isi for Fig 3b)
-    script:
-        "../scripts/lyapunov_figure.py"
+# Figs 2 and 3b with the largest exponent drawn under the diagram
+fig02_and_fig03b(
+    "lyapunov",
+    "lyapunov",
+    LYA_REPORT,
+    inputs=lambda fig, sweep: {
+        "sweep": expand(BIF_SWEEP, sweep=sweep),
+        "lambdas": expand(LYAP_SWEEP, sweep=sweep),
+    },
+)
 
 
 tier_products(

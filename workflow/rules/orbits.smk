@@ -44,40 +44,17 @@ rule orbits:
         "../scripts/orbits.py"
 
 
-rule fig02_orbits:
-    input:
-        segments=expand(ORBIT_SEGMENT, segment=ORB_SEGMENTS),
-        sweeps=expand(BIF_SWEEP, sweep=config["bifurcation"]["fig02"]["sweep"]),
-    output:
-        png=report(
-            supplementary("orbits", "fig02_orbits")[0], caption="../report/fig02_orbits.rst", category=ORB_REPORT
-        ),
-        pdf=supplementary("orbits", "fig02_orbits")[1],
-    params:
-        figure="fig02",
-        names=ORB_SEGMENTS,
-        model=config["model"],
-    # one script draws both (params.figure: fig02 Poincare points, fig03b inter-impact intervals)
-    script:
-        "../scripts/orbit_figure.py"
-
-
-rule fig03b_orbits:
-    input:
-        segments=expand(ORBIT_SEGMENT, segment=ORB_SEGMENTS),
-        sweeps=expand(BIF_SWEEP, sweep=config["bifurcation"]["fig03b"]["sweep"]),
-    output:
-        png=report(
-            supplementary("orbits", "fig03b_orbits")[0], caption="../report/fig03b_orbits.rst", category=ORB_REPORT
-        ),
-        pdf=supplementary("orbits", "fig03b_orbits")[1],
-    params:
-        figure="fig03b",
-        names=ORB_SEGMENTS,
-        model=config["model"],
-    # one script draws both (params.figure: fig02 Poincare points, fig03b inter-impact intervals)
-    script:
-        "../scripts/orbit_figure.py"
+# Figs 2 and 3b with the continued branches drawn over the sweep's points
+fig02_and_fig03b(
+    "orbits",
+    "orbits",
+    ORB_REPORT,
+    inputs=lambda fig, sweep: {
+        "segments": expand(ORBIT_SEGMENT, segment=ORB_SEGMENTS),
+        "sweeps": expand(BIF_SWEEP, sweep=sweep),
+    },
+    params=lambda fig: {"names": ORB_SEGMENTS},
+)
 
 
 # The paper's tier has the segments and their table: its rows locate the Fig 3b doubling cascade

@@ -78,9 +78,8 @@ rule before_grazing_stats:
         stats=BEFORE_GRAZING_STATS,
     params:
         spectrum=PERIODIC["spectrum"],
-    # same statistics as rule periodic_stats, on the branch run: the script of that rule
     script:
-        "../scripts/periodic_stats.py"
+        "../scripts/before_grazing_stats.py"
 
 
 rule grazing_stats:

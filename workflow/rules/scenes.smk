@@ -30,11 +30,10 @@ rule simulate_scene:
         run=SCENE_RUN,
     wildcard_constraints:
         scene="|".join(config["scenes"]),
-    # lists of one: the script runs a list of scenes (rule chaotic_members runs several)
     params:
         model=config["model"],
-        solvers=[config["solver"]],
-        scenes=lambda wc: [scene(wc.scene)],
+        solver=config["solver"],
+        scene=lambda wc: scene(wc.scene),
     script:
         "../scripts/simulate_scene.py"
 

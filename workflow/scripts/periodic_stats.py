@@ -1,8 +1,7 @@
-"""Attractor summaries and spectra of run files, section 2.1 (rules periodic_stats, before_grazing_stats).
+"""Attractor summaries and spectra of the period-4 and before-grazing scenes, section 2.1.
 
-Reads every input: run files (input.after_grazing, input.before_grazing_from_rest,
-input.before_grazing_branch), named as the output's keys; writes output.stats (JSON) and, with
-params.spectrum_of, output.spectrum (Fig 4c).
+Reads every input: run files (input.after_grazing, input.before_grazing_from_rest), named as the output's
+keys; writes output.stats (JSON) and, with params.spectrum_of, output.spectrum (Fig 4c).
 """
 
 from _logging import configure_logging, mock_snakemake

@@ -1,7 +1,7 @@
-"""Run configured scenes through the core and write their HDF5 run files (rules simulate_scene, chaotic_members).
+"""Run one configured scene through the core and write its HDF5 run file.
 
-Reads input.cache, params.scenes and params.solvers (lists of the same length) and params.model; writes
-one run file per scene, in order (output.run, or output.runs for the chaotic ensemble's members).
+Reads input.cache, params.scene (the scene's config entry), params.solver and params.model; writes
+output.run.
 """
 
 from _logging import configure_logging, mock_snakemake
@@ -10,41 +10,7 @@ if "snakemake" not in globals():
     snakemake = mock_snakemake("simulate_scene", scene="period4")
 configure_logging(snakemake)
 
-import logging
-
-from impactosc.core.simulation import Window, simulate
-from impactosc.io.files import write_run
-from impactosc.model.parameters import ModelParams
-
-
-def run_scene(model: dict, solver: dict, scene: dict, output: str) -> None:
-    window = Window(**scene["window"]) if scene.get("window") else None
-
-    def progress(t, t_end, n_imp):
-        logging.info("t = %.1f / %.1f s, %d impacts", t, t_end, n_imp)
-
-    res = simulate(
-        scene["omega"],
-        scene["transient"],
-        scene["duration"],
-        x0=scene["x0"],
-        v0=scene["v0"],
-        params=ModelParams(**model),
-        rtol=solver["rtol"],
-        atol=solver["atol"],
-        window=window,
-        record=scene["events"],
-        progress=progress,
-    )
-    write_run(output, res.events, res.attrs, res.trajectory)
-    logging.info(
-        "%s: %d impacts, wall time %.3f s",
-        output,
-        len(res.events.get("impacts", {}).get("t", [])),
-        res.attrs["wall_time"],
-    )
-
+from _scene_run import run_scene
 
 p = snakemake.params
-for scene_, solver_, output_ in zip(p.scenes, p.solvers, snakemake.output, strict=True):
-    run_scene(p.model, solver_, scene_, output_)
+run_scene(p.model, p.solver, p.scene, snakemake.output.run)

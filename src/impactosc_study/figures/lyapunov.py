@@ -11,7 +11,10 @@ from matplotlib import pyplot as plt
 from impactosc_study.figures.bifurcation import CM, MM, diagram_panel
 from impactosc_study.figures.style import DOUBLE, apply_style
 
-__all__ = ["convergence_figure", "diagram_with_exponent"]
+__all__ = ["convergence_figure", "diagram_with_exponent", "sweep_with_exponent"]
+
+#: the paper's figure of each quantity drawn over a sweep: Fig 2 the Poincare points, Fig 3b the intervals
+FIGURE_OF = {"poincare": "Fig 2", "isi": "Fig 3b"}
 
 
 def convergence_figure(runs: list[dict], mean_per_second, spread_per_second):
@@ -56,3 +59,18 @@ def diagram_with_exponent(sweep_w, sweep_y, w, lambda1, *, quantity: str, x_obst
     lo = np.nanpercentile(lam, 1) if np.isfinite(lam).any() else -1.0
     bottom.set_ylim(max(lo * 1.1, -3.0), None)
     return fig
+
+
+def sweep_with_exponent(sweep_file, lambdas_file, *, quantity: str, x_obstacle=None):
+    """:func:`diagram_with_exponent` from the files a workflow writes: a sweep file and that sweep's
+    lambda1 CSV (columns omega, lambda1_per_period); ``quantity`` poincare (Fig 2) or isi (Fig 3b)."""
+    from impactosc.dynamics.sweep import load_sweep
+    from impactosc.io.files import read_csv
+
+    res, attrs = load_sweep(sweep_file)
+    rows = read_csv(lambdas_file, numbers=True)
+    w = [float(r["omega"]) for r in rows]
+    lam = [float(r["lambda1_per_period"]) for r in rows]
+    sw, sy = res.poincare_points() if quantity == "poincare" else res.isi_points()
+    title = f"{FIGURE_OF[quantity]} with the largest Lyapunov exponent ({attrs['direction']} w)"
+    return diagram_with_exponent(sw, sy, w, lam, quantity=quantity, x_obstacle=x_obstacle, title=title)

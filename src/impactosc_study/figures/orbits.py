@@ -15,7 +15,7 @@ from matplotlib.lines import Line2D
 from impactosc_study.figures.bifurcation import CM, MM, diagram_panel
 from impactosc_study.figures.style import DOUBLE, apply_style
 
-__all__ = ["orbit_figure", "branch_curves"]
+__all__ = ["orbit_figure", "branch_curves", "orbits_over_sweep"]
 
 POINT_STYLE = {"period_doubling": ("o", "tab:red"), "fold": ("s", "tab:blue"), "grazing": ("D", "tab:green")}
 JUMP = 0.01  # s: an inter-impact interval that moves more than this between neighbours starts a new curve
@@ -101,3 +101,19 @@ def orbit_figure(segments: dict, sweep_w, sweep_y, *, quantity: str, x_obstacle=
     ax.legend(handles=handles, fontsize=6, ncol=3, loc="upper center" if quantity == "poincare" else "lower center",
               framealpha=0.9)  # fmt: skip
     return fig
+
+
+def orbits_over_sweep(segment_files: dict, sweep_file, *, quantity: str, x_obstacle=None):
+    """:func:`orbit_figure` from the files a workflow writes: the segments' JSON files by name and a
+    sweep file; ``quantity`` poincare (Fig 2) or isi (Fig 3b, no obstacle line)."""
+    from impactosc.dynamics.sweep import load_sweep
+    from impactosc.io.files import read_json
+
+    segments = {name: read_json(path) for name, path in segment_files.items()}
+    res, attrs = load_sweep(sweep_file)
+    w, y = res.poincare_points() if quantity == "poincare" else res.isi_points()
+    figure = "Fig 2" if quantity == "poincare" else "Fig 3b"
+    title = rf"{figure} with the continued orbits ({attrs['direction']} $\omega$ sweep in grey)"
+    return orbit_figure(
+        segments, w, y, quantity=quantity, x_obstacle=x_obstacle if quantity == "poincare" else None, title=title
+    )
