@@ -56,3 +56,17 @@ def test_import_is_cheap(package):
     code = f"import sys, {package}; print(sorted(m for m in ('numba', 'scipy', 'matplotlib') if m in sys.modules))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]", f"import {package} loaded {out.strip()}"
+
+
+def test_one_version():
+    """impactosc.__version__ is the one source: the installed metadata reads it (pyproject's dynamic
+    version) and CITATION.cff states the same."""
+    import importlib.metadata
+    import re
+    from pathlib import Path
+
+    import impactosc
+
+    citation = (Path(__file__).resolve().parents[1] / "CITATION.cff").read_text()
+    assert importlib.metadata.version("impactosc") == impactosc.__version__
+    assert re.search(r"^version: (\S+)$", citation, flags=re.M)[1] == impactosc.__version__

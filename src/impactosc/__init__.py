@@ -14,7 +14,7 @@ import os
 import sys
 from pathlib import Path
 
-__version__ = "0.1.0"
+__version__ = "0.1.0"  # the package's one version: pyproject.toml reads it (tool.setuptools.dynamic)
 
 # Sources of the compiled core. numba's on-disk cache (cache=True) only notices edits to the
 # file of the function it caches, not to the functions it calls in other modules; keying the
