@@ -216,3 +216,18 @@ def test_study_names_the_results_folder_of_the_workflows_own_files(config):
     assert rig["chaotic"]["second_train"]["events"] == "results/my_rig-2/runs/measured/chaos_events.h5"
     assert rig["bifurcation"]["fig02"]["experimental"]["file"] == "results/my_rig-2/runs/measured/fig02_experimental.h5"
     assert rig["compare"]["study"] == "paper"
+
+
+def test_analysis_defaults_have_one_value():
+    """chaotic.analysis: AnalysisOptions' defaults (the library's home of them), the schema's defaults
+    (what a config without the key gets) and the paper's config.yaml say the same, key for key."""
+    from impactosc.statistics.impact_train import AnalysisOptions
+
+    library = {f.name: f.default for f in dataclasses.fields(AnalysisOptions)}
+    library = {k: list(v) if isinstance(v, tuple) else v for k, v in library.items()}
+    schema = yaml.safe_load(SCHEMA.read_text())["properties"]["chaotic"]["properties"]["analysis"]["properties"]
+    assert set(schema) == set(library), set(schema) ^ set(library)
+    assert {k: s["default"] for k, s in schema.items()} == library
+    paper = yaml.safe_load(CONFIG.read_text())["chaotic"]["analysis"]
+    assert paper == {k: library[k] for k in paper}
+    assert AnalysisOptions.from_config(load_config(CONFIG, SCHEMA)["chaotic"]["analysis"]) == AnalysisOptions()
