@@ -1,6 +1,9 @@
 # Two commands do everything on a fresh machine with Python 3.11:
-#   make        install into .venv and run the full workflow (snakemake -j2)
+#   make        install into .venv and build the paper: every figure and number of it (snakemake -j2)
 #   make test   install into .venv and run the default (fast) tests, lint and format checks
+# Beyond the paper, on request: make beyond (orbits, Lyapunov exponents, basins, two-parameter
+# curves, the noise study, identification and predictions), make bench (the benchmarks: every job
+# that times, each with the machine to itself) and make everything (the three).
 # Both install the exact versions of requirements.lock (hash-checked) with uv, itself pinned with
 # its hashes in requirements-uv.lock; `make lock` refreshes both locks.
 PYTHON ?= python3
@@ -22,13 +25,29 @@ STUDY ?= paper
 # it, so the name is checked as the config checks the key (letters, digits, _ and -)
 CHECK_STUDY = case "$(STUDY)" in ""|*[!A-Za-z0-9_-]*) echo "STUDY='$(STUDY)': letters, digits, _ and - only" >&2; exit 1;; esac
 
-.PHONY: all install lock test test-slow report lint docs config-docs format check-cluster check-slurm clean
+.PHONY: all beyond bench everything install lock test test-slow report lint docs config-docs format check-cluster check-slurm clean
 
 # A build killed part-way resumes with a plain `make`: a lock left by a dead Snakemake is removed
 # (never one a live Snakemake holds, workflow/unlock_stale.py) and incomplete outputs are redone.
+SNAKEMAKE_RUN = $(BIN)/python workflow/unlock_stale.py && $(BIN)/snakemake -j$(JOBS) --rerun-incomplete
+# The model the paper's study identifies (make beyond): its predictions with error bars are a study
+# of their own, results/identified/
+IDENTIFIED = results/$(STUDY)/models/identified.yaml
+
+# The paper (rule all): results/paper/, its table results/paper/tables/paper_vs_replication.md
 all: install
-	$(BIN)/python workflow/unlock_stale.py
-	$(BIN)/snakemake -j$(JOBS) --rerun-incomplete $(SNAKEMAKE_ARGS)
+	$(SNAKEMAKE_RUN) $(SNAKEMAKE_ARGS)
+
+# Beyond the paper (rule beyond), then the predictions with error bars of the model it identifies
+beyond: install
+	$(SNAKEMAKE_RUN) beyond $(SNAKEMAKE_ARGS)
+	$(SNAKEMAKE_RUN) predictions --config study=identified model_file=$(IDENTIFIED)
+
+# The benchmarks (rule benchmarks): each timing job claims every core (config timing.exclusive)
+bench: install
+	$(SNAKEMAKE_RUN) benchmarks $(SNAKEMAKE_ARGS)
+
+everything: all beyond bench
 
 # uv, pinned and hash-checked, bootstrapped by the venv's own pip (no uv on the machine needed)
 $(UV): $(UV_LOCK)

@@ -209,13 +209,26 @@ def test_bad_study_name_is_named(config, override, message):
     assert message in str(err.value), str(err.value)
 
 
-def test_study_names_the_results_folder_of_the_workflows_own_files(config):
+def test_study_names_the_results_folder_of_a_panels_file(config):
     paper = validate_config(config, SCHEMA)
     assert paper["study"] == "paper" and paper["compare"] == {"study": None}
-    rig = validate_config({**config, "study": "my_rig-2", "compare": {"study": "paper"}}, SCHEMA)
-    assert rig["chaotic"]["second_train"]["events"] == "results/my_rig-2/runs/measured/chaos_events.h5"
-    assert rig["bifurcation"]["fig02"]["experimental"]["file"] == "results/my_rig-2/runs/measured/fig02_experimental.h5"
+    assert paper["chaotic"]["second_train"] is True and paper["bifurcation"]["fig02"]["experimental"] is True
+    made_elsewhere = {"events": "results/{study}/rig_events.h5", "label": "rig"}
+    rig = validate_config(
+        {**config, "study": "my_rig-2", "compare": {"study": "paper"}, "chaotic": {"second_train": made_elsewhere}},
+        SCHEMA,
+    )
+    assert rig["chaotic"]["second_train"]["events"] == "results/my_rig-2/rig_events.h5"
     assert rig["compare"]["study"] == "paper"
+
+
+@pytest.mark.parametrize("key", ["chaos", "fig02"])
+def test_a_label_without_a_record_is_refused(config, key):
+    """The surrogate is always labelled as the surrogate: a label names a record."""
+    measured = copy.deepcopy(config["measured"])
+    measured[key]["label"] = "rig 3"
+    with pytest.raises(ConfigError, match=rf"measured\.{key}\.label: 'rig 3' names a record, but none is configured"):
+        validate_config({**config, "measured": measured}, SCHEMA)
 
 
 def test_analysis_defaults_have_one_value():

@@ -13,7 +13,6 @@ from impactosc.records.surrogate import (
     SurrogateOptions,
     butterworth_delay,
     mismatched_params,
-    panel_hooked,
     surrogate_record,
     surrogate_sweep,
 )
@@ -98,17 +97,6 @@ def test_example_extracts():
 
     ev, at = extract_events(rec)
     assert ev["impacts"]["t"].size >= 2 and at["x_impact_source"] == "record metadata"
-
-
-def test_panel_label_guard():
-    entry = {"events": "a.h5", "label": "rig"}
-    with pytest.raises(ValueError, match="label it"):
-        panel_hooked("chaotic.second_train", entry, "events", "a.h5", is_surrogate=True)
-    with pytest.raises(ValueError, match="says surrogate"):
-        panel_hooked("x", {"events": "a.h5", "label": LABEL}, "events", "a.h5", is_surrogate=False)
-    assert panel_hooked("x", {"events": "a.h5", "label": LABEL}, "events", "a.h5", is_surrogate=True)
-    assert not panel_hooked("x", None, "events", "a.h5", is_surrogate=True)
-    assert not panel_hooked("x", entry, "events", "other.h5", is_surrogate=True)
 
 
 def test_noise_study_and_rows():

@@ -69,7 +69,7 @@ def test_sweep_record_becomes_the_fig02_panel(tmp_path):
         f"  fig02:\n    sweep_record: {sweep}\n"
         "    read: {group: rig, channel: cart, phase_channel: encoder}\n"
         "    segments: {bin_width: 0.5, settle: 5.0, min_points: 20}\n"
-        "bifurcation:\n  fig02:\n    experimental: {label: rig sweep (test record)}\n",
+        "    label: rig sweep (test record)\n",
         points,
         "fig02",
     )
@@ -104,7 +104,7 @@ def test_chaos_record_becomes_the_second_train(tmp_path):
     _run(
         tmp_path,
         f"measured:\n  chaos:\n    record: {chaos}\n    read: {{group: rig, channel: cart}}\n"
-        "chaotic:\n  second_train: {label: rig chaos (test record)}\n",
+        "    label: rig chaos (test record)\n",
         events,
         "fig09",
     )

@@ -11,7 +11,7 @@ several repeats after the workers are warm:
 - a 400-column diagram (20-45 rad/s) complete; target 10 s on 2 cores;
 - its first columns drawn; target 1 s.
 
-    python -m impactosc_bench.explorer_latency [--repeats 5] [--output FILE]
+    python -m impactosc_bench.explorer_latency [--repeats 5] [--columns 400] [--output FILE]
 
 prints the table and writes it (Markdown) to FILE.
 """
@@ -116,9 +116,10 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3, help="repeats of each wait (default 3)")
     parser.add_argument("--workers", type=int, default=2, help="worker processes (default 2)")
+    parser.add_argument("--columns", type=int, default=400, help="columns of the diagram timed (default 400)")
     parser.add_argument("--output", default="results/benchmarks/explorer_latency.md", help="Markdown table to write")
     args = parser.parse_args(argv)
-    text = markdown(measure_latency(args.repeats, args.workers), args.workers)
+    text = markdown(measure_latency(args.repeats, args.workers, args.columns), args.workers)
     print(text, end="")
     out = Path(args.output)
     out.parent.mkdir(parents=True, exist_ok=True)

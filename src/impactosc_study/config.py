@@ -7,7 +7,7 @@ the required key it hides. Defaults from the schema are filled in so scripts can
 every key being present.
 
 ``study`` names the folder of the study's results (results/<study>/); ``{study}`` in the two
-keys that name one of the workflow's own files (chaotic.second_train.events,
+keys that name an events file for a panel (chaotic.second_train.events,
 bifurcation.fig02.experimental.file) becomes that name.
 
 The model section either sets parameters of model BC one by one or names a model file
@@ -182,6 +182,7 @@ def validate_config(config: dict, schema_path) -> dict:
                 f"start <= stop <= transient + duration = {end}"
             )
     _study_paths(config)
+    _check_measured_labels(config.get("measured", {}))
     _check_orbit_segments(config.get("periodic_orbits", {}).get("segments", {}))
     _check_two_parameter(config)
     study = config.get("measured", {}).get("noise_study", {})
@@ -221,14 +222,26 @@ def _check_study_names(config: dict, schema: dict) -> None:
 
 
 def _study_paths(config: dict) -> None:
-    """{study} in the keys that name one of the workflow's own files becomes the study's name."""
+    """{study} in the keys that name an events file for a panel becomes the study's name."""
     entries = [
         (config.get("chaotic", {}).get("second_train"), "events"),
         (config.get("bifurcation", {}).get("fig02", {}).get("experimental"), "file"),
     ]
     for entry, key in entries:
-        if entry and isinstance(entry.get(key), str):
+        if isinstance(entry, dict) and isinstance(entry.get(key), str):
             entry[key] = entry[key].replace("{study}", config["study"])
+
+
+def _check_measured_labels(measured: dict) -> None:
+    """A label names a record: the surrogate keeps its own label, so that it is never called measured."""
+    for key, records in (("chaos", ("record",)), ("fig02", ("records", "sweep_record"))):
+        entry = measured.get(key, {})
+        if entry.get("label") and not any(entry.get(r) for r in records):
+            raise ConfigError(
+                f"invalid configuration:\n  measured.{key}.label: {entry['label']!r} names a record, but none is "
+                f"configured (measured.{key}.{' or '.join(records)}): the surrogate's panels are always labelled "
+                "'surrogate (model + noise)'"
+            )
 
 
 def _check_orbit_segments(segments: dict) -> None:

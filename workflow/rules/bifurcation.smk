@@ -98,21 +98,13 @@ fig02_and_fig03b(
     inputs=lambda fig, sweep: {
         "sweeps": expand(BIF_SWEEP, sweep=sweep),
         "stats": rules.bifurcation_tables.output.stats,
-        **(
-            {"experimental": BIF["fig02"]["experimental"]["file"]}
-            if fig == "fig02" and BIF["fig02"]["experimental"]
-            else {}
-        ),
+        **({"experimental": FIG02_EXPERIMENTAL["file"]} if fig == "fig02" and FIG02_EXPERIMENTAL else {}),
         "bands": prediction_bands,
     },
     params=lambda fig: {
         "names": [BIF[fig]["sweep"]],
         "model_source": config["model_source"],
-        **(
-            {"experimental": BIF["fig02"]["experimental"]}
-            if fig == "fig02"
-            else {"zoom_near": 23.0, "zoom_half_width": 0.6}
-        ),
+        **({"experimental": FIG02_EXPERIMENTAL} if fig == "fig02" else {"zoom_near": 23.0, "zoom_half_width": 0.6}),
     },
 )
 

@@ -12,8 +12,8 @@ CHAOTIC_MEMBERS = ensemble_runs(scene(CHAOTIC["scene"]), config["solver"], CHAOT
 CHAOTIC_MEMBER_NAMES = sorted(CHAOTIC_MEMBERS)
 CHAOTIC_SCENE_RUN = scene_run(CHAOTIC["scene"])
 CHAOTIC_TRAINS = {"model": (CHAOTIC_SCENE_RUN, "model")}
-if CHAOTIC["second_train"]:
-    CHAOTIC_TRAINS["second"] = (CHAOTIC["second_train"]["events"], CHAOTIC["second_train"]["label"])
+if SECOND_TRAIN:  # common.smk: the measured group's train, or a file made elsewhere
+    CHAOTIC_TRAINS["second"] = (SECOND_TRAIN["file"], SECOND_TRAIN["label"])
 # statistics files of the figures with an optional second train (8-10), and of the model alone
 CHAOTIC_STATS = expand(CHAOTIC_TRAIN_STATS, train=list(CHAOTIC_TRAINS))
 CHAOTIC_MODEL_STATS = expand(CHAOTIC_TRAIN_STATS, train="model")

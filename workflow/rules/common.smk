@@ -10,6 +10,7 @@ from pathlib import Path
 import impactosc
 from snakemake.exceptions import WorkflowError
 from snakemake.io import strip_wildcard_constraints
+from impactosc.records.surrogate import LABEL as SURROGATE_LABEL
 from impactosc_study.config import validate_config
 
 # After validation config["model"] holds exactly the ModelParams fields (model BC's, or those of
@@ -183,29 +184,15 @@ def fig02_and_fig03b(layer, group, category, inputs, params=lambda fig: {}):
     for fig in ("fig02", "fig03b"):
         name = fig if layer is None else f"{fig}_{layer}"
         sweep = config["bifurcation"][fig]["sweep"]
-        png, pdf = (figure(2) if fig == "fig02" else panel(fig)) if layer is None else supplementary(group, name)
+        paths = (figure(2) if fig == "fig02" else panel(fig)) if layer is None else supplementary(group, name)
         RULE_GROUPS[name] = group
-
-        rule:
-            name:
-                name
-            input:
-                **inputs(fig, sweep),
-            output:
-                png=report(png, caption=f"../report/{name}.rst", category=category),
-                pdf=pdf,
-            params:
-                **params(fig),
-                model=config["model"],
-            script:
-                f"../scripts/{name}.py"
+        figure_rule(name, paths, category, inputs(fig, sweep), params(fig))
 
 
-def chaotic_figure(name, params=None, **inputs):
-    """Make the rule of one figure of the chaotic regime (paper Figs 6-11), drawn from ``inputs``
-    (the scene's run, or the trains' statistics) with ``params`` by workflow/scripts/<name>.py."""
-    RULE_GROUPS[name] = "chaotic"
-    nn = int(name.removeprefix("fig"))
+def figure_rule(name, paths, category, inputs, params):
+    """Make the rule ``name`` that draws a figure (PNG and PDF ``paths``) from ``inputs`` with
+    ``params`` and the model's, by workflow/scripts/<name>.py (a function of its own, so that the
+    script's path, which Snakemake reads when the job runs, is this name's)."""
 
     rule:
         name:
@@ -213,12 +200,21 @@ def chaotic_figure(name, params=None, **inputs):
         input:
             **inputs,
         output:
-            png=report(figure(nn)[0], caption=f"../report/{name}.rst", category="Chaotic regime (Figs 6-11)"),
-            pdf=figure(nn)[1],
+            png=report(paths[0], caption=f"../report/{name}.rst", category=category),
+            pdf=paths[1],
         params:
-            **(params or {}),
+            **params,
+            model=config["model"],
         script:
             f"../scripts/{name}.py"
+
+
+def chaotic_figure(name, params=None, **inputs):
+    """Make the rule of one figure of the chaotic regime (paper Figs 6-11), drawn from ``inputs``
+    (the scene's run, or the trains' statistics) with ``params`` by workflow/scripts/<name>.py."""
+    RULE_GROUPS[name] = "chaotic"
+    nn = int(name.removeprefix("fig"))
+    figure_rule(name, figure(nn), "Chaotic regime (Figs 6-11)", inputs, params or {})
 
 
 def rows_file(group):
@@ -390,6 +386,36 @@ LYAP_SIGNS = study_path("tables/lyapunov/sign_vs_period.md")
 MEAS_SURROGATE = study_path("runs/measured/surrogate_{kind}.h5")
 MEAS_CHAOS_EVENTS = study_path("runs/measured/chaos_events.h5")
 MEAS_FIG02_POINTS = study_path("runs/measured/fig02_experimental.h5")
+
+
+def measured_panel(entry, own_file, record, label):
+    """Where a panel of measured data comes from: {file, label, built_here} or None.
+
+    ``entry`` is its config key (chaotic.second_train, bifurcation.fig02.experimental): true draws
+    the measured group's own file (``own_file``, built from ``record``, or from the surrogate while no
+    record is configured: then always labelled so, measured.smk), an object a file made elsewhere,
+    false or null no panel."""
+    if entry is True:
+        if record is None:
+            return {"file": own_file, "label": SURROGATE_LABEL, "built_here": True}
+        return {"file": own_file, "label": label or f"measured record {Path(record).name}", "built_here": True}
+    if entry:
+        return {"file": entry.get("events") or entry["file"], "label": entry["label"], "built_here": False}
+    return None
+
+
+SECOND_TRAIN = measured_panel(
+    config["chaotic"]["second_train"],
+    MEAS_CHAOS_EVENTS,
+    config["measured"]["chaos"]["record"],
+    config["measured"]["chaos"]["label"],
+)
+FIG02_EXPERIMENTAL = measured_panel(
+    config["bifurcation"]["fig02"]["experimental"],
+    MEAS_FIG02_POINTS,
+    config["measured"]["fig02"]["records"] or config["measured"]["fig02"]["sweep_record"],
+    config["measured"]["fig02"]["label"],
+)
 MEAS_NOISE_STATS = study_path("stats/measured/measured_noise_study.json")
 MEAS_NOISE_TABLE = study_path("tables/measured/measured_noise_study.csv")
 # the noise study's parts (one per sampling rate, one for the sensor-realism rows): slices of the two above

@@ -7,8 +7,6 @@
 # impactosc.records.slow_sweep) -> the chaotic group's statistics and figure rules
 # (via config chaotic.second_train) and the bifurcation group's Fig 2 (via config
 # bifurcation.fig02.experimental).  Targets: measured_noise_study, measured_rows.
-from impactosc.records.surrogate import panel_hooked
-
 MEAS = config["measured"]
 MEAS_REPORT = "Measured records (experimental panels)"
 MEAS_CHAOS_RECORD = MEAS["chaos"]["record"] or MEAS_SURROGATE.format(kind="chaos")
@@ -21,20 +19,9 @@ if MEAS_FIG02_SWEEP and MEAS["fig02"]["records"]:
 MEAS_FIG02_RECORDS = MEAS_FIG02_SWEEP or MEAS["fig02"]["records"] or MEAS_SURROGATE.format(kind="sweep")
 
 
-MEAS_HOOK_CHAOS = panel_hooked(
-    "chaotic.second_train",
-    config["chaotic"]["second_train"],
-    "events",
-    MEAS_CHAOS_EVENTS,
-    MEAS["chaos"]["record"] is None,
-)
-MEAS_HOOK_FIG02 = panel_hooked(
-    "bifurcation.fig02.experimental",
-    config["bifurcation"]["fig02"]["experimental"],
-    "file",
-    MEAS_FIG02_POINTS,
-    MEAS["fig02"]["records"] is None and MEAS_FIG02_SWEEP is None,
-)
+# whether the panels of the other groups are drawn from this group's files (common.smk: measured_panel)
+MEAS_HOOK_CHAOS = bool(SECOND_TRAIN and SECOND_TRAIN["built_here"])
+MEAS_HOOK_FIG02 = bool(FIG02_EXPERIMENTAL and FIG02_EXPERIMENTAL["built_here"])
 
 
 rule measured_surrogate:

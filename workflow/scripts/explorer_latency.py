@@ -1,9 +1,12 @@
 """The live explorer's waits, through the scheduler its page uses.
 
-Reads input.cache, params.repeats and params.columns (of the diagram); writes output.md (the table, with the targets).
+Reads input.cache, params.repeats and params.columns (of the diagram); writes output.md (the table, with
+the targets).
 
 A new w's attractor, a diagram's first columns and the whole diagram, with as many worker processes as
-the job has threads (at least the page's two).
+the job has threads (at least the page's two). The measurement runs as its own command (python -m
+impactosc_bench.explorer_latency): the workers it starts import their main module afresh, which must
+not be this script.
 """
 
 from _logging import configure_logging, mock_snakemake
@@ -13,12 +16,14 @@ if "snakemake" not in globals():
 configure_logging(snakemake)
 
 import logging
+import subprocess
+import sys
 
-from impactosc.io.files import write_text
-from impactosc_bench.explorer_latency import markdown, measure_latency
-
+p = snakemake.params
 workers = max(2, snakemake.threads)  # the page's default pool
-rows = measure_latency(snakemake.params.repeats, workers, snakemake.params.columns)
-write_text(snakemake.output.md, "# Explorer latency\n\n" + markdown(rows, workers))
-for r in rows:
-    logging.info(f"{r['what']}: median {r['median']:.3f} s, worst {r['worst']:.3f} s")
+command = [sys.executable, "-m", "impactosc_bench.explorer_latency", "--repeats", str(p.repeats)]
+command += ["--workers", str(workers), "--columns", str(p.columns), "--output", snakemake.output.md]
+run = subprocess.run(command, capture_output=True, text=True)
+logging.info("%s\n%s", " ".join(command[1:]), run.stdout)
+if run.returncode:
+    raise RuntimeError(f"explorer latency failed ({run.returncode}):\n{run.stderr[-3000:]}")

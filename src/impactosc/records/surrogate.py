@@ -27,7 +27,6 @@ from impactosc.records.record import Record
 __all__ = [
     "LABEL",
     "REALISM_FIELDS",
-    "panel_hooked",
     "SurrogateOptions",
     "butterworth_delay",
     "mismatched_params",
@@ -473,25 +472,3 @@ def surrogate_ramp(start, stop, duration, options: SurrogateOptions | None = Non
     rec, truth = surrogate_driven(ramp_omegas(start, stop, duration), options, n_initial=n_initial, **kwargs)
     meta = dict(rec.meta, surrogate_ramp=f"{float(start):g} -> {float(stop):g} rad/s in {float(duration):g} s")
     return dataclasses.replace(rec, meta=meta, path="<surrogate ramp>"), truth
-
-
-def panel_hooked(name: str, entry: dict | None, path_key: str, path: str, is_surrogate: bool) -> bool:
-    """Whether a figure panel (config ``name``) is drawn from ``path``; checks its label.
-
-    Why: the surrogate must never be called experimental, and a real record must not keep
-    the surrogate's label.  Raises ValueError naming the config key when the label
-    contradicts the data source.
-    """
-    if not entry or entry[path_key] != path:
-        return False
-    says = "surrogate" in entry["label"].lower()
-    if is_surrogate and not says:
-        raise ValueError(
-            f"config {name}.label is {entry['label']!r} but the panel shows the surrogate "
-            f"(no measured record configured): label it {LABEL!r}"
-        )
-    if not is_surrogate and says:
-        raise ValueError(
-            f"config {name}.label says surrogate but a measured record is configured; name the record instead"
-        )
-    return True
