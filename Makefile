@@ -34,9 +34,12 @@ SNAKEMAKE_RUN = $(BIN)/python workflow/unlock_stale.py && $(BIN)/snakemake -j$(J
 # of their own, results/identified/
 IDENTIFIED = results/$(STUDY)/models/identified.yaml
 
-# The paper (rule all): results/paper/, its table results/paper/tables/paper_vs_replication.md
+# The paper (rule all): results/paper/, its table results/paper/tables/paper_vs_replication.md,
+# and the report of its figures, results/paper/report.html (for the default build; make report
+# writes one for other targets or configs)
 all: install
 	$(SNAKEMAKE_RUN) $(SNAKEMAKE_ARGS)
+	$(if $(SNAKEMAKE_ARGS),,$(BIN)/snakemake --quiet all --report results/paper/report.html)
 
 # Beyond the paper (rule beyond), then the predictions with error bars of the model it identifies
 beyond: install

@@ -1,17 +1,13 @@
-"""The build-time table: Snakemake's benchmark files read and summed per group, and every job of
-the default build counted (each writes a benchmark file, and rule build_times reads them all)."""
+"""The build-time table: Snakemake's benchmark files read and summed per group (that every job of a
+tier is counted in its tier's table is tests/test_tiers.py's)."""
 
 import math
-import re
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
 from impactosc_study.build_times import build_times_markdown, group_table, largest_jobs, read_benchmark
 
-REPO = Path(__file__).resolve().parents[1]
 HEADER = "s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"
 
 
@@ -59,35 +55,3 @@ def test_groups_longest_first_with_total_and_largest_jobs(tmp_path):
     assert "3 jobs, 60.0 s of wall time" in page
     assert "| periodic | 1 | 10.0 | - | 16.7 | fig01 | 10.0 |" in page
     assert "| **total** | 3 | 60.0 | 48.0 | 100.0 |" in page
-
-
-def test_every_job_of_the_default_build_is_in_the_table():
-    """A dry run of `all` lists each job with its benchmark file; the table's job must take every
-    one of them as input (a rule added without a benchmark, or left out of build_jobs(), fails)."""
-    dry = subprocess.run(
-        [sys.executable, "-m", "snakemake", "-n", "--forceall", "all"],
-        cwd=REPO,
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert dry.returncode == 0, dry.stderr[-3000:]
-    jobs = re.split(r"\n(?=(?:local)?rule \w+:\n)", dry.stdout)
-    rules = {}
-    for job in jobs:
-        m = re.match(r"(?:local)?rule (\w+):\n", job)
-        if m:
-            rules.setdefault(m.group(1), []).append(job)
-    (table,) = rules.pop("build_times")
-    rules.pop("all")
-    read = set(re.search(r"^    input: (.*)$", table, re.MULTILINE).group(1).split(", "))
-    written = set()
-    for name, js in rules.items():
-        for job in js:
-            m = re.search(r"^    benchmark: (\S+)$", job, re.MULTILINE)
-            assert m, f"rule {name}: a job without a benchmark file (add benchmark: benchmark_file(group, name))"
-            written.add(m.group(1))
-    assert written == read, (
-        f"jobs not in the build-time table (add them with build_jobs()): {sorted(written - read)}; "
-        f"read but not in the build: {sorted(read - written)}"
-    )

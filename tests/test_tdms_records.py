@@ -234,7 +234,7 @@ def test_cli_sweep_extract_writes_the_fig02_points(tmp_path, capsys):
     out = tmp_path / "pts.h5"
     assert main(["sweep-extract", str(rec), "--bin-width", "0.25", "--settle", "5", "--output", str(out)]) == 0
     assert "segments of w" in capsys.readouterr().out
-    with h5py.File(out) as f:  # the layout bifurcation_figure.py reads: omega, x (one row per point)
+    with h5py.File(out) as f:  # the layout fig02.py reads: omega, x (one row per point)
         w, x = f["omega"][()], f["x"][()]
         assert w.shape == x.shape and f["omega"].attrs["units"] == "rad/s" and f.attrs["label"]
         assert f.attrs["poincare_phase_source"] == "encoder" and f.attrs["settle"] == 5.0

@@ -13,7 +13,7 @@ configure_logging(snakemake)
 import logging
 
 from impactosc.io.files import read_table, write_text
-from impactosc_bench.report import benchmark_rows, report_markdown
+from impactosc_bench.benchmarks_report import benchmark_rows, report_markdown
 from impactosc_study.paper.table import to_markdown, write_rows
 
 i = snakemake.input

@@ -3,7 +3,7 @@ the statistics-against-tolerance sweep show of ours.
 
 Why a module: the only numerics the paper states is Mathematica's MaxStepSize; these rows answer
 it from checks that time nothing (results/<study>/tables/numerics/), so that two builds give the
-same table. Speeds belong to the benchmarks' report (impactosc_bench.report).
+same table. Speeds belong to the benchmarks' report (impactosc_bench.benchmarks_report).
 """
 
 from __future__ import annotations
