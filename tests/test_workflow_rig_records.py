@@ -90,8 +90,8 @@ def test_records_named_in_the_config_are_the_inputs_of_their_jobs(tmp_path):
         read = re.search(r"^    input: (.*)$", block, re.M)
         for path in output[1].split(", ") if output else []:
             inputs[path] = read[1].split(", ") if read else []
-    assert inputs.get(points) == [str(sweep)], plan[-3000:]
-    assert inputs.get(events) == [str(chaos)], plan[-3000:]
+    assert str(sweep) in inputs.get(points, []), plan[-3000:]
+    assert str(chaos) in inputs.get(events, []), plan[-3000:]
 
 
 @pytest.mark.slow
