@@ -1,6 +1,7 @@
 # Two commands do everything on a fresh machine with Python 3.11:
 #   make        install into .venv and build the paper: every figure and number of it (snakemake -j2)
-#   make test   install into .venv and run the default (fast) tests, lint and format checks
+#   make test   install into .venv, run lint and format checks, build the docs, run the default
+#               tests on both cores (pytest -n 2; make test-slow runs the slow ones)
 # Beyond the paper, on request: make beyond (orbits, Lyapunov exponents, basins, two-parameter
 # curves, the noise study, identification and predictions), make bench (the benchmarks: every job
 # that times, each with the machine to itself) and make everything (the three).
@@ -11,6 +12,14 @@ LOCK := requirements.lock
 VENV := .venv
 BIN := $(VENV)/bin
 JOBS ?= 2
+# pytest's workers (pytest-xdist) in make test and make test-slow: two, as the workflow's jobs. Not
+# -n auto: it would start one worker per core of a large machine, each paying the imports and the
+# module-scoped fixtures of its files, and the tiny workflow build runs two jobs of its own; the
+# budget of make test is measured on 2 cores. pyproject's addopts send each file to one worker
+# (--dist loadfile); tests/conftest.py compiles the numba core into the shared cache before the
+# workers start.
+PYTEST_WORKERS ?= 2
+PYTEST_PARALLEL := -n $(PYTEST_WORKERS)
 # uv lives in a venv of its own: `uv pip sync` removes from .venv whatever the lock does not list
 UV_VERSION := 0.13.8
 UV_LOCK := requirements-uv.lock
@@ -84,11 +93,13 @@ lock: $(UV)
 	echo "uv==$(UV_VERSION)" | $(UV) pip compile - --universal --python-version 3.11 --generate-hashes \
 		--quiet -o $(UV_LOCK)
 
-# The default checks (.ci/run): format and lint (ruff for the code, snakefmt for the rules,
-# snakemake --lint), a dry run of the whole workflow, then the tests (which include the tiny
-# end-to-end run of every rule, tests/test_workflow_tiny.py).
+# The default checks (.ci/run, budget 8 min from a fresh clone on 2 cores): format and lint (ruff
+# for the code, snakefmt for the rules, snakemake --lint), a dry run of the whole workflow, the docs
+# build, then the default tests (pyproject's addopts: -m 'not slow') on both cores. Among them is
+# the one end-to-end run of the workflow, every rule on config/tiny.yaml
+# (tests/test_workflow_tiny.py); the other full-pipeline builds are slow tests.
 test: lint docs
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest $(PYTEST_PARALLEL)
 
 # The checks make test runs before the tests: format, lint, the import contract (pyproject's
 # [tool.importlinter]: the library never imports the study or the benchmarks, no layer imports
@@ -115,8 +126,10 @@ format: install
 	$(BIN)/ruff check --fix --quiet .
 	$(BIN)/snakefmt Snakefile workflow/rules
 
+# The rest: full-length scenes, long numerical checks, the workflow builds other than the tiny one
+# (resume after a kill, a second study, rig records, the longest tutorials)
 test-slow: install
-	$(BIN)/python -m pytest -m slow
+	$(BIN)/python -m pytest $(PYTEST_PARALLEL) -m slow
 
 # The report of one study (make report STUDY=myrig: results/myrig/report.html) from the files its
 # build wrote; a study with a config file of its own names it in SNAKEMAKE_ARGS='--configfile

@@ -159,8 +159,8 @@ def test_choose_model_ranks_the_candidates(tmp_path):
 @pytest.mark.slow
 def test_the_model_file_rebuilds_fig02(example, tmp_path, capsys):
     """The workflow route on the tiny config: --config model_file=m.yaml, Fig 2 drawn with its parameters
-    and, the file stating a covariance, its error bars (about 35 s: slow; the default run builds a
-    model file's Fig 2 with error bars in tests/test_workflow_studies.py)."""
+    and, the file stating a covariance, its error bars (about 35 s: slow, as the same route in
+    tests/test_workflow_studies.py)."""
     out, _, _ = example
     model = read_model_file(out / "m.yaml")
     t0 = time.perf_counter()

@@ -12,6 +12,9 @@ integration of a fixed model from a fixed state (no randomness, one thread), and
 study's rows come from a generator seeded by the config (measured.surrogate.seed), so both
 repeat bit for bit on one machine. Run files also hold wall times, so their event datasets are
 compared, not the files.
+
+The killed build and its reference build (about 45 s of a worker) run with the slow tests; the
+lock's two cases, without a build, in the default run.
 """
 
 import os
@@ -76,6 +79,7 @@ def reference(tmp_path_factory):
     return work
 
 
+@pytest.mark.slow
 def test_killed_build_resumes_with_the_same_results(reference, tmp_path):
     work = workflow_copy(tmp_path)
     build = subprocess.Popen(make(work), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, process_group=0)

@@ -9,9 +9,14 @@ counts, time as waveform properties, as NI software writes them), on config/tiny
 
 What it guards: the config keys (record, sweep_record, read, segments, the panel labels) reach
 the rules, and the records go through the TDMS reader, not only the CSV/HDF5 ones.
+
+Both builds (about 35 s of a worker) run with the slow tests. The default run keeps a dry run of
+both routes (each record is the input of the job that reads it); the TDMS reader is tested in
+tests/test_tdms_records.py, the workflow end to end in tests/test_workflow_tiny.py.
 """
 
 import dataclasses
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -46,18 +51,50 @@ def _write_tdms(path, rec, phase=None, label="rig record (test)"):
         w.write_segment([RootObject(properties=root), GroupObject("rig"), *channels])
 
 
-def _run(tmp_path, extra_config: str, *targets):
+def _run(tmp_path, extra_config: str, *targets, dry_run=False):
     extra = tmp_path / "extra.yaml"
     extra.write_text(extra_config)
+    quiet = ["-n"] if dry_run else ["-j2", "--quiet", "rules"]
     run = subprocess.run(
-        [*SNAKEMAKE, *targets, "-d", str(tmp_path), "--configfile", *CONFIGS, str(extra), "-j2", "--quiet", "rules"],
+        [*SNAKEMAKE, *targets, "-d", str(tmp_path), "--configfile", *CONFIGS, str(extra), *quiet],
         capture_output=True,
         text=True,
         timeout=900,
     )
     assert run.returncode == 0, f"workflow failed:\n{run.stdout[-4000:]}\n{run.stderr[-4000:]}"
+    return run.stdout + run.stderr
 
 
+def test_records_named_in_the_config_are_the_inputs_of_their_jobs(tmp_path):
+    """A dry run (the default run's cheap check of the two routes below): the job writing the Fig 2
+    points reads the sweep record, the job writing the second train's events the chaotic record."""
+    sweep, chaos = tmp_path / "sweep.tdms", tmp_path / "chaos.tdms"
+    sweep.touch()
+    chaos.touch()
+    points = "results/paper/runs/measured/fig02_experimental.h5"
+    events = "results/paper/runs/measured/chaos_events.h5"
+    plan = _run(
+        tmp_path,
+        f"measured:\n  fig02:\n    sweep_record: {sweep}\n"
+        "    read: {group: rig, channel: cart, phase_channel: encoder}\n"
+        "    label: rig sweep (test record)\n"
+        f"  chaos:\n    record: {chaos}\n    read: {{group: rig, channel: cart}}\n"
+        "    label: rig chaos (test record)\n",
+        points,
+        events,
+        dry_run=True,
+    )
+    inputs = {}  # output -> inputs of the job that writes it
+    for block in re.split(r"^(?:local)?rule \w+:$", plan, flags=re.M)[1:]:
+        output = re.search(r"^    output: (.*)$", block, re.M)
+        read = re.search(r"^    input: (.*)$", block, re.M)
+        for path in output[1].split(", ") if output else []:
+            inputs[path] = read[1].split(", ") if read else []
+    assert str(sweep) in inputs.get(points, []), plan[-3000:]
+    assert str(chaos) in inputs.get(events, []), plan[-3000:]
+
+
+@pytest.mark.slow
 def test_sweep_record_becomes_the_fig02_panel(tmp_path):
     sweep = tmp_path / "sweep.tdms"
     rec, truth = surrogate_ramp(W0, W1, DURATION, SurrogateOptions(rate=2000.0, noise=5e-6), n_initial=300)
@@ -95,6 +132,7 @@ def test_sweep_record_becomes_the_fig02_panel(tmp_path):
     assert (tmp_path / "results" / "paper" / "figures" / "fig02.png").exists()
 
 
+@pytest.mark.slow
 def test_chaos_record_becomes_the_second_train(tmp_path):
     # 40 s of the chaotic attractor, 5 um noise, no x_impact in the file: estimated
     rec, truth = surrogate_record(40.86, 100.0, 40.0, SurrogateOptions(rate=2000.0, noise=5e-6))

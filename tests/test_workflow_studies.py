@@ -6,6 +6,10 @@ What it guards: every path of the workflow is under results/<study>/ (the second
 neither rewrites nor touches a file of results/paper/: same bytes, same mtimes), the study's
 model reaches its own sweeps only, and the comparison reads the other study's files, stopping
 with a message naming the missing ones when that study is not built.
+
+The builds of the two studies (about 60 s of a worker) run with the slow tests: the default run
+builds the workflow end to end once, in tests/test_workflow_tiny.py. The refusal of an unsafe
+study name is a dry run, in the default run.
 """
 
 import hashlib
@@ -66,6 +70,7 @@ def two_studies(tmp_path_factory):
     return work, paper
 
 
+@pytest.mark.slow
 def test_second_study_leaves_the_paper_study_untouched(two_studies):
     work, before = two_studies
     assert len(before) > 20 and "figures/fig02.png" in before and ".numba_cache_ready" in before
@@ -82,6 +87,7 @@ def test_second_study_leaves_the_paper_study_untouched(two_studies):
             assert f.attrs["param_c"] == c
 
 
+@pytest.mark.slow
 def test_a_model_with_a_covariance_gets_its_error_bars(two_studies):
     """myrig's model states a covariance: Fig 2 took its segments' predictions (located points
     with standard errors, bands), and the predictions' table lists them; the paper's model BC,
@@ -100,6 +106,7 @@ def test_a_model_with_a_covariance_gets_its_error_bars(two_studies):
     assert run.returncode != 0 and "predictions need a model file with a covariance" in run.stdout + run.stderr
 
 
+@pytest.mark.slow
 def test_compare_studies_overlays_the_built_study(two_studies):
     work, before = two_studies
     rig = work / "rig.yaml"
