@@ -33,7 +33,7 @@ REPO = Path(__file__).resolve().parents[1]
 VENV = Path(sys.executable).parent.parent  # the environment running the tests (make's .venv)
 UNLOCK = REPO / "workflow" / "unlock_stale.py"
 SCENES = [f"results/paper/runs/scenes/{name}.h5" for name in ("period4", "chaos")]
-NOISE = [f"results/paper/stats/measured/noise_study/level{level}.csv" for level in (0, 1)]
+NOISE = [f"results/paper/stats/measured/noise_study/{part}.csv" for part in ("rate2000Hz", "realism")]
 TARGETS = SCENES + NOISE
 EVENTS = ("impacts/t", "penetrations/h", "poincare/x", "poincare/v")
 
