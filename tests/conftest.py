@@ -40,7 +40,9 @@ _WARM = pytest.StashKey[float]()
 
 def pytest_report_header(config):
     if _WARM in config.stash:
-        return f"numba core and kernels ready in the shared cache before the workers started: {config.stash[_WARM]:.1f} s"
+        return (
+            f"numba core and kernels ready in the shared cache before the workers started: {config.stash[_WARM]:.1f} s"
+        )
     return None
 
 
