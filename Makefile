@@ -38,7 +38,12 @@ CHECK_STUDY = case "$(STUDY)" in ""|*[!A-Za-z0-9_-]*) echo "STUDY='$(STUDY)': le
 
 # A build killed part-way resumes with a plain `make`: a lock left by a dead Snakemake is removed
 # (never one a live Snakemake holds, workflow/unlock_stale.py) and incomplete outputs are redone.
-SNAKEMAKE_RUN = $(BIN)/python workflow/unlock_stale.py && $(BIN)/snakemake -j$(JOBS) --rerun-incomplete
+# Two recipe lines, two shells: a shell running both would itself look like a live Snakemake in
+# this directory to unlock_stale.py, which would then keep the dead build's lock.
+define snakemake_run
+	$(BIN)/python workflow/unlock_stale.py
+	$(BIN)/snakemake -j$(JOBS) --rerun-incomplete $(1)
+endef
 # The model the paper's study identifies (make beyond): its predictions with error bars are a study
 # of their own, results/identified/
 IDENTIFIED = results/$(STUDY)/models/identified.yaml
@@ -47,17 +52,17 @@ IDENTIFIED = results/$(STUDY)/models/identified.yaml
 # and the report of its figures, results/paper/report.html (for the default build; make report
 # writes one for other targets or configs)
 all: install
-	$(SNAKEMAKE_RUN) $(SNAKEMAKE_ARGS)
+	$(call snakemake_run,$(SNAKEMAKE_ARGS))
 	$(if $(SNAKEMAKE_ARGS),,$(BIN)/snakemake --quiet all --report results/paper/report.html)
 
 # Beyond the paper (rule beyond), then the predictions with error bars of the model it identifies
 beyond: install
-	$(SNAKEMAKE_RUN) beyond $(SNAKEMAKE_ARGS)
-	$(SNAKEMAKE_RUN) predictions --config study=identified model_file=$(IDENTIFIED)
+	$(call snakemake_run,beyond $(SNAKEMAKE_ARGS))
+	$(call snakemake_run,predictions --config study=identified model_file=$(IDENTIFIED))
 
 # The benchmarks (rule benchmarks): each timing job claims every core (config timing.exclusive)
 bench: install
-	$(SNAKEMAKE_RUN) benchmarks $(SNAKEMAKE_ARGS)
+	$(call snakemake_run,benchmarks $(SNAKEMAKE_ARGS))
 
 everything: all beyond bench
 
