@@ -78,8 +78,11 @@ def run_all(hc: dict, log=print, impact_rows=None) -> list[dict]:
     """Every case at the sizes of the ``hard_cases`` config section (model BC throughout;
     each case states the parameters it changes). ``impact_rows``: the rows of
     :func:`impact_checks` when they were run already (the workflow's impact_checks job)."""
-    rows = list(impact_rows) if impact_rows is not None else impact_checks(hc, log=log)
-    warm_up()
+    if impact_rows is None:
+        rows = impact_checks(hc, log=log)  # warms the core up itself
+    else:
+        warm_up()
+        rows = list(impact_rows)
     bounce = dataclasses.replace(ModelParams(), b=0.1)
     s, r, lr = hc["sticking"], hc["regularisation"], hc["long_run"]
     rows += bounce_to_rest_case(bounce, 8.0, 20.0, log=log)
