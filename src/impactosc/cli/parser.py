@@ -4,6 +4,7 @@ examples (the commands themselves run in cli.main and, for identify, cli.identif
 from __future__ import annotations
 
 import argparse
+import re
 
 from impactosc import __version__
 from impactosc.cli.options import (
@@ -26,8 +27,23 @@ Examples (the chaotic scene of the paper, ~2875 impacts; the same with a rig's m
 """
 
 
+#: A negative number in any notation Python's float reads (-2e-3, -.5, -1E+3, -inf, -nan): such
+#: an argument is a value, never an option (argparse alone knows -2 and -0.5 only, and takes
+#: -2e-3 for an option). -inf and -nan are then refused by the options' finite check.
+NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
+
+
+class Parser(argparse.ArgumentParser):
+    """An ArgumentParser that reads ``--x0 -2e-3`` as the option and its value (its
+    subcommands' parsers are of the same class)."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="impactosc",
         description="Forced impacting oscillator (model BC): event-exact simulation and impact statistics.",
     )
@@ -202,7 +218,7 @@ def _add_extract_parser(sub) -> None:
     ext.add_argument(
         "--x-impact",
         type=finite_number,
-        help="obstacle position XI, m (write --x-impact=-2.086e-3 for negative values; default: the model's xI "
+        help="obstacle position XI, m (default: the model's xI "
         "when --model or --param states it, else record metadata, else estimated)",
     )
     ext.add_argument(
