@@ -174,7 +174,7 @@ def _surrogate(args) -> int:
 
 
 def _simulate(args) -> int:
-    from impactosc.core.simulation import Window, simulate, warm_up
+    from impactosc.core.simulation import Window, check_step_budget, simulate, warm_up
     from impactosc.io.files import check_writable, write_run
 
     record = tuple(e.strip() for e in args.events.split(",") if e.strip())
@@ -184,10 +184,7 @@ def _simulate(args) -> int:
     from impactosc.core.simulation import _validate
 
     _validate(args.omega, args.transient, args.duration, args.x0, args.v0, args.rtol, args.atol, window)
-    if args.step_budget < 100:
-        raise ParameterError(
-            "step_budget", f"--step-budget must be >= 100 step attempts per forcing period, got {args.step_budget:g}"
-        )
+    check_step_budget(args.step_budget)
     params, source = model_from_args(args)
     jit = warm_up()
     last = [time.perf_counter()]
@@ -284,7 +281,8 @@ def main(argv=None) -> int:
             warnings.showwarning = _one_line_warnings
             return COMMANDS[args.command](args)
     except ParameterError as exc:
-        print(f"{say} {_option(args.command, exc.name)}: {exc}", file=sys.stderr)
+        option = _option(args.command, exc.name)
+        print(f"{say} {exc}" if str(exc).startswith(option) else f"{say} {option}: {exc}", file=sys.stderr)
         return 2
     except (ValueError, FileNotFoundError, OSError) as exc:
         print(f"{say} {exc}", file=sys.stderr)

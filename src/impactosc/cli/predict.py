@@ -27,9 +27,11 @@ def _predict(args) -> int:
         check_writable(args.output)
     lo, hi = args.w_range
     if not 0 < lo < hi:
-        raise ParameterError("--w-range", f"must be 0 < LO < HI, got {lo} {hi}")
-    if not 1 <= args.max_period <= MAX_PERIOD:
-        raise ParameterError("--max-period", f"must be from 1 to {MAX_PERIOD}, got {args.max_period}")
+        raise ParameterError("--w-range", f"--w-range must be 0 < LO < HI, got {lo} {hi}")
+    if args.max_period < 1:
+        raise ParameterError("--max-period", f"--max-period must be >= 1, got {args.max_period}")
+    if args.max_period > MAX_PERIOD:
+        raise ParameterError("--max-period", f"--max-period must be <= {MAX_PERIOD}, got {args.max_period}")
     seed = args.seed_omega if args.seed_omega is not None else 0.5 * (lo + hi)
     model = read_model_file(args.model_file)
     cov = field_covariance(model)
