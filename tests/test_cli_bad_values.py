@@ -209,9 +209,20 @@ COMMANDS = {
             "--max-period": st.one_of(st.integers(max_value=0), st.integers(min_value=65)),
         },
     ),
+    "identify": (
+        ["FILES/rec.csv", "--quiet"],
+        {
+            "--mass": anywhere(),
+            "--stages": values(anywhere()),
+            "--duration": anywhere(),
+        },
+    ),
 }
 #: The file each command writes.
-OUTPUT = {"predict": "out.csv", "surrogate": "out.h5"}
+OUTPUT = {"predict": "out.csv", "identify": "out.yaml"}
+#: Examples drawn per command in the default run: identify fits the record when a value is valid
+#: (about 1.5 s a fit), the others answer in milliseconds.
+EXAMPLES = {"identify": 6}
 
 
 def command_line(command, files, option, value, out):
@@ -250,7 +261,7 @@ def sweep(command, files, tmp_path, budget):
 
 @pytest.mark.parametrize("command", sorted(COMMANDS))
 def test_drawn_values_get_a_clean_answer(command, files, tmp_path):
-    sweep(command, files, tmp_path, SWEEP)
+    sweep(command, files, tmp_path, settings(SWEEP, max_examples=EXAMPLES.get(command, SWEEP.max_examples)))
 
 
 @pytest.mark.slow
@@ -264,8 +275,13 @@ def test_more_drawn_values_get_a_clean_answer(command, files, tmp_path):
 HUGE_WINDOWS = [(0, 0.05, 1e-300), (0, 0.05, 1e-12), (-1e300, 1e300, 1e-300), (0, 1e300, 1), (0.05, 0, 1e-3)]
 
 
-def nasty_cases():
+def nasty_cases(fits=False):
+    """(command, option, value) of every numeric option and nasty value; identify's valid values
+    (which fit the record) only with ``fits``."""
     for command, (_, options) in sorted(COMMANDS.items()):
+        if command == "identify":
+            yield from (("identify", o, v) for o in sorted(options) for v in NASTY if fits or not v > 0)
+            continue
         for option in sorted(options):
             if option == "--window":
                 yield from ((command, option, w) for w in HUGE_WINDOWS)
@@ -282,10 +298,11 @@ def nasty_cases():
                 yield from ((command, option, v) for v in NASTY)
 
 
-def test_nasty_values_get_a_clean_answer(files, tmp_path):
-    """Every case of :func:`nasty_cases` (some 300 calls, most refused at once)."""
+@pytest.mark.parametrize("fits", [False, pytest.param(True, marks=pytest.mark.slow)])
+def test_nasty_values_get_a_clean_answer(files, tmp_path, fits):
+    """Every case of :func:`nasty_cases` (some 850 calls, most refused at once)."""
     codes = []
-    for command, option, value in nasty_cases():
+    for command, option, value in nasty_cases(fits):
         out = tmp_path / OUTPUT.get(command, "out.h5")
         codes.append(run(command_line(command, files, option, value, out), out)[0])
     # the list holds values that run (0, a tiny time) and values that are refused
@@ -425,3 +442,29 @@ def test_the_expected_wall_time_is_said_once_and_not_when_quiet(capsys):
     nearly_done.start -= 10.0
     nearly_done(0.9)
     assert capsys.readouterr().err == ""
+
+
+def test_sigterm_to_a_workflow_script_leaves_no_file(tmp_path):
+    """The workflow's scripts start with configure_logging, which makes SIGTERM (Snakemake
+    stopping a job) unwind as the command line does."""
+    scripts = os.path.join(os.path.dirname(__file__), os.pardir, "workflow", "scripts")
+    script = textwrap.dedent(
+        f"""
+        import sys, time
+        sys.path.insert(0, {scripts!r})
+        from _logging import configure_logging
+        configure_logging()
+        from impactosc.io.files import atomic_write
+        with atomic_write({str(tmp_path / "table.csv")!r}) as tmp:
+            open(tmp, "w").write("half a table")
+            print("writing", flush=True)
+            time.sleep(120)
+        """
+    )
+    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    _wait_for(proc, proc.stdout, "writing")
+    assert len(list(tmp_path.iterdir())) == 1
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 143, err
+    assert list(tmp_path.iterdir()) == []

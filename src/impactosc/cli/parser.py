@@ -21,6 +21,9 @@ Units: SI throughout (s, m, m/s, rad/s). Model parameters are model BC of the pa
 ({model_bc_summary()}, ...; see impactosc.model.parameters.ModelParams)
 unless --model / --param change them; the run file's attributes record every parameter
 (param_*) and where they came from (model_source).
+Bad values get one line, "impactosc simulate: error: --option: ...", exit status 2 and no file;
+negative numbers may follow their option after a space (--x0 -2e-3). A run longer than a few
+seconds says its expected wall time on stderr; SIGTERM or Ctrl-C leave no file.
 Examples (the chaotic scene of the paper, ~2875 impacts; the same with a rig's model file):
   impactosc simulate --omega 40.86 --transient 100 --duration 400 --output chaos.h5
   impactosc simulate --omega 40.86 --transient 100 --duration 400 --model rig.yaml --param k=1500 --output rig.h5
@@ -157,7 +160,12 @@ def _add_simulate_parser(sub) -> None:
     )
     sim.add_argument("--omega", type=finite_number, required=True, help="forcing frequency w in rad/s (> 0)")
     sim.add_argument("--transient", type=finite_number, required=True, help="time discarded before recording, s (>= 0)")
-    sim.add_argument("--duration", type=finite_number, required=True, help="recorded time after the transient, s (> 0)")
+    sim.add_argument(
+        "--duration",
+        type=finite_number,
+        required=True,
+        help="recorded time after the transient, s (> 0; transient + duration <= 1e6 s, impactosc.core.simulation.MAX_T_END)",
+    )
     sim.add_argument("--x0", type=finite_number, default=0.0, help="initial displacement at t = 0, m (default 0)")
     sim.add_argument("--v0", type=finite_number, default=0.0, help="initial velocity at t = 0, m/s (default 0)")
     sim.add_argument(
@@ -174,7 +182,8 @@ def _add_simulate_parser(sub) -> None:
         type=finite_number,
         nargs=3,
         metavar=("T1", "T2", "DT"),
-        help="also store x, v sampled at t = T1, T1+DT, ... <= T2 (absolute times, s)",
+        help="also store x, v sampled at t = T1, T1+DT, ... <= T2 (absolute times, s); refused up front when "
+        "its samples would not fit in memory",
     )
     sim.add_argument(
         "--events",
