@@ -65,14 +65,15 @@ def start_explorer(*args: str, cwd) -> tuple[subprocess.Popen, str]:
     return proc, re.search(r"http://\S+", lines[-1]).group(0)
 
 
-def stop_explorer(proc: subprocess.Popen) -> None:
+def stop_explorer(proc: subprocess.Popen) -> str:
+    """Stop the explorer; returns what it printed since it started serving."""
     proc.terminate()  # the server shuts its worker pool down on SIGTERM
     try:
-        proc.wait(timeout=30)
+        out, _ = proc.communicate(timeout=30)
     except subprocess.TimeoutExpired:
         proc.kill()
-        proc.wait(timeout=10)
-    proc.stdout.close()
+        out, _ = proc.communicate(timeout=10)
+    return out
 
 
 @pytest.mark.parametrize(

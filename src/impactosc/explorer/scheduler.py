@@ -102,6 +102,10 @@ def _death(executor: ProcessPoolExecutor, exc: BaseException | None) -> str:
     return lines[-1] if lines else "a worker process ended abruptly"
 
 
+class PoolClosed(RuntimeError):
+    """A request after the workers were shut down (the server is stopping)."""
+
+
 class WorkerPool:
     """The worker processes every page shares, replaced when they break.
 
@@ -115,10 +119,14 @@ class WorkerPool:
         self.restarts = 0
         self.last_death = ""
         self._lock = threading.Lock()
+        self._closed = False
         self._executor = make_pool(self.workers)
 
     def submit(self, fn, *args) -> Future:
+        """fn(*args) on a worker; PoolClosed once :meth:`shutdown` was called."""
         with self._lock:
+            if self._closed:
+                raise PoolClosed("the explorer's workers are shut down")
             executor = self._executor
             try:
                 future = executor.submit(fn, *args)
@@ -136,7 +144,7 @@ class WorkerPool:
     def _replace(self, broken: ProcessPoolExecutor, exc: BaseException | None) -> ProcessPoolExecutor:
         """The new executor, made unless `broken` was replaced already (lock held); its workers
         load the core before the requests queued after them run."""
-        if self._executor is broken:
+        if self._executor is broken and not self._closed:
             self.last_death = _death(broken, exc)
             self.restarts += 1
             log.warning("impactosc explore: %s; workers restarted (%d so far)", self.last_death, self.restarts)
@@ -151,8 +159,12 @@ class WorkerPool:
             return sorted(getattr(self._executor, "_processes", None) or {})
 
     def shutdown(self, wait: bool = True, cancel_futures: bool = False) -> None:
+        """Stop the workers. The lock is not held while waiting: the callbacks of the last
+        results, run meanwhile, may still try to submit (and are told PoolClosed)."""
         with self._lock:
-            self._executor.shutdown(wait=wait, cancel_futures=cancel_futures)
+            self._closed = True
+            executor = self._executor
+        executor.shutdown(wait=wait, cancel_futures=cancel_futures)
 
 
 def error_text(exc: BaseException, pool) -> str:
@@ -255,7 +267,10 @@ class Scheduler:
         with self._lock:
             if self._generation[kind] != generation:
                 return None
-            future = self._pool.submit(fn, *args)
+            try:
+                future = self._pool.submit(fn, *args)
+            except PoolClosed:
+                return None  # the server is stopping: nobody waits for this
             self._futures[kind] = [f for f in self._futures[kind] if not f.done()] + [future]
         return future
 
