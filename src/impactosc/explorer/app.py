@@ -455,7 +455,7 @@ class Explorer:
         a newer load or when the tab closes); its points drawn, or what is wrong with it said."""
         typed = self.record_path.value
         real = self.access.resolve(typed)
-        name = real.rsplit("/", 1)[-1]
+        name = Path(real).name
         self.say()
         self.status.text = html.escape(f"loading record {name} ...")
 
