@@ -372,6 +372,25 @@ def test_a_record_load_is_killed_when_cancelled_or_late():
     assert shot.done() and cancelled == []
 
 
+def test_a_record_load_ends_with_its_page(tmp_path):
+    """A load that would wait forever (opening a FIFO nobody writes) is killed when the page
+    closes, and its page hears nothing of it."""
+    fifo = tmp_path / "stuck.csv"
+    os.mkfifo(fifo)
+    s = sched.Scheduler(1, pool=ThreadPoolExecutor(1))
+    heard = []
+    s.record(str(fifo), lambda _g, p: heard.append(p), lambda _g, m: heard.append(m), load=open)
+    (shot,) = s._futures[sched.RECORD]
+    time.sleep(0.5)
+    assert not shot.done()
+    s.close()
+    deadline = time.monotonic() + 10
+    while not shot.done() and time.monotonic() < deadline:
+        time.sleep(0.02)
+    time.sleep(0.2)
+    assert shot.done() and heard == []
+
+
 # ---------------------------------------------------------------------- the config written
 
 

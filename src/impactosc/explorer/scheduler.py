@@ -26,6 +26,7 @@ newer record is asked for, or when it runs out of time.
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import logging
 import multiprocessing
@@ -204,25 +205,27 @@ class OneShot:
 
     def _wait(self, on_done, timeout: float) -> None:
         ready = multiprocessing.connection.wait([self._conn, self._proc.sentinel], timeout)
-        try:
-            ok, value = self._conn.recv() if self._conn in ready else (False, None)
-        except (EOFError, OSError):
-            ok, value = False, None
-        if value is None and not ok:
-            code = self._proc.exitcode
-            value = f"took more than {timeout:g} s" if not ready else f"the process {_exit_reason(code or 0)}"
+        answer = None
+        if self._conn in ready:
+            with contextlib.suppress(EOFError, OSError):  # it ended without an answer (killed, or cancelled)
+                answer = self._conn.recv()
         self._proc.kill()
         self._proc.join()
         self._conn.close()
+        if answer is None:
+            late = not ready
+            answer = (False, f"took more than {timeout:g} s" if late else f"it {_exit_reason(self._proc.exitcode)}")
         if not self._cancelled.is_set():
-            on_done(ok, value)
+            on_done(*answer)
 
     def cancel(self) -> bool:
+        """Kill the process; `on_done` is not called."""
         self._cancelled.set()
         self._proc.kill()
         return True
 
     def done(self) -> bool:
+        """Whether the process has ended."""
         return not self._proc.is_alive()
 
 
@@ -406,10 +409,11 @@ class Scheduler:
 
     def record(
         self, path: str, on_record: Callable[[int, dict], None], on_error: Callable[[int, str], None],
-        timeout: float = RECORD_TIMEOUT,
+        timeout: float = RECORD_TIMEOUT, load=work.record_points,
     ) -> int:  # fmt: skip
-        """A record's Poincare points (:func:`.work.record_points` of `path`) in a process of its
-        own, killed by a newer record request, :meth:`close` or `timeout`; returns the generation."""
+        """A record's Poincare points (`load` of `path`: :func:`.work.record_points`) in a process
+        of its own, killed by a newer record request, :meth:`close` or `timeout`; returns the
+        generation."""
         gen = self._next(RECORD)
 
         def done(ok: bool, value):
@@ -418,7 +422,7 @@ class Scheduler:
 
         with self._lock:
             if self._generation[RECORD] == gen:
-                self._futures[RECORD].append(OneShot(work.record_points, (path,), done, timeout))
+                self._futures[RECORD].append(OneShot(load, (path,), done, timeout))
         return gen
 
     def close(self) -> None:
