@@ -20,6 +20,7 @@ import secrets
 import signal
 import socket
 import sys
+import zlib
 
 from impactosc.explorer.scheduler import Scheduler, WorkerPool
 from impactosc.explorer.view import RecordAccess, View
@@ -70,7 +71,7 @@ def _auth(token: str | None):
             if not check_token_signature(session_token, secret_key=app.secret_key, signed=app.sign_sessions):
                 return False
             arguments = get_token_payload(session_token).get("arguments", {})
-        except ValueError:  # not a token at all (bad base64 or JSON)
+        except (ValueError, TypeError, KeyError, zlib.error):  # not a token at all (bad base64, JSON, zlib)
             return False
         return any(_same(v, token) for v in arguments.get(TOKEN_ARGUMENT, []))
 
