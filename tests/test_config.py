@@ -244,3 +244,38 @@ def test_analysis_defaults_have_one_value():
     paper = yaml.safe_load(CONFIG.read_text())["chaotic"]["analysis"]
     assert paper == {k: library[k] for k in paper}
     assert AnalysisOptions.from_config(load_config(CONFIG, SCHEMA)["chaotic"]["analysis"]) == AnalysisOptions()
+
+
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), -float("inf")])
+def test_nan_and_infinity_are_refused(config, value):
+    # a schema's type: number lets YAML's .nan and .inf through (and nan passes every minimum)
+    config["model"] = {"k": value}
+    with pytest.raises(ConfigError, match=r"  model\.k: .* is not a finite number"):
+        validate_config(config, SCHEMA)
+    bad = copy.deepcopy(config)
+    bad["model"] = {}
+    bad["two_parameter"]["values"] = [-3.0e-3, value]
+    with pytest.raises(ConfigError, match=r"  two_parameter\.values\[1\]: .* is not a finite number"):
+        validate_config(bad, SCHEMA)
+
+
+@pytest.mark.parametrize(
+    ("text", "fix"),
+    [("1e-12", "1.0e-12"), ("1e16", "1.0e+16"), ("1.5e5", "1.5e+5")],
+)
+def test_a_number_yaml_reads_as_a_string_is_named_with_its_rule(config, text, fix):
+    config["model"] = yaml.safe_load(f"eps: {text}")
+    assert config["model"]["eps"] == text  # YAML 1.1: no dot or no exponent sign, a string
+    with pytest.raises(ConfigError) as err:
+        validate_config(config, SCHEMA)
+    assert f"model.eps: '{text}' is not of type 'number' (YAML 1.1 reads" in str(err.value), str(err.value)
+    assert f"write {fix}" in str(err.value)
+    config["model"] = yaml.safe_load(f"eps: {fix}")  # the written fix reads as the number
+    assert validate_config(config, SCHEMA)["model"]["eps"] == float(text)
+
+
+def test_a_config_file_with_a_key_twice_is_refused(tmp_path):
+    path = tmp_path / "twice.yaml"
+    path.write_text(Path(CONFIG).read_text() + "\nstudy: other\nstudy: again\n")
+    with pytest.raises(ConfigError, match=r"twice\.yaml: key 'study' given twice"):
+        load_config(path, SCHEMA)

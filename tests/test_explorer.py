@@ -1,31 +1,79 @@
-"""The explorer's parts without a browser: the page's input parsing, the view as a config, the
-scheduler's lanes and its dropping of stale requests, and the command's errors."""
+"""The explorer's parts without a browser: the page's input parsing, the view as a config (and
+the workflow's validation of it), the scheduler's lanes and its dropping of stale requests, the
+worker pool that heals, records read only from the directories allowed, the server's token, and
+the command's errors."""
 
 from __future__ import annotations
 
+import asyncio
 import itertools
+import os
+import pickle
+import re
+import signal
 import subprocess
 import sys
 import threading
+import time
+import urllib.error
+import urllib.request
 from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
 
 import pytest
 import yaml
 
 from impactosc.cli.main import main
+from impactosc.core.simulation import StallError
+from impactosc.dynamics.shooting import ShootingError
+from impactosc.dynamics.variational import UnsupportedTrajectory
 from impactosc.explorer import scheduler as sched
 from impactosc.explorer import work
 from impactosc.explorer.view import (
     InputError,
+    RecordAccess,
     View,
     config_snippet,
     parse_columns,
     parse_omega,
     parse_range,
+    record_error,
     snakemake_command,
     with_parameter,
+    write_config,
 )
+from impactosc.model.model_file import write_model_file
 from impactosc.model.parameters import ModelParams
+
+ROOT = Path(__file__).resolve().parent.parent
+STARTUP = 900.0  # s: the workers load the compiled core (a machine without numba's cache compiles it first)
+
+
+def start_explorer(*args: str, cwd) -> tuple[subprocess.Popen, str]:
+    """`impactosc explore --port 0 --no-browser *args` started in `cwd`: the process and the
+    address it prints (with its token); fails the test if it does not start."""
+    cmd = [sys.executable, "-m", "impactosc.cli.main", "explore", "--port", "0", "--no-browser", *args]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd=cwd)
+    deadline, lines = time.monotonic() + STARTUP, []
+    while time.monotonic() < deadline:
+        lines.append(proc.stdout.readline())
+        if "serving http://localhost:" in lines[-1] or proc.poll() is not None:
+            break
+    if proc.poll() is not None or "serving" not in lines[-1]:
+        stop_explorer(proc)
+        pytest.fail("the explorer did not start:\n" + "".join(lines))
+    return proc, re.search(r"http://\S+", lines[-1]).group(0)
+
+
+def stop_explorer(proc: subprocess.Popen) -> str:
+    """Stop the explorer; returns what it printed since it started serving."""
+    proc.terminate()  # the server shuts its worker pool down on SIGTERM
+    try:
+        out, _ = proc.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        out, _ = proc.communicate(timeout=10)
+    return out
 
 
 @pytest.mark.parametrize(
@@ -159,3 +207,309 @@ def test_located_points_of_a_window():
     points = work.located_points(ModelParams(), 36.9, 37.5)
     assert [p["kind"] for p in points] == ["period doubling"]
     assert points[0]["omega"] == pytest.approx(37.2843239, abs=1e-6)
+
+
+# ---------------------------------------------------------------------- errors cross the process boundary
+
+
+@pytest.mark.parametrize(
+    "error",
+    [
+        StallError("core stalled at t = 1 s", {"t": 1.0, "piece": "contact", "attempts": 3}),
+        ShootingError("Newton did not converge"),
+        UnsupportedTrajectory("sticking"),
+        InputError("w must be > 0"),
+        work.WorkerError("KeyError: 'x'"),
+    ],
+)
+def test_errors_survive_pickling(error):
+    back = pickle.loads(pickle.dumps(error))
+    assert type(back) is type(error) and str(back) == str(error)
+    assert getattr(back, "state", None) == getattr(error, "state", None)
+
+
+def test_a_real_stall_pickles_with_its_state():
+    """w = 1e9 stalls the core (step-size underflow): the error a worker raises comes back whole."""
+    with pytest.raises(StallError) as caught:
+        work.attractor(1e9, ModelParams(), 0.0, 0.0, 600, 60)
+    back = pickle.loads(pickle.dumps(caught.value))
+    assert str(back) == str(caught.value) and back.state == caught.value.state and back.state["t"] > 0
+
+
+class _Unpicklable(Exception):
+    def __init__(self, a, b):
+        super().__init__(f"{a} and {b}")
+
+
+def test_work_functions_hand_back_errors_that_would_not_unpickle():
+    @work._plain_errors
+    def bad():
+        raise _Unpicklable(1, 2)
+
+    @work._plain_errors
+    def fine():
+        raise ShootingError("no convergence")
+
+    with pytest.raises(work.WorkerError, match="_Unpicklable: 1 and 2"):
+        bad()
+    with pytest.raises(ShootingError):
+        fine()
+
+
+# ---------------------------------------------------------------------- the pool heals
+
+
+@pytest.fixture(scope="module")
+def pool():
+    p = sched.WorkerPool(2)
+    sched.Scheduler(2, pool=p).warm()
+    yield p
+    p.shutdown(wait=True, cancel_futures=True)
+
+
+def _wait_for(events: list, timeout: float = 60.0):
+    deadline = time.monotonic() + timeout
+    while not events and time.monotonic() < deadline:
+        time.sleep(0.02)
+    assert events, "no answer in time"
+    return events[0]
+
+
+def _attractor(s: sched.Scheduler, omega: float) -> tuple[str, object]:
+    """('ok', result) or ('error', message) of one attractor request."""
+    out = []
+    s.attractor(View(), omega, lambda _g, r: out.append(("ok", r)), on_error=lambda _g, m: out.append(("error", m)))
+    return _wait_for(out)
+
+
+def test_a_stall_in_a_worker_is_a_message_not_a_broken_pool(pool):
+    s = sched.Scheduler(2, pool=pool)
+    restarts = pool.restarts
+    kind, message = _attractor(s, 1e9)
+    assert kind == "error" and "StallError" in message and "step size underflow" in message
+    assert pool.restarts == restarts
+    kind, result = _attractor(s, 35.0)
+    assert kind == "ok" and result["omega"] == 35.0
+
+
+def test_a_killed_worker_is_replaced_and_the_next_request_runs(pool):
+    """One worker killed (SIGKILL) while a diagram runs: the diagram's page is told why, the
+    pool is recreated, and the next request of the same scheduler computes."""
+    s = sched.Scheduler(2, pool=pool)
+    restarts, first, errors = pool.restarts, threading.Event(), []
+    s.diagram(
+        View(w_lo=20, w_hi=45, n_columns=200), lambda _g, _c: first.set(), on_error=lambda _g, m: errors.append(m)
+    )
+    assert first.wait(60)
+    victim = pool.pids()[0]
+    os.kill(victim, signal.SIGKILL)
+    message = _wait_for(errors)
+    assert f"worker {victim} killed by SIGKILL" in message and "restarted" in message
+    assert pool.restarts == restarts + 1 and victim not in pool.pids()
+    kind, result = _attractor(s, 35.0)
+    assert kind == "ok" and result["period"] >= 0
+
+
+# ---------------------------------------------------------------------- records
+
+
+@pytest.fixture
+def data(tmp_path):
+    """A data directory with a good record, a bad one, and links to a file outside it."""
+    inside, outside = tmp_path / "data", tmp_path / "elsewhere"
+    inside.mkdir()
+    outside.mkdir()
+    secret = outside / "secret.csv"
+    secret.write_text("TOP SECRET first line\n1,2\n")
+    (inside / "link.csv").symlink_to(secret)
+    (inside / "bad.csv").write_text("root:x:0:0:root:/root:/bin/bash\n1,2,3\n")
+    (inside / "notes.txt").write_text("t,x\n")
+    return inside, outside
+
+
+def test_records_outside_the_data_directories_are_refused(data):
+    inside, outside = data
+    access = RecordAccess(dirs=(str(inside),), max_bytes=64)
+    for typed in ("link.csv", str(inside / "link.csv"), str(outside / "secret.csv"), "../elsewhere/secret.csv"):
+        with pytest.raises(InputError, match="outside the directories") as refused:
+            access.resolve(typed)
+        assert "TOP SECRET" not in str(refused.value)
+    assert access.resolve("bad.csv") == os.path.realpath(inside / "bad.csv")
+    with pytest.raises(InputError, match="not a record file"):
+        access.resolve("notes.txt")
+    with pytest.raises(InputError, match="not a regular file"):
+        access.resolve(".")
+    with pytest.raises(InputError, match="no such file"):
+        access.resolve("none.csv")
+    (inside / "big.csv").write_text("t,x\n" + "0.0,0.0\n" * 20)
+    with pytest.raises(InputError, match=r"big.csv: 0\.0 MiB, more than"):
+        access.resolve("big.csv")
+    # a file named at start is allowed wherever it lies
+    assert RecordAccess(dirs=(str(inside),), files=(str(outside / "secret.csv"),)).resolve(str(outside / "secret.csv"))
+
+
+def test_a_record_that_does_not_parse_says_where_not_what(data):
+    """The reader's message quotes the bad line; the page's names the file and the line only."""
+    inside, _ = data
+    s = sched.Scheduler(1, pool=ThreadPoolExecutor(1))
+    real = RecordAccess(dirs=(str(inside),)).resolve("bad.csv")
+    out = []
+    s.record(real, lambda _g, p: out.append(p), lambda _g, m: out.append(record_error("bad.csv", real, m)))
+    message = _wait_for(out)
+    assert message.startswith("record bad.csv: ") and "root:x" not in message and str(inside) not in message
+    assert "line" in message
+
+
+def test_a_record_load_is_killed_when_cancelled_or_late():
+    late, cancelled = [], []
+    sched.OneShot(time.sleep, (30,), lambda ok, why: late.append((ok, why)), timeout=0.5)
+    assert _wait_for(late, 30) == (False, "took more than 0.5 s")
+    shot = sched.OneShot(time.sleep, (30,), lambda ok, why: cancelled.append(ok))
+    shot.cancel()
+    deadline = time.monotonic() + 10
+    while not shot.done() and time.monotonic() < deadline:
+        time.sleep(0.02)
+    assert shot.done() and cancelled == []
+
+
+def test_a_record_load_ends_with_its_page(tmp_path):
+    """A load that would wait forever (opening a FIFO nobody writes) is killed when the page
+    closes, and its page hears nothing of it."""
+    fifo = tmp_path / "stuck.csv"
+    os.mkfifo(fifo)
+    s = sched.Scheduler(1, pool=ThreadPoolExecutor(1))
+    heard = []
+    s.record(str(fifo), lambda _g, p: heard.append(p), lambda _g, m: heard.append(m), load=open)
+    (shot,) = s._futures[sched.RECORD]
+    time.sleep(0.5)
+    assert not shot.done()
+    s.close()
+    deadline = time.monotonic() + 10
+    while not shot.done() and time.monotonic() < deadline:
+        time.sleep(0.02)
+    time.sleep(0.2)
+    assert shot.done() and heard == []
+
+
+# ---------------------------------------------------------------------- the config written
+
+
+def _workflow_config(snippet: Path) -> dict:
+    """The config the workflow validates for `--configfile config/config.yaml snippet`."""
+    from impactosc_study.config import validate_config
+
+    def merge(base, extra):
+        for key, value in extra.items():
+            base[key] = merge(base.get(key, {}), value) if isinstance(value, dict) else value
+        return base
+
+    config = merge(yaml.safe_load((ROOT / "config" / "config.yaml").read_text()), yaml.safe_load(snippet.read_text()))
+    return validate_config(config, ROOT / "workflow" / "schemas" / "config.schema.yaml")
+
+
+def test_a_written_config_with_extreme_values_passes_the_workflow(tmp_path):
+    params = with_parameter(with_parameter(ModelParams(), "eps", "1e-5"), "kI", "1e16")
+    path = write_config(tmp_path / "view.yaml", config_snippet(View(params=params, n_columns=41)))
+    assert "1.0e-05" in path.read_text() and "1.0e+16" in path.read_text()
+    config = _workflow_config(path)
+    assert config["model"]["eps"] == 1e-5 and config["model"]["kI"] == 1e16
+    assert [p.name for p in tmp_path.iterdir()] == ["view.yaml"]  # written in place of a temporary file
+
+
+def test_a_model_path_with_yaml_syntax_round_trips(tmp_path):
+    rig = ModelParams(k=1500.0)
+    model = write_model_file(tmp_path / "rig, v2 #1: {a}.yaml", rig)
+    view = View(params=rig, file_params=rig, model_file=str(model))
+    config = _workflow_config(write_config(tmp_path / "view.yaml", config_snippet(view)))
+    assert config["model_source"]["file"] == str(model) and config["model"]["k"] == 1500.0
+
+
+def test_the_config_is_never_written_through_a_link(tmp_path):
+    target = tmp_path / "target.txt"
+    target.write_text("keep me\n")
+    (tmp_path / "view.yaml").symlink_to(target)
+    with pytest.raises(InputError, match="symbolic link"):
+        write_config(tmp_path / "view.yaml", config_snippet(View()))
+    assert target.read_text() == "keep me\n"
+
+
+# ---------------------------------------------------------------------- the command line
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--port", "70000"], "the port must be a whole number in 0..65535, got '70000'"),
+        (["--port", "-1"], "0..65535"),
+        (["--workers", "0"], "workers must be a whole number in 1.."),
+        (["--workers", str((os.cpu_count() or 1) + 1)], "workers must be a whole number in 1.."),
+    ],
+)
+def test_ports_and_workers_out_of_range_are_refused(args, message, capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(["explore", "--no-browser", *args])
+    assert stop.value.code == 2 and message in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------------- the token
+
+
+@pytest.fixture(scope="module")
+def served(tmp_path_factory):
+    proc, url = start_explorer("--columns", "4", "--workers", "1", cwd=tmp_path_factory.mktemp("served"))
+    yield url
+    stop_explorer(proc)
+
+
+def _get(url: str) -> tuple[int, dict, str]:
+    try:
+        with urllib.request.urlopen(url, timeout=60) as r:
+            return r.status, dict(r.headers), r.read().decode()
+    except urllib.error.HTTPError as e:
+        return e.code, dict(e.headers), ""
+
+
+def _websocket(port: str, protocols: list[str], origin: bool = True) -> str:
+    """'open' or 'refused <code>': a websocket to the page's /ws with these subprotocols."""
+    from tornado.httpclient import HTTPClientError, HTTPRequest
+    from tornado.websocket import websocket_connect
+
+    async def connect():
+        headers = {"Origin": f"http://localhost:{port}"} if origin else {}
+        try:
+            ws = await websocket_connect(
+                HTTPRequest(f"ws://localhost:{port}/ws", headers=headers), subprotocols=protocols
+            )
+        except HTTPClientError as exc:
+            return f"refused {exc.code}"
+        answer = await ws.read_message()
+        ws.close()
+        return "open" if answer and "ACK" in answer else f"no ACK: {answer!r}"
+
+    return asyncio.run(connect())
+
+
+def test_the_page_needs_the_token(served):
+    base, token = served.split("?token=")
+    assert re.fullmatch(r"http://localhost:\d+/", base) and not base.endswith(":0/") and len(token) >= 32
+    assert _get(base)[0] == 403
+    assert _get(base + "?token=" + token[:-1] + "x")[0] == 403
+    status, _, page = _get(served)
+    assert status == 200 and "Bokeh" in page
+    autoload = base + "autoload.js?bokeh-autoload-element=x"
+    for url, expected in ((autoload, 403), (autoload + "&token=" + token, 200)):
+        status, headers, _ = _get(url)
+        assert status == expected and "Access-Control-Allow-Origin" not in headers
+
+
+def test_the_websocket_needs_the_signed_session_of_a_page_with_the_token(served):
+    from bokeh.util.token import generate_jwt_token, generate_session_id
+
+    base, token = served.split("?token=")
+    port = base.rstrip("/").rsplit(":", 1)[1]
+    session = re.search(r'"token":"([^"]+)"', _get(served)[2]).group(1)
+    forged = generate_jwt_token(generate_session_id(), extra_payload={"arguments": {"token": [token.encode()]}})
+    assert _websocket(port, ["bokeh"]) == "refused 403"
+    assert _websocket(port, ["bokeh", forged]) == "refused 403"  # not signed by the server
+    assert _websocket(port, ["bokeh", session], origin=False) == "refused 403"
+    assert _websocket(port, ["bokeh", session]) == "open"

@@ -1,22 +1,23 @@
 """The explorer in a real browser: headless Chromium (Debian's chromium and chromedriver, never a
 downloaded one) drives `impactosc explore` served on a free port.
 
-It loads the page, zooms the diagram, types a w, moves the xI slider, locates the period-1
-branch's points, writes the config, types
-bad values and loads a record that does not parse; it reads the plots' data from the page's
-Bokeh document and keeps a screenshot in tests/artifacts/explorer.png (the docs show it).
-Without Chromium the test is skipped, except under CI (CI set), where it fails.
+It loads the page (its address with the token), zooms the diagram, types a w, moves the xI
+slider, locates the period-1 branch's points, writes the config, types bad values and loads a
+record that does not parse; then it kills a worker while a diagram runs and types w = 1e9 (the
+core stalls): the page says what failed, and the next requests draw. It reads the plots' data
+from the page's Bokeh document and keeps a screenshot in tests/artifacts/explorer.png (the docs
+show it). Without Chromium the test is skipped, except under CI (CI set), where it fails.
 """
 
 from __future__ import annotations
 
 import os
-import subprocess
-import sys
+import signal
 import time
 from pathlib import Path
 
 import pytest
+import yaml
 
 pytest.importorskip("bokeh")
 pytest.importorskip("selenium")
@@ -24,12 +25,10 @@ pytest.importorskip("selenium")
 from selenium import webdriver
 from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.action_chains import ActionChains
-
-from impactosc.explorer.server import free_port
+from test_explorer import start_explorer, stop_explorer
 
 CHROMIUM, CHROMEDRIVER = Path("/usr/bin/chromium"), Path("/usr/bin/chromedriver")
 ARTIFACT = Path(__file__).parent / "artifacts" / "explorer.png"
-STARTUP = 900.0  # s: the workers load the compiled core (a machine without numba's cache compiles it first)
 
 # JS: every element below `root`, through shadow roots (Bokeh 3 draws its widgets in them)
 DEEP = """
@@ -64,28 +63,18 @@ def browser():
 @pytest.fixture(scope="module")
 def server(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("explore")
-    port = free_port()
-    cmd = [
-        sys.executable, "-m", "impactosc.cli.main", "explore", "--port", str(port), "--no-browser",
-        "--columns", "40", "--w-range", "30", "42", "--omega", "35", "--snippet", str(tmp / "view.yaml"),
-    ]  # fmt: skip
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd=tmp)
-    deadline = time.monotonic() + STARTUP
-    lines = []
-    while time.monotonic() < deadline:
-        line = proc.stdout.readline()
-        lines.append(line)
-        if "serving http://localhost:" in line or proc.poll() is not None:
-            break
-    if proc.poll() is not None or "serving" not in lines[-1]:
-        proc.kill()
-        proc.wait(timeout=10)
-        proc.stdout.close()
-        pytest.fail("the explorer did not start:\n" + "".join(lines))
-    yield proc, f"http://localhost:{port}/", tmp
-    proc.terminate()  # the server shuts its worker pool down on SIGTERM
-    proc.wait(timeout=30)
-    proc.stdout.close()
+    args = ("--columns", "40", "--w-range", "30", "42", "--omega", "35", "--snippet", str(tmp / "view.yaml"))
+    proc, url = start_explorer(*args, cwd=tmp)
+    yield proc, url, tmp
+    out = stop_explorer(proc)
+    # the killed worker is one line of the log, nothing else failed loudly
+    assert "Traceback" not in out and out.count("workers restarted") == 1, out
+
+
+def _workers(pid: int) -> list[int]:
+    """The worker processes of the server `pid` (its children that run spawn_main)."""
+    children = Path(f"/proc/{pid}/task/{pid}/children").read_text().split()
+    return [int(c) for c in children if b"spawn_main" in Path(f"/proc/{c}/cmdline").read_bytes()]
 
 
 def _model(driver, name: str, attr: str):
@@ -202,8 +191,9 @@ def test_explorer_in_browser(browser, server):
     # the view as a config and the command that draws it
     _click(d, "Write config")
     _wait(lambda: "snakemake -j2 fig02" in _model(d, "snippet", "text"), "the config snippet")
-    text = (tmp / "view.yaml").read_text()
-    assert "xI: -0.0018" in text and "increasing: {start: 36.5, stop: 38.5" in text
+    config = yaml.safe_load((tmp / "view.yaml").read_text())
+    assert config["model"] == {"xI": -1.8e-3}
+    assert config["bifurcation"]["sweeps"]["increasing"]["start"] == 36.5
 
     # bad input: a message, nothing changes, the server lives on
     orbit, series = _model(d, "orbit", "text"), _data(d, "series", "x")
@@ -219,5 +209,26 @@ def test_explorer_in_browser(browser, server):
     _type(d, "record file", str(tmp / "bad.csv"))
     _click(d, "Load record")
     _wait(lambda: "bad.csv" in _model(d, "message", "text"), "the message for a record that does not parse")
-    assert _data(d, "record", "w") == []
+    assert _data(d, "record", "w") == [] and "this is not a record" not in _model(d, "message", "text")
     assert proc.poll() is None
+
+    # a worker killed while a diagram runs: the page says why the diagram failed
+    _type(d, "w from", "36.5")
+    _type(d, "columns", "400")
+    _click(d, "Recompute")
+    _wait(lambda: "/ 400 columns" in _model(d, "status", "text"), "the first columns of 400")
+    victim = _workers(proc.pid)[0]
+    os.kill(victim, signal.SIGKILL)
+    _wait(lambda: f"worker {victim} killed by SIGKILL" in _model(d, "status", "text"), "the failed diagram's status")
+    assert "restarted" in _model(d, "message", "text")
+    # w = 1e9 stalls the core: a message, and the workers live on
+    _type(d, "attractor at w", "1e9")
+    _wait(lambda: "StallError" in _model(d, "message", "text"), "the message for w = 1e9")
+    # the next requests draw
+    _type(d, "attractor at w", "37.6")
+    _wait(lambda: "w = 37.6 rad/s" in _model(d, "orbit", "text"), "the attractor after the failures")
+    assert _model(d, "message", "text") == ""
+    _type(d, "columns", "40")
+    _click(d, "Recompute")
+    _wait(lambda: _diagram_done(d, 36.5, 38.5), "the diagram after the failures")
+    assert proc.poll() is None and victim not in _workers(proc.pid)

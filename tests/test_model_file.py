@@ -283,3 +283,53 @@ def test_a_covariance_asymmetric_by_rounding_is_written_symmetric(tmp_path):
     _, _, got = read_model_file(path).covariance
     assert np.array_equal(got, got.T)
     np.testing.assert_allclose(got, cov, rtol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        # PyYAML alone would keep the last k and run a model its author never meant
+        (f"format: {FORMAT}\nparameters:\n  k: 1500.0\n  c: 7.1\n  k: 1400.0\n", "key 'k' given twice (lines 3 and 5)"),
+        (f"format: {FORMAT}\nname: a\nname: b\n", "key 'name' given twice"),
+        (f"format: {FORMAT}\nparameters: {{k: {{value: 1, value: 2}}}}\n", "key 'value' given twice (line 2)"),
+        (
+            f"format: {FORMAT}\ncovariance: {{names: [k/m, k/m], matrix: [[1.0, 0.0], [0.0, 1.0]]}}\n",
+            "covariance.names: k/m given more than once",
+        ),
+        (
+            f"format: {FORMAT}\ncovariance: {{names: [k/m, c/m], units: [1/s^2], matrix: [[1.0, 0.0], [0.0, 1.0]]}}\n",
+            "covariance.units: 1 units for 2 names",
+        ),
+        (
+            f"format: {FORMAT}\ncovariance: {{names: [k/m], matrix: [[1.0]], cov: 1}}\n",
+            "covariance.cov: unknown key",
+        ),
+        (
+            f"format: {FORMAT}\ncorrelation: {{names: [k/m, c/m], matrix: [[1.0, 5.0], [5.0, 1.0]]}}\n",
+            "correlation.matrix: 5 at row 1, column 2; a correlation lies in [-1, 1]",
+        ),
+        (
+            f"format: {FORMAT}\ncorrelation: {{names: [b, b], matrix: [[1.0, 0.2], [0.2, 1.0]]}}\n",
+            "correlation.names: b given more than once",
+        ),
+        (
+            f"format: {FORMAT}\ncorrelation: {{names: [b, n3], matrix: [[1.0, 0.2], [0.3, 1.0]]}}\n",
+            "correlation.matrix: a correlation matrix is symmetric with 1 on its diagonal",
+        ),
+        (f"format: {FORMAT}\ncorrelation: {{names: [b, n3], matrix: [[1.0]]}}\n", "need a finite 2 x 2 matrix"),
+    ],
+)
+def test_a_silent_mistake_in_a_model_file_is_refused(tmp_path, text, expected):
+    path = _write(tmp_path / "bad.yaml", text)
+    with pytest.raises(ValueError) as err:
+        read_model_file(path)
+    assert str(path) in str(err.value) and expected in str(err.value), str(err.value)
+
+
+def test_a_directory_is_named_as_one(tmp_path, capsys):
+    with pytest.raises(IsADirectoryError, match=r"model file .* is a directory, not a file"):
+        read_model_file(tmp_path)
+    run = ["simulate", "--omega", "40.86", "--transient", "0", "--duration", "1", "--model", str(tmp_path)]
+    assert main([*run, "--output", str(tmp_path / "r.h5")]) == 2
+    err = capsys.readouterr().err
+    assert "is a directory" in err and "does not exist" not in err and not (tmp_path / "r.h5").exists()

@@ -9,7 +9,10 @@ several repeats after the workers are warm:
   w lies inside the diagram shown (continued from the nearest column's end state, as the page
   does) and when it does not (from rest, n_initial periods first); target 0.5 s;
 - a 400-column diagram (20-45 rad/s) complete; target 10 s on 2 cores;
-- its first columns drawn; target 1 s.
+- its first columns drawn; target 1 s;
+
+and how long a page waits when a worker has died: a new w's attractor asked for right after one
+worker was killed (SIGKILL), the pool replaced and its workers loading the core first.
 
     python -m impactosc_bench.explorer_latency [--repeats 5] [--columns 400] [--output FILE]
 
@@ -20,12 +23,13 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import statistics
 import threading
 import time
 from pathlib import Path
 
-from impactosc.explorer.scheduler import Scheduler
+from impactosc.explorer.scheduler import Scheduler, WorkerPool
 from impactosc.explorer.view import View
 
 OMEGAS = (25.0, 33.0, 37.6, 40.86, 43.0)
@@ -61,10 +65,19 @@ def time_attractor(s: Scheduler, view: View, omega: float, seed) -> float:
     return time.perf_counter() - t0
 
 
+def time_healing(s: Scheduler, pool: WorkerPool, view: View) -> float:
+    """Seconds to a new w's attractor (from rest) asked for after a worker was killed: the pool
+    is replaced and its workers load the core before they compute it."""
+    os.kill(pool.pids()[0], signal.SIGKILL)
+    time.sleep(0.5)  # the user's next request comes later than the pool's notice of the death
+    return time_attractor(s, view, OMEGAS[0], None)
+
+
 def measure_latency(repeats: int, workers: int = 2, columns: int = 400) -> list[dict]:
     """The three waits, each its median over `repeats` (the attractor's over OMEGAS as well), on a
-    diagram of `columns` columns (the targets are set for 400)."""
-    s = Scheduler(workers)
+    diagram of `columns` columns (the targets are set for 400), and the wait after a dead worker."""
+    pool = WorkerPool(workers)
+    s = Scheduler(workers, pool=pool)
     warm = s.warm()
     view = View(w_lo=20.0, w_hi=45.0, n_columns=columns)
     firsts, totals, cpus, seeds = [], [], [], {}
@@ -79,6 +92,7 @@ def measure_latency(repeats: int, workers: int = 2, columns: int = 400) -> list[
             near = min(seeds, key=lambda c: abs(c - w))
             seeded.append(time_attractor(s, view, w, seeds[near]))
             rest.append(time_attractor(s, view, w, None))
+    healed = [time_healing(s, pool, view) for _ in range(repeats)]
     s.close()
     per_w = f"{view.n_transient} + {view.n_record} forcing periods per w"
     return [
@@ -94,6 +108,8 @@ def measure_latency(repeats: int, workers: int = 2, columns: int = 400) -> list[
              runs=repeats, median=statistics.median(cpus), worst=max(cpus), target=TARGETS["diagram"]),
         dict(what="workers started and the compiled core loaded (once, before the page is served)", runs=1,
              median=warm, worst=warm, target=float("nan")),
+        dict(what="a new w's attractor after a worker was killed (workers replaced and warmed first)",
+             runs=len(healed), median=statistics.median(healed), worst=max(healed), target=float("nan")),
     ]  # fmt: skip
 
 

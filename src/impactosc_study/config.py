@@ -19,6 +19,7 @@ way ``config["model"]`` ends up holding exactly the ModelParams fields, and
 from __future__ import annotations
 
 import copy
+import math
 import re
 from pathlib import Path
 
@@ -26,6 +27,7 @@ import jsonschema
 import yaml
 
 from impactosc.io.names import closest_name
+from impactosc.io.yaml_text import DuplicateKeyError, load_yaml, number_as_string_hint
 
 
 class ConfigError(ValueError):
@@ -87,8 +89,23 @@ def _messages(errors) -> list:
             missing = [k for k in error.validator_value if error.message == f"{k!r} is a required property"]
             if missing and (tuple(error.absolute_path), missing[0]) in suggested:
                 continue
-        lines.append(f"  {_path(error)}: {error.message}")
+        lines.append(f"  {_path(error)}: {error.message}{number_as_string_hint(error.instance)}")
     return lines
+
+
+def _check_finite(node, where: str = "") -> None:
+    """No NaN or infinity anywhere (YAML's .nan and .inf pass a schema's type: number): a figure
+    or a run of them has no meaning."""
+    if isinstance(node, dict):
+        items = [(f"{where}.{key}" if where else str(key), value) for key, value in node.items()]
+    elif isinstance(node, list):
+        items = [(f"{where}[{i}]", value) for i, value in enumerate(node)]
+    else:
+        return
+    for path, value in items:
+        if isinstance(value, float) and not math.isfinite(value):
+            raise ConfigError(f"invalid configuration:\n  {path}: {value} is not a finite number")
+        _check_finite(value, path)
 
 
 def _fill_defaults(schema: dict, instance):
@@ -143,8 +160,10 @@ def _model_from_file(model: dict) -> dict:
     path = model.pop("file")
     try:
         params, description = resolve_model(path)
-        covariance = read_model_file(path).meta.get("covariance") is not None
-    except (ValueError, FileNotFoundError) as exc:
+        stated = read_model_file(path)
+        # a covariance, or each parameter's stderr (independent errors): an uncertainty to propagate
+        covariance = stated.covariance is not None or any(se > 0 for se in stated.stderr.values())
+    except (ValueError, OSError) as exc:
         raise ConfigError(f"invalid configuration:\n  model.file: {exc}") from None
     values = params.to_dict()
     clash = [f"{k} = {v!r} (the file: {values[k]!r})" for k, v in model.items() if v != values[k]]
@@ -158,14 +177,27 @@ def _model_from_file(model: dict) -> dict:
     return {"file": str(path), "description": description, "covariance": covariance}
 
 
-def validate_config(config: dict, schema_path) -> dict:
+def check_config_files(paths) -> None:
+    """Each config file read again as a user's YAML (:func:`impactosc.io.yaml_text.load_yaml`):
+    a key given twice, which Snakemake's reader keeps the last of silently, is refused."""
+    for path in paths:
+        try:
+            load_yaml(Path(path).read_text(encoding="utf-8"))
+        except DuplicateKeyError as exc:
+            raise ConfigError(f"invalid configuration:\n  {path}: {exc}") from None
+
+
+def validate_config(config: dict, schema_path, config_files=()) -> dict:
     """Return a validated copy of `config` with schema defaults filled in, dotted top-level
-    keys nested, and the model of ``model.file`` (if any) in place of the model section."""
+    keys nested, and the model of ``model.file`` (if any) in place of the model section;
+    `config_files`, the files it was read from, are checked for keys given twice."""
+    check_config_files(config_files)
     schema = yaml.safe_load(Path(schema_path).read_text())
     config = nest_dotted_keys(config)
     if "model_file" in config:  # the command line's spelling: --config model_file=rig.yaml
         config.setdefault("model", {})["file"] = config.pop("model_file")
     _check_study_names(config, schema)
+    _check_finite(config)
     validator = jsonschema.Draft202012Validator(schema)
     errors = [f for e in validator.iter_errors(config) for f in _flatten(e)]
     errors.sort(key=lambda e: list(e.absolute_path))
@@ -301,4 +333,4 @@ def load_config(path, schema_path) -> dict:
     path = Path(path)
     if not path.is_file():
         raise ConfigError(f"configuration file {path} does not exist")
-    return validate_config(yaml.safe_load(path.read_text()) or {}, schema_path)
+    return validate_config(yaml.safe_load(path.read_text()) or {}, schema_path, config_files=[path])

@@ -16,7 +16,9 @@ from impactosc_study.config import validate_config
 # After validation config["model"] holds exactly the ModelParams fields (model BC's, or those of
 # the model file config model.file), and config["model_source"] says which, for figures and
 # tables to name; every rule passes config["model"] as a param, so a changed model reruns it.
-config = validate_config(config, workflow.source_path("../schemas/config.schema.yaml"))
+config = validate_config(
+    config, workflow.source_path("../schemas/config.schema.yaml"), config_files=workflow.configfiles
+)
 
 # The numba core's on-disk cache is keyed on a hash of the core sources (impactosc/__init__.py)
 # and shared by every job; the numba_cache rule fills it once, whenever those sources

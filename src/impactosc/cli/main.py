@@ -112,11 +112,11 @@ def _parse_mismatch(text):
     for item in filter(None, (s.strip() for s in text.split(","))):
         k, v = split_assignment(item)
         if v is None:
-            raise ValueError(f"mismatch item {item!r} must read name=relative_change")
+            raise ParameterError("--mismatch", f"mismatch item {item!r} must read name=relative_change")
         try:
             out[k] = float(v)
         except ValueError:
-            raise ValueError(f"mismatch value {v!r} of {k} is not a number") from None
+            raise ParameterError("--mismatch", f"mismatch value {v!r} of {k} is not a number") from None
     return out
 
 

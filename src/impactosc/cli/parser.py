@@ -64,6 +64,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _add_explore_parser(sub) -> None:
     """The explore command: the live explorer in the browser."""
+    from impactosc.cli.explore import port_number, worker_count
+
     exp = sub.add_parser(
         "explore",
         help="explore the dynamics live in the browser: bifurcation diagram, attractors, periodic orbits",
@@ -72,14 +74,32 @@ def _add_explore_parser(sub) -> None:
         "recomputes the window), the attractor of a clicked or typed w (time series, phase portrait, Poincare "
         "points, impact map; a periodic one shot with its Floquet multipliers), sliders and fields for the "
         "model's parameters, a record's Poincare points overlaid, and a button that writes the view as a config "
-        "file with the snakemake command that draws it as a figure.",
+        "file with the snakemake command that draws it as a figure.\n\n"
+        "The address carries a random token (?token=...): the page opens only with it, so other users of the "
+        "machine cannot use the explorer. Records are read only from the --data-dir directories and the "
+        "--record file. A worker process that dies (killed, out of memory) is replaced: the page says its "
+        "request failed and why, and the next request runs.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog="Examples:\n  impactosc explore\n  impactosc explore --model rig.yaml --record examples/record_example.csv "
-        "--port 5007 --no-browser",
+        "--port 5007 --no-browser\n  impactosc explore --data-dir records --data-dir ~/rig/runs",
     )
     exp.add_argument("--record", metavar="FILE", help="a record (.csv, .h5, .tdms) whose Poincare points are overlaid")
-    exp.add_argument("--port", type=int, default=5006, help="local port to serve on (default 5006)")
+    exp.add_argument(
+        "--data-dir",
+        metavar="DIR",
+        action="append",
+        help="a directory the page may load records from (repeatable; default the current directory); a path "
+        "that resolves outside them (symbolic links followed) is refused",
+    )
+    exp.add_argument(
+        "--port", type=port_number, default=5006, help="local port to serve on, 0..65535 (default 5006; 0: a free one)"
+    )
     exp.add_argument("--no-browser", action="store_true", help="print the address only, do not open a browser")
+    exp.add_argument(
+        "--no-token",
+        action="store_true",
+        help="serve without the token: anyone on the machine can use the page (a trusted machine only)",
+    )
     exp.add_argument(
         "--w-range",
         type=finite_number,
@@ -92,12 +112,14 @@ def _add_explore_parser(sub) -> None:
     exp.add_argument(
         "--omega", type=finite_number, default=40.86, help="w of the first attractor shown (default 40.86)"
     )
-    exp.add_argument("--workers", type=int, default=2, help="worker processes (default 2: both cores)")
+    exp.add_argument(
+        "--workers", type=worker_count, default=2, help="worker processes, 1..the machine's cores (default 2)"
+    )
     exp.add_argument(
         "--snippet",
         metavar="FILE",
         default="explore_view.yaml",
-        help="where 'Write config' writes the view's config (default explore_view.yaml)",
+        help="where 'Write config' writes the view's config (default explore_view.yaml; never through a symbolic link)",
     )
     add_model_options(exp, "The model explored: model BC's, or those of --model, then each --param.")
 

@@ -17,7 +17,12 @@ MAX_PERIOD = 64
 
 def _predict(args) -> int:
     from impactosc.cli.identify import _write_rows, check_table_path
-    from impactosc.identification.predictions import field_covariance, points_markdown, predicted_points
+    from impactosc.identification.predictions import (
+        covariance_source,
+        field_covariance,
+        points_markdown,
+        predicted_points,
+    )
     from impactosc.io.files import check_writable
     from impactosc.model.model_file import read_model_file
     from impactosc.model.parameters import ParameterError
@@ -37,6 +42,8 @@ def _predict(args) -> int:
     cov = field_covariance(model)
     if cov is None:
         print(f"{args.model_file}: no covariance (a stated model): the points come without errors", file=sys.stderr)
+    elif model.covariance is None:
+        print(f"{args.model_file}: uncertainty from {covariance_source(model)}", file=sys.stderr)
 
     def say(message):
         if not args.quiet:

@@ -89,6 +89,11 @@ class StallError(RuntimeError):
         super().__init__(message)
         self.state = state
 
+    def __reduce__(self):
+        """Rebuilt from its message and state: a worker process hands it back by pickling, and
+        the default (the message alone) would not unpickle, which breaks the process pool."""
+        return type(self), (str(self), dict(self.state))
+
 
 def _stall_error(st, cnt, t_end: float, budget: float) -> StallError:
     status = int(st[S_STATUS])

@@ -8,12 +8,17 @@ from which a zoomed diagram or a clicked w continues instead of starting from re
 Every handler parses first (:mod:`.view`): a bad value puts a message in the page and changes
 nothing. Results arrive from pool threads and are drawn in the document's thread
 (``add_next_tick_callback``, the one thread-safe call of a document), where their generation is
-checked once more: a stale batch never lands on a newer picture.
+checked once more: a stale batch never lands on a newer picture. Results that arrive after the
+tab closed are dropped: the page's requests are cancelled and its record load killed.
+
+A request that fails says so in the message line, and a diagram's in the status line too; when
+a worker died, they say why and that the workers were restarted, and the next request runs.
 """
 
 from __future__ import annotations
 
 import html
+import logging
 import math
 import time
 from functools import partial
@@ -35,23 +40,27 @@ from bokeh.models import (
 )
 from bokeh.plotting import figure
 
-from impactosc.explorer import work
-from impactosc.explorer.scheduler import Scheduler
+from impactosc.explorer.scheduler import RECORD, Scheduler
 from impactosc.explorer.view import (
     SLIDERS,
     InputError,
+    RecordAccess,
     View,
     config_snippet,
     parameter_warning,
     parse_columns,
     parse_omega,
     parse_range,
+    record_error,
     snakemake_command,
     with_parameter,
+    write_config,
 )
 from impactosc.model.parameters import PARAMETERS
 
 __all__ = ["Explorer"]
+
+log = logging.getLogger(__name__)
 
 #: Seconds a range change waits for its partner (a box zoom moves start and end)
 ZOOM_SETTLE = 0.15
@@ -66,10 +75,15 @@ def _empty(*names) -> dict:
 class Explorer:
     """One page of the explorer, built into `doc` (a Bokeh document)."""
 
-    def __init__(self, doc, view: View, pool, *, record: dict | None = None, snippet_path: str = "explore_view.yaml"):
+    def __init__(
+        self, doc, view: View, pool, *, record: dict | None = None, snippet_path: str = "explore_view.yaml",
+        access: RecordAccess | None = None,
+    ):  # fmt: skip
         self.doc, self.view = doc, view
-        self.scheduler = Scheduler(getattr(pool, "_max_workers", 2), pool=pool)
+        self.scheduler = Scheduler(pool.workers, pool=pool)
         self.snippet_path = Path(snippet_path)
+        self.access = access or RecordAccess()
+        self._closed = False
         self.seeds: dict | None = None  # omega, x_end, v_end of the diagram shown, and its params
         self._zoom_pending = False
         self._started = 0.0
@@ -80,7 +94,7 @@ class Explorer:
             self._show_record(record)
         doc.add_root(self._layout())
         doc.title = "impactosc explore"
-        doc.on_session_destroyed(lambda _ctx: self.scheduler.close())
+        doc.on_session_destroyed(lambda _ctx: self.close())
         self.request_diagram()
         self.request_attractor(view.omega)
 
@@ -209,6 +223,21 @@ class Explorer:
         self.fig_diagram.yaxis.axis_label = "Poincare x (m)" if q == "x" else "S_j (s)"
         self.obstacle.visible = q == "x"
 
+    def close(self) -> None:
+        """The tab closed: its requests are dropped, its record load killed."""
+        self._closed = True
+        self.scheduler.close()
+
+    def _post(self, fn, *args) -> None:
+        """`fn(*args)` in the document's thread (called from a pool thread); dropped quietly
+        once the tab has closed, as its results have nowhere to go."""
+        if self._closed:
+            return
+        try:
+            self.doc.add_next_tick_callback(partial(fn, *args))
+        except (AttributeError, RuntimeError):  # the document was torn down meanwhile
+            log.debug("a result for a closed page dropped")
+
     # ------------------------------------------------------------------ messages
 
     def say(self, text: str = "") -> None:
@@ -234,9 +263,9 @@ class Explorer:
         self.status.text = f"computing {self.view.n_columns} columns ..."
         return self.scheduler.diagram(
             self.view,
-            on_columns=lambda gen, cols: self.doc.add_next_tick_callback(partial(self._draw_columns, gen, cols)),
-            on_done=lambda gen, s: self.doc.add_next_tick_callback(partial(self._draw_done, gen, s)),
-            on_error=lambda gen, m: self.doc.add_next_tick_callback(partial(self._draw_error, "diagram", gen, m)),
+            on_columns=partial(self._post, self._draw_columns),
+            on_done=partial(self._post, self._draw_done),
+            on_error=partial(self._post, self._draw_error, "diagram"),
             seed=self._seed,
         )
 
@@ -245,9 +274,9 @@ class Explorer:
         return self.scheduler.attractor(
             self.view,
             omega,
-            on_attractor=lambda gen, out: self.doc.add_next_tick_callback(partial(self._draw_attractor, gen, out)),
-            on_orbit=lambda gen, out: self.doc.add_next_tick_callback(partial(self._draw_orbit, gen, out)),
-            on_error=lambda gen, m: self.doc.add_next_tick_callback(partial(self._draw_error, "attractor", gen, m)),
+            on_attractor=partial(self._post, self._draw_attractor),
+            on_orbit=partial(self._post, self._draw_orbit),
+            on_error=partial(self._post, self._draw_error, "attractor"),
             seed=self._seed(omega),
         )
 
@@ -287,8 +316,17 @@ class Explorer:
             self.status.text = f"{self.view.n_columns} columns in {seconds:.2f} s (both cores)"
 
     def _draw_error(self, kind: str, gen: int, message: str) -> None:
-        if self.scheduler.is_current(kind, gen):
-            self.say(message)
+        if not self.scheduler.is_current(kind, gen):
+            return
+        self.say(message)
+        if kind == "diagram":
+            self.status.text = html.escape(f"the diagram failed: {message}")
+        elif kind == "attractor":
+            self.orbit.text = html.escape(f"the attractor failed: {message}")
+        elif kind == "points":
+            self.points.text = html.escape(f"locating points failed: {message}")
+        else:
+            self.status.text = html.escape(message)
 
     def _draw_attractor(self, gen: int, out: dict) -> None:
         if not self.scheduler.is_current("attractor", gen):
@@ -410,20 +448,27 @@ class Explorer:
         self._guarded(apply)
 
     def _on_record(self) -> None:
-        path = self.record_path.value.strip()
-        if not path:
-            self.say("record file: give a path")
-            return
-        future = self.scheduler.call(work.record_points, path)
+        self._guarded(self._load_record)
 
-        def done(f):
-            exc = f.exception()
-            if exc is not None:
-                self.doc.add_next_tick_callback(lambda: self.say(f"record {path}: {exc}"))
-            else:
-                self.doc.add_next_tick_callback(lambda: (self.say(), self._show_record(f.result())))
+    def _load_record(self) -> None:
+        """The record typed, if the page may read it, loaded in a process of its own (killed by
+        a newer load or when the tab closes); its points drawn, or what is wrong with it said."""
+        typed = self.record_path.value
+        real = self.access.resolve(typed)
+        name = Path(real).name
+        self.say()
+        self.status.text = html.escape(f"loading record {name} ...")
 
-        future.add_done_callback(done)
+        self.scheduler.record(
+            real,
+            on_record=partial(self._post, self._draw_record),
+            on_error=lambda gen, message: self._post(self._draw_error, RECORD, gen, record_error(name, real, message)),
+        )
+
+    def _draw_record(self, gen: int, points: dict) -> None:
+        if self.scheduler.is_current(RECORD, gen):
+            self.say()
+            self._show_record(points)
 
     def _on_locate(self) -> None:
         self.points.text = (
@@ -432,14 +477,14 @@ class Explorer:
         )
         self.scheduler.points(
             self.view,
-            on_points=lambda gen, pts: self.doc.add_next_tick_callback(partial(self._draw_points, gen, pts)),
-            on_error=lambda gen, m: self.doc.add_next_tick_callback(partial(self._draw_error, "points", gen, m)),
+            on_points=partial(self._post, self._draw_points),
+            on_error=partial(self._post, self._draw_error, "points"),
         )
 
     def _on_write(self) -> None:
         def apply():
             text = config_snippet(self.view)
-            self.snippet_path.write_text(text)
+            write_config(self.snippet_path, text)
             command = snakemake_command(self.view, str(self.snippet_path))
             self.snippet.text = f"written to {self.snippet_path.resolve()}\n\n{text}\n{command}\n"
 

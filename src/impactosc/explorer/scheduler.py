@@ -14,25 +14,42 @@ queued batches are cancelled, its running batch finishes but starts no successor
 results are handed on with their generation so that the page can drop them
 (:meth:`Scheduler.is_current`), checked again when the page draws: a stale picture is never
 drawn over a new one.
+
+Why a pool that heals (:class:`WorkerPool`): a worker that dies (killed, out of memory) breaks a
+ProcessPoolExecutor for good, for every page. The first request that fails so replaces it; the
+page that asked is told why, and the next request runs on the new workers.
+
+Why a process of its own for a record (:class:`OneShot`): reading a file may take long and cannot
+be stopped inside a shared worker; a process of its own is killed when its page closes, when a
+newer record is asked for, or when it runs out of time.
 """
 
 from __future__ import annotations
 
+import contextlib
 import itertools
+import logging
 import multiprocessing
+import multiprocessing.connection
+import signal
 import threading
 import time
 from collections.abc import Callable
 from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 
 import numpy as np
 
 from impactosc.explorer import work
 from impactosc.explorer.view import View
 
-__all__ = ["Scheduler", "make_pool", "lane_plan", "DIAGRAM", "ATTRACTOR", "POINTS"]
+__all__ = ["Scheduler", "WorkerPool", "OneShot", "make_pool", "lane_plan", "DIAGRAM", "ATTRACTOR", "POINTS", "RECORD"]
 
-DIAGRAM, ATTRACTOR, POINTS = "diagram", "attractor", "points"
+log = logging.getLogger(__name__)
+
+DIAGRAM, ATTRACTOR, POINTS, RECORD = "diagram", "attractor", "points", "record"
+#: Seconds a record may take to load before its process is killed
+RECORD_TIMEOUT = 120.0
 #: Columns in a lane's first batch and in every later one: small first (first columns fast),
 #: larger after (fewer hand-overs)
 FIRST_BATCH, BATCH = 3, 8
@@ -62,20 +79,171 @@ def make_pool(workers: int) -> ProcessPoolExecutor:
     return ProcessPoolExecutor(int(workers), mp_context=multiprocessing.get_context("spawn"))
 
 
+def _exit_reason(code: int) -> str:
+    if code < 0:
+        try:
+            return f"killed by {signal.Signals(-code).name}"
+        except ValueError:
+            return f"killed by signal {-code}"
+    return f"exit code {code}"
+
+
+def _death(executor: ProcessPoolExecutor, exc: BaseException | None) -> str:
+    """Why a pool broke, in a few words: the worker that ended and how, or the last line of the
+    cause the pool gives (a result it could not read back)."""
+    procs = dict(getattr(executor, "_processes", None) or {})
+    ended = multiprocessing.connection.wait([p.sentinel for p in procs.values()], timeout=0)
+    for pid, proc in procs.items():
+        if proc.sentinel in ended:
+            proc.join(1.0)  # its end is seen before it can be reaped: wait for its exit code
+            if proc.exitcode:
+                return f"worker {pid} {_exit_reason(proc.exitcode)}"
+    cause = getattr(exc, "__cause__", None)
+    lines = [line.strip() for line in str(cause or "").splitlines() if line.strip().strip("'")]
+    return lines[-1] if lines else "a worker process ended abruptly"
+
+
+class PoolClosed(RuntimeError):
+    """A request after the workers were shut down (the server is stopping)."""
+
+
+class WorkerPool:
+    """The worker processes every page shares, replaced when they break.
+
+    Why: a dead worker breaks a ProcessPoolExecutor for good (every pending future fails with
+    BrokenProcessPool and every later submit raises it). The first future that fails so (or a
+    submit that finds the pool broken) replaces that executor by a new one, warmed; the other
+    failures of the same break find it replaced already. :attr:`last_death` says why it broke."""
+
+    def __init__(self, workers: int = 2):
+        self.workers = int(workers)
+        self.restarts = 0
+        self.last_death = ""
+        self._lock = threading.Lock()
+        self._closed = False
+        self._executor = make_pool(self.workers)
+
+    def submit(self, fn, *args) -> Future:
+        """fn(*args) on a worker; PoolClosed once :meth:`shutdown` was called."""
+        with self._lock:
+            if self._closed:
+                raise PoolClosed("the explorer's workers are shut down")
+            executor = self._executor
+            try:
+                future = executor.submit(fn, *args)
+            except BrokenProcessPool as exc:
+                executor = self._replace(executor, exc)
+                future = executor.submit(fn, *args)
+        future.add_done_callback(lambda f: self._check(executor, f))
+        return future
+
+    def _check(self, executor: ProcessPoolExecutor, future: Future) -> None:
+        if not future.cancelled() and isinstance(future.exception(), BrokenProcessPool):
+            with self._lock:
+                self._replace(executor, future.exception())
+
+    def _replace(self, broken: ProcessPoolExecutor, exc: BaseException | None) -> ProcessPoolExecutor:
+        """The new executor, made unless `broken` was replaced already (lock held); its workers
+        load the core before the requests queued after them run."""
+        if self._executor is broken and not self._closed:
+            self.last_death = _death(broken, exc)
+            self.restarts += 1
+            log.warning("impactosc explore: %s; workers restarted (%d so far)", self.last_death, self.restarts)
+            self._executor = make_pool(self.workers)
+            for _ in range(self.workers):
+                self._executor.submit(work.warm)
+        return self._executor
+
+    def pids(self) -> list[int]:
+        """The worker processes' ids (those started so far)."""
+        with self._lock:
+            return sorted(getattr(self._executor, "_processes", None) or {})
+
+    def shutdown(self, wait: bool = True, cancel_futures: bool = False) -> None:
+        """Stop the workers. The lock is not held while waiting: the callbacks of the last
+        results, run meanwhile, may still try to submit (and are told PoolClosed)."""
+        with self._lock:
+            self._closed = True
+            executor = self._executor
+        executor.shutdown(wait=wait, cancel_futures=cancel_futures)
+
+
+def error_text(exc: BaseException, pool) -> str:
+    """What a page says of a failed request: the error, or for a dead worker why it died and
+    that the workers were restarted."""
+    if isinstance(exc, BrokenProcessPool):
+        why = getattr(pool, "last_death", "") or "a worker process ended abruptly"
+        return f"a worker process died ({why}); the workers were restarted: ask again"
+    if isinstance(exc, work.WorkerError):
+        return str(exc)
+    return f"{type(exc).__name__}: {exc}"
+
+
+def _one_shot(conn, fn, args) -> None:
+    """A OneShot's process: fn's result, or its error as text (always plain to pickle)."""
+    try:
+        result = (True, fn(*args))
+    except Exception as exc:  # the reason goes back to the page; the process ends either way
+        result = (False, f"{type(exc).__name__}: {exc}")
+    conn.send(result)
+    conn.close()
+
+
+class OneShot:
+    """fn(*args) in a process of its own, which :meth:`cancel` kills; then, from a thread,
+    `on_done(True, result)` or `on_done(False, reason)`, unless cancelled. A run longer than
+    `timeout` seconds is killed and reported."""
+
+    def __init__(self, fn, args, on_done: Callable[[bool, object], None], timeout: float = RECORD_TIMEOUT):
+        ctx = multiprocessing.get_context("spawn")
+        self._conn, sender = ctx.Pipe(duplex=False)
+        self._proc = ctx.Process(target=_one_shot, args=(sender, fn, args), daemon=True)
+        self._cancelled = threading.Event()
+        self._proc.start()
+        sender.close()
+        threading.Thread(target=self._wait, args=(on_done, timeout), daemon=True).start()
+
+    def _wait(self, on_done, timeout: float) -> None:
+        ready = multiprocessing.connection.wait([self._conn, self._proc.sentinel], timeout)
+        answer = None
+        if self._conn in ready:
+            with contextlib.suppress(EOFError, OSError):  # it ended without an answer (killed, or cancelled)
+                answer = self._conn.recv()
+        self._proc.kill()
+        self._proc.join()
+        self._conn.close()
+        if answer is None:
+            late = not ready
+            answer = (False, f"took more than {timeout:g} s" if late else f"it {_exit_reason(self._proc.exitcode)}")
+        if not self._cancelled.is_set():
+            on_done(*answer)
+
+    def cancel(self) -> bool:
+        """Kill the process; `on_done` is not called."""
+        self._cancelled.set()
+        self._proc.kill()
+        return True
+
+    def done(self) -> bool:
+        """Whether the process has ended."""
+        return not self._proc.is_alive()
+
+
 class Scheduler:
     """Runs the explorer's requests on a pool of `workers` processes.
 
     Results are handed to the callbacks with their generation, from a pool thread; the caller
     marshals them into its own thread and asks :meth:`is_current` before drawing."""
 
-    def __init__(self, workers: int = 2, pool: ProcessPoolExecutor | None = None):
+    def __init__(self, workers: int = 2, pool: WorkerPool | None = None):
         self.workers = int(workers)
         # the server's pages share one pool (pool given), each page its own generations
         self._owns_pool = pool is None
-        self._pool = pool or make_pool(self.workers)
+        self._pool = pool or WorkerPool(self.workers)
         self._lock = threading.Lock()
-        self._generation = {DIAGRAM: 0, ATTRACTOR: 0, POINTS: 0}
-        self._futures: dict[str, list[Future]] = {DIAGRAM: [], ATTRACTOR: [], POINTS: []}
+        kinds = (DIAGRAM, ATTRACTOR, POINTS, RECORD)
+        self._generation = dict.fromkeys(kinds, 0)
+        self._futures: dict[str, list] = {k: [] for k in kinds}
         self._counter = itertools.count(1)
 
     # ------------------------------------------------------------------ generations
@@ -102,7 +270,10 @@ class Scheduler:
         with self._lock:
             if self._generation[kind] != generation:
                 return None
-            future = self._pool.submit(fn, *args)
+            try:
+                future = self._pool.submit(fn, *args)
+            except PoolClosed:
+                return None  # the server is stopping: nobody waits for this
             self._futures[kind] = [f for f in self._futures[kind] if not f.done()] + [future]
         return future
 
@@ -151,7 +322,7 @@ class Scheduler:
             exc = future.exception()
             if exc is not None:
                 if on_error is not None:
-                    on_error(gen, f"{type(exc).__name__}: {exc}")
+                    on_error(gen, error_text(exc, self._pool))
                 return
             out = future.result()
             on_columns(gen, out["columns"])
@@ -192,7 +363,7 @@ class Scheduler:
             if f.cancelled() or not self.is_current(ATTRACTOR, gen) or on_orbit is None:
                 return
             exc = f.exception()
-            on_orbit(gen, {"omega": omega, "error": str(exc)} if exc is not None else f.result())
+            on_orbit(gen, {"omega": omega, "error": error_text(exc, self._pool)} if exc is not None else f.result())
 
         def got_attractor(f: Future):
             if f.cancelled() or not self.is_current(ATTRACTOR, gen):
@@ -200,7 +371,7 @@ class Scheduler:
             exc = f.exception()
             if exc is not None:
                 if on_error is not None:
-                    on_error(gen, f"w = {omega:g}: {type(exc).__name__}: {exc}")
+                    on_error(gen, f"w = {omega:g}: {error_text(exc, self._pool)}")
                 return
             out = f.result()
             on_attractor(gen, out)
@@ -228,7 +399,7 @@ class Scheduler:
             exc = f.exception()
             if exc is not None:
                 if on_error is not None:
-                    on_error(gen, f"located points: {type(exc).__name__}: {exc}")
+                    on_error(gen, f"located points: {error_text(exc, self._pool)}")
                 return
             on_points(gen, f.result())
 
@@ -236,9 +407,23 @@ class Scheduler:
             future.add_done_callback(got)
         return gen
 
-    def call(self, fn, *args) -> Future:
-        """Any other work function (a record's points) on the pool."""
-        return self._pool.submit(fn, *args)
+    def record(
+        self, path: str, on_record: Callable[[int, dict], None], on_error: Callable[[int, str], None],
+        timeout: float = RECORD_TIMEOUT, load=work.record_points,
+    ) -> int:  # fmt: skip
+        """A record's Poincare points (`load` of `path`: :func:`.work.record_points`) in a process
+        of its own, killed by a newer record request, :meth:`close` or `timeout`; returns the
+        generation."""
+        gen = self._next(RECORD)
+
+        def done(ok: bool, value):
+            if self.is_current(RECORD, gen):
+                (on_record if ok else on_error)(gen, value)
+
+        with self._lock:
+            if self._generation[RECORD] == gen:
+                self._futures[RECORD].append(OneShot(load, (path,), done, timeout))
+        return gen
 
     def close(self) -> None:
         with self._lock:

@@ -4,19 +4,29 @@ Why a module of its own: everything a user types passes through here, and every 
 in a number field, w <= 0, a range the wrong way round, a parameter the model refuses) becomes a
 :class:`InputError` with a message the page shows, before anything is scheduled or redrawn. The
 same view, written as a config snippet, rebuilds the picture as a figure of the workflow.
+
+A record path typed in the page passes here too (:class:`RecordAccess`): the page reads records
+only from the directories and files named when the explorer started, and its messages name the
+file and what is wrong with it, never a piece of what it holds.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import os
+import re
 import shlex
+import stat
 import warnings
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
+import yaml
 
 from impactosc.dynamics.sweep import SweepSettings
+from impactosc.io.files import atomic_write
 from impactosc.model.parameters import PARAMETERS, ModelParams
 
 __all__ = [
@@ -27,7 +37,10 @@ __all__ = [
     "parse_range",
     "with_parameter",
     "config_snippet",
+    "write_config",
     "snakemake_command",
+    "RecordAccess",
+    "record_error",
 ]
 
 #: The diagram's quantities: Poincare x (the workflow's Fig 2) or the intervals S_j (Fig 3b).
@@ -37,6 +50,9 @@ DIRECTIONS = ("increasing", "decreasing")
 TARGETS = {"x": "fig02", "isi": "fig03b"}
 #: Parameters with a slider of their own; every other one has a field.
 SLIDERS = ("xI", "m0e")
+#: Record files the page loads: their suffixes, and the largest (bytes)
+RECORD_SUFFIXES = (".csv", ".h5", ".hdf5", ".tdms")
+RECORD_MAX_BYTES = 256 * 2**20
 
 
 class InputError(ValueError):
@@ -136,46 +152,53 @@ def parameter_warning(params: ModelParams) -> str:
     return "; ".join(str(w.message) for w in caught)
 
 
-def _number(value: float) -> str:
-    return repr(float(value)) if value != int(value) or abs(value) >= 1e6 else f"{value:.1f}"
-
-
 def config_snippet(view: View, study: str = "explore") -> str:
     """The view as a config file for the workflow: the model (every parameter that differs from
     the model file's or model BC's), the per-w lengths, the sweep of the window in its direction
-    with the view's step, and the figure that draws the diagram's quantity from that sweep."""
+    with the view's step, and the figure that draws the diagram's quantity from that sweep.
+
+    Written by yaml.safe_dump, so that what the workflow reads back is what was written: a float
+    as a YAML float (1.0e-05, not the string 1e-05 that YAML 1.1 makes of repr), a path quoted
+    when it holds a comma, '#', ': ' or a brace."""
     step = (view.w_hi - view.w_lo) / (view.n_columns - 1)
     start, stop = (view.w_lo, view.w_hi) if view.direction == "increasing" else (view.w_hi, view.w_lo)
-    lines = [
-        "# The explorer's view as a study of its own (impactosc explore)",
-        f"study: {study}",
-    ]
+    head = ["# The explorer's view as a study of its own (impactosc explore)"]
     if view.model_file and view.params == view.file_params:
-        lines.append(f"model: {{file: {view.model_file}}}")
+        model = {"file": str(view.model_file)}
     else:
         # the workflow refuses a model file beside keys that differ from it: every value, written out
         if view.model_file:
-            lines.append(f"# the parameters of {view.model_file}, changed in the explorer")
+            head.append("# every parameter written out: the model file's were changed in the explorer")
         base = ModelParams()
-        model = {k: v for k, v in view.params.to_dict().items() if view.model_file or v != getattr(base, k)}
-        lines.append("model: {" + ", ".join(f"{k}: {v!r}" for k, v in model.items()) + "}")
+        model = {k: float(v) for k, v in view.params.to_dict().items() if view.model_file or v != getattr(base, k)}
     # the workflow splits a sweep into chunks seeded by a coarse pass over every stride-th w
     # (impactosc.dynamics.sweep_chunks): a short grid needs a short stride and few chunks
     stride = 10 if view.n_columns >= 40 else max(1, view.n_columns // 4)
     chunks = min(4, (view.n_columns - 1) // stride + 1)
-    lines += [
-        "bifurcation:",
-        f"  chunks: {chunks}",
-        f"  stride: {stride}",
-        "  per_w:",
-        f"    n_transient: {view.n_transient}",
-        f"    n_record: {view.n_record}",
-        f"    n_initial: {view.n_initial}",
-        "  sweeps:",
-        f"    {view.direction}: {{start: {_number(start)}, stop: {_number(stop)}, step: {step!r}}}",
-        f"  {TARGETS[view.quantity]}: {{sweep: {view.direction}}}",
-    ]
-    return "\n".join(lines) + "\n"
+    config = {
+        "study": study,
+        "model": model,
+        "bifurcation": {
+            "chunks": chunks,
+            "stride": stride,
+            "per_w": {"n_transient": view.n_transient, "n_record": view.n_record, "n_initial": view.n_initial},
+            "sweeps": {view.direction: {"start": float(start), "stop": float(stop), "step": float(step)}},
+            TARGETS[view.quantity]: {"sweep": view.direction},
+        },
+    }
+    body = yaml.safe_dump(config, sort_keys=False, default_flow_style=False, allow_unicode=True)
+    return "\n".join(head) + "\n" + body
+
+
+def write_config(path, text: str) -> Path:
+    """Write the config `text` to `path` atomically (a reader never sees half a file), never
+    through a symbolic link: one at `path` is refused, as a link may point anywhere."""
+    path = Path(path)
+    if path.is_symlink():
+        raise InputError(f"{path.name}: a symbolic link; the config is not written through it")
+    with atomic_write(path) as tmp:
+        Path(tmp).write_text(text)
+    return path
 
 
 def snakemake_command(view: View, config_path: str) -> str:
@@ -184,3 +207,68 @@ def snakemake_command(view: View, config_path: str) -> str:
         f".venv/bin/snakemake -j2 {TARGETS[view.quantity]} --configfile config/config.yaml "
         f"{shlex.quote(str(config_path))}"
     )
+
+
+def _inside(path: str, directory: str) -> bool:
+    return os.path.commonpath([path, directory]) == directory
+
+
+@dataclass(frozen=True)
+class RecordAccess:
+    """The record files the page may read: those inside `dirs` and the `files` named at start,
+    judged by the path they resolve to (symbolic links followed), regular files with a record's
+    suffix, at most `max_bytes` long. A relative path typed in the page is looked up in `dirs`."""
+
+    dirs: tuple[str, ...] = (".",)
+    files: tuple[str, ...] = ()
+    max_bytes: int = RECORD_MAX_BYTES
+
+    def __post_init__(self):
+        object.__setattr__(self, "dirs", tuple(os.path.realpath(d) for d in self.dirs))
+        object.__setattr__(self, "files", tuple(os.path.realpath(f) for f in self.files))
+
+    def resolve(self, text: str) -> str:
+        """The real path of the record `text` names, or InputError saying why it is refused
+        (naming the file as typed, never its contents)."""
+        typed = str(text).strip()
+        if not typed:
+            raise InputError("record file: give a path")
+        name = os.path.basename(typed) or typed
+        typed = os.path.expanduser(typed)
+        candidates = [typed] if os.path.isabs(typed) else [os.path.join(d, typed) for d in self.dirs]
+        real = next((os.path.realpath(c) for c in candidates if os.path.exists(c)), os.path.realpath(candidates[0]))
+        if real not in self.files and not any(_inside(real, d) for d in self.dirs):
+            where = ", ".join(self.dirs)
+            raise InputError(
+                f"record {name}: outside the directories records are read from ({where}); "
+                "start the explorer with --data-dir DIR or --record FILE"
+            )
+        try:
+            info = os.stat(real)
+        except OSError:
+            raise InputError(f"record {name}: no such file") from None
+        if not stat.S_ISREG(info.st_mode):
+            raise InputError(f"record {name}: not a regular file")
+        if Path(real).suffix.lower() not in RECORD_SUFFIXES:
+            raise InputError(f"record {name}: not a record file (use {', '.join(RECORD_SUFFIXES)})")
+        if info.st_size > self.max_bytes:
+            raise InputError(
+                f"record {name}: {info.st_size / 2**20:.1f} MiB, more than the {self.max_bytes / 2**20:g} MiB "
+                "the explorer loads"
+            )
+        return real
+
+
+#: Quoted or bracketed text in a reader's message: possibly a piece of the file (a line, a header)
+_QUOTED = re.compile(r"'[^'\n]*'|\"[^\"\n]*\"|\[[^\]\n]*\]|\{[^}\n]*\}|\([^)\n]*\)")
+
+
+def record_error(name: str, real: str, message: str, limit: int = 300) -> str:
+    """A record reader's error for the page, naming the file `name` and what is wrong (line,
+    field count, ...) but none of its contents: the path becomes `name`, and whatever the reader
+    quoted or bracketed (a line, a header, a value) is cut out."""
+    first = str(message).strip().splitlines()[0] if str(message).strip() else "could not be read"
+    text = _QUOTED.sub("(...)", first.replace(real, name))
+    if len(text) > limit:
+        text = text[:limit] + " ..."
+    return f"record {name}: {text}"

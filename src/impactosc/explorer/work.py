@@ -14,11 +14,16 @@ arguments and results cross the process boundary by pickling. Nothing here knows
   window (:func:`impactosc.dynamics.branch_segments.trace_segment`), on demand (seconds to tens of
   seconds: a continuation with every point shot);
 - :func:`record_points`: a rig record's Poincare points (:func:`impactosc.records.extract_events`).
+
+Every error they raise reaches the server: one whose class would not survive pickling (the pool
+would take it for a dead worker and break) is handed back as a :class:`WorkerError` with its text.
 """
 
 from __future__ import annotations
 
+import functools
 import math
+import pickle
 
 import numpy as np
 
@@ -29,7 +34,7 @@ from impactosc.dynamics.sweep import OK, SweepSettings, continuation
 from impactosc.model.parameters import ModelParams
 from impactosc.statistics.periods import detect_period
 
-__all__ = ["warm", "diagram_batch", "attractor", "periodic_orbit", "located_points", "record_points"]
+__all__ = ["WorkerError", "warm", "diagram_batch", "attractor", "periodic_orbit", "located_points", "record_points"]
 
 #: Poincare repetition tolerances of the period reading (those of the workflow's diagram reading)
 PERIOD_TOL = (1e-6, 1e-4)
@@ -39,12 +44,35 @@ MAX_SHOT_PERIOD = 16
 WINDOW_PERIODS, SAMPLES_PER_PERIOD = 8, 200
 
 
+class WorkerError(RuntimeError):
+    """An error raised in a worker whose own class would not cross back by pickling: its text."""
+
+
+def _plain_errors(fn):
+    """`fn`, whose errors all cross the process boundary: those that would not unpickle as
+    they are become WorkerError with the same text."""
+
+    @functools.wraps(fn)
+    def run(*args, **kwargs):
+        try:
+            return fn(*args, **kwargs)
+        except Exception as exc:
+            try:
+                pickle.loads(pickle.dumps(exc))
+            except Exception:  # any failure to round-trip is what would break the pool
+                raise WorkerError(f"{type(exc).__name__}: {exc}") from None
+            raise
+
+    return run
+
+
 def warm() -> float:
     """Load the compiled core in this worker (from numba's disk cache): the first real request
     then pays nothing for it."""
     return warm_up()
 
 
+@_plain_errors
 def diagram_batch(omegas, settings: SweepSettings, x0: float, v0: float, first_transient: int) -> dict:
     """The columns of `omegas` (in sweep order) by continuation from (x0, v0), the first w
     discarding `first_transient` periods: per column the Poincare x and the intervals S_j, and
@@ -66,6 +94,7 @@ def diagram_batch(omegas, settings: SweepSettings, x0: float, v0: float, first_t
     return {"columns": cols, "x_end": float(res.x_end[-1]), "v_end": float(res.v_end[-1])}
 
 
+@_plain_errors
 def attractor(omega: float, params: ModelParams, x0: float, v0: float, n_transient: int, n_record: int) -> dict:
     """One w from (x0, v0): `n_transient` periods discarded, `n_record` recorded. Returns the
     last WINDOW_PERIODS periods as a time series, the Poincare points (x, v), the impact times
@@ -101,6 +130,7 @@ def attractor(omega: float, params: ModelParams, x0: float, v0: float, n_transie
     }
 
 
+@_plain_errors
 def periodic_orbit(omega: float, params: ModelParams, y, n_periods: int) -> dict:
     """The period-N orbit through `y` shot to the solver's tolerance, its Floquet multipliers,
     impacts per orbit and smallest near-miss gap (how close it is to grazing); or the reason
@@ -124,6 +154,7 @@ def periodic_orbit(omega: float, params: ModelParams, y, n_periods: int) -> dict
     }
 
 
+@_plain_errors
 def located_points(params: ModelParams, w_lo: float, w_hi: float, ds: float = 0.05) -> list[dict]:
     """The located special points (kind, w) of the period-1 branch over [w_lo, w_hi], continued
     both ways from the orbit the simulation from rest settles on at the window's middle."""
@@ -139,6 +170,7 @@ def located_points(params: ModelParams, w_lo: float, w_hi: float, ds: float = 0.
     return sorted(points, key=lambda p: p["omega"])
 
 
+@_plain_errors
 def record_points(path: str, omega: float | None = None) -> dict:
     """A record's Poincare points (the measured w of each when an encoder gives the phase,
     else the record's nominal w). Raises ValueError/OSError when the record does not parse or

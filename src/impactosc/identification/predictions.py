@@ -10,15 +10,17 @@ This module turns the one into the other and runs the branch, the location and t
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 
-from impactosc.identification.fitted_parameters import FIELDS, NAMES, PER_MASS
+from impactosc.identification.fitted_parameters import FIELDS, NAMES, PER_MASS, UNITS
 from impactosc.model.model_file import ModelFile
-from impactosc.model.parameters import ModelParams
+from impactosc.model.parameters import PARAM_UNITS, ModelParams
 
 __all__ = [
     "branch_band",
+    "covariance_source",
     "field_covariance",
     "point_errors",
     "points_markdown",
@@ -29,29 +31,65 @@ __all__ = [
 
 
 def field_covariance(model: ModelFile) -> tuple[list[str], np.ndarray] | None:
-    """The model file's covariance in the model's parameters (k, c, ... : a per-mass quantity's
-    rows and columns times the mass), or None when the file states none (model BC's)."""
+    """The model file's covariance in the model's parameters (k, c, ...), or None when the file
+    states no uncertainty (model BC's).
+
+    The file's covariance may name the quantities identification fits (per unit mass: a k/m row
+    and column times the mass gives k's) or the parameters themselves, each in its own unit; a file
+    with each parameter's ``stderr`` and no covariance states independent errors (a diagonal
+    covariance, :func:`covariance_source` says so)."""
     found = model.covariance
     if found is None:
-        return None
-    names, _units, cov = found
-    unknown = [n for n in names if n not in NAMES]
-    if unknown:
-        raise ValueError(f"{model.path}: covariance names {unknown}, not quantities identification fits ({NAMES})")
-    idx = [NAMES.index(n) for n in names]
-    scale = np.array([model.params.m if PER_MASS[i] else 1.0 for i in idx])
-    return [FIELDS[i] for i in idx], cov * np.outer(scale, scale)
+        stated = {name: se for name, se in model.stderr.items() if se > 0}
+        if not stated:
+            return None
+        return list(stated), np.diag(np.square(list(stated.values())))
+    names, units, cov = found
+    fields, scale = [], []
+    for i, name in enumerate(names):
+        if name in NAMES:
+            j = NAMES.index(name)
+            field, factor, unit = FIELDS[j], model.params.m if PER_MASS[j] else 1.0, UNITS[j]
+        elif name in PARAM_UNITS:
+            field, factor, unit = name, 1.0, PARAM_UNITS[name]
+        else:
+            raise ValueError(
+                f"{model.path}: covariance names {name!r}: neither a quantity identification fits ({', '.join(NAMES)}) "
+                f"nor a parameter ({', '.join(PARAM_UNITS)})"
+            )
+        if units and " ".join(str(units[i]).split()) != unit:
+            raise ValueError(
+                f"{model.path}: covariance: {name} is in {unit!r}, not {units[i]!r} (units are not converted)"
+            )
+        if field in fields:
+            raise ValueError(f"{model.path}: covariance: {name} and another name both stand for {field}")
+        fields.append(field)
+        scale.append(factor)
+    return fields, cov * np.outer(scale, scale)
+
+
+def covariance_source(model: ModelFile) -> str:
+    """Where the uncertainty :func:`field_covariance` propagates comes from, in words."""
+    if model.covariance is not None:
+        return "the model file's covariance"
+    if any(se > 0 for se in model.stderr.values()):
+        return "the parameters' stderr, as independent errors (the model file states no covariance)"
+    return "none (the model file states no covariance and no stderr)"
 
 
 def read_model_with_covariance(path) -> tuple[ModelFile, tuple[list[str], np.ndarray]]:
     """The model file at ``path`` and its covariance in the model's parameters
-    (:func:`field_covariance`); a ValueError naming the file when it states none."""
+    (:func:`field_covariance`); a ValueError naming the file when it states no uncertainty."""
     from impactosc.model.model_file import read_model_file
 
     model = read_model_file(path)
     covariance = field_covariance(model)
     if covariance is None:
-        raise ValueError(f"{path}: the model file states no covariance: there is no uncertainty to propagate")
+        raise ValueError(
+            f"{path}: the model file states no covariance and no stderr: there is no uncertainty to propagate"
+        )
+    if model.covariance is None:
+        print(f"{path}: uncertainty from {covariance_source(model)}", file=sys.stderr)
     return model, covariance
 
 

@@ -23,6 +23,12 @@ full precision: a correlation rounded for reading is not positive definite when 
 correlate at 0.99 and more (b and n3 of a contact law), so uncertainty is propagated from the
 covariance (:attr:`ModelFile.covariance`, checked symmetric positive definite when read).
 
+A hand-written file may give a covariance in the parameters' own names and units (k, c, ...;
+:func:`impactosc.identification.predictions.field_covariance` reads both), or each parameter's
+``stderr`` and no covariance: independent errors. A key given twice (YAML keeps the last
+silently), a name given twice in a covariance or correlation, a units list of another length
+than its names and a correlation outside [-1, 1] are refused when the file is read.
+
 A parameter the file leaves out takes model BC's value (:attr:`ModelFile.defaulted` names
 them). Values are SI in the units of ``impactosc.model.parameters.PARAM_UNITS``; a unit
 that differs is refused, not converted.
@@ -41,6 +47,7 @@ import yaml
 from impactosc import __version__
 from impactosc.io.files import atomic_write, git_commit
 from impactosc.io.names import closest_name, split_assignment
+from impactosc.io.yaml_text import DuplicateKeyError, load_yaml
 from impactosc.model.parameters import PARAM_UNITS, ModelParams
 
 FORMAT = "impactosc-model/1"
@@ -218,10 +225,14 @@ def write_model_file(
 
 def _load(path: Path) -> dict:
     """The file's YAML mapping, checked for its format line and known top-level keys."""
+    if path.is_dir():
+        raise IsADirectoryError(f"model file {path} is a directory, not a file")
     if not path.is_file():
         raise FileNotFoundError(f"model file {path} does not exist")
     try:
-        doc = yaml.safe_load(path.read_text(encoding="utf-8"))
+        doc = load_yaml(path.read_text(encoding="utf-8"))
+    except DuplicateKeyError as exc:
+        raise ValueError(f"model file {path}: {exc}") from None
     except (yaml.YAMLError, UnicodeDecodeError) as exc:
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise ValueError(f"model file {path}: not YAML ({first})") from None
@@ -285,13 +296,61 @@ def read_model_file(path) -> ModelFile:
             f"model file {path}: parameters.{bad}: {exc}" if bad else f"model file {path}: {exc}"
         ) from None
     meta = {k: v for k, v in doc.items() if k not in ("format", "parameters")}
-    cov = meta.get("covariance")
-    if cov is not None:  # checked here, so a bad matrix is named when the file is read
-        if not isinstance(cov, dict) or not isinstance(cov.get("names"), list) or "matrix" not in cov:
-            raise ValueError(f"model file {path}: covariance: need a mapping with names and matrix")
-        _spd(cov["matrix"], len(cov["names"]), f"model file {path}")
+    _check_covariance(meta.get("covariance"), path)  # here, so a bad block is named when the file is read
+    _check_correlation(meta.get("correlation"), path)
     defaulted = tuple(k for k in NAMES if k not in values)
     return ModelFile(params, stderr, fixed, meta, str(path), defaulted)
+
+
+def _check_names_unique(names, where: str) -> None:
+    """Each name of a covariance or correlation once: a name given twice would pair one row with
+    two different quantities' uncertainties."""
+    twice = sorted({str(n) for n in names if list(names).count(n) > 1})
+    if twice:
+        raise ValueError(f"{where}.names: {', '.join(twice)} given more than once; each quantity has one row")
+
+
+def _check_covariance(cov, path: Path) -> None:
+    """The covariance block: a mapping of distinct names, as many units as names (when given), a
+    symmetric positive definite matrix of their size."""
+    if cov is None:
+        return
+    where = f"model file {path}: covariance"
+    if not isinstance(cov, dict) or not isinstance(cov.get("names"), list) or "matrix" not in cov:
+        raise ValueError(f"{where}: need a mapping with names and matrix")
+    for key in cov:
+        if key not in ("names", "units", "matrix"):
+            raise ValueError(f"{where}.{key}: " + _unknown(key, ("names", "units", "matrix")))
+    _check_names_unique(cov["names"], where)
+    units = cov.get("units")
+    if units is not None and (not isinstance(units, list) or len(units) != len(cov["names"])):
+        count = f"{len(units)} units" if isinstance(units, list) else f"{units!r}"
+        raise ValueError(f"{where}.units: {count} for {len(cov['names'])} names; give one unit per name, in order")
+    _spd(cov["matrix"], len(cov["names"]), f"model file {path}")
+
+
+def _check_correlation(corr, path: Path) -> None:
+    """The correlation block (for reading): distinct names and a symmetric matrix of their size
+    with a unit diagonal and every entry in [-1, 1]."""
+    if corr is None:
+        return
+    where = f"model file {path}: correlation"
+    if not isinstance(corr, dict) or not isinstance(corr.get("names"), list) or "matrix" not in corr:
+        raise ValueError(f"{where}: need a mapping with names and matrix")
+    _check_names_unique(corr["names"], where)
+    n = len(corr["names"])
+    try:
+        a = np.asarray(corr["matrix"], dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{where}.matrix: not a table of numbers") from None
+    if a.shape != (n, n) or not np.all(np.isfinite(a)):
+        raise ValueError(f"{where}.matrix: need a finite {n} x {n} matrix for its {n} names, got shape {a.shape}")
+    i, j = np.unravel_index(np.argmax(np.abs(a)), a.shape)
+    if abs(a[i, j]) > 1.0:
+        raise ValueError(f"{where}.matrix: {a[i, j]:g} at row {i + 1}, column {j + 1}; a correlation lies in [-1, 1]")
+    # written rounded for reading (4 digits); a diagonal off 1 or an asymmetry beyond that is no correlation
+    if np.any(np.abs(np.diag(a) - 1.0) > 1e-4) or np.any(np.abs(a - a.T) > 1e-4):
+        raise ValueError(f"{where}.matrix: a correlation matrix is symmetric with 1 on its diagonal")
 
 
 def _override(item: str) -> tuple[str, float]:

@@ -145,7 +145,7 @@ class ExtractOptions:
         for name in ("noise", "hysteresis"):
             v = getattr(self, name)
             if v is not None and (not math.isfinite(v) or v < 0):
-                raise ValueError(f"{name} must be >= 0 m, got {v}")
+                raise ParameterError(name, f"{name} must be >= 0 m, got {v}")
         for name in ("hysteresis_sigmas", "confirm_sigmas"):
             if not getattr(self, name) >= 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")

@@ -92,23 +92,26 @@ class SurrogateOptions:
 
     def __post_init__(self):
         if not math.isfinite(self.rate) or self.rate <= 0:
-            raise ValueError(f"rate must be > 0 Hz, got {self.rate}")
+            raise ParameterError("rate", f"rate must be > 0 Hz, got {self.rate}")
         if not math.isfinite(self.noise) or self.noise < 0:
-            raise ValueError(f"noise must be >= 0 m, got {self.noise}")
+            raise ParameterError("noise", f"noise must be >= 0 m, got {self.noise}")
         for name, unit in (("lowpass_hz", "Hz"), ("drift", "m"), ("clock_jitter", "s"), ("quantum", "m")):
             v = getattr(self, name)
             if not math.isfinite(v) or v < 0:
-                raise ValueError(f"{name} must be >= 0 {unit} (0: off), got {v}")
+                raise ParameterError(name, f"{name} must be >= 0 {unit} (0: off), got {v}")
         if self.lowpass_hz >= self.rate / 2:
-            raise ValueError(
-                f"lowpass_hz must be below half the sample rate ({self.rate / 2:g} Hz), got {self.lowpass_hz}"
+            raise ParameterError(
+                "lowpass_hz",
+                f"lowpass_hz must be below half the sample rate ({self.rate / 2:g} Hz), got {self.lowpass_hz}",
             )
         if not (isinstance(self.lowpass_order, int) and 1 <= self.lowpass_order <= 10):
-            raise ValueError(f"lowpass_order must be an integer 1-10, got {self.lowpass_order!r}")
+            raise ParameterError("lowpass_order", f"lowpass_order must be an integer 1-10, got {self.lowpass_order!r}")
         if not math.isfinite(self.drift_time) or self.drift_time <= 0:
-            raise ValueError(f"drift_time must be > 0 s, got {self.drift_time}")
+            raise ParameterError("drift_time", f"drift_time must be > 0 s, got {self.drift_time}")
         if self.clock_jitter >= 0.5 / self.rate:
-            raise ValueError(f"clock_jitter must be well below the sample interval, got {self.clock_jitter} s")
+            raise ParameterError(
+                "clock_jitter", f"clock_jitter must be well below the sample interval, got {self.clock_jitter} s"
+            )
         object.__setattr__(self, "mismatch", dict(self.mismatch or {}))
 
     @property
