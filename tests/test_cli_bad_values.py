@@ -143,6 +143,17 @@ def values(*strategies):
     return st.tuples(*strategies)
 
 
+def narrow(w_range):
+    """A valid w range moved into model BC's band (20..45 rad/s) and made 0.01 rad/s wide: predict's
+    work grows with the range's width and, below it, with the forcing period (measured, 2..2.002
+    rad/s takes over 20 s), which is long work, not an error. Refused ranges stay as drawn."""
+    lo, hi = w_range
+    if not 0 < lo < hi:
+        return w_range
+    lo = 20.0 + lo % 25.0
+    return (lo, lo + 0.01)
+
+
 #: Per command: the arguments of a tiny scene (FILES stands for the fixture's folder), and each
 #: numeric option with what is drawn for it (a tuple: the option's several values).
 COMMANDS = {
@@ -204,7 +215,7 @@ COMMANDS = {
     "predict": (
         ["FILES/bc.yaml", "--w-range", "20", "20.01", "--quiet"],
         {
-            "--w-range": values(anywhere(), anywhere()),
+            "--w-range": values(anywhere(), anywhere()).map(narrow),
             "--seed-omega": anywhere(),
             "--max-period": st.one_of(st.integers(max_value=0), st.integers(min_value=65)),
         },
