@@ -166,3 +166,28 @@ def test_uncompressed_run_reads_back_the_same(tmp_path):
         assert f["trajectory/x"].compression == "gzip" and g["trajectory/x"].compression is None
     for name in ("t", "x", "v"):
         np.testing.assert_array_equal(read_run(plain)[2][name], read_run(packed)[2][name])
+
+
+def test_predict_refuses_an_unknown_table_suffix_before_computing(tmp_path, capsys):
+    from impactosc.model.model_file import write_model_file
+    from impactosc.model.parameters import ModelParams
+
+    model = write_model_file(tmp_path / "bc.yaml", ModelParams())
+    assert cli.main(["predict", str(model), "--output", str(tmp_path / "points.txt")]) == 2
+    err = capsys.readouterr().err
+    assert (
+        err
+        == f"impactosc predict: error: --output: {tmp_path / 'points.txt'}: the table is written as .csv or .md (by its suffix)\n"
+    )
+
+
+def test_predict_without_located_points_writes_an_empty_table(tmp_path, capsys):
+    from impactosc.io.files import read_csv
+    from impactosc.model.model_file import write_model_file
+    from impactosc.model.parameters import ModelParams
+
+    model = write_model_file(tmp_path / "bc.yaml", ModelParams())
+    out = tmp_path / "points.csv"
+    assert cli.main(["predict", str(model), "--w-range", "20", "20.01", "--quiet", "--output", str(out)]) == 0
+    assert "no grazing, period doubling or fold" in capsys.readouterr().out
+    assert out.read_text().splitlines() == ["segment,kind,omega,n_periods,se,note"] and read_csv(out) == []

@@ -153,3 +153,31 @@ def test_quoted_fields_fall_back_to_line_parser(tmp_path):
     lines[3] = '"{}","{}"'.format(*lines[3].split(","))
     b = read_record(_csv(tmp_path, "\n".join(lines) + "\n", name="b.csv"))
     np.testing.assert_array_equal(a.x, b.x)
+
+
+@pytest.mark.parametrize(("body", "n"), [("", 0), ("0.0,-3.0\n", 1)])
+def test_a_record_without_samples_or_with_one_is_refused_by_name(tmp_path, body, n):
+    from impactosc.records.streams import open_record_stream
+
+    path = _csv(tmp_path, body)
+    message = f"{path}: only {n} samples; a record needs at least 20"
+    for read in (read_record, open_record_stream):
+        with pytest.raises(ValueError) as refused:
+            read(path)
+        assert str(refused.value) == message
+
+
+def test_a_line_longer_than_the_limit_is_refused_without_its_text(tmp_path):
+    """Also a file without any line break: refused after one block, not scanned block by block."""
+    long = "x" * (record_csv.MAX_LINE_CHARS + 1)
+    for name, text in (("header.csv", f"t,{long}\n0,1\n"), ("no_breaks.csv", "1" * (4 * record_csv.BLOCK_CHARS))):
+        p = tmp_path / name
+        p.write_text(text)
+        with pytest.raises(ValueError) as refused:
+            read_record(p)
+        assert str(refused.value).startswith(f"{p}: line 1 is longer than {record_csv.MAX_LINE_CHARS} characters")
+        assert len(str(refused.value)) < 300
+    rows = _rows(50)
+    p = _csv(tmp_path, rows + "1" * (record_csv.MAX_LINE_CHARS + 1) + "\n" + rows, name="middle.csv")
+    with pytest.raises(ValueError, match=f"line {3 + 50 + 1} is longer than"):
+        read_record(p)

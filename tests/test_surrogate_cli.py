@@ -210,3 +210,15 @@ def test_cli_contact_exponent_is_a_number_in_range_or_free(tmp_path, capsys):
     with pytest.raises(SystemExit):
         main(["extract", "r.h5", "--contact-exponent", "3", "--output", str(tmp_path / "e.h5")])
     assert "a contact exponent lies in [1, 2.5]" in capsys.readouterr().err
+
+
+def test_extract_refuses_too_short_records_in_one_line(tmp_path, capsys):
+    from impactosc.cli.main import main
+
+    for body, n in (("", 0), ("0.0,-0.003\n", 1)):
+        rec = tmp_path / f"short{n}.csv"
+        rec.write_text("# units: m\n# omega: 40.86\nt,x\n" + body)
+        assert main(["extract", str(rec), "--output", str(tmp_path / "ev.h5")]) == 2
+        err = capsys.readouterr().err.splitlines()
+        assert err == [f"impactosc extract: error: {rec}: only {n} samples; a record needs at least 20"]
+        assert not (tmp_path / "ev.h5").exists()

@@ -30,6 +30,7 @@ def configure_logging(snakemake=None, level=logging.INFO):
     without a ``log:`` path, records go to stderr only. Python warnings become log records, and
     an uncaught exception (an import error included, since scripts call this before their other
     imports) is logged with its traceback before the job fails, so the rule's log says why.
+    SIGTERM raises ``impactosc.io.files.Terminated``, so that no temporary file is left behind.
     """
     handlers = [logging.StreamHandler(sys.stderr)]
     log = list(snakemake.log) if snakemake is not None else []
@@ -50,6 +51,11 @@ def configure_logging(snakemake=None, level=logging.INFO):
         logger.error("uncaught exception, the job fails", exc_info=(exc_type, exc, tb))
 
     sys.excepthook = log_uncaught
+    # SIGTERM (Snakemake stopping a job, a cluster's time limit) unwinds like Ctrl-C, so a file
+    # being written removes its temporary copy; the job exits with status 143
+    from impactosc.io.files import raise_on_sigterm
+
+    raise_on_sigterm()
     return logger
 
 

@@ -80,8 +80,7 @@ def _check_identify_outputs(args) -> None:
     paths = [args.output]
     for option, path in (("--table", args.table), ("--choose-model", args.choose_model)):
         if path is not None:
-            if Path(path).suffix.lower() not in (".csv", ".md"):
-                raise ValueError(f"{option} {path}: the table is written as .csv or .md")
+            check_table_path(option, path)
             paths.append(path)
     if len({Path(path).resolve() for path in paths}) < len(paths):
         raise ValueError("--output, --table and --choose-model name the same file")
@@ -89,14 +88,24 @@ def _check_identify_outputs(args) -> None:
         check_writable(path)
 
 
-def _write_rows(path, rows, markdown: str, sources) -> None:
-    """A table as Markdown (.md) or CSV."""
+def check_table_path(option: str, path) -> None:
+    """Refuse, before computing, a table whose suffix names no format :func:`_write_rows` writes."""
+    from pathlib import Path
+
+    from impactosc.model.parameters import ParameterError
+
+    if Path(path).suffix.lower() not in (".csv", ".md"):
+        raise ParameterError(option, f"{path}: the table is written as .csv or .md (by its suffix)")
+
+
+def _write_rows(path, rows, markdown: str, sources, columns=None) -> None:
+    """A table as Markdown (.md) or CSV (``columns``: the header of a table that may be empty)."""
     from impactosc.io.files import write_table, write_text
 
     if str(path).lower().endswith(".md"):
         write_text(path, markdown)
     else:
-        write_table(path, rows, sources=sources)
+        write_table(path, rows, None if rows else columns, sources=sources)
 
 
 def _identify_summary(args, ident, rows, source: str, choice) -> str:

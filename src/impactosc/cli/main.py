@@ -2,16 +2,21 @@
 
 from __future__ import annotations
 
+import csv
 import math
+import signal
 import sys
 import time
+import warnings
 
 from impactosc.cli.explore import _explore
 from impactosc.cli.identify import _identify
-from impactosc.cli.options import model_from_args, open_record_args
+from impactosc.cli.options import MODEL_NAMES, model_from_args, open_record_args
 from impactosc.cli.parser import build_parser
 from impactosc.cli.predict import _predict
+from impactosc.cli.progress import WallTimeForecast
 from impactosc.io.names import split_assignment
+from impactosc.model.parameters import ParameterError
 
 
 def _extract(args) -> int:
@@ -55,13 +60,16 @@ def _extract(args) -> int:
 
 
 def _progress_printer(name, stream, every=0.1, min_samples=20_000_000):
-    """A progress callback printing to stderr at each tenth of a long record (none for a short one)."""
-    if not stream.n_samples or stream.n_samples < min_samples:
+    """A progress callback: the expected wall time once a record takes longer than a few seconds,
+    and a line at each tenth of a long record (none for a record of unknown length)."""
+    if not stream.n_samples:
         return None
     start, shown = time.perf_counter(), [0.0]
+    forecast = WallTimeForecast("extract")
 
     def show(done):
-        if done >= shown[0] + every or done >= 1.0:
+        forecast(done)
+        if stream.n_samples >= min_samples and (done >= shown[0] + every or done >= 1.0):
             shown[0] = done
             print(f"{name}: {100 * done:.0f} % extracted ({time.perf_counter() - start:.0f} s)", file=sys.stderr)
 
@@ -104,11 +112,11 @@ def _parse_mismatch(text):
     for item in filter(None, (s.strip() for s in text.split(","))):
         k, v = split_assignment(item)
         if v is None:
-            raise ValueError(f"mismatch item {item!r} must read name=relative_change")
+            raise ParameterError("--mismatch", f"mismatch item {item!r} must read name=relative_change")
         try:
             out[k] = float(v)
         except ValueError:
-            raise ValueError(f"mismatch value {v!r} of {k} is not a number") from None
+            raise ParameterError("--mismatch", f"mismatch value {v!r} of {k} is not a number") from None
     return out
 
 
@@ -126,10 +134,15 @@ def _surrogate(args) -> int:
         seed=args.seed,
         **{name: getattr(args, name) for name in REALISM_FIELDS},  # the options' dests are the field names
     )
+    forecast = WallTimeForecast("surrogate")
+
+    def progress(t, t_end, n_impacts):
+        forecast(t / t_end)
+
     if args.ramp is None:
         if args.encoder_counts is not None:
             raise ValueError("--encoder-counts goes with --ramp (a constant-w record has no phase channel)")
-        rec, _ = surrogate_record(args.omega, args.transient, args.duration, opts, params=params)
+        rec, _ = surrogate_record(args.omega, args.transient, args.duration, opts, params=params, progress=progress)
         meta = dict(rec.meta, model_source=source)
         write_record(args.output, rec.t, rec.x, omega=rec.omega, meta=meta, units=args.units)
         print(f"{args.output}: surrogate record, {rec.t.size} samples at {args.rate:g} Hz, noise {args.noise:g} m")
@@ -137,9 +150,18 @@ def _surrogate(args) -> int:
     w0, w1 = args.ramp
     if not (w0 > 0 and w1 > 0 and args.transient >= 0 and args.duration > 0):
         raise ValueError("--ramp needs W_START, W_STOP > 0 rad/s, --transient >= 0 s and --duration > 0 s")
+    if args.encoder_counts is not None and args.encoder_counts < 4:
+        raise ParameterError("encoder_counts", f"an encoder has >= 4 counts per revolution, got {args.encoder_counts}")
     n_initial = round(args.transient * w0 / (2 * math.pi))  # whole periods: the ramp starts at phase 0
     rec, _ = surrogate_ramp(
-        w0, w1, args.duration, opts, n_initial=n_initial, encoder_counts=args.encoder_counts, params=params
+        w0,
+        w1,
+        args.duration,
+        opts,
+        n_initial=n_initial,
+        encoder_counts=args.encoder_counts,
+        params=params,
+        progress=progress,
     )
     meta = dict(rec.meta, model_source=source)
     write_record(args.output, rec.t, rec.x, meta=meta, units=args.units, phase=rec.phase)
@@ -152,7 +174,7 @@ def _surrogate(args) -> int:
 
 
 def _simulate(args) -> int:
-    from impactosc.core.simulation import Window, simulate, warm_up
+    from impactosc.core.simulation import Window, check_step_budget, simulate, warm_up
     from impactosc.io.files import check_writable, write_run
 
     record = tuple(e.strip() for e in args.events.split(",") if e.strip())
@@ -162,14 +184,15 @@ def _simulate(args) -> int:
     from impactosc.core.simulation import _validate
 
     _validate(args.omega, args.transient, args.duration, args.x0, args.v0, args.rtol, args.atol, window)
-    if args.step_budget < 100:
-        raise ValueError(f"--step-budget must be >= 100 step attempts per forcing period, got {args.step_budget:g}")
+    check_step_budget(args.step_budget)
     params, source = model_from_args(args)
     jit = warm_up()
     last = [time.perf_counter()]
+    forecast = WallTimeForecast("simulate", quiet=args.quiet)
 
     def progress(t, t_end, n_imp):
         now = time.perf_counter()
+        forecast(t / t_end)
         if not args.quiet and now - last[0] > 2.0:
             print(f"impactosc: t = {t:.1f} / {t_end:.1f} s, {n_imp} impacts", file=sys.stderr, flush=True)
             last[0] = now
@@ -210,20 +233,79 @@ COMMANDS = {
 }
 
 
+#: The option a library argument is given by, where its name does not say it (``--`` + the
+#: name with - for _ does otherwise): per command, as :class:`ParameterError` names it.
+OPTIONS = {
+    "simulate": {"t_end": "--transient/--duration"},
+    "surrogate": {
+        "t_end": "--transient/--duration",
+        "window": "--rate",
+        "lowpass_hz": "--lowpass",
+        **dict.fromkeys(MODEL_NAMES.split(), "--mismatch"),
+    },
+    "extract": {"delay": "--sensor-delay", "x_impact": "--x-impact"},
+}
+
+
+def _option(command: str, name: str) -> str:
+    if name.startswith("--"):
+        return name
+    return OPTIONS.get(command, {}).get(name, "--" + name.replace("_", "-"))
+
+
+def _one_line_warnings(message, category, filename, lineno, file=None, line=None):
+    """Warnings (e.g. a parameter outside the tested ranges) as one line each, as errors are."""
+    print(f"impactosc: warning: {message}", file=sys.stderr)
+
+
+def _interruption(exc, kinds):
+    """The Ctrl-C or SIGTERM an exception comes from, or None. Why a search: one that arrives
+    while compiled code calls back into Python comes out as numba's SystemError, caused by it."""
+    while exc is not None and not isinstance(exc, kinds):
+        exc = exc.__cause__ or exc.__context__
+    return exc
+
+
 def main(argv=None) -> int:
+    """Run one command. Every error a user can cause ends in one line on stderr, ``impactosc
+    <command>: error: [--option: ]what``, exit status 2 (3: the core stopped; 130: Ctrl-C; 143:
+    SIGTERM), and nothing written; argparse's own refusals print the usage, then that line."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    from impactosc.io.files import Terminated, raise_on_sigterm
+
+    say = f"impactosc {args.command}: error:"
+    handler = raise_on_sigterm()
     try:
-        return COMMANDS[args.command](args)
+        with warnings.catch_warnings():
+            warnings.showwarning = _one_line_warnings
+            return COMMANDS[args.command](args)
+    except ParameterError as exc:
+        option = _option(args.command, exc.name)
+        print(f"{say} {exc}" if str(exc).startswith(option) else f"{say} {option}: {exc}", file=sys.stderr)
+        return 2
     except (ValueError, FileNotFoundError, OSError) as exc:
-        print(f"impactosc {args.command}: error: {exc}", file=sys.stderr)
+        print(f"{say} {exc}", file=sys.stderr)
         return 2
     except RuntimeError as exc:  # the core stopped (StallError: where and why), nothing written
-        print(f"impactosc {args.command}: error: {exc}; nothing written", file=sys.stderr)
+        print(f"{say} {exc}; nothing written", file=sys.stderr)
         return 3
-    except KeyboardInterrupt:
-        print(f"impactosc {args.command}: interrupted, nothing written", file=sys.stderr)
-        return 130
+    except (ArithmeticError, MemoryError, csv.Error) as exc:  # the last resort: a value no check foresaw
+        print(
+            f"{say} {type(exc).__name__}: {exc} (a value beyond what the computation can take); nothing written",
+            file=sys.stderr,
+        )
+        return 2
+    except (KeyboardInterrupt, Terminated, SystemError) as exc:
+        stop = _interruption(exc, (KeyboardInterrupt, Terminated))
+        if stop is None:
+            raise
+        why = "terminated (SIGTERM)" if isinstance(stop, Terminated) else "interrupted"
+        print(f"impactosc {args.command}: {why}, nothing written", file=sys.stderr)
+        return stop.code if isinstance(stop, Terminated) else 130
+    finally:
+        if handler is not None:
+            signal.signal(signal.SIGTERM, handler)
 
 
 if __name__ == "__main__":

@@ -118,8 +118,16 @@ def add_model_options(parser, description: str) -> None:
 def model_from_args(args):
     """(ModelParams, description of where they came from) of --model and --param."""
     from impactosc.model.model_file import resolve_model
+    from impactosc.model.parameters import ParameterError
 
-    return resolve_model(args.model, args.param)
+    try:
+        return resolve_model(args.model, args.param)
+    except ParameterError as exc:
+        raise ParameterError("--param" if args.param else "--model", str(exc)) from None
+    except ValueError as exc:  # the model file's reader names the file, the overrides the item
+        if str(exc).startswith("parameter override"):
+            raise ParameterError("--param", str(exc)) from None
+        raise
 
 
 def read_options(args) -> dict:

@@ -4,6 +4,7 @@ examples (the commands themselves run in cli.main and, for identify, cli.identif
 from __future__ import annotations
 
 import argparse
+import re
 
 from impactosc import __version__
 from impactosc.cli.options import (
@@ -20,14 +21,32 @@ Units: SI throughout (s, m, m/s, rad/s). Model parameters are model BC of the pa
 ({model_bc_summary()}, ...; see impactosc.model.parameters.ModelParams)
 unless --model / --param change them; the run file's attributes record every parameter
 (param_*) and where they came from (model_source).
+Bad values get one line, "impactosc simulate: error: --option: ...", exit status 2 and no file;
+negative numbers may follow their option after a space (--x0 -2e-3). A run longer than a few
+seconds says its expected wall time on stderr; SIGTERM or Ctrl-C leave no file.
 Examples (the chaotic scene of the paper, ~2875 impacts; the same with a rig's model file):
   impactosc simulate --omega 40.86 --transient 100 --duration 400 --output chaos.h5
   impactosc simulate --omega 40.86 --transient 100 --duration 400 --model rig.yaml --param k=1500 --output rig.h5
 """
 
 
+#: A negative number in any notation Python's float reads (-2e-3, -.5, -1E+3, -inf, -nan): such
+#: an argument is a value, never an option (argparse alone knows -2 and -0.5 only, and takes
+#: -2e-3 for an option). -inf and -nan are then refused by the options' finite check.
+NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
+
+
+class Parser(argparse.ArgumentParser):
+    """An ArgumentParser that reads ``--x0 -2e-3`` as the option and its value (its
+    subcommands' parsers are of the same class)."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="impactosc",
         description="Forced impacting oscillator (model BC): event-exact simulation and impact statistics.",
     )
@@ -163,7 +182,12 @@ def _add_simulate_parser(sub) -> None:
     )
     sim.add_argument("--omega", type=finite_number, required=True, help="forcing frequency w in rad/s (> 0)")
     sim.add_argument("--transient", type=finite_number, required=True, help="time discarded before recording, s (>= 0)")
-    sim.add_argument("--duration", type=finite_number, required=True, help="recorded time after the transient, s (> 0)")
+    sim.add_argument(
+        "--duration",
+        type=finite_number,
+        required=True,
+        help="recorded time after the transient, s (> 0; transient + duration <= 1e6 s, impactosc.core.simulation.MAX_T_END)",
+    )
     sim.add_argument("--x0", type=finite_number, default=0.0, help="initial displacement at t = 0, m (default 0)")
     sim.add_argument("--v0", type=finite_number, default=0.0, help="initial velocity at t = 0, m/s (default 0)")
     sim.add_argument(
@@ -180,7 +204,8 @@ def _add_simulate_parser(sub) -> None:
         type=finite_number,
         nargs=3,
         metavar=("T1", "T2", "DT"),
-        help="also store x, v sampled at t = T1, T1+DT, ... <= T2 (absolute times, s)",
+        help="also store x, v sampled at t = T1, T1+DT, ... <= T2 (absolute times, s); refused up front when "
+        "its samples would not fit in memory",
     )
     sim.add_argument(
         "--events",
@@ -224,7 +249,7 @@ def _add_extract_parser(sub) -> None:
     ext.add_argument(
         "--x-impact",
         type=finite_number,
-        help="obstacle position XI, m (write --x-impact=-2.086e-3 for negative values; default: the model's xI "
+        help="obstacle position XI, m (default: the model's xI "
         "when --model or --param states it, else record metadata, else estimated)",
     )
     ext.add_argument(

@@ -6,9 +6,17 @@ from __future__ import annotations
 import math
 import sys
 
+#: The columns of a point's row (those of every row; a covariance adds d_<parameter>), the
+#: header of a table without located points.
+COLUMNS = ("segment", "kind", "omega", "n_periods", "se", "note")
+#: Longest orbit followed, forcing periods. Why: each doubling's branch costs more than all before
+#: it (model BC over w 20..21: 1.5 s to period 1, 4 s to 2, 9 s to 4, over 100 s to 8), and the
+#: cascade's doublings crowd towards its limit point, so orbits beyond 64 periods are out of reach.
+MAX_PERIOD = 64
+
 
 def _predict(args) -> int:
-    from impactosc.cli.identify import _write_rows
+    from impactosc.cli.identify import _write_rows, check_table_path
     from impactosc.identification.predictions import (
         covariance_source,
         field_covariance,
@@ -17,14 +25,18 @@ def _predict(args) -> int:
     )
     from impactosc.io.files import check_writable
     from impactosc.model.model_file import read_model_file
+    from impactosc.model.parameters import ParameterError
 
     if args.output:
+        check_table_path("--output", args.output)
         check_writable(args.output)
     lo, hi = args.w_range
     if not 0 < lo < hi:
-        raise ValueError(f"--w-range must be 0 < LO < HI, got {lo} {hi}")
+        raise ParameterError("--w-range", f"--w-range must be 0 < LO < HI, got {lo} {hi}")
     if args.max_period < 1:
-        raise ValueError(f"--max-period must be >= 1, got {args.max_period}")
+        raise ParameterError("--max-period", f"--max-period must be >= 1, got {args.max_period}")
+    if args.max_period > MAX_PERIOD:
+        raise ParameterError("--max-period", f"--max-period must be <= {MAX_PERIOD}, got {args.max_period}")
     seed = args.seed_omega if args.seed_omega is not None else 0.5 * (lo + hi)
     model = read_model_file(args.model_file)
     cov = field_covariance(model)
@@ -50,7 +62,7 @@ def _predict(args) -> int:
         "differentiation; impactosc.dynamics.point_sensitivity).",
     )
     if args.output:
-        _write_rows(args.output, rows, text, [args.model_file])
+        _write_rows(args.output, rows, text, [args.model_file], COLUMNS)
     for r in rows:
         se = f" +- {r['se']:.3g} rad/s (2 se: {r['omega'] - 2 * r['se']:.6f} .. {r['omega'] + 2 * r['se']:.6f})"
         print(

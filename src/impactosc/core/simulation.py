@@ -52,12 +52,29 @@ from impactosc.core.layout import (
     STATUS_NAMES,
     record_flags,
 )
+from impactosc.io.memory import shortfall
 from impactosc.model.equations import FIELD_NAMES
-from impactosc.model.parameters import ModelParams
+from impactosc.model.parameters import MAX_EXPONENT, ModelParams, ParameterError
 
 ALL_EVENTS = EVENT_NAMES
 DEFAULT_RTOL = 1e-10
 DEFAULT_ATOL = 1e-12
+#: Latest end time of a run, s. Why: the clock's rounding (2.2e-16 t) catches up with the steps
+#: an impact needs. Measured on the chaotic scene (w = 40.86 rad/s, 30 s of it started at t0):
+#: 19 k steps at t0 = 1e5 s, 31 k at 1e6, 413 k at 1e7, 5.1 M at 1e8, and at 1e9 the explicit
+#: step underflows. 1e6 s (11.6 days of the rig) keeps the cost of a step that of early times.
+MAX_T_END = 1e6
+#: Largest |x0| (m) and |v0| (m/s). Why: the contact law raises the state to exponents up to
+#: MAX_EXPONENT, which must stay inside double precision (1e30^10 = 1e300); measured, x0 = 1e100
+#: divides by zero in the core, while 1e30 ends in a clean step-size underflow.
+MAX_STATE = 10 ** (300 / MAX_EXPONENT)
+#: Largest watchdog budget, step attempts per forcing period. Why: a stalled run spends it before
+#: it stops; measured, 1e6 attempts take about 0.9 s, so 1e9 stops a stall within 15 min.
+MAX_STEP_BUDGET = 1e9
+#: Bytes a trajectory window takes per sample, up to its file: x, v and t (float64) and the
+#: writer's buffers. Measured by the peak RSS of `impactosc simulate --window 0 100 DT`: 31.5 B
+#: per sample more at DT = 1e-5 than at 1e-4.
+WINDOW_BYTES_PER_SAMPLE = 32
 SOLVER_NAME = "DOP853 (explicit, dense output) + Radau IIA-5 (sticking phases), event-split"
 
 
@@ -120,11 +137,11 @@ class Window:
     def __post_init__(self):
         for name in ("start", "stop", "dt"):
             if not math.isfinite(getattr(self, name)):
-                raise ValueError(f"window {name} must be finite")
+                raise ParameterError("window", f"window {name} must be finite")
         if self.dt <= 0:
-            raise ValueError(f"window dt must be > 0, got {self.dt}")
+            raise ParameterError("window", f"window dt must be > 0, got {self.dt}")
         if self.stop < self.start:
-            raise ValueError(f"window stop ({self.stop}) is before its start ({self.start})")
+            raise ParameterError("window", f"window stop ({self.stop}) is before its start ({self.start})")
 
     @property
     def n(self) -> int:
@@ -157,6 +174,8 @@ _COLUMNS = {
 
 
 def _validate(omega, transient, duration, x0, v0, rtol, atol, window):
+    """Refuse, before compiling or integrating, what the core cannot run: each error a
+    :class:`ParameterError` naming the argument."""
     checks = {
         "omega": omega,
         "transient": transient,
@@ -168,20 +187,48 @@ def _validate(omega, transient, duration, x0, v0, rtol, atol, window):
     }
     for name, value in checks.items():
         if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value):
-            raise ValueError(f"{name} must be a finite number, got {value!r}")
+            raise ParameterError(name, f"{name} must be a finite number, got {value!r}")
     if omega <= 0:
-        raise ValueError(f"omega must be > 0 rad/s, got {omega}")
+        raise ParameterError("omega", f"omega must be > 0 rad/s, got {omega}")
     if transient < 0:
-        raise ValueError(f"transient must be >= 0 s, got {transient}")
+        raise ParameterError("transient", f"transient must be >= 0 s, got {transient}")
     if duration <= 0:
-        raise ValueError(f"duration must be > 0 s, got {duration}")
+        raise ParameterError("duration", f"duration must be > 0 s, got {duration}")
+    if transient + duration > MAX_T_END:
+        raise ParameterError(
+            "t_end",
+            f"transient + duration = {transient + duration:.6g} s is beyond the {MAX_T_END:g} s a run can reach "
+            "at full cost per step (the clock's rounding catches up with the impacts' steps); split the run",
+        )
+    for name, value, unit in (("x0", x0, "m"), ("v0", v0, "m/s")):
+        if abs(value) > MAX_STATE:
+            raise ParameterError(name, f"|{name}| must be <= {MAX_STATE:g} {unit}, got {value:g}")
     if not 0 < rtol < 1:
-        raise ValueError(f"rtol must be in (0, 1), got {rtol}")
+        raise ParameterError("rtol", f"rtol must be in (0, 1), got {rtol}")
     if atol <= 0:
-        raise ValueError(f"atol must be > 0, got {atol}")
-    if window is not None and (window.start < 0 or window.stop > transient + duration):
-        raise ValueError(
-            f"window [{window.start}, {window.stop}] s must lie inside the run [0, {transient + duration}] s"
+        raise ParameterError("atol", f"atol must be > 0, got {atol}")
+    if window is not None:
+        if window.start < 0 or window.stop > transient + duration:
+            raise ParameterError(
+                "window",
+                f"window [{window.start}, {window.stop}] s must lie inside the run [0, {transient + duration}] s",
+            )
+        need = shortfall(WINDOW_BYTES_PER_SAMPLE * ((window.stop - window.start) / window.dt + 1))
+        if need:
+            raise ParameterError(
+                "window",
+                f"a window of {(window.stop - window.start) / window.dt + 1:.3g} samples {need}; "
+                "take a coarser step or a shorter window",
+            )
+
+
+def check_step_budget(step_budget) -> None:
+    """The watchdog's budget: at least 100 step attempts per forcing period, at most
+    MAX_STEP_BUDGET, so that a stalled run stops within minutes."""
+    if not 100 <= step_budget <= MAX_STEP_BUDGET:
+        raise ParameterError(
+            "step_budget",
+            f"step_budget must be from 100 to {MAX_STEP_BUDGET:g} step attempts per forcing period, got {step_budget!r}",
         )
 
 
@@ -227,8 +274,7 @@ def simulate(
     if unknown:
         raise ValueError(f"unknown event kind(s) {sorted(unknown)}; choose from {list(ALL_EVENTS)}")
     _validate(omega, transient, duration, x0, v0, rtol, atol, window)
-    if not step_budget >= 100:
-        raise ValueError(f"step_budget must be >= 100 step attempts per forcing period, got {step_budget!r}")
+    check_step_budget(step_budget)
     flags = record_flags(record)
 
     p = params.as_array(float(omega))

@@ -40,8 +40,10 @@ import json
 import math
 import os
 import platform
+import signal
 import subprocess
 import tempfile
+import threading
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -217,16 +219,40 @@ def check_writable(path) -> Path:
     return path
 
 
+class Terminated(SystemExit):
+    """SIGTERM arrived (a timeout, scancel, Snakemake stopping a job): raised where the process
+    is, so that finally blocks run; uncaught, the process exits with status 143 (128 + 15)."""
+
+    def __init__(self):
+        super().__init__(128 + signal.SIGTERM)
+
+
+def _terminate(signum, frame):
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)  # a second SIGTERM must not cut the cleanup short
+    raise Terminated()
+
+
+def raise_on_sigterm():
+    """Make SIGTERM raise :class:`Terminated` in the main thread, as SIGINT raises
+    KeyboardInterrupt: without it the process dies at once and :func:`atomic_write` leaves its
+    hidden temporary file. Returns the handler it replaces (None outside the main thread, where
+    Python cannot set one)."""
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    return signal.signal(signal.SIGTERM, _terminate)
+
+
 @contextmanager
 def atomic_write(path):
     """Yield a temporary file name next to `path`; it replaces `path` only if the block
-    completes, so an interrupted writer never leaves a file that looks finished. The file
+    completes, so an interrupted writer never leaves a file that looks finished (nor, on an
+    exception, Ctrl-C or, with :func:`raise_on_sigterm`, SIGTERM, its temporary file). The file
     gets the mode a plain open() would (0666 less the umask), not mkstemp's private 0600."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
     try:
+        os.close(fd)
         yield tmp
         os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
@@ -406,10 +432,11 @@ def read_csv(path, numbers: bool = False) -> list[dict]:
     return [{k: _number(v) for k, v in r.items()} for r in rows] if numbers else rows
 
 
-def write_table(path, rows: list[dict], *, sources=None) -> Path:
+def write_table(path, rows: list[dict], columns=None, *, sources=None) -> Path:
     """A measurement table (benchmarks) that :func:`read_table` reads back: floats with 10
-    significant digits, booleans yes/no, lists joined by spaces, columns the union of the rows'."""
-    return write_csv(path, rows, floats=".10g", yes_no=True, join_lists=True, sources=sources)
+    significant digits, booleans yes/no, lists joined by spaces, columns the union of the rows'
+    (or `columns`, which an empty table needs)."""
+    return write_csv(path, rows, columns, floats=".10g", yes_no=True, join_lists=True, sources=sources)
 
 
 def read_table(path) -> list[dict]:

@@ -58,6 +58,26 @@ TESTED_RANGES = {
 }
 
 
+#: Largest magnitude of a parameter (and smallest of a nonzero one) the model evaluates. Why
+#: 1e100: the force and the step-size control form products and squares of a few parameters and
+#: the state, which must stay inside double precision (1e-308 .. 1.8e308); measured, eps of 1e-180
+#: or 1e160 already divides by zero in the core (eps^2 underflows or overflows).
+MAGNITUDE_LIMIT = 1e100
+#: Largest exponent of the contact law (n1, n2, n3). Why 10: a penetration or velocity up to 1e30
+#: (far beyond any state the core meets before its watchdog stops it) raised to it stays at 1e300,
+#: inside double precision; a rig's contact laws have exponents from 1 to 2.5.
+MAX_EXPONENT = 10.0
+
+
+class ParameterError(ValueError):
+    """A value outside what the model or the core can take; ``name`` is the parameter (or the
+    argument) it was given as, so that the command line can name its option."""
+
+    def __init__(self, name: str, message: str):
+        super().__init__(message)
+        self.name = name
+
+
 class UntestedParameterWarning(UserWarning):
     """A model parameter lies outside the ranges the randomized tests cover."""
 
@@ -85,13 +105,26 @@ class ModelParams:
         for f in fields(self):
             value = getattr(self, f.name)
             if not isinstance(value, (int, float)) or not math.isfinite(value):
-                raise ValueError(f"model parameter {f.name} must be a finite number, got {value!r}")
+                raise ParameterError(f.name, f"model parameter {f.name} must be a finite number, got {value!r}")
+            if value != 0 and not 1 / MAGNITUDE_LIMIT <= abs(value) <= MAGNITUDE_LIMIT:
+                raise ParameterError(
+                    f.name,
+                    f"model parameter {f.name} = {value:g} is beyond what the model evaluates "
+                    f"(|{f.name}| from {1 / MAGNITUDE_LIMIT:g} to {MAGNITUDE_LIMIT:g}, or 0 where allowed)",
+                )
         for name in ("m", "k", "eps", "kI", "n1", "n2"):
             if getattr(self, name) <= 0:
-                raise ValueError(f"model parameter {name} must be > 0, got {getattr(self, name)}")
+                raise ParameterError(name, f"model parameter {name} must be > 0, got {getattr(self, name)}")
         for name in ("m0e", "c", "T", "b", "n3"):
             if getattr(self, name) < 0:
-                raise ValueError(f"model parameter {name} must be >= 0, got {getattr(self, name)}")
+                raise ParameterError(name, f"model parameter {name} must be >= 0, got {getattr(self, name)}")
+        for name in ("n1", "n2", "n3"):
+            if getattr(self, name) > MAX_EXPONENT:
+                raise ParameterError(
+                    name,
+                    f"model parameter {name} = {getattr(self, name):g} exceeds {MAX_EXPONENT:g}, the largest "
+                    "contact-law exponent the force evaluates without overflow",
+                )
         for name, (lo, hi) in TESTED_RANGES.items():
             value = getattr(self, name)
             if not lo <= value <= hi:
@@ -119,7 +152,10 @@ class ModelParams:
         """|v| beyond which the restitution bracket turns negative (F_I = 0): b^(-1/n3)."""
         if self.b == 0 or self.n3 == 0:
             return math.inf
-        return self.b ** (-1.0 / self.n3)
+        try:
+            return self.b ** (-1.0 / self.n3)
+        except OverflowError:  # b < 1 and a tiny n3: the bracket never turns negative
+            return math.inf
 
 
 def model_bc_summary(names=("m", "k", "xI")) -> str:

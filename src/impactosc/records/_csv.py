@@ -17,6 +17,9 @@ __all__ = ["CsvSource"]
 
 #: Characters of a block of text read at once (1 MB: ~40 000 lines of a record).
 BLOCK_CHARS = 1 << 20
+#: Longest line of a CSV record (64 K characters): a sample's line has tens, a header a few
+#: hundred; csv's own field limit (128 K) is never reached.
+MAX_LINE_CHARS = 1 << 16
 # the line boundaries of str.splitlines
 _BREAKS = "\n\r\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029"
 
@@ -34,10 +37,12 @@ def _parse_meta(lines, source):
     return meta
 
 
-def _line_blocks(f):
+def _line_blocks(f, source):
     """The lines of the open text file ``f`` (as ``str.splitlines`` splits them), a list per
-    block of about ``BLOCK_CHARS`` characters."""
-    pending = ""
+    block of about ``BLOCK_CHARS`` characters.  A line longer than ``MAX_LINE_CHARS`` is
+    refused (naming it, not quoting it): the unfinished line carried into the next block stays
+    short, so a file without line breaks costs one block, not a scan per block."""
+    pending, lineno = "", 0
     while True:
         text = f.read(BLOCK_CHARS)
         if not text:
@@ -47,6 +52,13 @@ def _line_blocks(f):
         text = pending + text
         lines = text.splitlines()
         pending = "" if text[-1] in _BREAKS else lines.pop()
+        if len(pending) > MAX_LINE_CHARS or (lines and max(map(len, lines)) > MAX_LINE_CHARS):
+            k = next((k for k, line in enumerate(lines) if len(line) > MAX_LINE_CHARS), len(lines))
+            raise ValueError(
+                f"{source}: line {lineno + k + 1} is longer than {MAX_LINE_CHARS} characters; "
+                "a record's CSV lines are short (a header, then one sample per line)"
+            )
+        lineno += len(lines)
         if lines:
             yield lines
 
@@ -114,7 +126,7 @@ class CsvSource:
         self.source = source = str(path)
         head, lineno, header_line = [], 0, None
         with open(path) as f:
-            for lines in _line_blocks(f):
+            for lines in _line_blocks(f, self.source):
                 for line in lines:
                     lineno += 1
                     if line.startswith("#") or not line.strip():
@@ -147,7 +159,7 @@ class CsvSource:
         got = 0
         with open(self.path) as f:
             lineno, skip = 0, self.header_lineno
-            for lines in _line_blocks(f):
+            for lines in _line_blocks(f, self.source):
                 if skip:
                     k = min(skip, len(lines))
                     skip, lineno, lines = skip - k, lineno + k, lines[k:]

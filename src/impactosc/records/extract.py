@@ -54,6 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from impactosc.model.parameters import ParameterError
 from impactosc.records.contacts import _peaks, _segment_argmax, hysteresis_contacts
 from impactosc.records.impact_times import derivative_scales, time_impacts, window_samples
 from impactosc.records.obstacle_estimate import estimate_x_impact
@@ -128,8 +129,8 @@ class ExtractOptions:
     def __post_init__(self):
         if self.timing_window is not None and not (math.isfinite(self.timing_window) and self.timing_window > 0):
             raise ValueError(f"timing_window must be > 0 s, got {self.timing_window}")
-        if self.delay is not None and not (math.isfinite(self.delay) and self.delay >= 0):
-            raise ValueError(f"delay must be >= 0 s, got {self.delay}")
+        if self.delay is not None:
+            _check_delay(self.delay, "the sensor delay")
         if self.x_impact_method not in ("contact", "curvature"):
             raise ValueError(f"x_impact_method must be 'contact' or 'curvature', got {self.x_impact_method!r}")
         lo, hi = CONTACT_EXPONENT_RANGE
@@ -144,10 +145,22 @@ class ExtractOptions:
         for name in ("noise", "hysteresis"):
             v = getattr(self, name)
             if v is not None and (not math.isfinite(v) or v < 0):
-                raise ValueError(f"{name} must be >= 0 m, got {v}")
+                raise ParameterError(name, f"{name} must be >= 0 m, got {v}")
         for name in ("hysteresis_sigmas", "confirm_sigmas"):
             if not getattr(self, name) >= 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
+
+
+#: Longest sensor delay, s. Why: an anti-aliasing filter delays by about its order / (2 pi
+#: cutoff), 1 s being order 10 at a 1.6 Hz cutoff, far below any band that resolves impacts; a
+#: larger value is a unit mistake (ms given as s), and 1e300 s overflows the sample times.
+MAX_SENSOR_DELAY = 1.0
+
+
+def _check_delay(delay, name):
+    if not (math.isfinite(delay) and 0 <= delay <= MAX_SENSOR_DELAY):
+        raise ParameterError("delay", f"{name} must be in [0, {MAX_SENSOR_DELAY:g}] s, got {delay}")
+    return delay
 
 
 def _delay(meta, given, path):
@@ -155,9 +168,10 @@ def _delay(meta, given, path):
     if given is not None:
         return given, "given"
     try:
-        return float(meta.get("sensor_delay", 0.0)), "record metadata"
+        delay = float(meta.get("sensor_delay", 0.0))
     except ValueError:
         raise ValueError(f"{path}: sensor_delay {meta['sensor_delay']!r} is not a number (seconds)") from None
+    return _check_delay(delay, f"{path}: sensor_delay"), "record metadata"
 
 
 def _x_impact(head: Record, x_impact, sigma, o: ExtractOptions, attrs: dict) -> float:

@@ -256,6 +256,13 @@ def record_header(meta, *, units, omega, source, phase=False, phase_units=None, 
     return RecordHeader(meta, omega, source, UNITS[units], factor, 0.5 if _is_counts(phase_units) else 0.0)
 
 
+def check_length(n: int, source) -> None:
+    """A whole record of ``n`` samples: at least ``MIN_SAMPLES`` (fewer leave no interval to
+    judge the sampling by, nor a motion to extract)."""
+    if n < MIN_SAMPLES:
+        raise ValueError(f"{source}: only {n} samples; a record needs at least {MIN_SAMPLES}")
+
+
 class SampleCheck:
     """Unit conversion and validation of a record's samples, given in order, chunk by chunk.
 
@@ -288,8 +295,7 @@ class SampleCheck:
         raise ValueError(f"{self.header.source}: {message}")
 
     def _check_length(self, n):
-        if n < MIN_SAMPLES:
-            self._fail(f"only {n} samples; a record needs at least {MIN_SAMPLES}")
+        check_length(n, self.header.source)
         self._length_checked = True
 
     def _phase(self, raw, n, name):

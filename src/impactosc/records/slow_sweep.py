@@ -43,10 +43,15 @@ import math
 import numpy as np
 
 from impactosc.io.files import atomic_write, check_writable, stamp_h5
+from impactosc.model.parameters import ParameterError
 from impactosc.records.poincare import poincare_points, stream_poincare_points
 from impactosc.records.record import Record
 
 __all__ = ["sweep_segments", "write_sweep_points"]
+
+#: Narrowest w bin, rad/s. Why: a point's bin index w / width must stay an exact integer (below
+#: 2^53) for any w below 9e6 rad/s; far narrower than the w a forcing period's noise measures.
+MIN_BIN_WIDTH = 1e-9
 
 
 def _bins(w, bin_width, edge_hysteresis):
@@ -84,14 +89,14 @@ def sweep_segments(
             f"{rec.path}: a sweep record needs a phase (encoder) channel: w(t) is measured from it "
             "(name it with phase_channel / --phase-channel)"
         )
-    if not (math.isfinite(bin_width) and bin_width > 0):
-        raise ValueError(f"bin width must be > 0 rad/s, got {bin_width}")
+    if not (math.isfinite(bin_width) and bin_width >= MIN_BIN_WIDTH):
+        raise ParameterError("bin_width", f"bin width must be >= {MIN_BIN_WIDTH:g} rad/s, got {bin_width}")
     if not (math.isfinite(settle) and settle >= 0):
-        raise ValueError(f"settle must be >= 0 s, got {settle}")
+        raise ParameterError("settle", f"settle must be >= 0 s, got {settle}")
     if not (0 <= edge_hysteresis < 0.5):
         raise ValueError(f"edge_hysteresis must be in [0, 0.5) bin widths, got {edge_hysteresis}")
     if min_points < 1:
-        raise ValueError(f"min_points must be >= 1, got {min_points}")
+        raise ParameterError("min_points", f"min_points must be >= 1, got {min_points}")
     p = stream_poincare_points(rec, "encoder") if streamed else poincare_points(rec, source="encoder")
     t_first = rec.t0 if streamed else rec.t[0]
     t, x, w = p["t"], p["x"], p["omega"]

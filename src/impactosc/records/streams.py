@@ -16,10 +16,12 @@ from typing import NamedTuple
 import numpy as np
 
 from impactosc.records.record import (
+    MIN_SAMPLES,
     REFERENCE_SAMPLES,
     Record,
     RecordHeader,
     SampleCheck,
+    check_length,
     record_header,
     sample_reference,
 )
@@ -144,6 +146,8 @@ class RecordStream:
                 self._header = record_header(src.meta, source=src.source, phase=src.has_phase, **src.header_options)
             h = self._header
             head = self._raw_head()
+            if len(head[0]) < MIN_SAMPLES:  # fewer than asked for: the whole record, too short to be one
+                check_length(len(head[0]), src.source)
             self._reference = sample_reference(head[0], head[2], factor=h.phase_factor or 1.0, offset=h.phase_offset)
         except BaseException:
             src.close()

@@ -20,8 +20,9 @@ import math
 
 import numpy as np
 
-from impactosc.core.simulation import Window, simulate
-from impactosc.model.parameters import ModelParams
+from impactosc.core.simulation import MAX_T_END, Window, simulate
+from impactosc.io.memory import shortfall
+from impactosc.model.parameters import ModelParams, ParameterError
 from impactosc.records.record import Record
 
 __all__ = [
@@ -43,6 +44,14 @@ __all__ = [
 ]
 
 LABEL = "surrogate (model + noise)"
+#: Bytes a surrogate record takes per point of its simulation grid, up to its file (trajectory,
+#: samples, noise, the writer's text or buffers). Measured by the peak RSS of `impactosc
+#: surrogate` (110 s against 10 s at 20 kHz): 31 B per sample to .h5, 47 B to .csv, 42 B per grid
+#: point with the anti-aliasing filter's 8 times finer grid.
+BYTES_PER_GRID_POINT = 48
+#: Bytes per forcing period of a driven record (one core run each, its arrays kept until the end);
+#: measured the same way (--ramp 40 40.5 at 200 Hz, 500 s against 50 s): 2.6 kB besides the samples.
+BYTES_PER_PERIOD = 3000
 # the sensor-realism fields of SurrogateOptions (config measured.surrogate, noise-study cases)
 REALISM_FIELDS = ("lowpass_hz", "lowpass_order", "drift", "drift_time", "clock_jitter", "quantum")
 
@@ -83,23 +92,26 @@ class SurrogateOptions:
 
     def __post_init__(self):
         if not math.isfinite(self.rate) or self.rate <= 0:
-            raise ValueError(f"rate must be > 0 Hz, got {self.rate}")
+            raise ParameterError("rate", f"rate must be > 0 Hz, got {self.rate}")
         if not math.isfinite(self.noise) or self.noise < 0:
-            raise ValueError(f"noise must be >= 0 m, got {self.noise}")
+            raise ParameterError("noise", f"noise must be >= 0 m, got {self.noise}")
         for name, unit in (("lowpass_hz", "Hz"), ("drift", "m"), ("clock_jitter", "s"), ("quantum", "m")):
             v = getattr(self, name)
             if not math.isfinite(v) or v < 0:
-                raise ValueError(f"{name} must be >= 0 {unit} (0: off), got {v}")
+                raise ParameterError(name, f"{name} must be >= 0 {unit} (0: off), got {v}")
         if self.lowpass_hz >= self.rate / 2:
-            raise ValueError(
-                f"lowpass_hz must be below half the sample rate ({self.rate / 2:g} Hz), got {self.lowpass_hz}"
+            raise ParameterError(
+                "lowpass_hz",
+                f"lowpass_hz must be below half the sample rate ({self.rate / 2:g} Hz), got {self.lowpass_hz}",
             )
         if not (isinstance(self.lowpass_order, int) and 1 <= self.lowpass_order <= 10):
-            raise ValueError(f"lowpass_order must be an integer 1-10, got {self.lowpass_order!r}")
+            raise ParameterError("lowpass_order", f"lowpass_order must be an integer 1-10, got {self.lowpass_order!r}")
         if not math.isfinite(self.drift_time) or self.drift_time <= 0:
-            raise ValueError(f"drift_time must be > 0 s, got {self.drift_time}")
+            raise ParameterError("drift_time", f"drift_time must be > 0 s, got {self.drift_time}")
         if self.clock_jitter >= 0.5 / self.rate:
-            raise ValueError(f"clock_jitter must be well below the sample interval, got {self.clock_jitter} s")
+            raise ParameterError(
+                "clock_jitter", f"clock_jitter must be well below the sample interval, got {self.clock_jitter} s"
+            )
         object.__setattr__(self, "mismatch", dict(self.mismatch or {}))
 
     @property
@@ -237,6 +249,22 @@ def sensor_samples(traj, o: SurrogateOptions, rng, state: dict | None = None):
     return out
 
 
+def _check_memory(duration, o: SurrogateOptions, periods=0.0) -> None:
+    """Refuse a record whose arrays exceed the machine's memory, before simulating it
+    (``periods``: the chained runs of a driven record, each with arrays of its own)."""
+    points = float(duration) * o.rate * o.oversample + 1
+    by_samples, by_periods = BYTES_PER_GRID_POINT * points, BYTES_PER_PERIOD * periods
+    need = shortfall(by_samples + by_periods)
+    if need and by_periods > by_samples:
+        raise ParameterError(
+            "ramp", f"a ramp of {periods:.3g} forcing periods {need}; take a slower w or a shorter duration"
+        )
+    if need:
+        raise ParameterError(
+            "rate", f"a record of {points / o.oversample:.3g} samples {need}; take a lower rate or a shorter duration"
+        )
+
+
 def surrogate_run(
     omega,
     transient,
@@ -248,15 +276,18 @@ def surrogate_run(
     v0=0.0,
     rtol=1e-10,
     atol=1e-12,
+    progress=None,
 ):
     """The simulation a surrogate record samples: the exact events from ``transient`` on and
-    the trajectory on the sampling grid (finer under the anti-aliasing filter).
+    the trajectory on the sampling grid (finer under the anti-aliasing filter); ``progress``
+    as :func:`impactosc.core.simulation.simulate`'s.
 
     Apart from :func:`surrogate_record` so that a workflow can simulate it once, write it as a
     run file and sample it in several jobs (:func:`sample_run`).
     """
     o = options or SurrogateOptions()
     p = mismatched_params(params, o.mismatch)
+    _check_memory(duration, o)
     win = Window(float(transient), float(transient) + float(duration), 1.0 / (o.rate * o.oversample))
     return simulate(
         omega,
@@ -269,6 +300,7 @@ def surrogate_run(
         atol=atol,
         window=win,
         record=("impacts", "penetrations", "poincare"),
+        progress=progress,
     )
 
 
@@ -293,6 +325,7 @@ def surrogate_record(
     v0=0.0,
     rtol=1e-10,
     atol=1e-12,
+    progress=None,
 ):
     """A record of the model at ``omega`` sampled on [transient, transient + duration].
 
@@ -300,7 +333,9 @@ def surrogate_record(
     and the noise study).  x_impact is stored in the metadata (the rig's obstacle position
     would be measured too).
     """
-    res = surrogate_run(omega, transient, duration, options, params=params, x0=x0, v0=v0, rtol=rtol, atol=atol)
+    res = surrogate_run(
+        omega, transient, duration, options, params=params, x0=x0, v0=v0, rtol=rtol, atol=atol, progress=progress
+    )
     return sample_run(res.trajectory, omega, options, params=params), res.events
 
 
@@ -357,6 +392,7 @@ def surrogate_driven(
     v0=0.0,
     rtol=1e-10,
     atol=1e-12,
+    progress=None,
 ):
     """A record of the model whose forcing frequency changes from one forcing period to the
     next (period k at ``omegas[k]``), with the forcing phase as an encoder would measure it.
@@ -379,7 +415,8 @@ def surrogate_driven(
     Returns (record, truth): the record (x with sensor noise, ``phase``, nominal omega =
     the mean of ``omegas``; meta as :func:`surrogate_record`'s plus the speed profile) and the
     exact truth: ``poincare`` t, x, v, omega (the state at the start of every period, where
-    the true phase is 2 pi i), ``impacts`` t, v, and ``phase`` at the samples.
+    the true phase is 2 pi i), ``impacts`` t, v, and ``phase`` at the samples.  ``progress(t,
+    t_end, n_impacts)`` is called after each period (t from the end of the transient).
     """
     o = options or SurrogateOptions()
     p = mismatched_params(params, o.mismatch)
@@ -390,6 +427,8 @@ def surrogate_driven(
         raise ValueError(f"encoder_counts must be >= 4 counts per revolution, got {encoder_counts}")
     k_over = o.oversample
     dt = 1.0 / (o.rate * k_over)  # the simulation grid (finer than the samples under the filter)
+    span = float(np.sum(2 * math.pi / omegas))
+    _check_memory(span, o, periods=omegas.size)
     solver = dict(params=p, rtol=rtol, atol=atol)
     T = 0.0
     if n_initial > 0:
@@ -403,6 +442,7 @@ def surrogate_driven(
         return math.ceil((t - t_first) / dt - 1e-9)
 
     xs, vs, pt, px, pv, it, iv, lens = [], [], [], [], [], [], [], []
+    n_impacts = 0
     for w in omegas.tolist():
         P = 2 * math.pi / w
         js, je = first_sample(T), first_sample(T + P)
@@ -419,6 +459,9 @@ def surrogate_driven(
         it.append(T + res.events["impacts"]["t"]), iv.append(res.events["impacts"]["v"])
         x0, v0 = float(res.final_state[1]), float(res.final_state[2])
         T += P
+        n_impacts += res.events["impacts"]["t"].size
+        if progress is not None:
+            progress(T - t_first, span, n_impacts)
     fine = {"x": np.concatenate(xs), "v": np.concatenate(vs)}
     fine["t"] = t_first + np.arange(fine["x"].size) * dt
     x = sensor_samples(fine, o, np.random.default_rng(o.seed))  # the samples, every k_over-th grid point
@@ -446,13 +489,24 @@ def surrogate_driven(
     return rec, truth
 
 
+def _check_ramp(start, stop, duration) -> tuple[float, float, float]:
+    start, stop, duration = float(start), float(stop), float(duration)
+    if not (start > 0 and stop > 0 and duration > 0):
+        raise ValueError(f"ramp needs start, stop > 0 rad/s and duration > 0 s, got {start}, {stop}, {duration}")
+    if duration > MAX_T_END:
+        raise ParameterError("duration", f"a ramp's duration must be <= {MAX_T_END:g} s, got {duration:g}")
+    if 2 * math.pi / min(start, stop) > duration:
+        raise ParameterError(
+            "ramp", f"a ramp must span a forcing period of its slowest w ({2 * math.pi / min(start, stop):.3g} s)"
+        )
+    return start, stop, duration
+
+
 def ramp_omegas(start, stop, duration):
     """Forcing frequency of each period of a linear ramp from ``start`` to ``stop`` rad/s over
     ``duration`` s: period k runs at w(T_k), T_k its start time (a staircase of one step per
     period, which :func:`surrogate_driven` integrates)."""
-    start, stop, duration = float(start), float(stop), float(duration)
-    if not (start > 0 and stop > 0 and duration > 0):
-        raise ValueError(f"ramp needs start, stop > 0 rad/s and duration > 0 s, got {start}, {stop}, {duration}")
+    start, stop, duration = _check_ramp(start, stop, duration)
     out, T = [], 0.0
     while duration > T:
         w = start + (stop - start) * T / duration
@@ -469,6 +523,8 @@ def surrogate_ramp(start, stop, duration, options: SurrogateOptions | None = Non
     attractor by little: at 0.01 rad/s^2 (25 rad/s in 2500 s) the lag is below 6 um on the
     flat parts of the period-1 branch, 45 um on its steep part (:mod:`impactosc.records.slow_sweep`).
     Keywords as :func:`surrogate_driven`; returns (record, truth)."""
+    start, stop, duration = _check_ramp(start, stop, duration)
+    _check_memory(duration, options or SurrogateOptions(), periods=duration * max(start, stop) / (2 * math.pi))
     rec, truth = surrogate_driven(ramp_omegas(start, stop, duration), options, n_initial=n_initial, **kwargs)
     meta = dict(rec.meta, surrogate_ramp=f"{float(start):g} -> {float(stop):g} rad/s in {float(duration):g} s")
     return dataclasses.replace(rec, meta=meta, path="<surrogate ramp>"), truth
