@@ -341,6 +341,9 @@ def test_reported_values_are_refused_by_option(files, tmp_path):
         ([*sim, "--step-budget", "1e300"], "--step-budget"),
         ([*sur, "--rate", "1e12"], "--rate"),
         (["extract", files / "rec.csv", "--sensor-delay", "1e300", "--output", out], "--sensor-delay"),
+        ([*sur, "--rate", "1e-300"], "--rate"),  # one sample: a file no command could read
+        ([*sur, "--seed", "-1"], "--seed"),
+        (["predict", files / "bc.yaml", "--w-range", "36.9", "37.6", "--seed-omega", "1e300"], "--seed-omega"),
     ]
     for argv, option in cases:
         code, lines, seconds = run(argv, out)
@@ -348,6 +351,9 @@ def test_reported_values_are_refused_by_option(files, tmp_path):
         assert seconds < 2.0, (argv, seconds)  # refused before computing
     code, lines, _ = run([*sim, "--window", "0", "1", "1e-12"], out)
     assert "GB" in lines[-1] and "coarser step" in lines[-1]
+    # a forcing faster than the samples (numpy's own error before): named with the record
+    code, lines, _ = run(["extract", files / "rec.csv", "--omega", "1e300", "--output", out], out)
+    assert code == 2 and "shorter than two sample intervals" in lines[-1], lines
 
 
 def test_negative_numbers_in_any_notation_follow_their_option(tmp_path):

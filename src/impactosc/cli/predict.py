@@ -38,6 +38,8 @@ def _predict(args) -> int:
     if args.max_period > MAX_PERIOD:
         raise ParameterError("--max-period", f"--max-period must be <= {MAX_PERIOD}, got {args.max_period}")
     seed = args.seed_omega if args.seed_omega is not None else 0.5 * (lo + hi)
+    if not lo < seed < hi:
+        raise ParameterError("--seed-omega", f"{seed:g} rad/s lies outside --w-range {lo:g} {hi:g}")
     model = read_model_file(args.model_file)
     cov = field_covariance(model)
     if cov is None:

@@ -365,6 +365,11 @@ class SampleCheck:
         if t.size:
             self.t_first = t[0] if self.t_first is None else self.t_first
             self.t_last = t[-1]
+        if h.omega is not None and med > 0 and 2 * math.pi / float(h.omega) < 2 * med:
+            self._fail(
+                f"omega = {float(h.omega):.6g} rad/s: its forcing period {2 * math.pi / float(h.omega):.6g} s is "
+                f"shorter than two sample intervals ({med:.6g} s): the record cannot resolve it (omega is in rad/s)"
+            )
         if self.whole and last and h.omega is not None and self.t_first is not None:
             period = 2 * math.pi / float(h.omega)
             if self.t_last - self.t_first < period:

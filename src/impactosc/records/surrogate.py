@@ -23,7 +23,7 @@ import numpy as np
 from impactosc.core.simulation import MAX_T_END, Window, simulate
 from impactosc.io.memory import shortfall
 from impactosc.model.parameters import ModelParams, ParameterError
-from impactosc.records.record import Record
+from impactosc.records.record import MIN_SAMPLES, Record
 
 __all__ = [
     "LABEL",
@@ -112,6 +112,8 @@ class SurrogateOptions:
             raise ParameterError(
                 "clock_jitter", f"clock_jitter must be well below the sample interval, got {self.clock_jitter} s"
             )
+        if isinstance(self.seed, int) and self.seed < 0:
+            raise ParameterError("seed", f"seed must be an integer >= 0, got {self.seed}")
         object.__setattr__(self, "mismatch", dict(self.mismatch or {}))
 
     @property
@@ -249,10 +251,17 @@ def sensor_samples(traj, o: SurrogateOptions, rng, state: dict | None = None):
     return out
 
 
-def _check_memory(duration, o: SurrogateOptions, periods=0.0) -> None:
-    """Refuse a record whose arrays exceed the machine's memory, before simulating it
-    (``periods``: the chained runs of a driven record, each with arrays of its own)."""
+def _check_size(duration, o: SurrogateOptions, periods=0.0) -> None:
+    """Refuse, before simulating it, a record too short to be read as one (fewer than
+    MIN_SAMPLES samples) or whose arrays exceed the machine's memory (``periods``: the chained
+    runs of a driven record, each with arrays of its own)."""
     points = float(duration) * o.rate * o.oversample + 1
+    if points / o.oversample < MIN_SAMPLES:
+        raise ParameterError(
+            "rate",
+            f"a record of {points / o.oversample:.3g} samples; a record needs at least {MIN_SAMPLES}: take a higher "
+            "rate or a longer duration",
+        )
     by_samples, by_periods = BYTES_PER_GRID_POINT * points, BYTES_PER_PERIOD * periods
     need = shortfall(by_samples + by_periods)
     if need and by_periods > by_samples:
@@ -287,7 +296,7 @@ def surrogate_run(
     """
     o = options or SurrogateOptions()
     p = mismatched_params(params, o.mismatch)
-    _check_memory(duration, o)
+    _check_size(duration, o)
     win = Window(float(transient), float(transient) + float(duration), 1.0 / (o.rate * o.oversample))
     return simulate(
         omega,
@@ -428,7 +437,7 @@ def surrogate_driven(
     k_over = o.oversample
     dt = 1.0 / (o.rate * k_over)  # the simulation grid (finer than the samples under the filter)
     span = float(np.sum(2 * math.pi / omegas))
-    _check_memory(span, o, periods=omegas.size)
+    _check_size(span, o, periods=omegas.size)
     solver = dict(params=p, rtol=rtol, atol=atol)
     T = 0.0
     if n_initial > 0:
@@ -524,7 +533,7 @@ def surrogate_ramp(start, stop, duration, options: SurrogateOptions | None = Non
     flat parts of the period-1 branch, 45 um on its steep part (:mod:`impactosc.records.slow_sweep`).
     Keywords as :func:`surrogate_driven`; returns (record, truth)."""
     start, stop, duration = _check_ramp(start, stop, duration)
-    _check_memory(duration, options or SurrogateOptions(), periods=duration * max(start, stop) / (2 * math.pi))
+    _check_size(duration, options or SurrogateOptions(), periods=duration * max(start, stop) / (2 * math.pi))
     rec, truth = surrogate_driven(ramp_omegas(start, stop, duration), options, n_initial=n_initial, **kwargs)
     meta = dict(rec.meta, surrogate_ramp=f"{float(start):g} -> {float(stop):g} rad/s in {float(duration):g} s")
     return dataclasses.replace(rec, meta=meta, path="<surrogate ramp>"), truth
