@@ -24,7 +24,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from impactosc.core.simulation import DEFAULT_ATOL, DEFAULT_RTOL, StallError, simulate
+from impactosc.core.simulation import DEFAULT_ATOL, DEFAULT_RTOL, MAX_STEP_BUDGET, StallError, simulate
 from impactosc.io.files import atomic_write, check_writable, stamp_h5
 from impactosc.model.parameters import ModelParams
 
@@ -265,7 +265,8 @@ def _run_one(om: float, n_tr: int, x: float, v: float, s: SweepSettings):
         record=("impacts", "near_misses", "poincare"),
         chunk_steps=_CHUNK_STEPS,
         progress=guard,
-        step_budget=max(100.0, _STALL_PACE * s.max_steps_per_period),
+        # the watchdog within the core's bounds (a huge per-period budget: the sweep's own check decides)
+        step_budget=min(MAX_STEP_BUDGET, max(100.0, _STALL_PACE * s.max_steps_per_period)),
     )
 
 
