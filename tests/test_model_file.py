@@ -15,6 +15,7 @@ from impactosc.io.files import read_run
 from impactosc.model.model_file import (
     BC_DESCRIPTION,
     FORMAT,
+    NAMES,
     apply_overrides,
     read_model_file,
     resolve_model,
@@ -62,11 +63,12 @@ def test_round_trip_keeps_values_errors_correlation_and_records(tmp_path):
     assert model.meta["records"] == [{"path": "run3.tdms", "sha256": "ab" * 32, "omega": 40.86}]
     assert model.meta["fit"] == {"chi2_dof": 1.02, "n_windows": 40}
     assert model.meta["name"] == "rig 3" and model.meta["package_version"] and model.meta["created"]
-    assert set(yaml.safe_load(text)["parameters"]) == set(PARAM_UNITS)
+    assert set(yaml.safe_load(text)["parameters"]) == set(NAMES)  # model BC: no contact block
+    assert "contact" not in yaml.safe_load(text)
 
 
 def test_every_parameter_has_a_unit_and_a_cli_name():
-    fields = [f.name for f in dataclasses.fields(ModelParams)]
+    fields = [f.name for f in dataclasses.fields(ModelParams) if f.name != "law"]  # the law is named, not a number
     assert list(PARAM_UNITS) == fields and MODEL_NAMES.split() == fields
 
 
@@ -74,7 +76,7 @@ def test_plain_numbers_and_missing_parameters_take_model_bc(tmp_path):
     path = _write(tmp_path / "m.yaml", f"format: {FORMAT}\nparameters:\n  k: 1500\n  eps: 1e-7\n")
     model = read_model_file(path)
     assert model.params == dataclasses.replace(ModelParams(), k=1500.0, eps=1e-7)  # '1e-7' is a string to YAML
-    assert "k" not in model.defaulted and set(model.defaulted) == set(PARAM_UNITS) - {"k", "eps"}
+    assert "k" not in model.defaulted and set(model.defaulted) == set(NAMES) - {"k", "eps"}
     assert resolve_model(path)[1] == f"model file {path} (k, eps; the rest from model BC)"
 
 

@@ -10,7 +10,9 @@ import yaml
 from impactosc.cli.parser import EPILOG
 from impactosc.model import parameters
 from impactosc.model.parameters import (
+    LAW_PARAMETERS,
     N_PARAMS,
+    P_LAW,
     P_OMEGA,
     PARAM_UNITS,
     PARAMETERS,
@@ -23,19 +25,23 @@ SCHEMA = Path(__file__).resolve().parents[1] / "workflow" / "schemas" / "config.
 
 
 def test_the_parameter_table_names_every_field_in_the_order_of_the_array():
-    names = [name for name, _, _ in PARAMETERS]
-    assert names == [f.name for f in dataclasses.fields(ModelParams)]
-    assert list(PARAM_UNITS) == names and all(unit and meaning for _, unit, meaning in PARAMETERS)
-    assert len(names) + 1 == N_PARAMS and len(names) == P_OMEGA
+    family = [name for name, _, _ in PARAMETERS]
+    own = [name for name, _, _ in LAW_PARAMETERS]
+    assert [*family, "law", *own] == [f.name for f in dataclasses.fields(ModelParams)]
+    names = family + own
+    assert list(PARAM_UNITS) == names and all(unit and meaning for _, unit, meaning in PARAMETERS + LAW_PARAMETERS)
+    assert len(names) + 2 == N_PARAMS and len(family) == P_LAW and P_OMEGA == N_PARAMS - 1
     # each P_<NAME> indexes its own parameter: distinct values show a swapped index
     bc = ModelParams()
     with warnings.catch_warnings():  # n1 = n2 = 1.5 is the only tested value
         warnings.simplefilter("ignore", UntestedParameterWarning)
-        distinct = ModelParams(**{name: getattr(bc, name) * (1.0 + 1e-3 * i) for i, name in enumerate(names)})
+        distinct = ModelParams(
+            **{name: getattr(bc, name) * (1.0 + 1e-3 * i) for i, name in enumerate(family)}, e=0.5, cI=3.0
+        )
     p = distinct.as_array(40.86)
     for name in names:
         assert p[getattr(parameters, f"P_{name.upper()}")] == getattr(distinct, name), name
-    assert p[P_OMEGA] == 40.86
+    assert p[P_OMEGA] == 40.86 and p[P_LAW] == 0  # model BC's law
 
 
 def test_the_workflow_schema_defaults_are_model_bc():

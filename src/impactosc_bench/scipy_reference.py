@@ -3,7 +3,10 @@
 The model is integrated piece by piece: every contact onset and exit (and the
 Hunt-Crossley cut) is a terminal event, so no step of the reference straddles the
 switching surface; penetrations are SciPy's own non-terminal v = 0 events inside
-contact. Nothing here shares code with the numba core except the model parameters.
+contact. Nothing here shares code with the numba core except the model parameters: each
+contact law is written again here, from its published form (:data:`RESTITUTION_CHI`, and the
+forces in :func:`model_forces`), on purpose, so that the core's reading of a law as a member
+of model BC's family is checked against the law itself.
 """
 
 from __future__ import annotations
@@ -21,29 +24,53 @@ class ReferenceBudgetExceeded(RuntimeError):
     """The reference spent more right-hand-side evaluations than it was allowed."""
 
 
-def model_forces(p: ModelParams, omega: float):
-    """(external(t, x, v), contact(x, v)): model BC's forces in plain Python, independent of the
-    numba core, for the SciPy references."""
+#: chi(e, v0) of each restitution law, F = kI h^n1 max(0, 1 + chi v) (Flores et al. 2011)
+RESTITUTION_CHI = {
+    "hunt-crossley": lambda e, v0: 3 * (1 - e) / (2 * v0),
+    "lankarani-nikravesh": lambda e, v0: 3 * (1 - e**2) / (4 * v0),
+    "flores": lambda e, v0: 8 * (1 - e) / (5 * e * v0),
+    "gonthier": lambda e, v0: (1 - e**2) / (e * v0),
+}
+
+
+def model_forces(p: ModelParams, omega: float, contact_state: dict | None = None):
+    """(external(t, x, v), contact(x, v), bracket(x, v)): the forces of the model and its law in
+    plain Python, independent of the numba core, for the SciPy references; the contact force is
+    0 where ``bracket`` is negative. A restitution law reads this contact's chi from
+    ``contact_state["chi"]`` (set at each onset by the caller)."""
+    state = contact_state if contact_state is not None else {"chi": 0.0}
 
     def external(t, x, v):
         fr = p.T * v / math.sqrt(v * v + p.eps * p.eps)
         return p.m0e * omega * omega * math.sin(omega * t) - p.k * x - p.c * v - fr
 
-    def contact(x, v):
-        h = x - p.xI
-        if h <= 0:
-            return 0.0
-        br = h**p.n1 + p.b * h**p.n2 * math.copysign(abs(v) ** p.n3, v)
-        return p.kI * br if br > 0 else 0.0
+    def bracket(x, v):
+        h = max(x - p.xI, 0.0)
+        if p.law == "bc":
+            return h**p.n1 + p.b * h**p.n2 * math.copysign(abs(v) ** p.n3, v)
+        if p.law == "hertz":
+            return h**p.n1
+        if p.law == "kelvin-voigt":
+            return p.kI * h + p.cI * v
+        return h**p.n1 * (1 + state["chi"] * v)
 
-    return external, contact
+    def contact(x, v):
+        if x - p.xI <= 0:
+            return 0.0
+        br = bracket(x, v)
+        if br <= 0:
+            return 0.0
+        return br if p.law == "kelvin-voigt" else p.kI * br
+
+    return external, contact, bracket
 
 
 def _piece_setups(p: ModelParams, omega: float, method: str, max_nfev) -> dict:
     """Right-hand side and events of each piece kind ("free", "contact", "cut") for
     ``solve_ivp``; the right-hand sides count their calls and raise
     :class:`ReferenceBudgetExceeded` past ``max_nfev`` (None: no limit)."""
-    external, contact = model_forces(p, omega)
+    state = {"chi": 0.0}
+    external, contact, _ = model_forces(p, omega, state)
     vcut = p.cut_velocity
 
     calls = [0]
@@ -72,10 +99,26 @@ def _piece_setups(p: ModelParams, omega: float, method: str, max_nfev) -> dict:
 
     ev_exit.terminal, ev_exit.direction = True, -1
 
-    def ev_cut(t, y):
-        return y[1] + vcut
+    def ev_cut(t, y):  # the bracket's sign: model BC's at v = -vcut, a law's where its force turns to 0
+        if p.law == "bc":
+            return y[1] + vcut
+        if p.law == "kelvin-voigt":
+            return p.kI * (y[0] - p.xI) + p.cI * y[1]
+        return 1 + state["chi"] * y[1]
 
     ev_cut.terminal, ev_cut.direction = True, 0
+
+    # a law's cut, other than model BC's v = -vcut, is not snapped onto: each side looks for its
+    # own crossing only, so the piece that starts on the surface does not find it again at once
+    def ev_cut_on(t, y):
+        return ev_cut(t, y)
+
+    def ev_cut_off(t, y):
+        return ev_cut(t, y)
+
+    ev_cut_on.terminal, ev_cut_on.direction = True, -1
+    ev_cut_off.terminal, ev_cut_off.direction = True, 1
+    on, off = (ev_cut, ev_cut) if p.law == "bc" else (ev_cut_on, ev_cut_off)
 
     def ev_vzero(t, y):
         return y[1]
@@ -84,8 +127,9 @@ def _piece_setups(p: ModelParams, omega: float, method: str, max_nfev) -> dict:
 
     return {
         "free": (rhs_free, (ev_onset,)),
-        "contact": (rhs_contact, (ev_exit, ev_cut, ev_vzero)),
-        "cut": (rhs_free, (ev_exit, ev_cut)),
+        "contact": (rhs_contact, (ev_exit, on, ev_vzero)),
+        "cut": (rhs_free, (ev_exit, off)),
+        "state": state,
     }
 
 
@@ -114,6 +158,8 @@ def solve_reference(
     p = params or ModelParams()
     vcut = p.cut_velocity
     setups = _piece_setups(p, omega, method, max_nfev)
+    state = setups["state"]
+    cut = setups["contact"][1][1]
 
     t, y = 0.0, np.array([x0, v0], float)
     mode = "contact" if y[0] >= p.xI and y[1] > -vcut else ("cut" if y[0] >= p.xI else "free")
@@ -153,12 +199,15 @@ def solve_reference(
             y[0] = p.xI
             imp_t.append(t)
             imp_v.append(y[1])
-            mode = "contact" if y[1] > -vcut else "cut"
+            if p.law in RESTITUTION_CHI:  # this contact's damping, from its onset velocity
+                state["chi"] = RESTITUTION_CHI[p.law](p.e, y[1]) if y[1] > 0 else 0.0
+            mode = "contact" if (y[1] > -vcut if p.law == "bc" else cut(t, y) > 0 or y[1] >= 0) else "cut"
         elif k == 0:  # exit
             y[0] = p.xI
             mode = "free"
-        else:  # crossing the Hunt-Crossley cut
-            y[1] = -vcut
+        else:  # crossing the cut
+            if p.law == "bc":
+                y[1] = -vcut
             mode = "cut" if mode == "contact" else "contact"
     out = {
         "impacts_t": np.array(imp_t),

@@ -68,7 +68,7 @@ def _until(params, contact, t0, y0, t_max, level, direction=0):
         return y[1] - level
 
     event.terminal, event.direction = True, direction
-    external, contact_force = model_forces(params, OMEGA)
+    external, contact_force, _ = model_forces(params, OMEGA)
 
     def rhs(t, y):
         force = external(t, y[0], y[1]) - (contact_force(y[0], y[1]) if contact else 0.0)

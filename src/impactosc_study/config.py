@@ -145,11 +145,40 @@ def nest_dotted_keys(config: dict) -> dict:
     return out
 
 
+def _contact_fields(model: dict) -> None:
+    """model.contact ({law, e | cI}) as the ModelParams fields law, e and cI (model BC's law and
+    their defaults without it); a law given a number it does not take, or missing one, is named."""
+    from impactosc.model.contact_laws import LAWS  # no numba: the plotting jobs import it too
+
+    contact = model.pop("contact", None)
+    if contact is None:
+        return
+    law = LAWS[contact["law"]]
+    where = "invalid configuration:\n  model.contact"
+    for key in ("e", "cI"):
+        if key in contact and key not in law.own:
+            raise ConfigError(f"{where}.{key}: the {law.name} law takes {', '.join(law.own) or 'nothing'} beside law")
+        if key in law.own and key not in contact:
+            raise ConfigError(f"{where}.{key}: missing: the {law.name} law needs it ({law.force})")
+    stray = [k for k in ("b", "n2", "n3") if k in model and law.name != "bc"]
+    if stray:
+        raise ConfigError(
+            f"{where}: the {law.name} law has no {stray[0]} (model BC's damping); remove model.{stray[0]}"
+        )
+    model["law"] = law.name
+    model.update({k: float(contact[k]) for k in law.own})
+    if law.name == "kelvin-voigt":
+        model.setdefault("n1", 1.0)
+
+
 def _model_from_file(model: dict) -> dict:
     """config["model_source"], and config["model"] replaced by the parameters of the model file
     `model["file"]` when one is named (other keys beside it must equal the file's values)."""
+    _contact_fields(model)
     if model.get("file") is None:
         model.pop("file", None)
+        for key, value in (("law", "bc"), ("e", 1.0), ("cI", 0.0)):  # the ModelParams fields the schema has not
+            model.setdefault(key, value)
         # model BC is stated exactly: no covariance, no error bars
         return {"file": None, "description": "model BC (paper)", "covariance": False}  # model_file.BC_DESCRIPTION
     from impactosc.model.model_file import (  # only here: they import numba, which the plotting jobs do without

@@ -190,9 +190,9 @@ def _identify_run(args) -> int:
                 "the model choice rests on AIC and BIC alone",
                 file=sys.stderr,
             )
+    rows = parameter_table(ident, truth=record_truth(records))  # a surrogate's truth, else none
     # written only now: an error or an interrupt above leaves no output behind
     write_identified_model(args.output, ident)
-    rows = parameter_table(ident, truth=record_truth(records))  # a surrogate's truth, else none
     if args.table:
         _write_rows(args.table, rows, parameter_markdown(rows, ident), args.record)
     if choice:

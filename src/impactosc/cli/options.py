@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 import math
 
-MODEL_NAMES = "m m0e k c T eps kI b n1 n2 n3 xI"
+MODEL_NAMES = "m m0e k c T eps kI b n1 n2 n3 xI e cI"
 
 
 def finite_number(text: str) -> float:

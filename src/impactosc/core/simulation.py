@@ -53,8 +53,9 @@ from impactosc.core.layout import (
     record_flags,
 )
 from impactosc.io.memory import shortfall
-from impactosc.model.equations import FIELD_NAMES
-from impactosc.model.parameters import MAX_EXPONENT, ModelParams, ParameterError
+from impactosc.model.contact_laws import RESTITUTION_FIRST
+from impactosc.model.equations import FIELD_NAMES, restitution_damping
+from impactosc.model.parameters import MAX_EXPONENT, P_B, P_E, P_LAW, ModelParams, ParameterError
 
 ALL_EVENTS = EVENT_NAMES
 DEFAULT_RTOL = 1e-10
@@ -239,6 +240,40 @@ def warm_up() -> float:
     return time.perf_counter() - t0
 
 
+def _start_contact(params: ModelParams, p, x0: float, v0: float, contact_v0) -> float:
+    """The cut velocity a run starts with. A restitution law's contact damping comes from the
+    velocity at its onset: a run that starts inside a contact needs it (``contact_v0``, the
+    ``contact_v0`` attribute of the run that ended there). One that starts at the obstacle moving
+    in starts that contact itself; one that starts at rest inside the obstacle (model BC's rest
+    lies 2 mm past xI) is a contact without approach speed, undamped (chi = 0) as every touch at
+    v0 = 0 is. Sets the contact's damping in `p`."""
+    if p[P_LAW] < RESTITUTION_FIRST:
+        return params.cut_velocity
+    if contact_v0 is None and ((x0 == params.xI and v0 > 0) or (x0 > params.xI and v0 == 0)):
+        contact_v0 = v0  # an onset now, or a contact at rest
+    if x0 > params.xI or contact_v0 is not None:
+        if contact_v0 is None or not math.isfinite(contact_v0) or contact_v0 < 0:
+            raise ParameterError(
+                "contact_v0",
+                f"a run that starts inside a contact (x0 > xI) of the {params.law} law needs that contact's onset "
+                f"velocity, contact_v0 >= 0 m/s (a run's end state gives it as attrs['contact_v0']), got {contact_v0!r}",
+            )
+        b = restitution_damping(int(p[P_LAW]), p[P_E], float(contact_v0))
+        p[P_B] = b
+        return 1.0 / b if b > 0 else math.inf
+    return math.inf
+
+
+def _end_contact_v0(params: ModelParams, p, x_end: float) -> float:
+    """The onset velocity of the contact a restitution law's run ends in (nan otherwise): what a
+    run continuing from the end state passes as ``contact_v0``."""
+    if p[P_LAW] < RESTITUTION_FIRST or x_end <= params.xI:
+        return math.nan
+    if p[P_B] <= 0:  # a contact without approach speed (or e = 1: every v0 gives chi = 0)
+        return 0.0
+    return restitution_damping(int(p[P_LAW]), p[P_E], 1.0) / p[P_B]  # chi = g(e) / v0
+
+
 def simulate(
     omega: float,
     transient: float,
@@ -254,6 +289,7 @@ def simulate(
     chunk_steps: int = 200_000,
     step_budget: float = DEFAULT_STEP_BUDGET,
     progress: Callable[[float, float, int], None] | None = None,
+    contact_v0: float | None = None,
     _timing_only: bool = False,
 ) -> SimulationResult:
     """Integrate model BC from (x0, v0) at t = 0 to transient + duration.
@@ -267,6 +303,10 @@ def simulate(
     Never hangs: a run that spends `step_budget` step attempts without advancing one
     forcing period raises :class:`StallError` naming where it stuck (as does a step-size
     underflow); the default budget is ~10^4 times what the chaotic scene needs.
+
+    The contact law is ``params.law`` (:mod:`impactosc.model.contact_laws`). A restitution law's
+    contact remembers its onset velocity: a run that starts inside one takes it as
+    `contact_v0` (a run that ends inside one states it as ``attrs["contact_v0"]``).
     """
     params = params or ModelParams()
     record = tuple(record)
@@ -278,9 +318,10 @@ def simulate(
     flags = record_flags(record)
 
     p = params.as_array(float(omega))
+    vcut = _start_contact(params, p, float(x0), float(v0), contact_v0)
     period = 2.0 * math.pi / omega
     t_end = float(transient) + float(duration)
-    st = core.initial_state(p, 0.0, float(x0), float(v0), period, params.cut_velocity, float(step_budget))
+    st = core.initial_state(p, 0.0, float(x0), float(v0), period, vcut, float(step_budget))
     cnt = np.zeros(N_COUNT, dtype=np.int64)
     ev = np.empty((1024, 4))
     n_ev = 0
@@ -316,6 +357,7 @@ def simulate(
         trajectory = {"t": win_t0 + win_dt * np.arange(window.n), "x": win_x, "v": win_v}
 
     attrs = {f"param_{k}": v for k, v in params.to_dict().items()}
+    attrs["contact_v0"] = _end_contact_v0(params, p, float(st[S_X]))
     attrs.update(
         omega=float(omega),
         transient=float(transient),

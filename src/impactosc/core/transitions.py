@@ -70,8 +70,9 @@ from impactosc.core.layout import (
     WVEL,
 )
 from impactosc.core.pieces import start_piece, store
-from impactosc.model.equations import CONTACT, CUT, FREE, accel, damping_rate, stick_force
-from impactosc.model.parameters import P_B, P_EPS, P_KI, P_M, P_N2, P_N3, P_T, P_XI
+from impactosc.model.contact_laws import RESTITUTION_FIRST
+from impactosc.model.equations import CONTACT, CUT, FREE, accel, damping_rate, restitution_damping, stick_force
+from impactosc.model.parameters import P_B, P_E, P_EPS, P_KI, P_LAW, P_M, P_N2, P_N3, P_T, P_XI
 
 SLOW_FACTOR = 1.5  # v = 0 with |net force| < 1.5 T: stick or slow reversal -> implicit phase
 STIFF_ENTER = 4.0  # h |da/dv| above this: explicit steps are held by stability, not accuracy ...
@@ -224,6 +225,8 @@ def apply_event(p, st, cnt, rs, ev, n, kind, t, x, v, direction, dt_step):
     vcut = st[S_VCUT]
     if kind == EV_X_UP:  # impact
         x = p[P_XI]
+        if p[P_LAW] >= RESTITUTION_FIRST:  # a restitution law: this contact's damping from its v0
+            vcut = set_contact_damping(p, st, v)
         if int(rs[R_FLAGS]) & RECORD_IMPACTS and t >= rs[R_T_RECORD]:
             ev, n = push(ev, n, IMPACT, t, v, 0.0)
         st[S_PDIR] = 0.0  # a pending free-flight maximum (implicit phase) became a contact
@@ -247,6 +250,16 @@ def apply_event(p, st, cnt, rs, ev, n, kind, t, x, v, direction, dt_step):
             set_piece(st, st[S_FIELD], EXPLICIT, TIME)
             ev, n = _reversal(p, st, cnt, rs, ev, n, t, x, direction, dt_step)
     return ev, n, x, v
+
+
+@njit(cache=True)
+def set_contact_damping(p, st, v0):
+    """A restitution law's contact starts at velocity v0: its b = chi(e, v0) (the family's
+    damping factor, held in p until the next contact) and its cut at v = -1/chi. Returns the cut."""
+    b = restitution_damping(int(p[P_LAW]), p[P_E], v0)
+    p[P_B] = b
+    st[S_VCUT] = 1.0 / b if b > 0.0 else math.inf
+    return st[S_VCUT]
 
 
 @njit(cache=True, inline="always")  # on every accepted time step: inlined as time_step is

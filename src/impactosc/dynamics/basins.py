@@ -451,10 +451,15 @@ def load_basins(path) -> tuple[BasinMap, dict]:
             for i, (name, n, imp) in enumerate(zip(names, f.attrs["attractor_periods"], f.attrs["attractor_impacts"]))
         ]
         keys = ("omega", "x_tol", "v_tol", "confirm", "max_periods", "block", "rtol", "atol")
-        settings = {k: f.attrs[k].item() for k in f.attrs if k in keys or k.startswith("param_")}
+        settings = {k: _plain(f.attrs[k]) for k in f.attrs if k in keys or k.startswith("param_")}
         reserved = {*settings, "attractor_names", "attractor_periods", "attractor_impacts", "cpu_time"}
         extra = {k: f.attrs[k] for k in f.attrs if k not in reserved}
         return BasinMap(**arrays, attractors=attractors, settings=settings, cpu_time=float(f.attrs["cpu_time"])), extra
+
+
+def _plain(value):
+    """An HDF5 attribute as a plain Python value (a number, or the law's name)."""
+    return value.item() if hasattr(value, "item") else value
 
 
 def merge_basins(parts: list[BasinMap]) -> BasinMap:

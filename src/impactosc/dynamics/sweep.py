@@ -26,7 +26,7 @@ import numpy as np
 
 from impactosc.core.simulation import DEFAULT_ATOL, DEFAULT_RTOL, MAX_STEP_BUDGET, StallError, simulate
 from impactosc.io.files import atomic_write, check_writable, stamp_h5
-from impactosc.model.parameters import ModelParams
+from impactosc.model.parameters import ModelParams, ParameterError
 
 __all__ = [
     "SweepSettings",
@@ -98,7 +98,7 @@ class SweepSettings:
 
     @classmethod
     def from_attrs(cls, attrs) -> SweepSettings:
-        params = ModelParams(**{k[6:]: float(v) for k, v in attrs.items() if k.startswith("param_")})
+        params = ModelParams.from_attrs(attrs)
         return cls(
             n_transient=int(attrs["n_transient"]),
             n_record=int(attrs["n_record"]),
@@ -231,7 +231,7 @@ _CHUNK_STEPS = 20_000  # core steps between budget checks
 _STALL_PACE = 20  # the core's watchdog: this many times the per-period budget without a period of progress
 
 
-def _run_one(om: float, n_tr: int, x: float, v: float, s: SweepSettings):
+def _run_one(om: float, n_tr: int, x: float, v: float, s: SweepSettings, contact_v0=None):
     """One w: n_tr periods discarded, n_record recorded, within the step budget."""
     period = 2.0 * math.pi / om
     budget = s.max_steps_per_period * (n_tr + s.n_record)
@@ -259,6 +259,7 @@ def _run_one(om: float, n_tr: int, x: float, v: float, s: SweepSettings):
         duration,
         x0=x,
         v0=v,
+        contact_v0=contact_v0,
         params=s.params,
         rtol=s.rtol,
         atol=s.atol,
@@ -306,12 +307,13 @@ def continuation(
     imp_t, imp_v = [np.empty(0)], [np.empty(0)]
     offsets = np.zeros(n + 1, dtype=np.int64)
     n_tr = s.n_initial if first_transient is None else int(first_transient)
+    contact_v0 = None  # a restitution law's contact the end state lies in: its onset velocity
     for i, om in enumerate(w):
         period = 2.0 * math.pi / om
         t0, c0 = time.perf_counter(), time.process_time()
         try:
-            res = _run_one(om, n_tr, x, v, s)
-        except (_Stalled, RuntimeError) as exc:
+            res = _run_one(om, n_tr, x, v, s, contact_v0)
+        except (_Stalled, RuntimeError, ParameterError) as exc:
             # A stuck integration must not stop (or hang) a 1000-point sweep: the w is
             # marked, left empty, and the continuation goes on from the last good state.
             status = STALLED if isinstance(exc, (_Stalled, StallError)) else CORE_ERROR
@@ -347,6 +349,7 @@ def continuation(
         per_w["x_start"][i], per_w["v_start"][i] = x, v
         if per_w["status"][i] == OK:
             x, v = float(res.final_state[1]), float(res.final_state[2])
+            contact_v0 = res.attrs["contact_v0"] if math.isfinite(res.attrs["contact_v0"]) else None
             n_tr = s.n_transient
         per_w["x_end"][i], per_w["v_end"][i] = x, v
         per_w["wall_time"][i] = time.perf_counter() - t0

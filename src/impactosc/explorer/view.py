@@ -27,6 +27,8 @@ import yaml
 
 from impactosc.dynamics.sweep import SweepSettings
 from impactosc.io.files import atomic_write
+from impactosc.model.contact_laws import LAWS
+from impactosc.model.model_file import BC_ONLY, NAMES
 from impactosc.model.parameters import PARAMETERS, ModelParams
 
 __all__ = [
@@ -169,8 +171,15 @@ def config_snippet(view: View, study: str = "explore") -> str:
         # the workflow refuses a model file beside keys that differ from it: every value, written out
         if view.model_file:
             head.append("# every parameter written out: the model file's were changed in the explorer")
-        base = ModelParams()
-        model = {k: float(v) for k, v in view.params.to_dict().items() if view.model_file or v != getattr(base, k)}
+        base, law = ModelParams(), LAWS[view.params.law]
+        model = {
+            k: float(getattr(view.params, k))
+            for k in NAMES
+            if (view.model_file or getattr(view.params, k) != getattr(base, k))
+            and (law.name == "bc" or k not in BC_ONLY)
+        }
+        if law.name != "bc":  # the config names a law as the model files do: model.contact
+            model["contact"] = {"law": law.name, **{k: float(getattr(view.params, k)) for k in law.own}}
     # the workflow splits a sweep into chunks seeded by a coarse pass over every stride-th w
     # (impactosc.dynamics.sweep_chunks): a short grid needs a short stride and few chunks
     stride = 10 if view.n_columns >= 40 else max(1, view.n_columns // 4)

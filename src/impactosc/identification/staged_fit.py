@@ -169,6 +169,8 @@ def identify(
     t_start = time.perf_counter()
     say = progress or (lambda msg: None)
     base = base or ModelParams()
+    if base.law != "bc":  # theta holds model BC's b and n3, which another law does not have
+        raise ValueError(f"identification fits model BC's contact law; the stated model's law is {base.law}")
     records = list(records)
     if not records:
         raise ValueError("identification needs at least one record")

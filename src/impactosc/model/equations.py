@@ -15,6 +15,7 @@ import math
 
 from numba import njit
 
+from impactosc.model.contact_laws import FLORES, HUNT_CROSSLEY, LANKARANI_NIKRAVESH
 from impactosc.model.parameters import (
     P_B,
     P_C,
@@ -153,3 +154,18 @@ def damping_rate(p, field, x, v):
             return math.inf
         rate += p[P_KI] * p[P_B] * h ** p[P_N2] * p[P_N3] * av ** (p[P_N3] - 1.0)
     return rate / p[P_M]
+
+
+@njit(cache=True)
+def restitution_damping(code, e, v0):
+    """chi of the restitution law `code` for a contact whose onset velocity is v0 > 0 (b of the
+    family for this contact); 0 for a contact without approach speed (a touch at v0 = 0)."""
+    if v0 <= 0.0:
+        return 0.0
+    if code == HUNT_CROSSLEY:
+        return 3.0 * (1.0 - e) / (2.0 * v0)
+    if code == LANKARANI_NIKRAVESH:
+        return 3.0 * (1.0 - e * e) / (4.0 * v0)
+    if code == FLORES:
+        return 8.0 * (1.0 - e) / (5.0 * e * v0)
+    return (1.0 - e * e) / (e * v0)  # GONTHIER

@@ -48,15 +48,20 @@ from impactosc import __version__
 from impactosc.io.files import atomic_write, git_commit
 from impactosc.io.names import closest_name, split_assignment
 from impactosc.io.yaml_text import DuplicateKeyError, load_yaml
-from impactosc.model.parameters import PARAM_UNITS, ModelParams
+from impactosc.model.contact_laws import LAWS, law_of
+from impactosc.model.parameters import PARAM_UNITS, PARAMETERS, ModelParams, unit_of
 
 FORMAT = "impactosc-model/1"
 
-NAMES = [f.name for f in dataclasses.fields(ModelParams)]
+#: The parameters a model file's ``parameters`` block holds (a law's own e and cI go in ``contact``)
+NAMES = [name for name, _, _ in PARAMETERS]
+#: Parameters no law reads but model BC: a file of another law leaves them out
+BC_ONLY = ("b", "n2", "n3")
 BC_DESCRIPTION = "model BC (paper)"
 _TOP_KEYS = (
     "format",
     "name",
+    "contact",
     "parameters",
     "covariance",
     "correlation",
@@ -157,8 +162,8 @@ def _plain(obj):
 
 def _check_names(names, what: str) -> None:
     for name in names:
-        if name not in NAMES:
-            raise ValueError(f"{what}: {name!r}: " + _unknown(name, NAMES, "parameter"))
+        if name not in PARAM_UNITS:
+            raise ValueError(f"{what}: {name!r}: " + _unknown(name, list(PARAM_UNITS), "parameter"))
 
 
 def write_model_file(
@@ -181,20 +186,24 @@ def write_model_file(
     stderr, fixed = dict(stderr or {}), dict(fixed or {})
     _check_names(stderr, "stderr")
     _check_names(fixed, "fixed")
-    parameters = {}
-    for key in NAMES:
-        entry = {"value": float(getattr(params, key)), "unit": PARAM_UNITS[key]}
+    law = LAWS[params.law]
+
+    def entry(key):
+        out = {"value": float(getattr(params, key)), "unit": unit_of(key, params.n1)}
         if key in stderr:
-            entry["stderr"] = _number(stderr[key], f"stderr of {key}")
+            out["stderr"] = _number(stderr[key], f"stderr of {key}")
         if key in fixed:
-            entry["fixed"] = True
+            out["fixed"] = True
             if fixed[key]:
-                entry["note"] = str(fixed[key])
-        parameters[key] = entry
+                out["note"] = str(fixed[key])
+        return out
+
     doc = {"format": FORMAT}
     if name is not None:
         doc["name"] = str(name)
-    doc["parameters"] = parameters
+    if law.name != "bc":  # a file without contact is model BC's
+        doc["contact"] = {"law": law.name, **{key: entry(key) for key in law.own}}
+    doc["parameters"] = {key: entry(key) for key in NAMES if law.name == "bc" or key not in BC_ONLY}
     if covariance is not None:
         names, units, matrix = list(covariance[0]), [str(u) for u in covariance[1]], covariance[2]
         if len(units) != len(names):
@@ -250,9 +259,10 @@ def _load(path: Path) -> dict:
     return doc
 
 
-def _entry(key: str, entry, path: Path) -> tuple[float, float | None, str | None]:
-    """(value, stderr, note-if-fixed) of one parameter, plain number or mapping."""
-    where = f"model file {path}: parameters.{key}"
+def _entry(key: str, entry, path: Path, block: str = "parameters") -> tuple[float, float | None, str | None]:
+    """(value, stderr, note-if-fixed) of one parameter, plain number or mapping (its unit is
+    checked by :func:`_check_units`, once n1 is known)."""
+    where = f"model file {path}: {block}.{key}"
     if not isinstance(entry, dict):
         return _number(entry, where), None, None
     for sub in entry:
@@ -261,9 +271,6 @@ def _entry(key: str, entry, path: Path) -> tuple[float, float | None, str | None
     if "value" not in entry:
         raise ValueError(f"{where}.value: missing (write {key}: {{value: ..., unit: {PARAM_UNITS[key]}}})")
     value = _number(entry["value"], f"{where}.value")
-    unit = entry.get("unit")
-    if unit is not None and " ".join(str(unit).split()) != PARAM_UNITS[key]:
-        raise ValueError(f"{where}.unit: {unit!r}, but {key} is in {PARAM_UNITS[key]!r} (values are SI, not converted)")
     stderr = _number(entry["stderr"], f"{where}.stderr") if entry.get("stderr") is not None else None
     if stderr is not None and stderr < 0:
         raise ValueError(f"{where}.stderr: {stderr} is negative")
@@ -273,21 +280,68 @@ def _entry(key: str, entry, path: Path) -> tuple[float, float | None, str | None
     return value, stderr, note
 
 
+def _check_units(blocks: dict, n1: float, path: Path) -> None:
+    """Each stated unit is the parameter's SI unit (kI's follows n1): refused, not converted."""
+    for block, entries in blocks.items():
+        for key, entry in entries.items():
+            unit = entry.get("unit") if isinstance(entry, dict) else None
+            if unit is not None and " ".join(str(unit).split()) != unit_of(key, n1):
+                raise ValueError(
+                    f"model file {path}: {block}.{key}.unit: {unit!r}, but {key} is in {unit_of(key, n1)!r} "
+                    "(values are SI, not converted)"
+                )
+
+
+def _contact(doc: dict, path: Path) -> tuple[str, dict]:
+    """(law name, its own entries) of the ``contact`` block; model BC's without one."""
+    block = doc.get("contact")
+    if block is None:
+        return "bc", {}
+    where = f"model file {path}: contact"
+    if not isinstance(block, dict) or "law" not in block:
+        raise ValueError(f"{where}: a mapping with the law's name, e.g. contact: {{law: flores, e: 0.7}}")
+    try:
+        law = law_of(block["law"])
+    except ValueError as exc:
+        raise ValueError(f"{where}.law: {exc}") from None
+    own = {k: v for k, v in block.items() if k != "law"}
+    for key in own:
+        if key not in law.own:
+            raise ValueError(
+                f"{where}.{key}: the {law.name} law takes " + (", ".join(law.own) or "nothing") + " beside law"
+            )
+    missing = [key for key in law.own if key not in own]
+    if missing:
+        raise ValueError(f"{where}.{missing[0]}: missing: the {law.name} law needs it ({law.force})")
+    return law.name, own
+
+
 def read_model_file(path) -> ModelFile:
     """Read and check a model file; ValueError or FileNotFoundError naming the file and key."""
     path = Path(path)
     doc = _load(path)
     values, stderr, fixed = {}, {}, {}
+    law, own = _contact(doc, path)
     given = doc.get("parameters") or {}
-    for key, entry in given.items():
-        if key not in NAMES:
-            absent = [n for n in NAMES if n not in given]
-            raise ValueError(f"model file {path}: parameters.{key}: " + _unknown(key, NAMES, "parameter", absent))
-        values[key], err, note = _entry(key, entry, path)
-        if err is not None:
-            stderr[key] = err
-        if note is not None:
-            fixed[key] = note
+    for block, entries in (("parameters", given), ("contact", own)):
+        for key, entry in entries.items():
+            if block == "parameters" and key not in NAMES:
+                absent = [n for n in NAMES if n not in given]
+                raise ValueError(f"model file {path}: parameters.{key}: " + _unknown(key, NAMES, "parameter", absent))
+            if block == "parameters" and law != "bc" and key in BC_ONLY:
+                raise ValueError(
+                    f"model file {path}: parameters.{key}: the {law} law has no {key} (model BC's damping; "
+                    f"{LAWS[law].force})"
+                )
+            values[key], err, note = _entry(key, entry, path, block)
+            if err is not None:
+                stderr[key] = err
+            if note is not None:
+                fixed[key] = note
+    if law == "kelvin-voigt":
+        values.setdefault("n1", 1.0)  # the linear law: kI in N/m
+    _check_units({"parameters": given, "contact": own}, values.get("n1", ModelParams.n1), path)
+    values["law"] = law
     try:
         params = ModelParams(**values)
     except ValueError as exc:
@@ -295,10 +349,11 @@ def read_model_file(path) -> ModelFile:
         raise ValueError(
             f"model file {path}: parameters.{bad}: {exc}" if bad else f"model file {path}: {exc}"
         ) from None
-    meta = {k: v for k, v in doc.items() if k not in ("format", "parameters")}
+    meta = {k: v for k, v in doc.items() if k not in ("format", "parameters", "contact")}
     _check_covariance(meta.get("covariance"), path)  # here, so a bad block is named when the file is read
     _check_correlation(meta.get("correlation"), path)
-    defaulted = tuple(k for k in NAMES if k not in values)
+    used = [k for k in NAMES if law == "bc" or k not in BC_ONLY]
+    defaulted = tuple(k for k in used if k not in values)
     return ModelFile(params, stderr, fixed, meta, str(path), defaulted)
 
 
@@ -358,16 +413,20 @@ def _override(item: str) -> tuple[str, float]:
     name, text = split_assignment(item)
     if text is None:
         raise ValueError(f"parameter override {item!r}: write NAME=VALUE, e.g. k=1500")
-    if name not in NAMES:
-        raise ValueError(f"parameter override {item!r}: " + _unknown(name, NAMES, f"parameter {name!r}"))
+    if name not in PARAM_UNITS:
+        known = list(PARAM_UNITS)
+        raise ValueError(f"parameter override {item!r}: " + _unknown(name, known, f"parameter {name!r}"))
     return name, _number(text, f"parameter override {item!r}")
 
 
 def apply_overrides(params: ModelParams, items) -> ModelParams:
     """`params` with each ``NAME=VALUE`` of `items` set (later items win)."""
     changes = {}
+    law = LAWS[params.law]
     for item in items:
         name, value = _override(item)
+        if (name not in NAMES and name not in law.own) or (law.name != "bc" and name in BC_ONLY):
+            raise ValueError(f"parameter override {item!r}: the {law.name} law has no {name} ({law.force})")
         try:
             dataclasses.replace(params, **{name: value})
         except ValueError as exc:

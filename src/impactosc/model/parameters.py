@@ -15,6 +15,8 @@ from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 
+from impactosc.model.contact_laws import HERTZ, KELVIN_VOIGT, LAWS, RESTITUTION_FIRST, law_of
+
 #: Every parameter of the model, in the order of the ModelParams fields and of the array p:
 #: (name, SI unit as a model file writes it, "-" when dimensionless; meaning).
 PARAMETERS = (
@@ -31,12 +33,30 @@ PARAMETERS = (
     ("n3", "-", "damping velocity exponent"),
     ("xI", "m", "obstacle position (contact when x >= xI)"),
 )
-#: Unit of every parameter (from PARAMETERS).
-PARAM_UNITS = {name: unit for name, unit, _ in PARAMETERS}
+#: The contact law's own numbers beside PARAMETERS (a model file gives them in its ``contact``
+#: block with the law's name, :mod:`impactosc.model.contact_laws`): used only by the laws that
+#: name them.
+LAW_PARAMETERS = (
+    ("e", "-", "coefficient of restitution a restitution law is built for"),
+    ("cI", "N s/m", "Kelvin-Voigt contact damping"),
+)
+#: Unit of every parameter (from PARAMETERS and LAW_PARAMETERS).
+PARAM_UNITS = {name: unit for name, unit, _ in PARAMETERS + LAW_PARAMETERS}
+
+
+def unit_of(name: str, n1: float = 1.5) -> str:
+    """The SI unit of parameter `name`; kI's follows the elastic exponent n1 (N/m^1.5 for Hertz's
+    1.5, N/m for a linear law)."""
+    if name == "kI" and n1 != 1.5:
+        return "N/m" if n1 == 1 else f"N/m^{n1:g}"
+    return PARAM_UNITS[name]
+
 
 # --- index into the parameter array p (ModelParams.as_array): PARAMETERS, then w -----------
-(P_M, P_M0E, P_K, P_C, P_T, P_EPS, P_KI, P_B, P_N1, P_N2, P_N3, P_XI, P_OMEGA) = range(13)
-N_PARAMS = 13
+# then the law's code, e and cI, and w (P_B, P_N2, P_N3 hold the law's place in model BC's family;
+# a restitution law's P_B is set at each contact's onset by the core)
+(P_M, P_M0E, P_K, P_C, P_T, P_EPS, P_KI, P_B, P_N1, P_N2, P_N3, P_XI, P_LAW, P_E, P_CI, P_OMEGA) = range(16)
+N_PARAMS = 16
 
 # Parameter ranges whose events have been checked against an independent SciPy reference:
 # the randomized differential tests draw from these (benchmarks/random_scenes.BOX, with T
@@ -100,9 +120,16 @@ class ModelParams:
     n2: float = 1.5
     n3: float = 0.18667
     xI: float = -2.086e-3
+    #: the contact law (impactosc.model.contact_laws.LAWS); b, n2 and n3 are model BC's own
+    law: str = "bc"
+    e: float = 1.0
+    cI: float = 0.0
 
     def __post_init__(self):
+        law = law_of(self.law)
         for f in fields(self):
+            if f.name == "law":
+                continue
             value = getattr(self, f.name)
             if not isinstance(value, (int, float)) or not math.isfinite(value):
                 raise ParameterError(f.name, f"model parameter {f.name} must be a finite number, got {value!r}")
@@ -115,7 +142,13 @@ class ModelParams:
         for name in ("m", "k", "eps", "kI", "n1", "n2"):
             if getattr(self, name) <= 0:
                 raise ParameterError(name, f"model parameter {name} must be > 0, got {getattr(self, name)}")
-        for name in ("m0e", "c", "T", "b", "n3"):
+        if not 0 < self.e <= 1:
+            raise ParameterError(
+                "e", f"model parameter e must be in (0, 1] (a coefficient of restitution), got {self.e}"
+            )
+        if law.name == "kelvin-voigt" and self.n1 != 1:
+            raise ParameterError("n1", f"the kelvin-voigt law is linear in the penetration: n1 = 1, got {self.n1}")
+        for name in ("m0e", "c", "T", "b", "n3", "cI"):
             if getattr(self, name) < 0:
                 raise ParameterError(name, f"model parameter {name} must be >= 0, got {getattr(self, name)}")
         for name in ("n1", "n2", "n3"):
@@ -141,16 +174,37 @@ class ModelParams:
         p = np.empty(N_PARAMS)
         p[P_M], p[P_M0E], p[P_K], p[P_C], p[P_T], p[P_EPS] = self.m, self.m0e, self.k, self.c, self.T, self.eps
         p[P_KI], p[P_B], p[P_N1], p[P_N2], p[P_N3], p[P_XI] = self.kI, self.b, self.n1, self.n2, self.n3, self.xI
+        code = LAWS[self.law].code
+        p[P_LAW], p[P_E], p[P_CI] = code, self.e, self.cI
+        if code == HERTZ:
+            p[P_B] = 0.0
+        elif code == KELVIN_VOIGT:  # kI h + cI v: b = cI / kI, n2 = 0, n3 = 1
+            p[P_B], p[P_N2], p[P_N3] = self.cI / self.kI, 0.0, 1.0
+        elif code >= RESTITUTION_FIRST:  # kI h^n1 (1 + chi v): b = chi of each contact, set at its onset
+            p[P_B], p[P_N2], p[P_N3] = 0.0, self.n1, 1.0
         p[P_OMEGA] = omega
         return p
 
     def to_dict(self) -> dict:
         return asdict(self)
 
+    @classmethod
+    def from_attrs(cls, attrs, prefix: str = "param_") -> ModelParams:
+        """The parameters a file's attributes state as ``<prefix><name>`` (the law by its name,
+        the rest numbers; a file written before laws had names is model BC's)."""
+        values = {k[len(prefix) :]: v for k, v in attrs.items() if k.startswith(prefix)}
+        return cls(
+            **{
+                k: (v.decode() if isinstance(v, bytes) else str(v)) if k == "law" else float(v)
+                for k, v in values.items()
+            }
+        )
+
     @property
     def cut_velocity(self) -> float:
-        """|v| beyond which the restitution bracket turns negative (F_I = 0): b^(-1/n3)."""
-        if self.b == 0 or self.n3 == 0:
+        """|v| beyond which the restitution bracket turns negative (F_I = 0): b^(-1/n3) (inf for
+        a law without it, or whose cut is set per contact)."""
+        if self.law != "bc" or self.b == 0 or self.n3 == 0:
             return math.inf
         try:
             return self.b ** (-1.0 / self.n3)

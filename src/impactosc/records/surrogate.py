@@ -183,7 +183,9 @@ def surrogate_meta(o: SurrogateOptions, params: ModelParams, extra=None) -> dict
         meta["surrogate_clock_jitter_s"] = o.clock_jitter
     if o.quantum > 0:
         meta["surrogate_quantum_m"] = o.quantum
-    meta.update({TRUE_PREFIX + f.name: float(getattr(params, f.name)) for f in dataclasses.fields(params)})
+    meta.update(
+        {TRUE_PREFIX + f.name: _true_value(f.name, getattr(params, f.name)) for f in dataclasses.fields(params)}
+    )
     meta.update(extra or {})
     return meta
 
@@ -192,12 +194,24 @@ def record_truth(records) -> ModelParams | None:
     """The model the records sample, when every record is a surrogate declaring the same one
     (:func:`surrogate_meta`); else None (a rig's records have no truth)."""
     found = set()
+    bc = ModelParams()
     for rec in records:
         values = {f.name: rec.meta.get(TRUE_PREFIX + f.name) for f in dataclasses.fields(ModelParams)}
+        for name in ("law", "e", "cI"):  # a record of model BC's law written before laws had names
+            if values[name] is None and values["b"] is not None:
+                values[name] = getattr(bc, name)
         if any(v is None for v in values.values()):
             return None
-        found.add(tuple(sorted((k, float(v)) for k, v in values.items())))
+        found.add(tuple(sorted((k, _true_value(k, v)) for k, v in values.items())))
     return ModelParams(**dict(found.pop())) if len(found) == 1 else None
+
+
+def _true_value(name: str, value):
+    """A parameter as the records' metadata hold it (a CSV's as text): the law by its name, the
+    rest as floats."""
+    if name == "law":
+        return value.decode() if isinstance(value, bytes) else str(value)
+    return float(value)
 
 
 def sensor_samples(traj, o: SurrogateOptions, rng, state: dict | None = None):
