@@ -224,7 +224,9 @@ def test_explorer_in_browser(browser, server):
     # (the worker named is the one the pool found dead: under load, not always the first listed)
     _wait(
         lambda: "killed by SIGKILL" in _model(d, "status", "text"),
-        lambda: f"the failed diagram's status (status: {_model(d, 'status', 'text')!r}, message: {_model(d, 'message', 'text')!r})",
+        lambda: (
+            f"the failed diagram's status (status: {_model(d, 'status', 'text')!r}, message: {_model(d, 'message', 'text')!r})"
+        ),
     )
     assert "restarted" in _model(d, "message", "text")
     # w = 1e9 stalls the core: a message, and the workers live on
