@@ -47,7 +47,7 @@ def flights():
 
 def _scipy(start, t_max, params=PARAMS, rtol=1e-12):
     """SciPy to the first impact or band edge: (kind, t, dense solution)."""
-    ext, _ = model_forces(params, OMEGA)
+    ext, _, _ = model_forces(params, OMEGA)
     t0, x0, v0 = start
     s = math.copysign(1.0, v0)
     edge = U_BAND * params.eps
