@@ -15,11 +15,10 @@ from scipy.integrate import solve_ivp
 
 from impactosc.core.transitions import U_BAND
 from impactosc.model.parameters import P_EPS, ModelParams
-from impactosc_bench.closed_form_flight import (
+from impactosc_bench.closed_form_flight import KEY_FLIGHT, core_pieces
+from impactosc_bench.closed_form_piece import (
     EV_BAND,
     EV_IMPACT,
-    KEY_FLIGHT,
-    core_pieces,
     flight_piece,
     flight_state,
     friction_correction,

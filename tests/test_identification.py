@@ -149,7 +149,7 @@ def test_identified_parameters_cover_the_truth(chaos_record):
     # the surrogate record declares its truth: the parameter table shows it and each error in
     # standard errors (the z above, in the ModelParams fields' units)
     from impactosc.identification.report import parameter_markdown, parameter_table
-    from impactosc.records.surrogate import record_truth
+    from impactosc.records.surrogate_truth import record_truth
 
     assert record_truth([chaos_record]) == truth
     rows = parameter_table(ident, truth=record_truth([chaos_record]))

@@ -1,30 +1,7 @@
 """Free flight in closed form against the core's DOP853 free-flight pieces (benchmark_closed_form).
 
-Why: before the core gets a closed-form free-flight piece, measure what it can gain. Away from
-the friction band (|v| > U_BAND eps) free flight is a linear oscillator with constant friction
--T sign(v) and harmonic forcing, so
-
-    x(t) = xs + P sin(w t) + Q cos(w t) + exp(-alpha tau) (A cos(wd tau) + B sin(wd tau)),
-
-tau = t - t0, xs = -sign(v) T / k, alpha = c / 2m, wd = sqrt(k/m - alpha^2) (c^2 < 4 k m, as
-model BC), (P, Q) the harmonic particular solution and (A, B) fitted to (x0, v0).
-
-Events of a piece (sign(v) fixed): the impact x = xI (only while v > 0: x is monotone on the
-piece), the band edge |v| = U_BAND eps heading for 0, and the Poincare times t = 2 pi i / w
-(just the state there). The near-miss maximum of x lies at v = 0, inside the band: it is the
-band piece's event, not free flight's. Both event functions g (xI - x, and |v| - U_BAND eps)
-are located by safe marching: with |g''| <= G2 from the amplitudes (the k-th derivative of
-the homogeneous part is at most wn^k R exp(-alpha tau), of the particular part w^k (P^2 +
-Q^2)^(1/2)), g(t + h) >= g + g' h - G2 h^2 / 2, and the step to the first zero of that lower
-bound can never step over a root, a grazing double root included; near a simple root the step
-is Newton's from the safe side (quadratic convergence), and one plain Newton step ends it.
-
-The friction residual: the regularised friction differs from T sign(v) by
-dF = T (1 - |v| / sqrt(v^2 + eps^2)) <= T eps^2 / (2 v^2) (3.2e-7 N at model BC's band edge, |v| = 1e-3
-m/s), and by Duhamel's integral the closed form is off by at most
-|dx| <= I / (m wd), |dv| <= wn I / (m wd), I = integral of dF over the piece
-(:func:`friction_residual`); :func:`friction_correction` adds that integral's first-order
-effect by quadrature.
+Why: before the core gets a closed-form free-flight piece, measure what it can gain.
+The piece itself, its events and its friction residual: :mod:`impactosc_bench.closed_form_piece`.
 
 Measured per forcing period on the chaotic scene (w = 40.86, rtol 1e-10): the core's free-flight
 pieces and band pieces replayed by the core's own step functions from the states the core
@@ -67,195 +44,16 @@ from impactosc.core.layout import (
 from impactosc.core.pieces import inverse_n3
 from impactosc.core.transitions import U_BAND
 from impactosc.model.equations import FREE
-from impactosc.model.parameters import P_C, P_EPS, P_K, P_M, P_M0E, P_OMEGA, P_T, P_XI, ModelParams
+from impactosc.model.parameters import ModelParams
+from impactosc_bench.closed_form_piece import all_flights, flight_piece
 from impactosc_bench.scene import OMEGA, TRANSIENT
 
-__all__ = [
-    "EV_BAND",
-    "EV_IMPACT",
-    "core_pieces",
-    "flight_piece",
-    "flight_state",
-    "friction_correction",
-    "friction_residual",
-]
+__all__ = ["core_pieces", "measure", "projection", "markdown"]
 
 RTOL = 1e-10  # the benchmark's tolerance (benchmark_taylor's), atol = rtol / 100
-EV_NONE, EV_IMPACT, EV_BAND = 0, 1, 2  # how a closed-form piece ends
-MAX_MARCH = 400  # safe-marching iterations per piece before giving up (EV_NONE)
-G_TOL = 1e-12  # an event function within G_TOL of its scale is on its root: one Newton step ends it
-T_TOL = 1e-14  # ... as is one whose root is closer than T_TOL max(1, t) in time (the safe step cannot resolve less)
 KEY_FLIGHT, KEY_BAND = 0, 1  # the piece kinds replayed (free flight in time; the band in asinh(v/eps))
 
 
-# --- the closed form ------------------------------------------------------------------------
-@njit(cache=True)
-def _coefficients(p, s, t0, x0, v0):
-    """(alpha, wd, wn, P, Q, xs, A, B) of the piece from (t0, x0, v0) with friction -s T."""
-    m, k, c, w = p[P_M], p[P_K], p[P_C], p[P_OMEGA]
-    f = p[P_M0E] * w * w
-    alpha = c / (2.0 * m)
-    wn = math.sqrt(k / m)
-    wd = math.sqrt(wn * wn - alpha * alpha)
-    kd = k - m * w * w
-    den = kd * kd + (c * w) ** 2
-    P = f * kd / den
-    Q = -f * c * w / den
-    xs = -s * p[P_T] / k
-    sw, cw = math.sin(w * t0), math.cos(w * t0)
-    A = x0 - xs - (P * sw + Q * cw)
-    B = (v0 - w * (P * cw - Q * sw) + alpha * A) / wd
-    return alpha, wd, wn, P, Q, xs, A, B
-
-
-@njit(cache=True, inline="always")
-def _eval(w, alpha, wd, P, Q, xs, A, B, t0, t):
-    """(x, v, a, jerk) at t: particular part by derivatives of sin, homogeneous by the map
-    (A, B) -> (-alpha A + wd B, -alpha B - wd A) (multiplication by -alpha + i wd)."""
-    tau = t - t0
-    e = math.exp(-alpha * tau)
-    cd, sd = math.cos(wd * tau), math.sin(wd * tau)
-    sw, cw = math.sin(w * t), math.cos(w * t)
-    a0, b0 = A, B
-    a1, b1 = -alpha * a0 + wd * b0, -alpha * b0 - wd * a0
-    a2, b2 = -alpha * a1 + wd * b1, -alpha * b1 - wd * a1
-    a3, b3 = -alpha * a2 + wd * b2, -alpha * b2 - wd * a2
-    ps = P * sw + Q * cw
-    pc = P * cw - Q * sw
-    x = xs + ps + e * (a0 * cd + b0 * sd)
-    v = w * pc + e * (a1 * cd + b1 * sd)
-    a = -w * w * ps + e * (a2 * cd + b2 * sd)
-    j = -w * w * w * pc + e * (a3 * cd + b3 * sd)
-    return x, v, a, j
-
-
-@njit(cache=True, inline="always")
-def _safe_step(g, g1, g2max):
-    """Largest h with g + g1 h - g2max h^2 / 2 >= 0 (g >= 0): no root of g before t + h."""
-    if g <= 0.0:
-        return 0.0
-    disc = math.sqrt(g1 * g1 + 2.0 * g2max * g)
-    if g1 <= 0.0:
-        return 2.0 * g / (disc - g1)
-    return (g1 + disc) / g2max
-
-
-@njit(cache=True)
-def flight_piece(p, t0, x0, v0, isec, period, sections):
-    """Closed-form free flight from (t0, x0, v0), |v0| >= U_BAND eps, to its first event.
-
-    Returns (kind, t, x, v, isec, n_eval): kind EV_IMPACT (x = xI upwards) or EV_BAND (|v| =
-    U_BAND eps heading for 0), EV_NONE if MAX_MARCH iterations found neither; the Poincare
-    states t = isec * period passed on the way go to sections[j] = (t, x, v) (isec advances)."""
-    w = p[P_OMEGA]
-    s = 1.0 if v0 > 0.0 else -1.0
-    alpha, wd, wn, P, Q, xs, A, B = _coefficients(p, s, t0, x0, v0)
-    R0 = math.sqrt(A * A + B * B)
-    pamp = math.sqrt(P * P + Q * Q)
-    xI, edge = p[P_XI], U_BAND * p[P_EPS]
-    tol_x, tol_v = G_TOL * max(abs(xI), 1e-3), G_TOL * edge
-    t = t0
-    n_sec = 0
-    on_section = False
-    for n in range(MAX_MARCH):
-        x, v, a, _ = _eval(w, alpha, wd, P, Q, xs, A, B, t0, t)
-        if on_section:
-            if n_sec < sections.shape[0]:
-                sections[n_sec, 0], sections[n_sec, 1], sections[n_sec, 2] = t, x, v
-            n_sec += 1
-            on_section = False
-        r = R0 * math.exp(-alpha * (t - t0))
-        # band edge: g = s v - edge, g' = s a, |g''| <= |x'''|
-        gv = s * v - edge
-        t_tol = T_TOL * max(1.0, abs(t))
-        if s * a < 0.0 and (gv <= tol_v or gv < -s * a * t_tol):
-            t = t - gv / (s * a)  # one Newton step onto the root
-            x, v, _, _ = _eval(w, alpha, wd, P, Q, xs, A, B, t0, t)
-            return EV_BAND, t, x, v, isec, n + 2
-        h = _safe_step(max(gv, 0.0), s * a, r * wn**3 + pamp * w**3)
-        if s > 0.0:  # impact: g = xI - x, g' = -v, |g''| <= |x''|
-            gx = xI - x
-            if gx <= tol_x or gx < v * t_tol:
-                t = t + gx / v
-                x, v, _, _ = _eval(w, alpha, wd, P, Q, xs, A, B, t0, t)
-                return EV_IMPACT, t, x, v, isec, n + 2
-            h = min(h, _safe_step(gx, -v, r * wn * wn + pamp * w * w))
-        t_sec = isec * period
-        if t + h >= t_sec:
-            t = t_sec
-            on_section = True  # its state is the next iteration's
-            isec += 1
-        else:
-            t = t + h
-    return EV_NONE, t, x, v, isec, MAX_MARCH
-
-
-@njit(cache=True)
-def flight_state(p, t0, x0, v0, t):
-    """(x, v) of the closed-form piece from (t0, x0, v0) at t (friction -T sign(v0))."""
-    s = 1.0 if v0 > 0.0 else -1.0
-    alpha, wd, _, P, Q, xs, A, B = _coefficients(p, s, t0, x0, v0)
-    x, v, _, _ = _eval(p[P_OMEGA], alpha, wd, P, Q, xs, A, B, t0, t)
-    return x, v
-
-
-@njit(cache=True)
-def _all_flights(p, starts, isecs, period):
-    """The prototype on every start state (t, x, v): the work the timing measures; returns the
-    sum of the end times (kept so nothing is optimised away) and the evaluations."""
-    sections = np.empty((4, 3))
-    acc, evals = 0.0, 0
-    for i in range(starts.shape[0]):
-        _, t, x, _, _, n = flight_piece(p, starts[i, 0], starts[i, 1], starts[i, 2], isecs[i], period, sections)
-        acc += t + x
-        evals += n
-    return acc, evals
-
-
-# --- the friction residual ------------------------------------------------------------------
-def friction_residual(params: ModelParams, t0, x0, v0, t1, omega: float = OMEGA, n: int = 4001) -> dict:
-    """I = integral of dF = T (1 - |v| / sqrt(v^2 + eps^2)) over [t0, t1] on the closed form (the
-    trapezoid on a grid graded towards both ends, where |v| is smallest), and the bounds it gives
-    on the closed form's error at t1: |dx| <= I / (m wd), |dv| <= wn I / (m wd)."""
-    p = params.as_array(omega)
-    ts = _graded(t0, t1, n)
-    v = np.array([flight_state(p, t0, x0, v0, t)[1] for t in ts])
-    df = params.T * (1.0 - np.abs(v) / np.sqrt(v * v + params.eps**2))
-    integral = float(np.trapezoid(df, ts))
-    wn = math.sqrt(params.k / params.m)
-    wd = math.sqrt(wn * wn - (params.c / (2 * params.m)) ** 2)
-    return {
-        "integral": integral,
-        "max_dF": float(df.max()),
-        "bound_x": integral / (params.m * wd),
-        "bound_v": wn * integral / (params.m * wd),
-    }
-
-
-def friction_correction(params: ModelParams, t0, x0, v0, t1, omega: float = OMEGA, n: int = 4001):
-    """First-order correction (dx, dv) at t1 of the closed form for the regularised friction:
-    Duhamel's integral of s dF against the impulse response exp(-alpha u) sin(wd u) / (m wd)."""
-    p = params.as_array(omega)
-    s = 1.0 if v0 > 0 else -1.0
-    ts = _graded(t0, t1, n)
-    v = np.array([flight_state(p, t0, x0, v0, t)[1] for t in ts])
-    df = s * params.T * (1.0 - np.abs(v) / np.sqrt(v * v + params.eps**2))
-    alpha = params.c / (2 * params.m)
-    wd = math.sqrt(params.k / params.m - alpha * alpha)
-    u = t1 - ts
-    e = np.exp(-alpha * u)
-    hx = e * np.sin(wd * u) / (params.m * wd)
-    hv = e * (np.cos(wd * u) - alpha / wd * np.sin(wd * u)) / params.m
-    return float(np.trapezoid(hx * df, ts)), float(np.trapezoid(hv * df, ts))
-
-
-def _graded(t0, t1, n):
-    """n points on [t0, t1] clustered quadratically at both ends (dF ~ 1/v^2 peaks there)."""
-    u = np.linspace(-1.0, 1.0, n)
-    return t0 + (t1 - t0) * 0.5 * (1.0 + np.sign(u) * (1.0 - (1.0 - np.abs(u)) ** 4))
-
-
-# --- the core's pieces, replayed --------------------------------------------------------------
 @njit(cache=True, inline="always")
 def _key(st):
     """KEY_FLIGHT, KEY_BAND, or -1 for any other piece (contact, implicit phase, ...)."""
@@ -393,7 +191,7 @@ def measure(repeats: int = 7, t_end: float = TRANSIENT + 400.0, rtol: float = RT
             OMEGA, TRANSIENT, t_end - TRANSIENT, rtol=rtol, atol=rtol / 100, record=("impacts",)
         ).attrs["wall_time"],
         "core free flight": lambda: _timed(_replay, p, rs, starts, flight, t_end),
-        "closed form": lambda: _timed(_all_flights, p, f_starts, f_isec, period),
+        "closed form": lambda: _timed(all_flights, p, f_starts, f_isec, period),
         "core band": lambda: _timed(_replay, p, rs, starts, band, t_end),
         "core rest": lambda: _timed(_replay, p, rs, starts, rest, t_end),
     }
@@ -408,7 +206,7 @@ def measure(repeats: int = 7, t_end: float = TRANSIENT + 400.0, rtol: float = RT
     spread = {k: (float(np.min(v)) / periods * 1e6, float(np.max(v)) / periods * 1e6) for k, v in walls.items()}
     att_f, _ = _replay(p, rs, starts, flight, t_end)
     att_b, _ = _replay(p, rs, starts, band, t_end)
-    _, evals = _all_flights(p, f_starts, f_isec, period)
+    _, evals = all_flights(p, f_starts, f_isec, period)
     kinds = _prototype_kinds(p, f_starts, f_isec, period)
     return {
         "repeats": repeats,

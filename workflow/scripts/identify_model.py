@@ -22,7 +22,7 @@ from impactosc.identification.report import (
 )
 from impactosc.identification.staged_fit import identify
 from impactosc.io.files import write_table, write_text
-from impactosc.records.surrogate import record_truth
+from impactosc.records.surrogate_truth import record_truth
 
 p = snakemake.params
 g = p.identification

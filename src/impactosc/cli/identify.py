@@ -161,7 +161,7 @@ def _identify_run(args) -> int:
     from impactosc.identification.report import parameter_markdown, parameter_table, write_identified_model
     from impactosc.identification.staged_fit import identify
     from impactosc.records.formats import read_records
-    from impactosc.records.surrogate import record_truth
+    from impactosc.records.surrogate_truth import record_truth
 
     _check_identify_outputs(args)
     if not all(periods > 0 for periods in args.stages):

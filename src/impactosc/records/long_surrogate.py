@@ -19,7 +19,8 @@ import numpy as np
 from impactosc.core.simulation import Window, simulate
 from impactosc.io.files import atomic_write, check_writable, stamp_h5
 from impactosc.model.parameters import ModelParams
-from impactosc.records.surrogate import SurrogateOptions, mismatched_params, sensor_samples, surrogate_meta
+from impactosc.records.surrogate import SurrogateOptions, mismatched_params, sensor_samples
+from impactosc.records.surrogate_truth import surrogate_meta
 
 __all__ = ["write_long_surrogate", "read_truth", "SEGMENT_KEYS"]
 

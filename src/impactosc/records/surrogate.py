@@ -24,6 +24,7 @@ from impactosc.core.simulation import MAX_T_END, Window, simulate
 from impactosc.io.memory import shortfall
 from impactosc.model.parameters import ModelParams, ParameterError
 from impactosc.records.record import MIN_SAMPLES, Record
+from impactosc.records.surrogate_truth import LABEL, surrogate_meta
 
 __all__ = [
     "LABEL",
@@ -34,8 +35,6 @@ __all__ = [
     "surrogate_run",
     "sample_run",
     "surrogate_record",
-    "record_truth",
-    "surrogate_meta",
     "sensor_samples",
     "surrogate_sweep",
     "surrogate_driven",
@@ -43,7 +42,6 @@ __all__ = [
     "surrogate_ramp",
 ]
 
-LABEL = "surrogate (model + noise)"
 #: Bytes a surrogate record takes per point of its simulation grid, up to its file (trajectory,
 #: samples, noise, the writer's text or buffers). Measured by the peak RSS of `impactosc
 #: surrogate` (110 s against 10 s at 20 kHz): 31 B per sample to .h5, 47 B to .csv, 42 B per grid
@@ -154,64 +152,6 @@ def mismatched_params(params: ModelParams | None, mismatch: dict) -> ModelParams
         if not math.isfinite(r) or abs(r) >= 0.5:
             raise ValueError(f"mismatch of {k} must be a small relative change (|r| < 0.5), got {r}")
     return dataclasses.replace(params, **{k: getattr(params, k) * (1 + r) for k, r in mismatch.items()})
-
-
-#: Prefix of the metadata keys that carry a surrogate's true model parameters (true_k, true_c, ...).
-TRUE_PREFIX = "true_"
-
-
-def surrogate_meta(o: SurrogateOptions, params: ModelParams, extra=None) -> dict:
-    """The metadata a surrogate record carries: its label, settings, x_impact, sensor_delay and
-    the model it samples (``true_<parameter>``: the truth an identification is scored against)."""
-    meta = {
-        "label": LABEL,
-        "source": "surrogate",
-        "surrogate_rate_hz": o.rate,
-        "surrogate_noise_m": o.noise,
-        "surrogate_seed": o.seed,
-        "surrogate_mismatch": ", ".join(f"{k}{r:+g}" for k, r in sorted(o.mismatch.items())) or "none",
-        "x_impact": params.xI,
-    }
-    # realism options only when on (records without them keep their metadata)
-    if o.lowpass_hz > 0:
-        meta.update(
-            surrogate_lowpass_hz=o.lowpass_hz, surrogate_lowpass_order=o.lowpass_order, sensor_delay=o.sensor_delay
-        )
-    if o.drift > 0:
-        meta.update(surrogate_drift_m=o.drift, surrogate_drift_time_s=o.drift_time)
-    if o.clock_jitter > 0:
-        meta["surrogate_clock_jitter_s"] = o.clock_jitter
-    if o.quantum > 0:
-        meta["surrogate_quantum_m"] = o.quantum
-    meta.update(
-        {TRUE_PREFIX + f.name: _true_value(f.name, getattr(params, f.name)) for f in dataclasses.fields(params)}
-    )
-    meta.update(extra or {})
-    return meta
-
-
-def record_truth(records) -> ModelParams | None:
-    """The model the records sample, when every record is a surrogate declaring the same one
-    (:func:`surrogate_meta`); else None (a rig's records have no truth)."""
-    found = set()
-    bc = ModelParams()
-    for rec in records:
-        values = {f.name: rec.meta.get(TRUE_PREFIX + f.name) for f in dataclasses.fields(ModelParams)}
-        for name in ("law", "e", "cI"):  # a record of model BC's law written before laws had names
-            if values[name] is None and values["b"] is not None:
-                values[name] = getattr(bc, name)
-        if any(v is None for v in values.values()):
-            return None
-        found.add(tuple(sorted((k, _true_value(k, v)) for k, v in values.items())))
-    return ModelParams(**dict(found.pop())) if len(found) == 1 else None
-
-
-def _true_value(name: str, value):
-    """A parameter as the records' metadata hold it (a CSV's as text): the law by its name, the
-    rest as floats."""
-    if name == "law":
-        return value.decode() if isinstance(value, bytes) else str(value)
-    return float(value)
 
 
 def sensor_samples(traj, o: SurrogateOptions, rng, state: dict | None = None):
