@@ -7,6 +7,8 @@ line, the Python API and the workflow config read it through :func:`read_model_f
 
     format: impactosc-model/1
     name: rig 3, March                       # free text, optional
+    contact: {law: flores, e: 0.7}           # optional: the contact law (model BC's without it);
+                                             # a law other than bc has no b, n2, n3 in parameters
     parameters:                              # each ModelParams field: a number, or a mapping
       m:  {value: 8.735, unit: kg, fixed: true, note: given (mass is not identifiable)}
       k:  {value: 1418.9, unit: N/m, stderr: 3.1}
