@@ -57,6 +57,7 @@ GALLERY = [
         ["grazing", "bifurcation_overlay", "fig02_orbits", "fig03b_orbits", "basins", "basins_fine"],
     ),
     ("Lyapunov exponents", ["lyapunov_chaos", "fig02_lyapunov", "fig03b_lyapunov"]),
+    ("Contact laws", ["restitution"]),
     ("Two parameters (opt-in)", ["map2d", "map2d_curves"]),
     ("Records and identification", ["measured_noise_study", "identify"]),
     ("Speed against accuracy", ["work_precision"]),

@@ -211,3 +211,15 @@ def test_identification_refuses_another_law():
 
     with pytest.raises(ValueError, match="fits model BC's contact law; the stated model's law is flores"):
         identify([object()], base=law_params("flores"))
+
+
+@pytest.mark.parametrize("law", RESTITUTION)
+def test_the_restitution_table_is_the_free_impact_of_scipy(law):
+    """impactosc.dynamics.restitution (the restitution table's numbers) against SciPy at rtol 1e-13
+    on the law's published form, within 1e-6 (the table prints 4 decimals)."""
+    from impactosc.dynamics.restitution import effective_restitution
+
+    params = law_params(law, e=0.6)
+    assert effective_restitution(params, 0.05) == pytest.approx(
+        scipy_restitution(law_params(law, e=0.6, **FREE), 0.05), abs=1e-6
+    )
