@@ -20,28 +20,24 @@ import time
 import numpy as np
 from numba import njit
 
-from impactosc.core import implicit, time_pieces, transformed_pieces, vector_fields
-from impactosc.core.driver import initial_state, run_settings
+from impactosc.core.driver import initial_state, resume, run_settings, step_piece
 from impactosc.core.events import record_poincare
 from impactosc.core.layout import (
     EXPLICIT,
     N_COUNT,
     N_STATE,
+    R_PERIOD,
     S_FIELD,
     S_ISEC,
     S_MODE,
-    S_S,
-    S_SGN,
     S_SLOW,
     S_T,
     S_TAU,
-    S_TREF,
     S_V,
     S_X,
     TIME,
     UVEL,
 )
-from impactosc.core.pieces import inverse_n3
 from impactosc.core.transitions import U_BAND
 from impactosc.model.equations import FREE
 from impactosc.model.parameters import ModelParams
@@ -66,33 +62,14 @@ def _key(st):
     return -1
 
 
-@njit(cache=True, inline="always")
-def _resume(p, st, d0):
-    """The derivative a piece's first step starts from (as core.run's resume)."""
-    mode = int(st[S_MODE])
-    if mode == TIME:
-        st[S_TREF] = 0.0
-        st[S_TAU] = st[S_T]
-        st[S_S] = st[S_T]
-    d0[0], d0[1], d0[2] = vector_fields.deriv(
-        p, mode, int(st[S_FIELD]), st[S_SGN], inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], st[S_X], st[S_V]
-    )
-
-
 @njit(cache=True)
-def _one_step(p, st, cnt, rs, ws, ev, n_ev, win, period, t_end):
+def _one_step(p, st, cnt, rs, ws, ev, n_ev, win, period):
     """One iteration of core.run's loop (a Poincare time, or one step of the current piece)."""
     t_sec = st[S_ISEC] * period
     if st[S_MODE] == TIME and st[S_TAU] >= t_sec:
         ev, n_ev = record_poincare(st, rs, ev, n_ev, t_sec, st[S_X], st[S_V])
         return ev, n_ev, False
-    t_target = min(t_end, t_sec)
-    if st[S_SLOW] != 0.0:
-        ev, n_ev = implicit.implicit_step(p, st, cnt, rs, ws, ev, n_ev, win, win, t_target)
-    elif st[S_MODE] != TIME:
-        ev, n_ev = transformed_pieces.transformed_step(p, st, cnt, rs, ws, ev, n_ev, win, win)
-    else:
-        ev, n_ev = time_pieces.time_step(p, st, cnt, rs, ws, ev, n_ev, win, win, t_target)
+    ev, n_ev = step_piece(p, st, cnt, rs, ws, ev, n_ev, win, win, t_sec)
     return ev, n_ev, True
 
 
@@ -106,8 +83,8 @@ def _collect(p, st, rs, t_end, starts, ends):
     cnt = np.zeros(N_COUNT, dtype=np.int64)
     ev = np.empty((16, 4))
     win = np.empty(0)
-    _resume(p, st, ws[3])
-    period = rs[5]
+    resume(p, st, cnt, ws[3])
+    period = rs[R_PERIOD]
     n_p, cur, attempts = 0, -2, 0
     while st[S_T] < t_end:
         key = _key(st)
@@ -120,7 +97,7 @@ def _collect(p, st, rs, t_end, starts, ends):
                 starts[n_p, :] = st
                 n_p += 1
             cur, attempts = key, 0
-        ev, _, stepped = _one_step(p, st, cnt, rs, ws, ev, 0, win, period, t_end)
+        ev, _, stepped = _one_step(p, st, cnt, rs, ws, ev, 0, win, period)
         attempts += 1 if stepped else 0
     if n_p > 0:  # the piece the run ended in: not a full piece
         n_p -= 1
@@ -136,16 +113,16 @@ def _replay(p, rs, starts, which, t_end):
     ev = np.empty((16, 4))
     win = np.empty(0)
     st = np.empty(N_STATE)
-    period = rs[5]
+    period = rs[R_PERIOD]
     attempts, acc = 0, 0.0
     for i in range(starts.shape[0]):
         if which[i] == 0:
             continue
         st[:] = starts[i]
         key = _key(st)
-        _resume(p, st, ws[3])
+        resume(p, st, cnt, ws[3])
         while _key(st) == key and st[S_T] < t_end:
-            ev, _, stepped = _one_step(p, st, cnt, rs, ws, ev, 0, win, period, t_end)
+            ev, _, stepped = _one_step(p, st, cnt, rs, ws, ev, 0, win, period)
             attempts += 1 if stepped else 0
         acc += st[S_T]
     return attempts, acc

@@ -97,7 +97,7 @@ def run_settings(t_end, t_record, rtol, atol, flags, period, win_t0=0.0, win_dt=
 
 
 @njit(cache=True)
-def _resume(p, st, cnt, d0):
+def resume(p, st, cnt, d0):
     """Normalise the saved clock (a fresh state only sets S_T) and rebuild the derivative
     the next explicit step starts from."""
     mode = int(st[S_MODE])
@@ -125,6 +125,20 @@ def _stalled(st, cnt, period):
     return False
 
 
+@njit(cache=True, inline="always")  # on every step of run: inlined
+def step_piece(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_sec):
+    """One step of the current piece (implicit, transformed or in time), towards the next
+    Poincare time t_sec or the run's end. Returns (ev, n_ev)."""
+    t_target = min(rs[R_T_END], t_sec)
+    if st[S_SLOW] != 0.0:
+        ev, n_ev = implicit.implicit_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target)
+    elif st[S_MODE] != TIME:
+        ev, n_ev = transformed_pieces.transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v)
+    else:
+        ev, n_ev = time_pieces.time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target)
+    return ev, n_ev
+
+
 @njit(cache=True)
 def run(p, st, cnt, rs, ev, n_ev, win_x, win_v, max_steps):
     """Integrate from the state ``st`` towards rs[R_T_END]; events at t >= rs[R_T_RECORD] go to ``ev``.
@@ -135,7 +149,7 @@ def run(p, st, cnt, rs, ev, n_ev, win_x, win_v, max_steps):
     to win_x / win_v. Returns (ev, n_ev) (ev may be reallocated).
     """
     ws = (np.zeros((16, 3)), np.zeros((7, 3)), np.zeros((8, 6)), np.zeros(3))  # K, F, work, d0
-    _resume(p, st, cnt, ws[3])
+    resume(p, st, cnt, ws[3])
     period = rs[R_PERIOD]
     steps = 0
     while True:
@@ -148,13 +162,7 @@ def run(p, st, cnt, rs, ev, n_ev, win_x, win_v, max_steps):
         steps += 1
         if _stalled(st, cnt, period):
             break
-        t_target = min(rs[R_T_END], t_sec)
-        if st[S_SLOW] != 0.0:
-            ev, n_ev = implicit.implicit_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target)
-        elif st[S_MODE] != TIME:
-            ev, n_ev = transformed_pieces.transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v)
-        else:
-            ev, n_ev = time_pieces.time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target)
+        ev, n_ev = step_piece(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_sec)
         if st[S_STATUS] != RUNNING:
             break
     return ev, n_ev
