@@ -10,11 +10,14 @@ import numpy as np
 import pytest
 import yaml
 from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
 from test_config import CONFIG, SCHEMA  # tests/ is on sys.path (pytest's prepend import mode)
 
-from impactosc.core.layout import S_V, S_X
+from impactosc.core.driver import initial_state, resume, run_settings, step_piece
+from impactosc.core.layout import N_COUNT, S_FIELD, S_V, S_X
 from impactosc.core.simulation import Window, simulate
 from impactosc.model.contact_laws import LAWS
+from impactosc.model.equations import CONTACT, CUT
 from impactosc.model.model_file import FORMAT, apply_overrides, read_model_file, write_model_file
 from impactosc.model.parameters import ModelParams, UntestedParameterWarning
 from impactosc_bench.scipy_reference import RESTITUTION_CHI, model_forces, solve_reference
@@ -80,6 +83,49 @@ def test_chaotic_scene_impact_times_agree_with_scipy(law):
     t_core, t_ref = run.events["impacts"]["t"], ref["impacts_t"]
     assert t_core.size == t_ref.size > 10
     assert np.max(np.abs(t_core - t_ref)) < 1e-8
+
+
+def kelvin_voigt_restitution(m, kI, cI):
+    """Closed form: the contact is the damped oscillator h'' = -(kI h + cI h') / m from h = 0,
+    h' = v0 until the cut kI h + cI h' = 0; past it no force acts, so v_exit is v at the cut."""
+    s = cI / (2.0 * m)
+    wd = math.sqrt(kI / m - s * s)
+
+    def bracket(t):  # (kI h + cI h') / v0
+        return kI * math.sin(wd * t) / wd + cI * (math.cos(wd * t) - s / wd * math.sin(wd * t))
+
+    t = brentq(bracket, math.pi / (2.0 * wd), math.pi / wd, xtol=1e-300, rtol=9e-16)
+    return -math.exp(-s * t) * (math.cos(wd * t) - s / wd * math.sin(wd * t))
+
+
+@pytest.mark.parametrize("cI", [20.0, 500.0, 2000.0])
+def test_kelvin_voigt_restitution_is_its_closed_form(cI):
+    # 1e-9: at rtol 1e-12 the free impact's global error is about 10 rtol (measured up to 1.4e-11
+    # over cI 20-2000 N s/m and v0 0.05-1 m/s, scaling with rtol from 1e-6 down)
+    params = law_params("kelvin-voigt", cI=cI, **FREE)
+    assert core_restitution(params, 0.2) == pytest.approx(kelvin_voigt_restitution(params.m, params.kI, cI), abs=1e-9)
+
+
+def test_kelvin_voigt_cut_is_located_on_its_line():
+    """The cut kI h + cI v = 0 is an event of x and v together: the step that crosses it ends on
+    it (to the bisection's last bit of the step), and the piece past it has no force."""
+    params = law_params("kelvin-voigt", cI=500.0, **FREE)
+    p = params.as_array(10.0)
+    st = initial_state(p, 0.0, -1e-6, 0.2, 2.0 * math.pi / 10.0, math.inf)
+    rs = run_settings(0.02, math.inf, 1e-10, 1e-12, 0, 2.0 * math.pi / 10.0)
+    ws = (np.zeros((16, 3)), np.zeros((7, 3)), np.zeros((8, 6)), np.zeros(3))
+    cnt = np.zeros(N_COUNT, dtype=np.int64)
+    ev, win = np.empty((16, 4)), np.empty(0)
+    resume(p, st, cnt, ws[3])
+    fields = []
+    while st[S_FIELD] != CUT and len(fields) < 10_000:
+        fields.append(int(st[S_FIELD]))
+        ev, _ = step_piece(p, st, cnt, rs, ws, ev, 0, win, win, math.inf)
+    assert CONTACT in fields and st[S_FIELD] == CUT
+    h, v = st[S_X] - params.xI, st[S_V]
+    # on the line to a step's share of rounding: |kI h + cI v| against kI h's size (h ~ 1e-5 m)
+    assert abs(params.kI * h + params.cI * v) <= 1e-9 * params.kI * h
+    assert h > 0 and v < 0
 
 
 def test_model_bc_is_the_default_law_and_its_array_unchanged():

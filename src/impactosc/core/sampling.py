@@ -30,6 +30,23 @@ def bisect(F, y0, c, level, lo, hi, sign_lo):
 
 
 @njit(cache=True)
+def bisect_sum(F, x0, v0, b, level, sign_lo):
+    """Crossing of x + b v through `level` in (0, 1] (x0, v0: the step's start state); returns
+    the first theta past it: a cut that is a line in (x, v), as Kelvin-Voigt's."""
+    lo, hi = 0.0, 1.0
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        g = dop853.dense_eval(F, x0, mid, 1) + b * dop853.dense_eval(F, v0, mid, 2) - level
+        if g * sign_lo > 0.0:
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
+@njit(cache=True)
 def window_due(st, rs, win_x, t1):
     """Is a window sample due at or before absolute time t1?"""
     j = int(st[S_WIN])

@@ -36,10 +36,11 @@ from impactosc.core.layout import (
     UNDERFLOW_EXPLICIT,
 )
 from impactosc.core.pieces import accepted_step_factor, inverse_n3, start_piece, store
-from impactosc.core.sampling import bisect, sample_window, window_due
-from impactosc.core.transitions import after_time_step, apply_event
+from impactosc.core.sampling import bisect, bisect_sum, sample_window, window_due
+from impactosc.core.transitions import after_time_step, apply_event, past_cut
+from impactosc.model.contact_laws import KELVIN_VOIGT
 from impactosc.model.equations import CONTACT, CUT, FREE
-from impactosc.model.parameters import P_EPS, P_M, P_T, P_XI
+from impactosc.model.parameters import P_B, P_EPS, P_LAW, P_M, P_T, P_XI
 
 DIP_SAMPLES = 32
 RESTART_FRACTION = 1e-3  # first step after an event, as a fraction of the step that held it
@@ -108,8 +109,8 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     g1 = x1 - p[P_XI]
     x_up = field == FREE and g1 > 0.0
     x_down = field != FREE and g1 < 0.0
-    cut_on = field == CONTACT and v1 <= -st[S_VCUT]
-    cut_off = field == CUT and v1 > -st[S_VCUT]
+    cut_on = field == CONTACT and past_cut(p, st, x1, v1)
+    cut_off = field == CUT and not past_cut(p, st, x1, v1)
     if v_cross or x_up or x_down or cut_on or cut_off:
         if not built:
             dop853.dense_prepare(p, TIME, field, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
@@ -169,14 +170,13 @@ def _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off):
         if th_x < th:
             th = th_x
             kind = EV_X_DOWN
-    if cut_on:
-        th_c = bisect(F, v, 2, -vcut, 0.0, 1.0, 1.0)
+    if cut_on or cut_off:
+        sign_lo = 1.0 if cut_on else -1.0
+        if p[P_LAW] == KELVIN_VOIGT:  # the bracket h + (cI/kI) v, on x and v together
+            th_c = bisect_sum(F, x, v, p[P_B], p[P_XI], sign_lo)
+        else:
+            th_c = bisect(F, v, 2, -vcut, 0.0, 1.0, sign_lo)
         if th_c < th:
             th = th_c
-            kind = EV_CUT_ON
-    if cut_off:
-        th_c = bisect(F, v, 2, -vcut, 0.0, 1.0, -1.0)
-        if th_c < th:
-            th = th_c
-            kind = EV_CUT_OFF
+            kind = EV_CUT_ON if cut_on else EV_CUT_OFF
     return th, kind

@@ -16,6 +16,7 @@ checks every number against the constants below)::
     restitution --|v| = 0.45 v0, x > xI--> exit [sqrt(x - xI)] --x = xI--> free flight [t]
     contact [t] --x = xI, v < 0--> free flight [t]
     contact [t] --v = -v_cut--> past the cut [t] --v = -v_cut--> contact [t]
+        (Kelvin-Voigt: its cut is kI h + cI v = 0, a line in (x, v): :func:`past_cut`)
     free flight [t] --|v| < 1e3 eps, heading for v = 0, T > 0--> friction band [asinh(v/eps)]
     friction band --v = 0--> friction band (other side) --|v| = 1e3 eps--> free flight [t]
     free flight, contact, turn, band --v = 0, |net force| < 1.5 T--> stick / slow reversal [implicit]
@@ -70,7 +71,7 @@ from impactosc.core.layout import (
     WVEL,
 )
 from impactosc.core.pieces import start_piece, store
-from impactosc.model.contact_laws import RESTITUTION_FIRST
+from impactosc.model.contact_laws import KELVIN_VOIGT, RESTITUTION_FIRST
 from impactosc.model.equations import CONTACT, CUT, FREE, accel, damping_rate, restitution_damping, stick_force
 from impactosc.model.parameters import P_B, P_E, P_EPS, P_KI, P_LAW, P_M, P_N2, P_N3, P_T, P_XI
 
@@ -104,11 +105,21 @@ def _set_variable(st, field, mode, sgn, s):
     st[S_S] = s
 
 
+@njit(cache=True, inline="always")  # on every accepted step in contact
+def past_cut(p, st, x, v):
+    """Is (x, v), in contact, past the cut where the law's bracket turns negative (F_I = 0)?
+    The family with n2 = n1 has its cut at v = -v_cut; Kelvin-Voigt's bracket h + (cI/kI) v
+    (n2 = 0) vanishes on a line in (x, v), so its cut is an event of x and v together."""
+    if p[P_LAW] == KELVIN_VOIGT:
+        return x - p[P_XI] + p[P_B] * v <= 0.0
+    return v <= -st[S_VCUT]
+
+
 @njit(cache=True)
-def field_of(p, x, v, vcut):
+def field_of(p, st, x, v):
     """Vector field at the state (x, v): free flight, contact, or contact past the cut."""
     if x - p[P_XI] >= 0.0:
-        return CONTACT if v > -vcut else CUT
+        return CUT if past_cut(p, st, x, v) else CONTACT
     return FREE
 
 
@@ -116,7 +127,7 @@ def field_of(p, x, v, vcut):
 def first_piece(p, st, cnt, t, x, v):
     """The piece a run starts on at (t, x, v): the vector field there, explicit in time,
     or the implicit phase when it starts at rest where dry friction holds the cart."""
-    field = field_of(p, x, v, st[S_VCUT])
+    field = field_of(p, st, x, v)
     set_piece(st, field, EXPLICIT, TIME)
     if v == 0.0 and goes_implicit(p, field, t, x):
         enter_slow(p, st, cnt, t, x, v, 0.0)
@@ -238,7 +249,8 @@ def apply_event(p, st, cnt, rs, ev, n, kind, t, x, v, direction, dt_step):
         x = p[P_XI]
         set_piece(st, FREE, slow, TIME)
     elif kind in (EV_CUT_ON, EV_CUT_OFF):
-        v = -vcut
+        if p[P_LAW] != KELVIN_VOIGT:  # on the cut v = -v_cut (Kelvin-Voigt's: the located state)
+            v = -vcut
         set_piece(st, CUT if kind == EV_CUT_ON else CONTACT, slow, TIME)
     else:  # v = 0
         v = 0.0
