@@ -162,3 +162,45 @@ def test_measure_contestants_times_round_robin_and_reports_medians():
     assert "impact_time_error_1p5s" not in fl and fl["wall_time"] == 0.02
     with pytest.raises(ValueError, match="repeats"):
         timing_rounds.measure_contestants(contestants, 0, reference_impacts=2898, ref_times=np.empty(0))
+
+
+def test_a_revisions_core_is_no_peer_and_has_its_own_lines():
+    """The core of another revision (impactosc_bench.core_revision) runs in the same rounds: it
+    is never the headline's compiled peer, and its lines give this core's time over its own."""
+    from impactosc_bench.core_revision import revision_lines
+
+    old = f"{cs.CORE} at abc1234"
+    rows = [*_rows(), _row(old, 1e-10, 0.05, 1.8e-9, bit_for_bit=True), _row(old, 1e-8, 0.40, 6e-8)]
+    head = {h["role"]: h for h in cs.core_speed_headline(rows, max_error=2.5e-9)}
+    assert head["fastest compiled peer"]["solver"] == "CyRK Vern7"
+    lines = revision_lines(rows, cs.CORE)
+    assert len(lines) == 4 and lines[0].startswith("| revision |")
+    assert lines[2] == f"| {old} | 1e-10 | 0.4100 | 0.0500 | 8.200 | yes |"
+    assert lines[3].endswith("| 0.875 | no |")
+    assert revision_lines(_rows(), cs.CORE) == []
+
+
+def test_a_revision_that_is_none_is_named():
+    from impactosc_bench.core_revision import RevisionCore
+
+    with pytest.raises(ValueError, match="--against 'no-such-revision': not a git revision"):
+        RevisionCore("no-such-revision")
+
+
+@pytest.mark.slow
+def test_the_core_of_the_last_commit_runs_as_a_contestant():
+    """The last commit's core, in its own process, gives this core's impacts bit for bit when the
+    core and the model are those of that commit."""
+    import subprocess
+
+    from impactosc_bench.core_revision import RevisionCore, same_impacts
+    from impactosc_bench.core_speed import run_core_from_rest
+
+    changed = subprocess.run(["git", "diff", "--quiet", "HEAD", "--", "src/impactosc"], check=False).returncode
+    if changed:
+        pytest.skip("the library differs from the last commit's")
+    core = RevisionCore("HEAD")
+    try:
+        assert same_impacts(core, run_core_from_rest, 1e-8, 0.0, 20.0)
+    finally:
+        core.close()

@@ -207,6 +207,7 @@ COLUMNS = (
     "status",
     "rejected",
     "reference_impacts",
+    "bit_for_bit",
 )
 
 
@@ -218,6 +219,7 @@ def measure_core_speed(
     peer_methods=None,
     peer_rtols=None,
     heyoka: bool = True,
+    against: str | None = None,
     log=print,
 ) -> tuple[list[dict], list[str]]:
     """Rows of the core at `rtols`, the compiled peers (None: peers.METHODS / peers.RTOLS; an
@@ -227,9 +229,15 @@ def measure_core_speed(
 
     The attractor's impact count is the core's at rtol 1e-10 (measured here if that is one of
     `rtols`, else by timing_rounds.reference_impact_count).
+
+    `against`: a git revision whose core is timed in the same rounds at `rtols`
+    (:mod:`impactosc_bench.core_revision`); its rows say whether its impacts are this core's
+    bit for bit.
     """
     from impactosc_bench import peers
+    from impactosc_bench.core_revision import RevisionCore, revision_contestants, same_impacts
 
+    revision = None if against is None else RevisionCore(against)  # a wrong revision fails first
     warm_up()
     methods = peers.METHODS if peer_methods is None else tuple(peer_methods)
     p_rtols = peers.RTOLS if peer_rtols is None else tuple(peer_rtols)
@@ -248,7 +256,14 @@ def measure_core_speed(
         f"attractor: the core at rtol {CORE_RTOL:g} has {reference} impacts in {TRANSIENT:g}-"
         f"{TRANSIENT + DURATION:g} s; on_attractor = within {ATTRACTOR_TOLERANCE:.0%}"
     )
+    if revision is not None:
+        others += revision_contestants(revision, rtols, TRANSIENT, DURATION)
     rows = measure_contestants(core + others, repeats, reference_impacts=reference, ref_times=ref_times, log=log)
+    if revision is not None:
+        for r in rows:
+            if r["solver"] == revision.label:
+                r["bit_for_bit"] = same_impacts(revision, run_core_from_rest, r["rtol"], TRANSIENT, DURATION)
+        revision.close()
     for r in rows:
         if r["solver"] == CORE:
             r["rhs_per_period_linear"] = linear_rhs_per_period(r["rtol"])
@@ -276,7 +291,7 @@ def core_speed_headline(rows: list[dict], max_error: float = MAX_ERROR) -> list[
 
     core_rows = [r for r in rows if r["solver"] == CORE]
     scipy_rows = [r for r in rows if r["solver"] == SCIPY]
-    peer_rows = [r for r in rows if r["solver"] not in (CORE, SCIPY)]
+    peer_rows = [r for r in rows if r["solver"] not in (CORE, SCIPY) and not r["solver"].startswith(CORE)]
     core = best_peer(core_rows, max_error)
     peer = best_peer(peer_rows, max_error)
     scipy, scipy_note = best_peer(scipy_rows, max_error), f"at equal error (<= {max_error:g} s)"
@@ -392,3 +407,35 @@ def headline_sentence(head: list[dict]) -> str:
             f"{scipy['note']})"
         )
     return text + "."
+
+
+def main(argv=None) -> int:
+    import argparse
+
+    from impactosc_bench.core_revision import revision_lines
+
+    ap = argparse.ArgumentParser(
+        prog="python -m impactosc_bench.core_speed",
+        description="Time this core against the core of another git revision, in the same rounds "
+        "(chaotic scene, from rest, 100 s + 400 s), and say whether their impacts are the same bit for bit.",
+    )
+    ap.add_argument("--against", required=True, help="git revision whose core is timed beside this one, e.g. HEAD~1")
+    ap.add_argument("--rtols", type=float, nargs="+", default=[1e-8, 1e-10], help="tolerances (atol = rtol/100)")
+    ap.add_argument("--repeats", type=int, default=7, help="timing rounds (median reported); default 7")
+    args = ap.parse_args(argv)
+    if args.repeats < 1:
+        ap.error(f"--repeats: must be >= 1, got {args.repeats}")
+    if not all(0 < r < 1 for r in args.rtols):
+        ap.error(f"--rtols: each must lie in (0, 1), got {args.rtols}")
+    try:
+        rows, _ = measure_core_speed(
+            args.rtols, args.repeats, scipy_rtols=(), peer_methods=(), heyoka=False, against=args.against
+        )
+    except ValueError as e:
+        ap.error(str(e))
+    print("\n".join(revision_lines(rows, CORE)))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

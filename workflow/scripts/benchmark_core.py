@@ -14,6 +14,7 @@ import logging
 import math
 
 from impactosc.io.files import read_json, write_table, write_text
+from impactosc_bench.core_revision import revision_lines
 from impactosc_bench.core_speed import (
     CORE,
     DURATION,
@@ -54,6 +55,7 @@ def main(bc, jit_path, csv_path, headline_path, md_path):
         peer_methods=peers["methods"],
         peer_rtols=peers["rtols"],
         heyoka=peers["heyoka"],
+        against=bc["against"],
         log=logging.info,
     )
     write_table(csv_path, rows)
@@ -80,6 +82,9 @@ def main(bc, jit_path, csv_path, headline_path, md_path):
         "",
         *scipy_ratios(rows),
     ]
+    revision = revision_lines(rows, CORE)
+    if revision:
+        lines += ["", f"## This core against revision {bc['against']}, in the same rounds", "", *revision]
     if not bc["scipy_rtols"]:
         lines += [
             "",
