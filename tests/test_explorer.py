@@ -38,7 +38,9 @@ from impactosc.explorer.view import (
     parse_omega,
     parse_range,
     record_error,
+    shown_parameters,
     snakemake_command,
+    with_law,
     with_parameter,
     write_config,
 )
@@ -513,3 +515,41 @@ def test_the_websocket_needs_the_signed_session_of_a_page_with_the_token(served)
     assert _websocket(port, ["bokeh", forged]) == "refused 403"  # not signed by the server
     assert _websocket(port, ["bokeh", session], origin=False) == "refused 403"
     assert _websocket(port, ["bokeh", session]) == "open"
+
+
+def test_the_law_menu_changes_the_law_and_its_parameters(tmp_path):
+    flores = with_parameter(with_law(ModelParams(), "flores"), "e", "0.6")
+    assert (flores.law, flores.e, flores.n1) == ("flores", 0.6, 1.5)
+    assert shown_parameters("flores")[-1] == "e" and "b" not in shown_parameters("flores")
+    assert {"b", "n2", "n3"} <= set(shown_parameters("bc")) and not {"e", "cI"} & set(shown_parameters("bc"))
+    kv = with_law(flores, "kelvin-voigt")
+    assert kv.n1 == 1.0 and "cI" in shown_parameters("kelvin-voigt")
+    assert with_law(kv, "bc").n1 == ModelParams().n1  # leaving the linear law restores the exponent
+    with pytest.raises(InputError, match="the bc law has no parameter e"):
+        with_parameter(ModelParams(), "e", "0.5")
+    with pytest.raises(InputError, match="the flores law has no parameter b"):
+        with_parameter(flores, "b", "0.5")
+    with pytest.raises(InputError, match="e must be in \\(0, 1\\]"):
+        with_parameter(flores, "e", "1.5")
+    with pytest.raises(InputError, match="unknown contact law 'hooke'"):
+        with_law(flores, "hooke")
+    # the view's config names the law as the workflow reads it
+    config = _workflow_config(write_config(tmp_path / "view.yaml", config_snippet(View(params=flores, n_columns=41))))
+    assert (config["model"]["law"], config["model"]["e"]) == ("flores", 0.6)
+
+
+def test_the_model_controls_show_the_laws_fields_and_report_only_a_users_edits():
+    from impactosc.explorer.model_controls import ModelControls
+
+    calls = []
+    controls = ModelControls(ModelParams(), calls.append, lambda name, text: calls.append((name, text)))
+    visible = {name for name, text in controls.fields.items() if text.visible}
+    assert {"b", "n2", "n3"} <= visible and not {"e", "cI"} & visible
+    controls.show(with_law(ModelParams(), "kelvin-voigt"))
+    visible = {name for name, text in controls.fields.items() if text.visible}
+    assert "cI" in visible and not {"b", "e"} & visible
+    assert controls.fields["n1"].value == "1.0" and controls.fields["kI"].title == "kI (N/m)"
+    assert calls == []  # the controls' own writes are no edits
+    controls.fields["cI"].value = "80"
+    controls.law.value = "hertz"
+    assert calls == [("cI", "80"), "hertz"]

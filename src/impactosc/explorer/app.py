@@ -40,9 +40,9 @@ from bokeh.models import (
 )
 from bokeh.plotting import figure
 
+from impactosc.explorer.model_controls import ModelControls
 from impactosc.explorer.scheduler import RECORD, Scheduler
 from impactosc.explorer.view import (
-    SLIDERS,
     InputError,
     RecordAccess,
     View,
@@ -53,10 +53,10 @@ from impactosc.explorer.view import (
     parse_range,
     record_error,
     snakemake_command,
+    with_law,
     with_parameter,
     write_config,
 )
-from impactosc.model.parameters import PARAMETERS
 
 __all__ = ["Explorer"]
 
@@ -184,16 +184,8 @@ class Explorer:
             ),
         }  # fmt: skip
         for name, slider in self.sliders.items():
-            slider.on_change("value", partial(self._on_parameter, name))
-        self.fields = {}
-        for name, unit, _meaning in PARAMETERS:
-            if name in SLIDERS:
-                continue
-            text = TextInput(
-                title=f"{name} ({unit})", value=repr(getattr(v.params, name)), name=f"param_{name}", width=95
-            )
-            text.on_change("value", partial(self._on_parameter, name))
-            self.fields[name] = text
+            slider.on_change("value", lambda _attr, _old, new, name=name: self._on_parameter(name, str(new)))
+        self.model = ModelControls(v.params, self._on_law, self._on_parameter)
         self.record_path = TextInput(title="record file (Poincare points overlaid)", name="record_path", width=300)
         self.record_button = Button(label="Load record", name="load_record", width=110)
         self.record_button.on_click(self._on_record)
@@ -210,7 +202,7 @@ class Explorer:
     def _layout(self):
         controls = row(self.w_lo, self.w_hi, self.n_cols, self.quantity, self.direction, self.recompute)
         params = row(*self.sliders.values(), self.omega)
-        fields = row(*self.fields.values())
+        fields = row(*self.model.widgets())
         record = row(self.record_path, self.record_button, self.locate_button, self.write_button)
         views = row(self.fig_series, self.fig_phase, self.fig_map)
         return column(
@@ -432,20 +424,24 @@ class Explorer:
 
         self._guarded(apply)
 
-    def _on_parameter(self, name: str, _attr, _old, new) -> None:
-        def apply():
-            params = with_parameter(self.view.params, name, new)
-            self.say(parameter_warning(params))
-            self.view = self.view.replace(params=params)
-            self.scheduler.cancel("points")  # located points belong to the model they were found for
-            self.src["points"].data = _empty("w", "kind")
-            self.points.text = ""
-            for span in (self.obstacle, self.series_obstacle, self.phase_obstacle):
-                span.location = params.xI
-            self.request_diagram()
-            self.request_attractor(self.view.omega)
+    def _on_law(self, law: str) -> None:
+        self._guarded(lambda: self._use_params(with_law(self.view.params, law, self.view.file_params)))
 
-        self._guarded(apply)
+    def _on_parameter(self, name: str, text: str) -> None:
+        self._guarded(lambda: self._use_params(with_parameter(self.view.params, name, text)))
+
+    def _use_params(self, params) -> None:
+        """Draw the page again for the model `params` (a parameter or the law changed)."""
+        self.model.show(params)
+        self.say(parameter_warning(params))
+        self.view = self.view.replace(params=params)
+        self.scheduler.cancel("points")  # located points belong to the model they were found for
+        self.src["points"].data = _empty("w", "kind")
+        self.points.text = ""
+        for span in (self.obstacle, self.series_obstacle, self.phase_obstacle):
+            span.location = params.xI
+        self.request_diagram()
+        self.request_attractor(self.view.omega)
 
     def _on_record(self) -> None:
         self._guarded(self._load_record)

@@ -29,7 +29,7 @@ from impactosc.dynamics.sweep import SweepSettings
 from impactosc.io.files import atomic_write
 from impactosc.model.contact_laws import LAWS
 from impactosc.model.model_file import BC_ONLY, NAMES
-from impactosc.model.parameters import PARAMETERS, ModelParams
+from impactosc.model.parameters import LAW_PARAMETERS, PARAMETERS, ModelParams
 
 __all__ = [
     "InputError",
@@ -131,19 +131,40 @@ def parse_columns(text, limit: int = 2000) -> int:
     return int(value)
 
 
-def with_parameter(params: ModelParams, name: str, text) -> ModelParams:
-    """The model with one parameter set from a field's text; the model's own checks (a mass
-    > 0, ...) become InputError. A value outside the tested ranges is allowed (the page says so
-    through the warning text it returns with the model in :func:`parameter_warning`)."""
-    if name not in {p[0] for p in PARAMETERS}:
-        raise InputError(f"unknown model parameter {name!r}")
-    value = parse_number(text, name)
+def _replaced(params: ModelParams, **changes) -> ModelParams:
+    """The model with `changes`; its own checks (a mass > 0, ...) become InputError. A value
+    outside the tested ranges is allowed (the page says so: :func:`parameter_warning`)."""
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            return dataclasses.replace(params, **{name: value})
+            return dataclasses.replace(params, **changes)
     except ValueError as exc:
         raise InputError(str(exc)) from None
+
+
+def shown_parameters(law: str) -> tuple[str, ...]:
+    """The fields the page shows for a law: model BC's family as the law reads it (b, n2, n3
+    only for model BC), then the law's own e or cI."""
+    own = LAWS[law]
+    return tuple(name for name, _, _ in PARAMETERS if own.name == "bc" or name not in BC_ONLY) + own.own
+
+
+def with_parameter(params: ModelParams, name: str, text) -> ModelParams:
+    """The model with one parameter set from a field's text (one the model's law reads)."""
+    if name not in {p[0] for p in PARAMETERS} | {p[0] for p in LAW_PARAMETERS}:
+        raise InputError(f"unknown model parameter {name!r}")
+    if name not in shown_parameters(params.law):
+        raise InputError(f"the {params.law} law has no parameter {name}")
+    return _replaced(params, **{name: parse_number(text, name)})
+
+
+def with_law(params: ModelParams, law: str, base: ModelParams | None = None) -> ModelParams:
+    """The model with another contact law: Kelvin-Voigt is linear (n1 = 1, kI then in N/m);
+    leaving it restores the exponent of `base` (the model file's, or model BC's)."""
+    if law not in LAWS:
+        raise InputError(f"unknown contact law {law!r}; choose from {', '.join(LAWS)}")
+    n1 = 1.0 if LAWS[law].uses_cI else (base or ModelParams()).n1 if params.law == "kelvin-voigt" else params.n1
+    return _replaced(params, law=law, n1=n1)
 
 
 def parameter_warning(params: ModelParams) -> str:
