@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from impactosc.core.simulation import simulate
+from impactosc.core.simulation import simulate, start_of
 from impactosc.dynamics.arclength import _tangent
 from impactosc.dynamics.bifurcation_points import TEST_FUNCTIONS
 from impactosc.dynamics.shooting import (
@@ -142,7 +142,7 @@ def excursions(y, omega: float, n_periods: int, params: ModelParams) -> dict:
     smooth where one appears)."""
     period = n_periods * 2 * math.pi / omega
     run = simulate(
-        omega, 0.0, period, x0=float(y[0]), v0=float(y[1]), params=params, rtol=RTOL, atol=ATOL,
+        omega, 0.0, period, **start_of(y), params=params, rtol=RTOL, atol=ATOL,
         record=("impacts", "near_misses", "penetrations"),
     )  # fmt: skip
     near, pen = run.events["near_misses"], run.events["penetrations"]
