@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from impactosc.dynamics.arclength import continue_branch
 from impactosc.dynamics.lyapunov import lyapunov_spectrum
 from impactosc.dynamics.shooting import SCALE, SCALE_V0, central_difference, monodromy, reduced, shoot
 from impactosc.model.parameters import ModelParams
@@ -107,3 +108,16 @@ def test_lyapunov_spectrum_from_a_point_inside_a_contact(orbit):
     sums = run.running * np.arange(1, 13)[:, None]
     np.testing.assert_allclose(np.diff(sums, axis=0)[2:], np.log(np.abs(orbit.multipliers))[None, :].repeat(9, 0),
                                rtol=0, atol=5e-3)  # fmt: skip
+
+
+def test_arclength_continuation_carries_v0_along_the_branch(orbit):
+    branch = continue_branch(orbit, 0.05, 4, FLORES)
+    assert branch[-1].orbit.omega > OMEGA + 0.1  # it moved along the branch
+    for point in branch:
+        o = point.orbit
+        assert math.isfinite(o.contact_v0) and o.residual < 1e-10 and point.tangent.shape == (3,)
+        # the corrector's orbit is the shooting's at its w (an independent Newton in (x, v, v0)):
+        # both converge to 1e-10 of SCALE, and their multipliers to the differences' 1e-7
+        again = shoot(o.state, o.omega, 1, FLORES)
+        np.testing.assert_allclose(again.state, o.state, rtol=0, atol=1e-11)
+        np.testing.assert_allclose(by_value(again.multipliers), by_value(o.multipliers), rtol=0, atol=MU_TOL)
