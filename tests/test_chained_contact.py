@@ -10,6 +10,9 @@ import numpy as np
 import pytest
 
 from impactosc.core.simulation import end_state, simulate, start_of
+from impactosc.dynamics.basins import Attractor, BasinSettings, classify_state
+from impactosc.dynamics.grazing import settle_orbit
+from impactosc.dynamics.shooting import shoot
 from impactosc.dynamics.sweep import SweepSettings, continuation
 from impactosc.dynamics.sweep_chunks import sweep_chunked
 from impactosc.dynamics.variational import variational_monodromy
@@ -83,3 +86,21 @@ def test_a_long_surrogate_of_a_restitution_law_builds_in_segments(tmp_path):
 def test_the_variational_check_refuses_other_laws():
     with pytest.raises(ValueError, match="flores"):
         variational_monodromy(ON_ORBIT[:2], OMEGA, 1, FLORES)
+
+
+def test_a_basin_cell_is_classified_across_blocks_that_end_inside_contacts():
+    orbit = shoot(ON_ORBIT, OMEGA, 1, FLORES)
+    attractor = Attractor("period 1", 1, 1, np.array([orbit.x0]), np.array([orbit.v0]), orbit.multipliers)
+    settings = BasinSettings(omega=OMEGA, block=3, params=FLORES)
+    cell = classify_state(-3e-3, 0.0, [attractor], settings)
+    # every block ends at phase 0, inside a contact: the cell is known only after several of them
+    assert cell.cls == 1 and cell.periods > 2 * settings.block
+
+
+def test_the_grazing_secant_settles_orbits_through_contacts():
+    _, _, state, _ = settle_orbit(OMEGA, ON_ORBIT, FLORES, 2)
+    assert math.isfinite(state[2])  # ends inside a contact, and says with which v0
+    clearance, _, again, _ = settle_orbit(OMEGA, state, FLORES, 2)
+    assert clearance > 0  # the orbit's maximum is a penetration
+    # on the periodic orbit (the start rounded to 1e-7 has contracted by 1e-2 a period since)
+    np.testing.assert_allclose(again, state, rtol=0, atol=1e-11)

@@ -10,6 +10,8 @@ import pytest
 
 from impactosc.dynamics.arclength import continue_branch
 from impactosc.dynamics.lyapunov import lyapunov_spectrum
+from impactosc.dynamics.orbit_sensitivity import orbit_sensitivities
+from impactosc.dynamics.point_sensitivity import point_sensitivities
 from impactosc.dynamics.shooting import SCALE, SCALE_V0, central_difference, monodromy, reduced, shoot
 from impactosc.model.parameters import ModelParams
 from impactosc_bench.scipy_reference import solve_reference
@@ -121,3 +123,10 @@ def test_arclength_continuation_carries_v0_along_the_branch(orbit):
         again = shoot(o.state, o.omega, 1, FLORES)
         np.testing.assert_allclose(again.state, o.state, rtol=0, atol=1e-11)
         np.testing.assert_allclose(by_value(again.multipliers), by_value(o.multipliers), rtol=0, atol=MU_TOL)
+
+
+def test_the_constructions_in_x_v_alone_refuse_a_section_inside_a_contact(orbit):
+    with pytest.raises(ValueError, match="inside a flores contact"):
+        orbit_sensitivities(orbit, FLORES, fields=("m",))
+    with pytest.raises(ValueError, match="inside a flores contact"):
+        point_sensitivities("period_doubling", OMEGA, orbit, FLORES, fields=("m",))

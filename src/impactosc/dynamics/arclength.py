@@ -71,12 +71,12 @@ def _residual_and_jacobian(z, n_periods, params, step):
     return (image - y) / scale, J, M
 
 
-def _tangent(J, previous=None):
-    """Unit null vector of the Jacobian in (x, v, w) (v0's component dropped inside a contact),
-    oriented along `previous` (or towards +w)."""
+def _tangent(J, previous=None, *, dims=None):
+    """Unit null vector of the Jacobian, oriented along `previous` (or towards +w); of its first
+    `dims` components only (the branch's (x, v, w) without v0 inside a contact) when given."""
     t = np.linalg.svd(J)[2][-1]
-    if t.size > 3:
-        t = t[:3] / np.linalg.norm(t[:3])
+    if dims is not None and dims < t.size:
+        t = t[:dims] / np.linalg.norm(t[:dims])
     ref = previous if previous is not None else np.array([0.0, 0.0, 1.0])
     return t if float(t @ ref) >= 0 else -t
 
@@ -88,7 +88,7 @@ def _point(z, J, M, n_periods, previous_tangent, newton_steps, residual):
         float(w), int(n_periods), float(y[0]), float(y[1]), M2, _multipliers(M2), residual, newton_steps,
         float(y[2]) if len(y) > 2 else math.nan,
     )  # fmt: skip
-    return BranchPoint(orbit, _tangent(J, previous_tangent))
+    return BranchPoint(orbit, _tangent(J, previous_tangent, dims=3))
 
 
 def _scaled(orbit: PeriodicOrbit) -> np.ndarray:

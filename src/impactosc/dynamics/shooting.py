@@ -49,6 +49,7 @@ __all__ = [
     "monodromy",
     "monodromy_columns",
     "reduced",
+    "require_free_section",
     "shoot",
     "stroboscopic_map",
 ]
@@ -106,6 +107,16 @@ def as_state(y, params: ModelParams | None = None) -> np.ndarray:
     if carries_v0(params):
         return np.array([y[0], y[1], math.nan])
     return y[:2].copy()
+
+
+def require_free_section(x0: float, params: ModelParams | None, what: str) -> None:
+    """Refuse, for `what` (a construction written in (x, v) alone), a section point inside a
+    restitution law's contact, where the map's state includes the contact's v0."""
+    if carries_v0(params) and x0 > params.xI:
+        raise ValueError(
+            f"{what} is written for a section point (x, v) in free flight; this one lies inside a {params.law} "
+            "contact, whose onset velocity it does not carry"
+        )
 
 
 def _active(y) -> int:
@@ -196,9 +207,10 @@ def shoot(
     region the guess came from (more than 10 x SCALE) is cut to that length.
     Raises ShootingError when `max_steps` are spent, or when M - I is singular (a multiplier
     at +1: a fold, where the orbit is not locally unique)."""
-    y = as_state(guess, params)
-    if len(np.asarray(guess)) not in (2, 3) or not np.all(np.isfinite(y[:2])):
+    given = np.asarray(guess, float)
+    if given.shape not in ((2,), (3,)) or not np.all(np.isfinite(given[:2])):
         raise ValueError(f"guess must be a finite (x, v) or (x, v, v0), got {guess!r}")
+    y = as_state(given, params)
     for k in range(1, int(max_steps) + 1):
         image, M = monodromy(y, omega, n_periods, params, step=step, rtol=rtol, atol=atol)
         n = min(M.shape)  # v0 takes part when both the point and its image lie inside a contact

@@ -45,6 +45,7 @@ from impactosc.dynamics.shooting import (
     ShootingError,
     _multipliers,
     central_difference,
+    require_free_section,
     stroboscopic_map,
 )
 from impactosc.dynamics.shooting import monodromy as shooting_monodromy
@@ -260,6 +261,7 @@ def start_point(problem: CurveProblem, omega: float, x0: float, v0: float, *, to
     """The curve's point at the model's own value of the parameter, from a located bifurcation
     of the one-parameter table (w, and the orbit's x0, v0 there): Newton on the extended system
     with p held. Its tangent points towards increasing p."""
+    require_free_section(x0, problem.params, "the two-parameter continuation")
     p0 = getattr(problem.params, problem.parameter)
     phase = None
     if problem.kind == "grazing":  # the grazing excursion: the near miss closest to the obstacle
