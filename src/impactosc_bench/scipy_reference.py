@@ -146,14 +146,19 @@ def solve_reference(
     max_pieces=1_000_000,
     poincare=False,
     max_nfev=None,
+    t0=0.0,
+    contact_v0=None,
 ):
-    """Impact onsets (t, v) and penetrations (t, h) of model BC on [0, t_end] with SciPy.
+    """Impact onsets (t, v) and penetrations (t, h) of model BC on [t0, t_end] with SciPy.
 
     Returns a dict with arrays impacts_t, impacts_v, penetrations_t, penetrations_h and the
     counters nfev, n_pieces, wall_time. With ``poincare`` also poincare_t|x|v: SciPy's dense
     output at t_i = 2 pi i / w (``t_eval``, which does not change SciPy's steps).
     With ``max_nfev`` the run raises :class:`ReferenceBudgetExceeded` after that many
     right-hand-side evaluations (an explicit method pinned by a stiff creep never ends).
+    A run that starts inside a restitution law's contact takes its onset velocity as
+    ``contact_v0``; ``final`` is the end state (x, v, onset velocity of the contact it lies in,
+    nan outside one), with ``poincare`` off.
     """
     p = params or ModelParams()
     vcut = p.cut_velocity
@@ -161,7 +166,13 @@ def solve_reference(
     state = setups["state"]
     cut = setups["contact"][1][1]
 
-    t, y = 0.0, np.array([x0, v0], float)
+    t, y = float(t0), np.array([x0, v0], float)
+    onset = math.nan
+    if p.law in RESTITUTION_CHI and y[0] > p.xI:  # without contact_v0: a contact at rest, undamped
+        onset = 0.0 if contact_v0 is None else float(contact_v0)
+        if onset > 0:
+            state["chi"] = RESTITUTION_CHI[p.law](p.e, onset)
+            vcut = 1 / state["chi"]
     mode = "contact" if y[0] >= p.xI and y[1] > -vcut else ("cut" if y[0] >= p.xI else "free")
     period = 2 * math.pi / omega
     sections = period * np.arange(1, int(math.floor(t_end / period * (1 + 1e-14))) + 1) if poincare else None
@@ -190,6 +201,7 @@ def solve_reference(
                 pen_t.append(te)
                 pen_h.append(ye[0] - p.xI)
         if sol.status == 0:
+            y = sol.y[:, -1]
             break
         n_terminal = 2 if mode != "free" else 1
         k = min((k for k in range(n_terminal) if len(sol.t_events[k])), key=lambda k: sol.t_events[k][-1])
@@ -201,6 +213,7 @@ def solve_reference(
             imp_v.append(y[1])
             if p.law in RESTITUTION_CHI:  # this contact's damping, from its onset velocity
                 state["chi"] = RESTITUTION_CHI[p.law](p.e, y[1]) if y[1] > 0 else 0.0
+                onset = y[1]
             mode = "contact" if (y[1] > -vcut if p.law == "bc" else cut(t, y) > 0 or y[1] >= 0) else "cut"
         elif k == 0:  # exit
             y[0] = p.xI
@@ -217,6 +230,7 @@ def solve_reference(
         "nfev": nfev,
         "n_pieces": pieces,
         "wall_time": time.perf_counter() - wall,
+        "final": np.array([y[0], y[1], onset if y[0] > p.xI and p.law in RESTITUTION_CHI else math.nan]),
     }
     if poincare:
         out.update(poincare_t=np.array(pc_t), poincare_x=np.array(pc_x), poincare_v=np.array(pc_v))

@@ -161,14 +161,23 @@ def random_truth(seed: int, spread: float = 0.3, base: ModelParams | None = None
     )
 
 
-def _orbit_from(params: ModelParams, omega: float, x0: float, v0: float, period: int, n_transient: int) -> np.ndarray:
+def _section_state(sweep, i: int) -> tuple:
+    """A section state of the attractor at w number i: the last Poincare point, or inside a
+    restitution contact the run's end (one period later, on the same orbit), whose onset
+    velocity the sweep keeps."""
+    if math.isfinite(sweep.contact_v0_end[i]):
+        return sweep.x_end[i], sweep.v_end[i], sweep.contact_v0_end[i]
+    return sweep.poincare_x[i, -1], sweep.poincare_v[i, -1]
+
+
+def _orbit_from(params: ModelParams, omega: float, state, period: int, n_transient: int) -> np.ndarray:
     """The sorted Poincare points of the period-``period`` orbit that ``params`` reaches from the
-    section state (x0, v0) after ``n_transient`` forcing periods."""
-    from impactosc.core.simulation import simulate
+    section state ``state`` (x, v, and a contact's v0 inside one) after ``n_transient`` periods."""
+    from impactosc.core.simulation import simulate, start_of
 
     t_period = 2 * math.pi / omega
     r = simulate(
-        omega, n_transient * t_period, 2 * period * t_period, x0=x0, v0=v0, params=params, record=("poincare",)
+        omega, n_transient * t_period, 2 * period * t_period, **start_of(state), params=params, record=("poincare",)
     )
     return np.sort(r.events["poincare"]["x"][-period:])
 
@@ -206,10 +215,8 @@ def branch_distance(truth: ModelParams, model: ModelParams, omegas, *, n_transie
             dist = float(np.max(np.abs(xa - xb)))
             worst_as_run = max(worst_as_run, dist)
             if dist > BRANCH_TOL:
-                state_a = (sweeps[0].poincare_x[i, -1], sweeps[0].poincare_v[i, -1])
-                state_b = (sweeps[1].poincare_x[i, -1], sweeps[1].poincare_v[i, -1])
-                on_a = _orbit_from(model, w, *state_a, pa, 4 * n_transient)
-                on_b = _orbit_from(truth, w, *state_b, pa, 4 * n_transient)
+                on_a = _orbit_from(model, w, _section_state(sweeps[0], i), pa, 4 * n_transient)
+                on_b = _orbit_from(truth, w, _section_state(sweeps[1], i), pa, 4 * n_transient)
                 coexisting += int(np.max(np.abs(on_b - xb)) <= BRANCH_TOL)
                 dist = float(np.max(np.abs(on_a - xa)))
             worst = max(worst, dist)

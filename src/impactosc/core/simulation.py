@@ -274,6 +274,21 @@ def _end_contact_v0(params: ModelParams, p, x_end: float) -> float:
     return restitution_damping(int(p[P_LAW]), p[P_E], 1.0) / p[P_B]  # chi = g(e) / v0
 
 
+def start_of(state) -> dict:
+    """simulate's start arguments (x0, v0, contact_v0) from a state (x, v) or (x, v, contact_v0),
+    contact_v0 nan outside a restitution law's contact (:func:`end_state`): one run of a chain
+    starts where the last one ended, inside a contact too."""
+    carried = float(state[2]) if len(state) > 2 and math.isfinite(state[2]) else None
+    return {"x0": float(state[0]), "v0": float(state[1]), "contact_v0": carried}
+
+
+def end_state(result: SimulationResult) -> np.ndarray:
+    """(x, v, contact_v0) at the end of a run, the start (:func:`start_of`) of the run that goes on
+    from there: a restitution law's state inside a contact includes the contact's onset velocity."""
+    st = result.final_state
+    return np.array([st[S_X], st[S_V], result.attrs["contact_v0"]])
+
+
 def simulate(
     omega: float,
     transient: float,

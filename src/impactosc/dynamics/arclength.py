@@ -9,7 +9,10 @@ branch passes it; the fold shows as a sign change of the tangent's w component (
 det(M - I)).
 
 Coordinates are scaled (x / 1 mm, v / 0.1 m/s, w / 1 rad/s) so that one arclength unit weighs
-the three alike.
+the three alike. Where the section point lies inside a restitution law's contact the corrector
+also solves for the contact's onset velocity v0 (a fourth unknown, after w, with its own fixed
+point equation: shooting's module docstring), while the arclength and the tangent stay in
+(x, v, w): v0 follows the branch as a function of its point.
 """
 
 from __future__ import annotations
@@ -23,11 +26,13 @@ import numpy as np
 from impactosc.dynamics.shooting import (
     DEFAULT_STEP,
     SCALE,
+    SCALE_V0,
     PeriodicOrbit,
     ShootingError,
     _multipliers,
     central_difference,
     monodromy,
+    reduced,
     stroboscopic_map,
 )
 
@@ -45,45 +50,63 @@ class BranchPoint:
     tangent: np.ndarray
 
 
+def _state(z):
+    """(y, its scale, w) of scaled z = (x, v, w) or (x, v, w, v0)."""
+    scale = np.append(SCALE, [SCALE_V0] * (len(z) - 3))
+    return np.append(z[:2], z[3:]) * scale, scale, z[2] * W_SCALE
+
+
 def _residual_and_jacobian(z, n_periods, params, step):
-    """F(z) = (P^N(y) - y) / SCALE at scaled z = (x, v, w), and dF/dz (2 x 3)."""
-    y, w = z[:2] * SCALE, z[2] * W_SCALE
+    """F(z) = (P^N(y) - y) / SCALE at scaled z = (x, v, w) (or (x, v, w, v0) inside a contact),
+    and dF/dz (2 x 3, or 3 x 4)."""
+    y, scale, w = _state(z)
+    k = len(y)
     image, M = monodromy(y, w, n_periods, params, step=step)
+    if M.shape != (k, k):
+        raise ShootingError(f"w = {w}: the orbit's section point enters or leaves a contact within one step")
     dP_dw = central_difference(lambda s: stroboscopic_map(y, w + s, n_periods, params), W_STEP)
-    J = np.empty((2, 3))
-    J[:, :2] = (M - np.eye(2)) * SCALE[None, :] / SCALE[:, None]
-    J[:, 2] = dP_dw * W_SCALE / SCALE
-    return (image - y) / SCALE, J, M
+    J = np.empty((k, k + 1))
+    J[:, [0, 1, 3][:k]] = (M - np.eye(k)) * scale[None, :] / scale[:, None]
+    J[:, 2] = dP_dw * W_SCALE / scale
+    return (image - y) / scale, J, M
 
 
-def _tangent(J, previous=None):
-    """Unit null vector of the 2 x 3 Jacobian, oriented along `previous` (or towards +w)."""
+def _tangent(J, previous=None, *, dims=None):
+    """Unit null vector of the Jacobian, oriented along `previous` (or towards +w); of its first
+    `dims` components only (the branch's (x, v, w) without v0 inside a contact) when given."""
     t = np.linalg.svd(J)[2][-1]
+    if dims is not None and dims < t.size:
+        t = t[:dims] / np.linalg.norm(t[:dims])
     ref = previous if previous is not None else np.array([0.0, 0.0, 1.0])
     return t if float(t @ ref) >= 0 else -t
 
 
 def _point(z, J, M, n_periods, previous_tangent, newton_steps, residual):
-    y, w = z[:2] * SCALE, z[2] * W_SCALE
+    y, _, w = _state(z)
+    M2 = reduced(M)
     orbit = PeriodicOrbit(
-        float(w), int(n_periods), float(y[0]), float(y[1]), M, _multipliers(M), residual, newton_steps
-    )
-    return BranchPoint(orbit, _tangent(J, previous_tangent))
+        float(w), int(n_periods), float(y[0]), float(y[1]), M2, _multipliers(M2), residual, newton_steps,
+        float(y[2]) if len(y) > 2 else math.nan,
+    )  # fmt: skip
+    return BranchPoint(orbit, _tangent(J, previous_tangent, dims=3))
 
 
 def _scaled(orbit: PeriodicOrbit) -> np.ndarray:
-    return np.array([orbit.x0 / SCALE[0], orbit.v0 / SCALE[1], orbit.omega / W_SCALE])
+    z = np.array([orbit.x0 / SCALE[0], orbit.v0 / SCALE[1], orbit.omega / W_SCALE])
+    return z if math.isnan(orbit.contact_v0) else np.append(z, orbit.contact_v0 / SCALE_V0)
 
 
 def _correct(prev: BranchPoint, h: float, params, step, tol, max_newton) -> BranchPoint | None:
     """The branch point at arclength h from `prev` along its tangent (Newton on the orbit
     condition and the plane normal to the tangent); None if Newton does not converge."""
     t, n = prev.tangent, prev.orbit.n_periods
-    z_pred = _scaled(prev.orbit) + h * t
+    z_pred = _scaled(prev.orbit)
+    z_pred[:3] += h * t  # v0 (inside a contact) from the last point: Newton solves for it
     z = z_pred.copy()
+    border = np.append(t, np.zeros(len(z) - 3))  # the plane normal to the tangent, in (x, v, w)
     for k in range(1, max_newton + 1):
         F, J, M = _residual_and_jacobian(z, n, params, step)
-        dz = np.linalg.solve(np.vstack([J, t]), -np.concatenate([F, [float(t @ (z - z_pred))]]))
+        dz = np.linalg.solve(np.vstack([J, border]), -np.concatenate([F, [float(t @ (z[:3] - z_pred[:3]))]]))
         z = z + dz
         if np.max(np.abs(dz)) < tol:
             F, J, M = _residual_and_jacobian(z, n, params, step)
@@ -157,7 +180,7 @@ def locate_fold(a: BranchPoint, b: BranchPoint, params=None, *, tol: float = 1e-
     arclength from `a` until the tangent's w component changes sign within `tol` (scaled
     units; w at a fold varies quadratically along the branch, so its error is far smaller).
     Returns the branch point there."""
-    lo, hi = 0.0, float(np.linalg.norm(_scaled(b.orbit) - _scaled(a.orbit))) * 1.5
+    lo, hi = 0.0, float(np.linalg.norm(_scaled(b.orbit)[:3] - _scaled(a.orbit)[:3])) * 1.5
     sign = np.sign(a.tangent[2])
     best = a
     while hi - lo > tol:
@@ -183,5 +206,6 @@ def switch_at_period_doubling(orbit: PeriodicOrbit, params=None, *, ds: float = 
     mu, vectors = np.linalg.eig(orbit.monodromy)
     e = np.real(vectors[:, int(np.argmin(np.abs(mu + 1)))]) / SCALE
     doubled = PeriodicOrbit(orbit.omega, 2 * orbit.n_periods, orbit.x0, orbit.v0, orbit.monodromy @ orbit.monodromy,
-                            _multipliers(orbit.monodromy @ orbit.monodromy), orbit.residual, 0)  # fmt: skip
+                            _multipliers(orbit.monodromy @ orbit.monodromy), orbit.residual, 0,
+                            orbit.contact_v0)  # fmt: skip
     return continue_branch(doubled, ds, 2, params, tangent=np.array([e[0], e[1], 0.0]), **options)

@@ -29,8 +29,7 @@ from dataclasses import dataclass, field
 import h5py
 import numpy as np
 
-from impactosc.core.layout import S_V, S_X
-from impactosc.core.simulation import DEFAULT_ATOL, DEFAULT_RTOL, StallError, simulate
+from impactosc.core.simulation import DEFAULT_ATOL, DEFAULT_RTOL, StallError, end_state, simulate, start_of
 from impactosc.dynamics.branch_segments import orbit_sample, seed_from_rest
 from impactosc.dynamics.shooting import shoot
 from impactosc.io.files import atomic_write, check_writable, stamp_h5
@@ -272,6 +271,7 @@ def classify_state(x0: float, v0: float, attractors: list[Attractor], settings: 
             raise ValueError(f"{name} must be a finite number, got {value!r}")
     period = 2 * math.pi / s.omega
     x, v = float(x0), float(v0)
+    state = np.array([x, v])  # and a restitution contact's onset velocity once a block ends inside one
     done = 0
     streak, last = 0, (-1, -1)
     history = deque(maxlen=2 * MAX_TAIL_PERIOD)
@@ -279,7 +279,14 @@ def classify_state(x0: float, v0: float, attractors: list[Attractor], settings: 
         n = min(s.block, s.max_periods - done)
         try:
             run = simulate(
-                s.omega, 0.0, n * period, x0=x, v0=v, params=s.params, rtol=s.rtol, atol=s.atol, record=("poincare",)
+                s.omega,
+                0.0,
+                n * period,
+                **start_of(state),
+                params=s.params,
+                rtol=s.rtol,
+                atol=s.atol,
+                record=("poincare",),
             )
         except StallError as e:
             return Cell(FAILED, done, float(e.state["x"]), float(e.state["v"]))
@@ -302,7 +309,8 @@ def classify_state(x0: float, v0: float, attractors: list[Attractor], settings: 
             last = hit
             if streak >= s.confirm:
                 return Cell(hit[0] + 1, done, float(xj), float(vj))
-        x, v = float(run.final_state[S_X]), float(run.final_state[S_V])
+        state = end_state(run)
+        x, v = float(state[0]), float(state[1])
     return Cell(UNRESOLVED, done, x, v, _tail_period(history, s.x_tol, s.v_tol))
 
 

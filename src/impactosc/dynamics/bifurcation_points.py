@@ -36,7 +36,7 @@ def follow(omegas, guess, n_periods: int = 1, params=None, **shoot_options) -> l
     for w in omegas:
         orbit = shoot(y, float(w), n_periods, params, **shoot_options)
         orbits.append(orbit)
-        y = [orbit.x0, orbit.v0]
+        y = orbit.state
     return orbits
 
 
@@ -54,7 +54,7 @@ def locate(
             raise ValueError(f"the two orbits have different periods ({lo.n_periods}, {hi.n_periods})")
 
         def solve(w, near):
-            return shoot([near.x0, near.v0], w, lo.n_periods, params, **shoot_options)
+            return shoot(near.state, w, lo.n_periods, params, **shoot_options)
 
     g = TEST_FUNCTIONS[kind]
     g_lo, g_hi = g(lo.monodromy), g(hi.monodromy)

@@ -23,7 +23,7 @@ import time
 
 import numpy as np
 
-from impactosc.core.simulation import simulate
+from impactosc.core.simulation import simulate, start_of
 from impactosc.dynamics.arclength import BranchPoint, branch_points, locate_fold, switch_at_period_doubling
 from impactosc.dynamics.bifurcation_points import TEST_FUNCTIONS, locate
 from impactosc.dynamics.grazing import locate_orbit_grazing
@@ -40,7 +40,7 @@ def orbit_sample(orbit: PeriodicOrbit, params: ModelParams | None = None) -> dic
     without one), the multipliers, and det M beside Liouville's bound exp(-c N 2 pi / (m w))."""
     p = params or ModelParams()
     period = orbit.n_periods * 2 * math.pi / orbit.omega
-    drawn = drawn_values(orbit.x0, orbit.v0, orbit.omega, orbit.n_periods, params)
+    drawn = drawn_values(orbit.x0, orbit.v0, orbit.omega, orbit.n_periods, params, contact_v0=orbit.contact_v0)
     gaps = drawn["gaps"]
     return {
         "omega": orbit.omega,
@@ -60,13 +60,16 @@ def orbit_sample(orbit: PeriodicOrbit, params: ModelParams | None = None) -> dic
     }
 
 
-def drawn_values(x0: float, v0: float, omega: float, n_periods: int, params: ModelParams | None = None) -> dict:
-    """What Figs 2 and 3b draw of one orbit period from (x0, v0) at phase 0: the Poincare points
-    (x, v at t = k 2 pi / w, k = 1..N), the inter-impact intervals (cyclic, from the first
-    impact after phase 0) and the near-miss gaps, at the shooting's tolerances."""
+def drawn_values(
+    x0: float, v0: float, omega: float, n_periods: int, params: ModelParams | None = None, *, contact_v0=math.nan
+) -> dict:
+    """What Figs 2 and 3b draw of one orbit period from (x0, v0) at phase 0 (inside a restitution
+    contact with its onset velocity `contact_v0`): the Poincare points (x, v at t = k 2 pi / w,
+    k = 1..N), the inter-impact intervals (cyclic, from the first impact after phase 0) and the
+    near-miss gaps, at the shooting's tolerances."""
     period = n_periods * 2 * math.pi / omega
     run = simulate(
-        omega, 0.0, period, x0=x0, v0=v0, params=params, rtol=RTOL, atol=ATOL,
+        omega, 0.0, period, **start_of([x0, v0, contact_v0]), params=params, rtol=RTOL, atol=ATOL,
         record=("impacts", "near_misses", "poincare"),
     )  # fmt: skip
     t = run.events["impacts"]["t"]
@@ -85,7 +88,7 @@ def seed_from_rest(omega: float, n_periods: int, params=None, *, settle_periods:
         omega, settle_periods * 2 * math.pi / omega, 2 * math.pi / omega, params=params, rtol=RTOL, atol=ATOL,
         record=("poincare",),
     )  # fmt: skip
-    y = [run.events["poincare"]["x"][-1], run.events["poincare"]["v"][-1]]
+    y = [run.events["poincare"]["x"][-1], run.events["poincare"]["v"][-1], run.attrs["contact_v0"]]
     try:
         return shoot(y, omega, n_periods, params)
     except ShootingError as e:
@@ -131,7 +134,7 @@ def _grazing(points, samples, i, params):
         partner = points[beyond].orbit
     else:
         w = orbit.omega + 0.5 * (orbit.omega - points[far].orbit.omega)
-        partner = shoot([orbit.x0, orbit.v0], w, orbit.n_periods, params)
+        partner = shoot(orbit.state, w, orbit.n_periods, params)
     w, located, _ = locate_orbit_grazing(partner, orbit, params)
     return w, located
 
@@ -147,6 +150,7 @@ def _located(kind, omega, orbit, bracket, **extra) -> dict:
         "n_periods": orbit.n_periods,
         "x0": orbit.x0,
         "v0": orbit.v0,
+        **({} if math.isnan(orbit.contact_v0) else {"contact_v0": orbit.contact_v0}),
         "mu_re": orbit.multipliers.real.tolist(),
         "mu_im": orbit.multipliers.imag.tolist(),
         "bracket": [float(w) for w in bracket],
@@ -234,7 +238,7 @@ def trace_segment(
         points, stops = down + up[1:], {"start": why_down, "end": why_up}
     else:
         d = parent_doubling
-        at = shoot([d["x0"], d["v0"]], d["omega"], d["n_periods"], params)
+        at = shoot([d["x0"], d["v0"], d.get("contact_v0", math.nan)], d["omega"], d["n_periods"], params)
         first = switch_at_period_doubling(at, params)[-1]
         points, why = trace(first.orbit, tangent=first.tangent, **options)
         stops = {"start": f"period doubling of the period-{d['n_periods']} branch at w = {d['omega']:.10f}", "end": why}

@@ -36,7 +36,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from impactosc.core.simulation import Window, simulate
+from impactosc.core.simulation import Window, simulate, start_of
 from impactosc.dynamics.shooting import ATOL, DEFAULT_STEP, RTOL, SCALE, PeriodicOrbit, ShootingError, shoot
 from impactosc.dynamics.sweep import continuation
 from impactosc.dynamics.sweep_chunks import merge_chunks
@@ -76,6 +76,7 @@ class Trial:
     impacts_per_period: float = math.nan
     x_end: float = math.nan
     v_end: float = math.nan
+    contact_v0_end: float = math.nan  # m/s: onset velocity of a restitution contact the end state lies in
 
 
 @dataclass(frozen=True)
@@ -184,7 +185,7 @@ def bisect_transition(
         if t.contact:
             hi_contact = w
         else:
-            lo_miss, state = w, (t.x_end, t.v_end)
+            lo_miss, state = w, (t.x_end, t.v_end, t.contact_v0_end)
     return GrazingBracket(lo_miss, hi_contact, tuple(trials))
 
 
@@ -261,7 +262,7 @@ def model_trial(settings, reference_impacts_per_period: float) -> Callable[[floa
     """
 
     def trial(omega: float, state) -> Trial:
-        res = continuation([omega], settings, x0=state[0], v0=state[1], first_transient=settings.n_transient)
+        res = continuation([omega], settings, **start_of(state), first_transient=settings.n_transient)
         s = sweep_summary(res)
         ipp = float(s["impacts_per_period"][0])
         return Trial(
@@ -272,6 +273,7 @@ def model_trial(settings, reference_impacts_per_period: float) -> Callable[[floa
             impacts_per_period=ipp,
             x_end=float(res.x_end[0]),
             v_end=float(res.v_end[0]),
+            contact_v0_end=float(res.contact_v0_end[0]),
         )
 
     return trial
@@ -287,8 +289,9 @@ def locate_grazing(branch, settings, tol: float) -> GrazingBracket:
     i = find_grazing_step(s["omega"], s["min_gap"], s["impacts_per_period"])
     trial = model_trial(settings, float(s["impacts_per_period"][i]))
     return bisect_transition(
-        trial, float(s["omega"][i]), float(s["omega"][i + 1]), (float(branch.x_end[i]), float(branch.v_end[i])), tol
-    )
+        trial, float(s["omega"][i]), float(s["omega"][i + 1]),
+        (float(branch.x_end[i]), float(branch.v_end[i]), float(branch.contact_v0_end[i])), tol,
+    )  # fmt: skip
 
 
 def scan_from_rest(omegas, settings, transient: float, progress=None):
@@ -326,7 +329,8 @@ def _signed_clearance(events):
 
 
 def settle_orbit(omega, state, params, periods, record_periods=3, rtol=1e-10, atol=1e-12, window_dt=None):
-    """Continue the attractor from `state` (x, v at phase 0) for `periods` forcing periods,
+    """Continue the attractor from `state` (x, v at phase 0, and a restitution contact's onset
+    velocity inside one: the end state it returns) for `periods` forcing periods,
     record `record_periods` more; returns (signed clearance, its time, end state, result).
 
     The signed clearance is the x maximum closest to the obstacle: +depth of a contact,
@@ -340,8 +344,7 @@ def settle_orbit(omega, state, params, periods, record_periods=3, rtol=1e-10, at
         omega,
         t0,
         t1 - t0,
-        x0=state[0],
-        v0=state[1],
+        **start_of(state),
         params=params,
         rtol=rtol,
         atol=atol,
@@ -350,7 +353,7 @@ def settle_orbit(omega, state, params, periods, record_periods=3, rtol=1e-10, at
     )
     g, tg = _signed_clearance(res.events)
     pc = res.events["poincare"]
-    return g, tg, (float(pc["x"][-1]), float(pc["v"][-1])), res
+    return g, tg, (float(pc["x"][-1]), float(pc["v"][-1]), res.attrs["contact_v0"]), res
 
 
 def grazing_by_clearance_secant(
@@ -383,7 +386,7 @@ def orbit_events(orbit: PeriodicOrbit, params=None) -> dict:
     """Impacts per orbit and the smallest near-miss gap (m; inf without a near miss) of one
     period of the orbit, from the core run over it."""
     run = simulate(
-        orbit.omega, 0.0, orbit.n_periods * 2 * math.pi / orbit.omega, x0=orbit.x0, v0=orbit.v0,
+        orbit.omega, 0.0, orbit.n_periods * 2 * math.pi / orbit.omega, **start_of(orbit.state),
         params=params, rtol=RTOL, atol=ATOL, record=("impacts", "near_misses"),
     )  # fmt: skip
     gaps = run.events["near_misses"]["gap"]
@@ -416,7 +419,7 @@ def locate_orbit_grazing(
         # difference steps well inside the gap, so that the monodromy's perturbed orbits miss
         # the obstacle too (1e-3 of it: the map is still resolved, the core's error is 1e-14 m)
         step = min(DEFAULT_STEP, 1e-3 * g2 / SCALE[0])
-        o3 = shoot([o2.x0, o2.v0], w_next, o2.n_periods, params, step=step)
+        o3 = shoot(o2.state, w_next, o2.n_periods, params, step=step)
         g3 = orbit_events(o3, params)["min_gap"]
         if not (math.isfinite(g3) and g3 > 0):
             raise ShootingError(f"the near miss vanished at w = {w_next} before the gap fell below {gap_floor} m")

@@ -26,7 +26,7 @@ import numpy as np
 
 from impactosc.dynamics.branch_segments import drawn_values
 from impactosc.dynamics.point_sensitivity import FIELDS, parameter_step
-from impactosc.dynamics.shooting import PeriodicOrbit, central_difference, stroboscopic_map
+from impactosc.dynamics.shooting import PeriodicOrbit, central_difference, require_free_section, stroboscopic_map
 from impactosc.model.parameters import ModelParams
 
 __all__ = ["orbit_sensitivities", "band_standard_errors"]
@@ -45,6 +45,7 @@ def orbit_sensitivities(orbit: PeriodicOrbit, params: ModelParams | None = None,
     (``isis``: impacts x n, s per unit; all nan when a step changes the number of impacts), for
     the n parameters ``fields`` at the orbit's w."""
     params = params or ModelParams()
+    require_free_section(orbit.x0, params, "an orbit's sensitivity")
     y = np.array([orbit.x0, orbit.v0])
     w, n = orbit.omega, orbit.n_periods
     resolvent = np.eye(2) - orbit.monodromy

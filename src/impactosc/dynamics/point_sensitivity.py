@@ -44,6 +44,7 @@ from impactosc.dynamics.shooting import (
     ShootingError,
     central_difference,
     monodromy,
+    require_free_section,
     shoot,
     stroboscopic_map,
 )
@@ -104,6 +105,7 @@ def point_sensitivities(
     if unknown:
         raise ValueError(f"unknown model parameter(s) {unknown}")
     params = params or ModelParams()
+    require_free_section(orbit.x0, params, "the sensitivity of a bifurcation point")
     if kind == "grazing":
         return _grazing_sensitivities(orbit, params, fields)
     if kind == "fold":

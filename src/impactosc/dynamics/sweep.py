@@ -113,7 +113,10 @@ class SweepSettings:
 
 
 # Per-w arrays of a SweepResult (all shape (n,) except the Poincare arrays (n, n_record)).
-_PER_W = ("omega", "x_start", "v_start", "x_end", "v_end", "min_gap", "n_steps", "wall_time", "cpu_time", "status")
+_PER_W = (
+    "omega", "x_start", "v_start", "x_end", "v_end", "min_gap", "n_steps", "wall_time", "cpu_time", "status",
+    "contact_v0_end",
+)  # fmt: skip
 
 # status of each w: the run finished, or it was abandoned (then its Poincare points are NaN,
 # it has no impacts, and the next w continues from the state this one started from).
@@ -135,7 +138,9 @@ class SweepResult:
     the recorded interval (s), so they lie in [0, n_record * 2 pi / w).
     min_gap: smallest free-flight gap xI - x at a local maximum of x (near miss) in the
     recorded interval (m); NaN if there is none. A gap -> 0 signals grazing.
-    x_start, v_start: state each w started from; x_end, v_end: its end state.
+    x_start, v_start: state each w started from; x_end, v_end: its end state, and
+    contact_v0_end the onset velocity of a restitution contact it lies in (NaN outside one; what
+    a run continuing from there passes as contact_v0).
     status: OK, or STALLED / CORE_ERROR for a w whose run was abandoned (see continuation).
     wall_time / cpu_time: seconds of wall clock / of this process's CPU per w (the CPU time
     does not grow when other processes share the core, so it measures the cost per core).
@@ -157,6 +162,11 @@ class SweepResult:
     cpu_time: np.ndarray
     status: np.ndarray
     settings: SweepSettings
+    contact_v0_end: np.ndarray | None = None  # NaN where absent (files written before it)
+
+    def __post_init__(self):
+        if self.contact_v0_end is None:
+            self.contact_v0_end = np.full(self.omega.size, np.nan)
 
     def __len__(self) -> int:
         return int(self.omega.size)
@@ -280,10 +290,12 @@ def continuation(
     first_transient: int | None = None,
     progress: Callable[[int, int, float], None] | None = None,
     on_failure: Callable[[int, float, str], None] | None = None,
+    contact_v0: float | None = None,
 ) -> SweepResult:
     """Follow the attractor along `omegas` (in the given order), one simulation per w.
 
-    The first w starts from (x0, v0) (default: settings.x0, settings.v0) and discards
+    The first w starts from (x0, v0) (default: settings.x0, settings.v0; inside a restitution
+    contact with its onset velocity `contact_v0`, a sweep's contact_v0_end) and discards
     `first_transient` periods (default settings.n_initial); every later w starts from the
     previous end state and discards settings.n_transient periods. Then n_record periods
     are recorded: Poincare points at the n_record section times, impacts, near misses.
@@ -307,7 +319,8 @@ def continuation(
     imp_t, imp_v = [np.empty(0)], [np.empty(0)]
     offsets = np.zeros(n + 1, dtype=np.int64)
     n_tr = s.n_initial if first_transient is None else int(first_transient)
-    contact_v0 = None  # a restitution law's contact the end state lies in: its onset velocity
+    # a restitution law's contact the current state lies in: its onset velocity (NaN: none)
+    contact_v0 = None if contact_v0 is None or not math.isfinite(contact_v0) else float(contact_v0)
     for i, om in enumerate(w):
         period = 2.0 * math.pi / om
         t0, c0 = time.perf_counter(), time.process_time()
@@ -352,6 +365,7 @@ def continuation(
             contact_v0 = res.attrs["contact_v0"] if math.isfinite(res.attrs["contact_v0"]) else None
             n_tr = s.n_transient
         per_w["x_end"][i], per_w["v_end"][i] = x, v
+        per_w["contact_v0_end"][i] = math.nan if contact_v0 is None else contact_v0
         per_w["wall_time"][i] = time.perf_counter() - t0
         per_w["cpu_time"][i] = time.process_time() - c0
         if progress is not None:

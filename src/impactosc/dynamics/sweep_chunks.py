@@ -88,6 +88,7 @@ def run_chunk(
         settings,
         x0=seeds.x_end[j],
         v0=seeds.v_end[j],
+        contact_v0=seeds.contact_v0_end[j],
         first_transient=settings.n_transient,
         progress=progress,
         on_failure=on_failure,

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from impactosc.core.simulation import simulate
+from impactosc.core.simulation import simulate, start_of
 from impactosc.dynamics.arclength import _tangent
 from impactosc.dynamics.bifurcation_points import TEST_FUNCTIONS
 from impactosc.dynamics.shooting import (
@@ -45,6 +45,7 @@ from impactosc.dynamics.shooting import (
     ShootingError,
     _multipliers,
     central_difference,
+    require_free_section,
     stroboscopic_map,
 )
 from impactosc.dynamics.shooting import monodromy as shooting_monodromy
@@ -142,7 +143,7 @@ def excursions(y, omega: float, n_periods: int, params: ModelParams) -> dict:
     smooth where one appears)."""
     period = n_periods * 2 * math.pi / omega
     run = simulate(
-        omega, 0.0, period, x0=float(y[0]), v0=float(y[1]), params=params, rtol=RTOL, atol=ATOL,
+        omega, 0.0, period, **start_of(y), params=params, rtol=RTOL, atol=ATOL,
         record=("impacts", "near_misses", "penetrations"),
     )  # fmt: skip
     near, pen = run.events["near_misses"], run.events["penetrations"]
@@ -260,6 +261,7 @@ def start_point(problem: CurveProblem, omega: float, x0: float, v0: float, *, to
     """The curve's point at the model's own value of the parameter, from a located bifurcation
     of the one-parameter table (w, and the orbit's x0, v0 there): Newton on the extended system
     with p held. Its tangent points towards increasing p."""
+    require_free_section(x0, problem.params, "the two-parameter continuation")
     p0 = getattr(problem.params, problem.parameter)
     phase = None
     if problem.kind == "grazing":  # the grazing excursion: the near miss closest to the obstacle

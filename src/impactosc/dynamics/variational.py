@@ -4,7 +4,8 @@ Why: :func:`shooting.monodromy` differentiates the numba core by finite differen
 computes the same M = dP^N/dy another way, as an independent check of it: the state and the
 tangent matrix Phi = dy(t)/dy(0) are integrated together with SciPy's DOP853 at a tight
 tolerance, Phi' = J(t, x, v) Phi, Phi(0) = I, with J the analytic Jacobian of the vector field
-written here (nothing is shared with the core but :class:`ModelParams`).
+written here (nothing is shared with the core but :class:`ModelParams`). Model BC's law only: the
+other laws refuse (a restitution law would need the jump term of chi(v0) at each onset).
 
 The vector field is continuous everywhere (the contact force vanishes at the obstacle, h = x - xI
 = 0, and at the Hunt-Crossley cut where its bracket reaches 0; the dry friction is regularised),
@@ -174,6 +175,8 @@ def _check_input(y, omega, n_periods, params, rtol, atol, v_window):
     if params is not None and not isinstance(params, ModelParams):
         raise ValueError(f"params must be a ModelParams, got {type(params).__name__}")
     p = params or ModelParams()
+    if p.law != "bc":  # Hertz and Kelvin-Voigt's forces, and the jump of a restitution law's chi(v0), are not here
+        raise ValueError(f"the variational equations are written for model BC's law only, not the {p.law} law")
     # SciPy raises the smallest rtol to 100 machine epsilons itself (with a warning): refuse instead
     if not isinstance(rtol, numbers.Real) or not 100 * np.finfo(float).eps <= rtol < 1:
         raise ValueError(f"rtol must be in [2.3e-14, 1), got {rtol!r}")

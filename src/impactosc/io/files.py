@@ -97,6 +97,7 @@ DATASET_UNITS = {
     "v_start": "m/s",
     "x_end": "m",
     "v_end": "m/s",
+    "contact_v0_end": "m/s",
     "n_steps": "1",
     "wall_time": "s",
     "cpu_time": "s",

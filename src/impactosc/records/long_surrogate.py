@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from impactosc.core.simulation import Window, simulate
+from impactosc.core.simulation import Window, end_state, simulate, start_of
 from impactosc.io.files import atomic_write, check_writable, stamp_h5
 from impactosc.model.parameters import ModelParams
 from impactosc.records.surrogate import SurrogateOptions, mismatched_params, sensor_samples
@@ -163,9 +163,9 @@ def write_long_surrogate(
     meta = surrogate_meta(o, p, {"surrogate_segment_periods": int(periods)})
     solver = dict(params=p, rtol=rtol, atol=atol)
     n0, segments = _segments(omega, transient, t_end, periods)
+    start = np.array([x0, v0], float)  # each segment's, with a restitution contact's onset velocity inside one
     if n0 > 0:
-        res = simulate(omega, 0.0, n0 * P, x0=x0, v0=v0, record=(), **solver)
-        x0, v0 = float(res.final_state[1]), float(res.final_state[2])
+        start = end_state(simulate(omega, 0.0, n0 * P, **start_of(start), record=(), **solver))
 
     def first_point(t):  # index of the first grid point transient + j dt at or after t
         return min(n_fine, max(0, math.ceil((t - transient) / dt - 1e-9)))
@@ -173,7 +173,7 @@ def write_long_surrogate(
     rng, state = np.random.default_rng(o.seed), {}
     truth = {"impacts": {"t": [], "v": []}, "poincare": {"t": [], "x": [], "v": []}}
     if n0 > 0:  # the phase-0 state the first segment starts from (a run's own start is not a point)
-        truth["poincare"] = {"t": [n0 * P], "x": [x0], "v": [v0]}
+        truth["poincare"] = {"t": [n0 * P], "x": [float(start[0])], "v": [float(start[1])]}
     held = np.empty(0), np.empty(0), np.empty(0), 0  # fine points not yet sampled: x, v, t, first index
 
     def emit(out, x, v, j0, final):
@@ -201,8 +201,8 @@ def write_long_surrogate(
                 if je > js:
                     s0 = max(transient + js * dt - Ta, 0.0)
                     win = Window(s0, min(s0 + (je - js - 0.5) * dt, L), dt)
-                res = simulate(omega, 0.0, L, x0=x0, v0=v0, window=win, record=("impacts", "poincare"), **solver)
-                x0, v0 = float(res.final_state[1]), float(res.final_state[2])
+                res = simulate(omega, 0.0, L, **start_of(start), window=win, record=("impacts", "poincare"), **solver)
+                start = end_state(res)
                 for kind, cols in (("impacts", ("t", "v")), ("poincare", ("t", "x", "v"))):
                     ev = res.events[kind]
                     truth[kind]["t"].append(Ta + ev["t"])

@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from impactosc.core.simulation import MAX_T_END, Window, simulate
+from impactosc.core.simulation import MAX_T_END, Window, end_state, simulate, start_of
 from impactosc.io.memory import shortfall
 from impactosc.model.parameters import ModelParams, ParameterError
 from impactosc.records.record import MIN_SAMPLES, Record
@@ -325,13 +325,14 @@ def surrogate_sweep(
     p = mismatched_params(params, o.mismatch)
     rng = np.random.default_rng(o.seed)
     out = []
+    state = np.array([x0, v0], float)  # with a restitution contact's onset velocity once inside one
     for k, w in enumerate(np.asarray(omegas, dtype=float)):
         period = 2 * math.pi / w
         ntr = n_initial if (k == 0 and n_initial is not None) else n_transient
         tr, du = ntr * period, n_record * period
         win = Window(tr, tr + du, 1.0 / o.rate)
-        res = simulate(w, tr, du, x0=x0, v0=v0, params=p, rtol=rtol, atol=atol, window=win, record=("impacts",))
-        x0, v0 = float(res.final_state[1]), float(res.final_state[2])
+        res = simulate(w, tr, du, **start_of(state), params=p, rtol=rtol, atol=atol, window=win, record=("impacts",))
+        state = end_state(res)
         out.append(
             Record(
                 res.trajectory["t"],
@@ -362,7 +363,8 @@ def surrogate_driven(
 
     Why chained runs: the core takes w as a constant of the run (``sin(w t)`` in absolute
     time), so a varying motor speed is built from one run per forcing period, each started at
-    its own phase 0 from the previous run's end state (x, v): state and forcing phase are
+    its own phase 0 from the previous run's end state (x, v, and a restitution contact's onset
+    velocity): state and forcing phase are
     continuous, w is a staircase with one step per period (for a slow ramp, steps of
     ``dw/dt`` times a period, e.g. 0.002 rad/s).  The forcing amplitude follows w^2, as an
     unbalance's does (the small term of the motor's angular acceleration is left out).  A run
@@ -394,10 +396,11 @@ def surrogate_driven(
     _check_size(span, o, periods=omegas.size)
     solver = dict(params=p, rtol=rtol, atol=atol)
     T = 0.0
+    state = np.array([x0, v0], float)  # with a restitution contact's onset velocity once inside one
     if n_initial > 0:
         P0 = 2 * math.pi / omegas[0]
-        res = simulate(omegas[0], 0.0, n_initial * P0, x0=x0, v0=v0, record=(), **solver)
-        x0, v0, T = float(res.final_state[1]), float(res.final_state[2]), n_initial * P0
+        state = end_state(simulate(omegas[0], 0.0, n_initial * P0, **start_of(state), record=(), **solver))
+        T = n_initial * P0
 
     t_first = T
 
@@ -413,14 +416,14 @@ def surrogate_driven(
         if je > js:
             s0 = max(t_first + js * dt - T, 0.0)
             win = Window(s0, min(s0 + (je - js - 0.5) * dt, P), dt)
-        res = simulate(w, 0.0, P, x0=x0, v0=v0, window=win, record=("impacts",), **solver)
-        pt.append(T), px.append(x0), pv.append(v0)
+        res = simulate(w, 0.0, P, **start_of(state), window=win, record=("impacts",), **solver)
+        pt.append(T), px.append(float(state[0])), pv.append(float(state[1]))
         if win is not None:
             xs.append(res.trajectory["x"][: je - js])
             vs.append(res.trajectory["v"][: je - js])
             lens.append(je - js)
         it.append(T + res.events["impacts"]["t"]), iv.append(res.events["impacts"]["v"])
-        x0, v0 = float(res.final_state[1]), float(res.final_state[2])
+        state = end_state(res)
         T += P
         n_impacts += res.events["impacts"]["t"].size
         if progress is not None:
