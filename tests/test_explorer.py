@@ -6,7 +6,9 @@ the command's errors."""
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import itertools
+import math
 import os
 import pickle
 import re
@@ -20,6 +22,7 @@ import urllib.request
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
@@ -143,12 +146,12 @@ def test_a_newer_diagram_drops_the_older_one(monkeypatch):
     release = threading.Event()
     calls = []
 
-    def fake_batch(omegas, settings, x0, v0, first_transient):
+    def fake_batch(omegas, settings, state, first_transient):
         calls.append(float(omegas[0]))
         if omegas[0] < 100:  # the first request's windows lie below 100 rad/s
             release.wait(5)
-        cols = [{"omega": float(w), "x": [0.0], "isi": [], "x_end": 0.0, "v_end": 0.0} for w in omegas]
-        return {"columns": cols, "x_end": 0.0, "v_end": 0.0}
+        cols = [{"omega": float(w), "x": [0.0], "isi": [], "state_end": (0.0, 0.0, math.nan)} for w in omegas]
+        return {"columns": cols, "state_end": cols[-1]["state_end"]}
 
     monkeypatch.setattr(work, "diagram_batch", fake_batch)
     s = sched.Scheduler(2, pool=ThreadPoolExecutor(2))
@@ -233,7 +236,7 @@ def test_errors_survive_pickling(error):
 def test_a_real_stall_pickles_with_its_state():
     """w = 1e9 stalls the core (step-size underflow): the error a worker raises comes back whole."""
     with pytest.raises(StallError) as caught:
-        work.attractor(1e9, ModelParams(), 0.0, 0.0, 600, 60)
+        work.attractor(1e9, ModelParams(), (0.0, 0.0, math.nan), 600, 60)
     back = pickle.loads(pickle.dumps(caught.value))
     assert str(back) == str(caught.value) and back.state == caught.value.state and back.state["t"] > 0
 
@@ -553,3 +556,20 @@ def test_the_model_controls_show_the_laws_fields_and_report_only_a_users_edits()
     controls.fields["cI"].value = "80"
     controls.law.value = "hertz"
     assert calls == [("cI", "80"), "hertz"]
+
+
+def test_a_restitution_law_is_explored_through_its_contacts():
+    """Flores's period-1 orbit at w = 13.5 (e = 0.6, kI = 1e7, T = 0) has its Poincare point
+    inside a contact: the attractor, the diagram's next batch and the shot orbit all start
+    there with the contact's onset velocity."""
+    flores = dataclasses.replace(ModelParams(), law="flores", e=0.6, kI=1e7, T=0.0)
+    out = work.attractor(13.5, flores, (0.0, 0.0, math.nan), 300, 20)
+    x, _, contact_v0 = out["state_end"]
+    assert x > flores.xI and contact_v0 > 0  # the section lies inside a contact
+    again = work.attractor(13.5, flores, out["state_end"], 5, 20)
+    assert again["period"] == out["period"] == 1
+    orbit = work.periodic_orbit(13.5, flores, out["state_end"], 1)
+    assert "error" not in orbit and orbit["stable"]
+    settings = View(w_lo=13.4, w_hi=13.6, n_columns=3, params=flores).settings()
+    batch = work.diagram_batch(np.array([13.5, 13.55]), settings, out["state_end"], 5)
+    assert all(len(c["x"]) == settings.n_record for c in batch["columns"])

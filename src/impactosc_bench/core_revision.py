@@ -56,7 +56,7 @@ for line in sys.stdin:
     print(json.dumps({
         "wall": wall, "steps": int(a["n_steps"] + a["n_implicit_steps"]),
         "impacts_t": np.asarray(res.events["impacts"]["t"], float).tolist(),
-        "state": [float(v) for v in res.final_state[:2]], "t_end": q["transient"] + q["duration"],
+        "state": [float(v) for v in res.final_state[1:3]], "t_end": q["transient"] + q["duration"],
     }), flush=True)
 """
 

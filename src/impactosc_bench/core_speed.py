@@ -120,7 +120,7 @@ def run_core_from_rest(rtol: float, atol: float, transient: float = TRANSIENT, d
         a["n_steps"] + a["n_implicit_steps"],
         res.events["impacts"]["t"],
         transient + duration,
-        np.asarray(res.final_state[:2], float),
+        np.asarray(res.final_state[1:3], float),  # (x, v): the state starts with t
         True,
         "",
         extra=dict(rejected=a["n_rejected"], rhs=n_rhs, rhs_per_period=n_rhs / _n_periods(transient + duration)),

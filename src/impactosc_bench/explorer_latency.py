@@ -46,7 +46,7 @@ def time_diagram(s: Scheduler, view: View) -> tuple[float, float, dict, float]:
         if not first:
             first.append(time.perf_counter() - t0)
         for c in cols:
-            seeds[c["omega"]] = (c["x_end"], c["v_end"])
+            seeds[c["omega"]] = c["state_end"]
             cpu.append(c["cpu"])
 
     s.diagram(view, columns, on_done=lambda _gen, _s: done.set())

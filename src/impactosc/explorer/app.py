@@ -84,7 +84,7 @@ class Explorer:
         self.snippet_path = Path(snippet_path)
         self.access = access or RecordAccess()
         self._closed = False
-        self.seeds: dict | None = None  # omega, x_end, v_end of the diagram shown, and its params
+        self.seeds: dict | None = None  # omega and end state of each column of the diagram shown, its params
         self._zoom_pending = False
         self._started = 0.0
         self._build_sources()
@@ -282,7 +282,7 @@ class Explorer:
         if not w.min() <= omega <= w.max():
             return None
         i = int(np.argmin(np.abs(w - omega)))
-        return s["x_end"][i], s["v_end"][i]
+        return s["state_end"][i]
 
     # ------------------------------------------------------------------ drawing (document thread)
 
@@ -294,11 +294,10 @@ class Explorer:
         y = [value for c in cols for value in c[key]]
         self.src["diagram"].stream({"w": w, "y": y})
         if self.seeds is None or self.seeds.get("gen") != gen:
-            self.seeds = {"gen": gen, "params": self.view.params, "omega": [], "x_end": [], "v_end": []}
+            self.seeds = {"gen": gen, "params": self.view.params, "omega": [], "state_end": []}
         for c in cols:
             self.seeds["omega"].append(c["omega"])
-            self.seeds["x_end"].append(c["x_end"])
-            self.seeds["v_end"].append(c["v_end"])
+            self.seeds["state_end"].append(c["state_end"])
         self._n_done += len(cols)
         elapsed = time.perf_counter() - self._started
         self.status.text = f"{self._n_done} / {self.view.n_columns} columns ({elapsed:.1f} s)"

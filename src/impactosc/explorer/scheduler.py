@@ -29,6 +29,7 @@ from __future__ import annotations
 import contextlib
 import itertools
 import logging
+import math
 import multiprocessing
 import multiprocessing.connection
 import signal
@@ -310,9 +311,9 @@ class Scheduler:
         plan = lane_plan(omegas.size, self.workers)
         remaining = {"lanes": len(plan)}
 
-        def run(batches, x0, v0, first_transient):
+        def run(batches, state, first_transient):
             (a, b), rest = batches[0], batches[1:]
-            future = self._submit(DIAGRAM, gen, work.diagram_batch, omegas[a:b], settings, x0, v0, first_transient)
+            future = self._submit(DIAGRAM, gen, work.diagram_batch, omegas[a:b], settings, state, first_transient)
             if future is not None:
                 future.add_done_callback(lambda f: finished(f, rest))
 
@@ -327,7 +328,7 @@ class Scheduler:
             out = future.result()
             on_columns(gen, out["columns"])
             if rest:
-                run(rest, out["x_end"], out["v_end"], settings.n_transient)
+                run(rest, out["state_end"], settings.n_transient)
                 return
             with self._lock:
                 remaining["lanes"] -= 1
@@ -338,9 +339,9 @@ class Scheduler:
         for a, b in plan:
             start = seed(float(omegas[a])) if seed is not None else None
             if start is None:
-                run(_batches(a, b), settings.x0, settings.v0, settings.n_initial)
+                run(_batches(a, b), (settings.x0, settings.v0, math.nan), settings.n_initial)
             else:
-                run(_batches(a, b), start[0], start[1], settings.n_transient)
+                run(_batches(a, b), start, settings.n_transient)
         return gen
 
     def attractor(
@@ -350,14 +351,15 @@ class Scheduler:
         on_attractor: Callable[[int, dict], None],
         on_orbit: Callable[[int, dict], None] | None = None,
         on_error: Callable[[int, str], None] | None = None,
-        seed: tuple[float, float] | None = None,
+        seed: tuple[float, float, float] | None = None,
     ) -> int:
-        """The attractor at `omega` (from `seed`, a state near it, else from rest), then, when it
-        is periodic, its orbit shot with its multipliers; returns the generation."""
+        """The attractor at `omega` (from `seed`, a state (x, v, contact_v0) near it, else from
+        rest), then, when it is periodic, its orbit shot with its multipliers from its last
+        Poincare point; returns the generation."""
         gen = self._next(ATTRACTOR)
-        x0, v0 = seed if seed is not None else (view.settings().x0, view.settings().v0)
+        state = seed if seed is not None else (view.settings().x0, view.settings().v0, math.nan)
         n_tr = view.n_transient if seed is not None else view.n_initial
-        future = self._submit(ATTRACTOR, gen, work.attractor, omega, view.params, x0, v0, n_tr, ATTRACTOR_RECORD)
+        future = self._submit(ATTRACTOR, gen, work.attractor, omega, view.params, state, n_tr, ATTRACTOR_RECORD)
 
         def got_orbit(f: Future):
             if f.cancelled() or not self.is_current(ATTRACTOR, gen) or on_orbit is None:
@@ -377,7 +379,7 @@ class Scheduler:
             on_attractor(gen, out)
             p = out["period"]
             if 0 < p <= work.MAX_SHOT_PERIOD and on_orbit is not None:
-                y = (out["poincare_x"][-1], out["poincare_v"][-1])
+                y = out["state_end"]  # the last Poincare point, with its contact's v0 inside one
                 nxt = self._submit(ATTRACTOR, gen, work.periodic_orbit, omega, view.params, y, p)
                 if nxt is not None:
                     nxt.add_done_callback(got_orbit)

@@ -27,7 +27,7 @@ import pickle
 
 import numpy as np
 
-from impactosc.core.simulation import Window, simulate, warm_up
+from impactosc.core.simulation import Window, end_state, simulate, start_of, warm_up
 from impactosc.dynamics.branch_segments import orbit_sample
 from impactosc.dynamics.shooting import ShootingError, shoot
 from impactosc.dynamics.sweep import OK, SweepSettings, continuation
@@ -73,11 +73,16 @@ def warm() -> float:
 
 
 @_plain_errors
-def diagram_batch(omegas, settings: SweepSettings, x0: float, v0: float, first_transient: int) -> dict:
-    """The columns of `omegas` (in sweep order) by continuation from (x0, v0), the first w
-    discarding `first_transient` periods: per column the Poincare x and the intervals S_j, and
-    the end state the next batch starts from."""
-    res = continuation(np.asarray(omegas, float), settings, x0=x0, v0=v0, first_transient=first_transient)
+def diagram_batch(omegas, settings: SweepSettings, state, first_transient: int) -> dict:
+    """The columns of `omegas` (in sweep order) by continuation from `state` (x, v, contact_v0;
+    contact_v0 NaN outside a restitution law's contact), the first w discarding
+    `first_transient` periods: per column the Poincare x and the intervals S_j, and the end
+    state the next batch starts from."""
+    start = start_of(state)
+    res = continuation(
+        np.asarray(omegas, float), settings, x0=start["x0"], v0=start["v0"], contact_v0=start["contact_v0"],
+        first_transient=first_transient,
+    )  # fmt: skip
     cols = []
     for i in range(len(res)):
         ok = bool(res.status[i] == OK)
@@ -86,27 +91,27 @@ def diagram_batch(omegas, settings: SweepSettings, x0: float, v0: float, first_t
                 "omega": float(res.omega[i]),
                 "x": res.poincare_x[i].tolist() if ok else [],
                 "isi": res.isi(i).tolist(),
-                "x_end": float(res.x_end[i]),
-                "v_end": float(res.v_end[i]),
+                "state_end": (float(res.x_end[i]), float(res.v_end[i]), float(res.contact_v0_end[i])),
                 "cpu": float(res.cpu_time[i]),  # s of the worker's CPU: the cost without other load
             }
         )
-    return {"columns": cols, "x_end": float(res.x_end[-1]), "v_end": float(res.v_end[-1])}
+    return {"columns": cols, "state_end": cols[-1]["state_end"]}
 
 
 @_plain_errors
-def attractor(omega: float, params: ModelParams, x0: float, v0: float, n_transient: int, n_record: int) -> dict:
-    """One w from (x0, v0): `n_transient` periods discarded, `n_record` recorded. Returns the
-    last WINDOW_PERIODS periods as a time series, the Poincare points (x, v), the impact times
-    and their intervals, and the period p of the Poincare sequence (0: none within the record)."""
+def attractor(omega: float, params: ModelParams, state, n_transient: int, n_record: int) -> dict:
+    """One w from `state` (x, v, contact_v0): `n_transient` periods discarded, `n_record`
+    recorded. Returns the last WINDOW_PERIODS periods as a time series, the Poincare points
+    (x, v), the impact times and their intervals, the period p of the Poincare sequence (0: none
+    within the record) and the end state, the last Poincare point with its contact's v0."""
     period = 2 * math.pi / omega
     transient, duration = n_transient * period, n_record * period
     t_end = transient + duration
     shown = min(WINDOW_PERIODS, n_record) * period
     window = Window(t_end - shown, t_end, period / SAMPLES_PER_PERIOD)
     run = simulate(
-        omega, transient, duration, x0=x0, v0=v0, params=params, window=window,
-        record=("impacts", "poincare", "near_misses"),
+        omega, transient, duration, params=params, window=window, record=("impacts", "poincare", "near_misses"),
+        **start_of(state),
     )  # fmt: skip
     px, pv = run.events["poincare"]["x"], run.events["poincare"]["v"]
     t_imp = run.events["impacts"]["t"]
@@ -124,8 +129,7 @@ def attractor(omega: float, params: ModelParams, x0: float, v0: float, n_transie
         "impact_t": t_imp.tolist(),
         "isi": isi.tolist(),
         "period": int(p),
-        "x_end": float(run.final_state[1]),
-        "v_end": float(run.final_state[2]),
+        "state_end": tuple(float(c) for c in end_state(run)),
         "gap": float(run.events["near_misses"]["gap"].min()) if run.events["near_misses"]["gap"].size else math.inf,
     }
 
