@@ -207,10 +207,10 @@ def test_branch_comparison_follows_one_of_two_coexisting_orbits():
     truth = random_truth(18)
     near = dataclasses.replace(truth, kI=1.001 * truth.kI)
     states = [(-0.0032104749668557023, -0.0023799031725474633), (-0.0033445760322028777, -7.619462366503389e-05)]
-    orbits = [_orbit_from(truth, 20.25, x0, v0, 3, 400) for x0, v0 in states]
+    orbits = [_orbit_from(truth, 20.25, state, 3, 400) for state in states]
     assert np.max(np.abs(orbits[0] - orbits[1])) > 100e-6  # two orbits, not one
-    for (x0, v0), orbit in zip(states, orbits):
-        assert np.max(np.abs(_orbit_from(near, 20.25, x0, v0, 3, 400) - orbit)) < BRANCH_TOL
+    for state, orbit in zip(states, orbits):
+        assert np.max(np.abs(_orbit_from(near, 20.25, state, 3, 400) - orbit)) < BRANCH_TOL
 
 
 def test_model_choice_compares_criteria_on_the_samples_every_candidate_fitted():

@@ -201,7 +201,8 @@ def solve_reference(
                 pen_t.append(te)
                 pen_h.append(ye[0] - p.xI)
         if sol.status == 0:
-            y = sol.y[:, -1]
+            # the end state; with poincare, sol.y holds the sections only (a list when none)
+            y = np.full(2, math.nan) if poincare else sol.y[:, -1]
             break
         n_terminal = 2 if mode != "free" else 1
         k = min((k for k in range(n_terminal) if len(sol.t_events[k])), key=lambda k: sol.t_events[k][-1])
