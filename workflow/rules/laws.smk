@@ -3,7 +3,10 @@
 # restitution law's e matched so that a free impact at config laws.v0 = 0.2 m/s dissipates what
 # model BC's does (impactosc.dynamics.restitution.matched_e), drawn over each other. Target:
 #   make laws    (snakemake -j2 laws_study --configfile config/laws.yaml: results/laws/)
-# Budget: measured on 2 cores, see docs/workflow.md (the target's row).
+# Budget: 10 min on 2 cores. Measured: 8 min 8 s for `make laws` from nothing (19 jobs, 226 s of
+# CPU, six sweeps of 1001 and 1044 w at the paper's resolution) on 2 cores shared with other work
+# (load about 7). Full resolution fits: a sweep is about 35 s of CPU, so the six run in about
+# two minutes on 2 free cores; no coarser grid is needed.
 #
 # Each law's sweeps and their reading are the bifurcation group's rules run on the law's model
 # file (use rule ... with:), so a law's diagram is computed and read exactly as the paper's is.

@@ -335,7 +335,7 @@ def overlay_figure(sweeps, x_obstacle, *, windows=()):
 # Colours of the studies in a comparison: this study, then the other one.
 STUDY_COLORS = ("tab:blue", "tab:orange", "tab:green", "tab:red")
 # each later layer drawn smaller on top of the earlier ones, so that all stay visible
-STUDY_SIZES = (1.2, 0.35, 0.1)
+STUDY_SIZES = (1.2, 0.35, 0.2)
 STUDY_QUANTITIES = {
     "poincare": (MM, r"$x$ at $\varphi = 2\pi i$ (mm)", "Poincare points"),
     "isi": (1.0, r"$S_j$ (s)", "inter-impact intervals"),
