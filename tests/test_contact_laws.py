@@ -253,3 +253,7 @@ def test_the_laws_models_match_only_the_restitution_laws():
     assert rows["flores"]["e_eff"] == pytest.approx(rows["flores"]["reference"], abs=1e-8)
     with pytest.raises(ValueError, match="the hertz law takes no e"):
         matched_e(ModelParams(), "hertz", 0.2)
+    # Lankarani-Nikravesh's chi stays bounded as e -> 0: it never dissipates model BC's share (its
+    # e_eff is 0.665 at e = 0.1, the restitution table), and says so rather than return a bracket end
+    with pytest.raises(ValueError, match="no e in .* of the lankarani-nikravesh law delivers"):
+        matched_e(ModelParams(), "lankarani-nikravesh", 0.2)
