@@ -255,5 +255,5 @@ def test_the_laws_models_match_only_the_restitution_laws():
         matched_e(ModelParams(), "hertz", 0.2)
     # Lankarani-Nikravesh's chi stays bounded as e -> 0: it never dissipates model BC's share (its
     # e_eff is 0.665 at e = 0.1, the restitution table), and says so rather than return a bracket end
-    with pytest.raises(ValueError, match="no e in .* of the lankarani-nikravesh law delivers"):
+    with pytest.raises(ValueError, match=r"no e in .* of the lankarani-nikravesh law delivers"):
         matched_e(ModelParams(), "lankarani-nikravesh", 0.2)
