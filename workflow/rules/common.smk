@@ -299,6 +299,8 @@ LAWS_COARSE = study_path("runs/laws/{law}/{sweep}/coarse.h5")
 LAWS_CHUNK = study_path("runs/laws/{law}/{sweep}/chunk{chunk}.h5")
 LAWS_SWEEP = study_path("runs/laws/{law}/{sweep}.h5")
 LAWS_STATS = study_path("stats/laws/{law}.json")
+# a law's rows of the paper table: its reading beside the paper's numbers (no table collects them)
+LAWS_ROWS = study_path("tables/laws/{law}/paper_rows.csv")
 LAWS_TABLES = {
     kind: study_path(f"tables/laws/{{law}}/bifurcation_{kind}.csv") for kind in ("per_w", "segments", "transitions")
 }
