@@ -34,7 +34,7 @@ STUDY ?= paper
 # it, so the name is checked as the config checks the key (letters, digits, _ and -)
 CHECK_STUDY = case "$(STUDY)" in ""|*[!A-Za-z0-9_-]*) echo "STUDY='$(STUDY)': letters, digits, _ and - only" >&2; exit 1;; esac
 
-.PHONY: all beyond bench everything install lock test test-slow report lint docs config-docs format check-cluster check-slurm clean
+.PHONY: all beyond bench everything laws install lock test test-slow report lint docs config-docs format check-cluster check-slurm clean
 
 # A build killed part-way resumes with a plain `make`: a lock left by a dead Snakemake is removed
 # (never one a live Snakemake holds, workflow/unlock_stale.py) and incomplete outputs are redone.
@@ -65,6 +65,11 @@ bench: install
 	$(call snakemake_run,benchmarks $(SNAKEMAKE_ARGS))
 
 everything: all beyond bench
+
+# The laws study (opt-in, results/laws/): Figs 2 and 3b of model BC beside Hertz and Flores, Flores's
+# e matched to model BC's dissipation (config/laws.yaml; workflow/rules/laws.smk states its budget)
+laws: install
+	$(call snakemake_run,laws_study --configfile config/laws.yaml $(SNAKEMAKE_ARGS))
 
 # uv, pinned and hash-checked, bootstrapped by the venv's own pip (no uv on the machine needed)
 $(UV): $(UV_LOCK)

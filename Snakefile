@@ -31,6 +31,8 @@ include: "workflow/rules/work_precision.smk"
 include: "workflow/rules/benchmark.smk"
 include: "workflow/rules/combined.smk"
 include: "workflow/rules/compare.smk"
+# the laws study runs rules of bifurcation.smk and compare.smk on each law's model (use rule), after them
+include: "workflow/rules/laws.smk"
 
 
 # The three tiers (each rules file puts its products in one, workflow/rules/common.smk: TIERS)

@@ -57,13 +57,20 @@ GALLERY = [
         ["grazing", "bifurcation_overlay", "fig02_orbits", "fig03b_orbits", "basins", "basins_fine"],
     ),
     ("Lyapunov exponents", ["lyapunov_chaos", "fig02_lyapunov", "fig03b_lyapunov"]),
-    ("Contact laws", ["restitution"]),
+    ("Contact laws", ["restitution", "fig02_laws", "fig03b_laws"]),
     ("Two parameters (opt-in)", ["map2d", "map2d_curves"]),
     ("Records and identification", ["measured_noise_study", "identify"]),
     ("Speed against accuracy", ["work_precision"]),
 ]
 # The Snakemake target that draws a figure, and its caption, where they are not the figure's name
-TARGETS = {"measured_noise_study": "measured_noise_figure", "identify": "identify_figure"}
+TARGETS = {
+    "measured_noise_study": "measured_noise_figure",
+    "identify": "identify_figure",
+    "fig02_laws": "laws_study",
+    "fig03b_laws": "laws_study",
+}
+# Figures of a study of their own (opt-in, config/<study>.yaml), not the paper's: results/<study>/figures
+OTHER_STUDIES = {"fig02_laws": "laws", "fig03b_laws": "laws"}
 CAPTION_OF = {"basins_fine": "basins"}
 SITE_FIGURES = "figures"  # where the PNGs go in the site
 SITE_SCREENSHOTS = "screenshots"  # where the tests' screenshots go in the site
@@ -153,12 +160,38 @@ def _title(name: str) -> str:
     return f"Fig. {int(match.group(1))}{match.group(2)} (`{name}`)" if match else f"`{name}`"
 
 
+def other_study_figures(directory: Path, study: str) -> Path:
+    """The figures directory of another study, beside the paper's: results/<study>/figures
+    (``directory`` is results/paper/figures, or results/figures of older builds)."""
+    results = directory.parent if directory.parent.name == "results" else directory.parents[1]
+    return results / study / "figures"
+
+
+def _site_path(name: str, png: Path, directory: Path) -> str:
+    """Where a gallery figure goes in the site: figures/<path> (the paper's), figures/studies/<study>/<path>."""
+    study = OTHER_STUDIES.get(name)
+    if study is None:
+        return png.relative_to(directory).as_posix()
+    return f"studies/{study}/{png.relative_to(other_study_figures(directory, study)).as_posix()}"
+
+
+def _command(name: str) -> str:
+    study = OTHER_STUDIES.get(name)
+    return TARGETS.get(name, name) + (f" --configfile config/{study}.yaml" if study else "")
+
+
 def gallery_markdown(directory: Path, prefix: str = "") -> str:
     """Every figure with its caption; a figure not built names the command that builds it."""
     listed = [CAPTION_OF.get(name, name) for _, names in GALLERY for name in names]
     others = sorted(p.stem for p in CAPTIONS.glob("*.rst") if p.stem not in listed and p.stem not in NOT_FIGURES)
     sections = GALLERY + ([("Other figures", others)] if others else [])
-    built = {name: find_figure(name, directory) for _, names in sections for name in names}
+    built = {
+        name: find_figure(
+            name, other_study_figures(directory, OTHER_STUDIES[name]) if name in OTHER_STUDIES else directory
+        )
+        for _, names in sections
+        for name in names
+    }
     out = []
     if not any(built.values()):
         out.append(
@@ -173,9 +206,9 @@ def gallery_markdown(directory: Path, prefix: str = "") -> str:
             out.append(f"### {_title(name)}\n")
             png = built[name]
             if png is None:
-                out.append(f"*Not built yet:* `.venv/bin/snakemake -j2 {TARGETS.get(name, name)}`\n")
+                out.append(f"*Not built yet:* `.venv/bin/snakemake -j2 {_command(name)}`\n")
             else:
-                out.append(f"![{name}]({prefix}{SITE_FIGURES}/{png.relative_to(directory).as_posix()})\n")
+                out.append(f"![{name}]({prefix}{SITE_FIGURES}/{_site_path(name, png, directory)})\n")
             out.append(f'<div class="figure-caption">\n{caption_html(name)}\n</div>\n')
     return "\n".join(out)
 
@@ -195,8 +228,9 @@ def _screenshot(match: re.Match, prefix: str) -> str:
 
 
 def on_files(files, config):
-    """The built PNGs of the study into the site, under figures/, and the tests' screenshots
-    under screenshots/ (copied at build time)."""
+    """The built PNGs of the study into the site, under figures/ (the gallery's figures of other
+    studies under figures/studies/<study>/), and the tests' screenshots under screenshots/
+    (copied at build time)."""
     from mkdocs.structure.files import File
 
     artifacts = ROOT / ARTIFACTS
@@ -207,6 +241,11 @@ def on_files(files, config):
     for png in sorted(directory.rglob("*.png")) if directory.is_dir() else []:
         uri = f"{SITE_FIGURES}/{png.relative_to(directory).as_posix()}"
         files.append(File.generated(config, uri, abs_src_path=str(png)))
+    for name, study in OTHER_STUDIES.items():  # the other studies' gallery figures, those built
+        png = find_figure(name, other_study_figures(directory, study))
+        if png is not None:
+            uri = f"{SITE_FIGURES}/{_site_path(name, png, directory)}"
+            files.append(File.generated(config, uri, abs_src_path=str(png)))
     return files
 
 

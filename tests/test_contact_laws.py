@@ -269,3 +269,37 @@ def test_the_restitution_table_is_the_free_impact_of_scipy(law):
     assert effective_restitution(params, 0.05) == pytest.approx(
         scipy_restitution(law_params(law, e=0.6, **FREE), 0.05), abs=1e-6
     )
+
+
+def test_a_matched_restitution_law_dissipates_what_model_bc_does():
+    """The laws study's Flores: its e is the root of e_eff(e) = model BC's e_eff at 0.2 m/s. The
+    core's e_eff at that e equals model BC's within 1e-8 (the root finder stops within 1e-10 in e,
+    and de_eff/de is about 1; the core's own error at rtol 1e-12 is smaller still), and SciPy's free
+    impact on the published form delivers it within 1e-6 (as the restitution table is checked).
+    The restitution table brackets it: Flores delivers 0.470 at e = 0.5 and 0.577 at 0.6."""
+    from impactosc.dynamics.restitution import effective_restitution, matched_e
+
+    bc = ModelParams()
+    target = effective_restitution(bc, 0.2)
+    e = matched_e(bc, "flores", 0.2)
+    assert 0.5 < e < 0.6 and 0.5 < target < 0.6
+    assert effective_restitution(law_params("flores", e=e), 0.2) == pytest.approx(target, abs=1e-8)
+    assert scipy_restitution(law_params("flores", e=e, **FREE), 0.2) == pytest.approx(target, abs=1e-6)
+
+
+def test_the_laws_models_match_only_the_restitution_laws():
+    """Hertz has no e to match and dissipates nothing at the contact (e_eff = 1 up to the core's
+    tolerance, 1e-9 being far above it); model BC's row is the reference itself."""
+    from impactosc.dynamics.restitution import matched_e, matched_models
+
+    rows = {r["law"]: r for r in matched_models(ModelParams(), ["bc", "hertz", "flores"], 0.2)}
+    assert rows["bc"]["e"] is None and rows["bc"]["e_eff"] == rows["bc"]["reference"]
+    assert rows["hertz"]["e"] is None and rows["hertz"]["e_eff"] == pytest.approx(1.0, abs=1e-9)
+    assert rows["flores"]["params"].law == "flores" and rows["flores"]["params"].e == rows["flores"]["e"]
+    assert rows["flores"]["e_eff"] == pytest.approx(rows["flores"]["reference"], abs=1e-8)
+    with pytest.raises(ValueError, match="the hertz law takes no e"):
+        matched_e(ModelParams(), "hertz", 0.2)
+    # Lankarani-Nikravesh's chi stays bounded as e -> 0: it never dissipates model BC's share (its
+    # e_eff is 0.665 at e = 0.1, the restitution table), and says so rather than return a bracket end
+    with pytest.raises(ValueError, match=r"no e in .* of the lankarani-nikravesh law delivers"):
+        matched_e(ModelParams(), "lankarani-nikravesh", 0.2)

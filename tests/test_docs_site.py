@@ -135,3 +135,20 @@ def test_figures_of_an_older_build(tmp_path):
     assert hooks.figures_dir(tmp_path) == tmp_path / "results" / "figures"
     _png(tmp_path / "results" / "paper" / "figures" / "fig04.png")
     assert hooks.figures_dir(tmp_path) == tmp_path / "results" / "paper" / "figures"
+
+
+def test_gallery_shows_the_figures_of_a_study_of_their_own(tmp_path, monkeypatch):
+    """The laws study's figures live in results/laws/, beside the paper's: the gallery links them
+    under figures/studies/laws/ and the site gets them there; unbuilt, it names the study's config."""
+    figures = tmp_path / "results" / "paper" / "figures"
+    page = hooks.gallery_markdown(figures, prefix="")
+    assert "Not built yet:* `.venv/bin/snakemake -j2 laws_study --configfile config/laws.yaml`" in page
+    _png(tmp_path / "results" / "laws" / "figures" / "laws" / "fig02_laws.png")
+    page = hooks.gallery_markdown(figures, prefix="")
+    assert "![fig02_laws](figures/studies/laws/laws/fig02_laws.png)" in page
+    monkeypatch.setattr(hooks, "ROOT", tmp_path)
+    config = MkDocsConfig()
+    config.load_dict({"site_name": "test", "docs_dir": str(DOCS), "site_dir": str(tmp_path / "site")})
+    assert config.validate() == ([], [])
+    config.plugins._current_plugin = None  # what MkDocs sets while it runs a hook
+    assert [f.src_uri for f in hooks.on_files([], config)] == ["figures/studies/laws/laws/fig02_laws.png"]

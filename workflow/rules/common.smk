@@ -102,7 +102,7 @@ def scene(name):
 # Groups: the rules files (scenes, periodic, bifurcation, orbits, two_parameter, chaotic, measured,
 # work_precision,
 # benchmark (benchmark.smk), combined (combined.smk: products that join several groups),
-# compare (compare.smk: this study's figures over another study's).
+# compare (compare.smk: this study's figures over another study's), laws (laws.smk: the laws study).
 # ---------------------------------------------------------------------------------------
 RESULTS = f"results/{config['study']}"
 
@@ -276,18 +276,35 @@ def compare_inputs(wildcards):
             "snakemake -j2 compare_studies --config study=myrig 'compare={study: paper}'"
         )
     sweeps = [BIF_SWEEP.format(sweep=config["bifurcation"][name]["sweep"]) for name in ("fig02", "fig03b")]
-    other = {
-        "other_sweeps": [of_study(path, COMPARE_STUDY) for path in sweeps],
-        "other_stats": of_study(BIF_STATS, COMPARE_STUDY),
-    }
-    missing = [path for path in [*other["other_sweeps"], other["other_stats"]] if not Path(path).is_file()]
+    other_sweeps = [of_study(path, COMPARE_STUDY) for path in sweeps]
+    other_stats = of_study(BIF_STATS, COMPARE_STUDY)
+    missing = [path for path in [*other_sweeps, other_stats] if not Path(path).is_file()]
     if missing:
         raise WorkflowError(
             f"compare_studies: study {COMPARE_STUDY!r} (config compare.study) is not built: "
             f"{', '.join(missing)} missing. Build it first with its own config, e.g. "
             f"snakemake -j2 fig02 fig03b --config study={COMPARE_STUDY}"
         )
-    return {"sweeps": sweeps, "stats": BIF_STATS, **other}
+    # one layer per study, this one first: its Fig 2 and Fig 3b sweeps, and its reading
+    return {"sweeps": [*sweeps, *other_sweeps], "stats": [BIF_STATS, other_stats]}
+
+
+# laws group (laws.smk; opt-in, the laws study): the study's model with each contact law of
+# config laws.laws, a restitution law's e matched to the model's dissipation; one model file per
+# law, its sweeps and their reading as the bifurcation group's, and Figs 2 and 3b of all laws
+LAWS_TABLE = study_path("tables/laws/matched_e.csv")
+LAWS_MD = study_path("tables/laws/matched_e.md")
+LAWS_MODEL = study_path("models/laws/{law}.yaml")
+LAWS_COARSE = study_path("runs/laws/{law}/{sweep}/coarse.h5")
+LAWS_CHUNK = study_path("runs/laws/{law}/{sweep}/chunk{chunk}.h5")
+LAWS_SWEEP = study_path("runs/laws/{law}/{sweep}.h5")
+LAWS_STATS = study_path("stats/laws/{law}.json")
+# a law's rows of the paper table: its reading beside the paper's numbers (no table collects them)
+LAWS_ROWS = study_path("tables/laws/{law}/paper_rows.csv")
+LAWS_TABLES = {
+    kind: study_path(f"tables/laws/{{law}}/bifurcation_{kind}.csv") for kind in ("per_w", "segments", "transitions")
+}
+LAWS_FIGURES = {name: supplementary("laws", f"{name}_laws") for name in ("fig02", "fig03b")}
 
 
 # basins group (basins.smk): which attractor each initial state reaches at one w; grid is

@@ -23,7 +23,8 @@ rule compare_studies:
         ),
         fig03b_pdf=COMPARE_FIGURES["fig03b"][1],
     params:
-        studies=[config["study"], COMPARE_STUDY],
+        labels=[f"study {config['study']}", f"study {COMPARE_STUDY}"],
+        title=f"studies {config['study']} and {COMPARE_STUDY}",
         sweeps=[config["bifurcation"][name]["sweep"] for name in ("fig02", "fig03b")],
     script:
         "../scripts/compare_studies.py"

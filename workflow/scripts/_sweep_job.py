@@ -8,12 +8,17 @@ import logging
 import time
 
 from impactosc.dynamics.sweep import SweepSettings, regular_grid, save_sweep
+from impactosc.model.model_file import resolve_model
 
 
-def grid_and_settings(params):
-    """The sweep's w grid and its per-w settings, from a sweep job's params."""
+def grid_and_settings(params, inputs):
+    """The sweep's w grid and its per-w settings, from a sweep job's params; the model is the
+    model file input.model when the job has one (a model a job of the build made, as the laws
+    study's matched laws), else params.model."""
     grid = regular_grid(params.grid["start"], params.grid["stop"], params.grid["step"])
-    return grid, SweepSettings.from_config(params.per_w, params.model, params.solver)
+    model_file = inputs.get("model")
+    model = resolve_model(model_file)[0].to_dict() if model_file else params.model
+    return grid, SweepSettings.from_config(params.per_w, model, params.solver)
 
 
 def progress(i, n, w):

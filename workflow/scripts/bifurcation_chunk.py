@@ -1,13 +1,14 @@
 """One chunk of a chunked continuation sweep, started from the coarse pass (the first chunk from x0, v0).
 
-Reads input.cache, params (grid, per-w settings, model, solver, stride, chunking) and, for a chunk after
-the first, input.seeds (the coarse pass); writes output.chunk (sweep HDF5, with timing).
+Reads input.cache, params (grid, per-w settings, model or the model file input.model, solver, stride,
+chunking) and, for a chunk after the first, input.seeds (the coarse pass); writes output.chunk (sweep
+HDF5, with timing).
 """
 
 from _logging import configure_logging, mock_snakemake
 
 if "snakemake" not in globals():
-    snakemake = mock_snakemake("bifurcation_chunk", sweep="decreasing", chunk=0)
+    snakemake = mock_snakemake("bifurcation_chunk", sweep="decreasing", chunk=0, law="bc")
 configure_logging(snakemake)
 
 import time
@@ -19,7 +20,7 @@ from impactosc.dynamics.sweep_chunks import plan_chunks, run_chunk
 
 p = snakemake.params
 started = time.time()
-grid, settings = grid_and_settings(p)
+grid, settings = grid_and_settings(p, snakemake.input)
 k = int(p.part)
 chunk = plan_chunks(grid.size, p.chunks, p.stride)[k]
 seeds_path = snakemake.input.seeds[0] if snakemake.input.seeds else None

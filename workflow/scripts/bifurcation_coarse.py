@@ -1,13 +1,13 @@
 """The coarse sequential pass of a chunked continuation sweep: every stride-th w, whose states seed the chunks.
 
-Reads input.cache and params (grid, per-w settings, model, solver, stride); writes output.seeds (sweep HDF5,
-with timing).
+Reads input.cache, params (grid, per-w settings, model, solver, stride) or, for the model, the model file
+input.model (a laws study's law); writes output.seeds (sweep HDF5, with timing).
 """
 
 from _logging import configure_logging, mock_snakemake
 
 if "snakemake" not in globals():
-    snakemake = mock_snakemake("bifurcation_coarse", sweep="decreasing")
+    snakemake = mock_snakemake("bifurcation_coarse", sweep="decreasing", law="bc")
 configure_logging(snakemake)
 
 import time
@@ -18,6 +18,6 @@ from impactosc.dynamics.sweep_chunks import coarse_pass
 
 p = snakemake.params
 started = time.time()
-grid, settings = grid_and_settings(p)
+grid, settings = grid_and_settings(p, snakemake.input)
 result = coarse_pass(grid, settings, p.stride, progress=progress, on_failure=failed)
 save_part(snakemake.output.seeds, result, started, part="coarse")

@@ -7,7 +7,7 @@ kept); writes output.sweep (impactosc.dynamics.sweep format, every job's start, 
 from _logging import configure_logging, mock_snakemake
 
 if "snakemake" not in globals():
-    snakemake = mock_snakemake("bifurcation_merge", sweep="decreasing")
+    snakemake = mock_snakemake("bifurcation_merge", sweep="decreasing", law="bc")
 configure_logging(snakemake)
 
 import logging

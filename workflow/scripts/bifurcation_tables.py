@@ -7,7 +7,7 @@ output.per_w, output.segments, output.transitions (CSV), output.stats (JSON dige
 from _logging import configure_logging, mock_snakemake
 
 if "snakemake" not in globals():
-    snakemake = mock_snakemake("bifurcation_tables")
+    snakemake = mock_snakemake("bifurcation_tables", law="bc")
 configure_logging(snakemake)
 
 import logging

@@ -12,17 +12,23 @@ from __future__ import annotations
 import dataclasses
 import warnings
 
+from scipy.optimize import brentq
+
 from impactosc.core.layout import S_V, S_X
 from impactosc.core.simulation import simulate
 from impactosc.model.contact_laws import LAWS
 from impactosc.model.parameters import ModelParams, UntestedParameterWarning
 
-__all__ = ["FREE_IMPACT", "delivers", "effective_restitution", "restitution_rows"]
+__all__ = ["FREE_IMPACT", "delivers", "effective_restitution", "matched_e", "matched_models", "restitution_rows"]
 
 #: the model without spring, forcing or friction (the smallest values it takes), obstacle at 0
 FREE_IMPACT = dict(k=1e-60, c=0.0, T=0.0, m0e=1e-60, xI=0.0)
 #: start this far outside the obstacle (m): the approach takes 1e-6 / v0 s of free flight
 GAP = 1e-6
+#: the nominal e a match searches: chi grows as 1 / e (Flores, Gonthier), so e -> 0 dissipates all
+E_BRACKET = (1e-3, 1.0)
+#: the match's tolerance on e: far below what a diagram resolves, far above the core's error in e_eff
+E_XTOL = 1e-10
 
 
 def effective_restitution(params: ModelParams, v0: float, *, rtol: float = 1e-12, atol: float = 1e-15) -> float:
@@ -42,10 +48,47 @@ def effective_restitution(params: ModelParams, v0: float, *, rtol: float = 1e-12
     return -float(v) / v0
 
 
+def matched_e(params: ModelParams, law: str, v0: float) -> float:
+    """The nominal e of restitution law `law` whose free impact at v0 (m/s) dissipates what the
+    model `params` dissipates at v0: effective_restitution equal at v0, by a root finder (e_eff
+    rises with e, to 1 at e = 1). Why: a law compared at its nominal e alone would differ from
+    model BC by its dissipation, not by the shape of its force."""
+    if not LAWS[law].uses_e:
+        raise ValueError(f"the {law} law takes no e (the restitution laws: {', '.join(_restitution_laws())})")
+    target = effective_restitution(params, v0)
+
+    def gap(e):
+        return effective_restitution(dataclasses.replace(params, law=law, e=float(e)), v0) - target
+
+    lo, hi = E_BRACKET
+    if not gap(lo) < 0 < gap(hi):
+        raise ValueError(f"no e in {E_BRACKET} of the {law} law delivers e_eff = {target} at v0 = {v0} m/s")
+    return float(brentq(gap, lo, hi, xtol=E_XTOL))
+
+
+def matched_models(params: ModelParams, laws, v0: float) -> list[dict]:
+    """One row per law of `laws`: the model `params` with that law (a restitution law's e
+    matched at v0 by :func:`matched_e`, any other law taking params' own numbers), its nominal e
+    (None without one), its e_eff at v0 and that of `params`, the reference."""
+    reference = effective_restitution(params, v0)
+    rows = []
+    for law in laws:
+        e = matched_e(params, law, v0) if LAWS[law].uses_e else None
+        model = dataclasses.replace(params, law=law, **({"e": e} if e is not None else {}))
+        rows.append(
+            {"law": law, "e": e, "e_eff": effective_restitution(model, v0), "reference": reference, "params": model}
+        )
+    return rows
+
+
+def _restitution_laws():
+    return [name for name, law in LAWS.items() if law.uses_e]
+
+
 def restitution_rows(params: ModelParams, e_values, v0_values) -> list[dict]:
     """One row per (law, e, v0) of the restitution laws: nominal e, v0, e_eff and e_eff - e."""
     rows = []
-    for law in (name for name, law in LAWS.items() if law.uses_e):
+    for law in _restitution_laws():
         for e in e_values:
             for v0 in v0_values:
                 eff = effective_restitution(dataclasses.replace(params, law=law, e=float(e)), float(v0))

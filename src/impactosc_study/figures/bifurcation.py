@@ -333,7 +333,9 @@ def overlay_figure(sweeps, x_obstacle, *, windows=()):
 
 
 # Colours of the studies in a comparison: this study, then the other one.
-STUDY_COLORS = ("tab:blue", "tab:orange")
+STUDY_COLORS = ("tab:blue", "tab:orange", "tab:green", "tab:red")
+# each later layer drawn smaller on top of the earlier ones, so that all stay visible
+STUDY_SIZES = (1.2, 0.35, 0.2)
 STUDY_QUANTITIES = {
     "poincare": (MM, r"$x$ at $\varphi = 2\pi i$ (mm)", "Poincare points"),
     "isi": (1.0, r"$S_j$ (s)", "inter-impact intervals"),
@@ -341,8 +343,8 @@ STUDY_QUANTITIES = {
 
 
 def studies_figure(layers, quantity, *, title=""):
-    """Two studies' diagrams over each other (Fig 2's Poincare points or Fig 3b's ISIs) and the
-    period each reads, drawn as :func:`overlay_figure` draws two sweep directions.
+    """Several studies' (or models') diagrams over each other (Fig 2's Poincare points or Fig 3b's
+    ISIs) and the period each reads, drawn as :func:`overlay_figure` draws two sweep directions.
 
     layers: list of (label, w, y, x_obstacle, omega, period), this study first: y the Poincare
     x (m) for quantity "poincare" (each study's obstacle a dashed line of its colour) or the
@@ -351,10 +353,9 @@ def studies_figure(layers, quantity, *, title=""):
     scale, ylabel, what = STUDY_QUANTITIES[quantity]
     apply_style()
     fig, axes = plt.subplots(2, 1, figsize=(DOUBLE, 9.5 * CM), sharex=True, height_ratios=[3, 0.8])
-    sizes = [1.2, 0.35]  # the second study drawn smaller on top, so both stay visible
     for k, (label, w, y, x_obstacle, _, _) in enumerate(layers):
         color = STUDY_COLORS[k % len(STUDY_COLORS)]
-        diagram_panel(axes[0], w, np.asarray(y) * scale, color=color, size=sizes[min(k, 1)])
+        diagram_panel(axes[0], w, np.asarray(y) * scale, color=color, size=STUDY_SIZES[min(k, len(STUDY_SIZES) - 1)])
         axes[0].plot([], [], "o", ms=3, color=color, label=label)
         if quantity == "poincare":
             axes[0].axhline(x_obstacle * MM, color=color, lw=0.6, ls="--")
