@@ -124,6 +124,7 @@ def _record_without_omega(path):
         ("missing file", "nothere.tdms does not exist"),
         ("unwritable", "output directory"),
         ("table format", "--table"),
+        ("fix of another law", "--fix e=0.5: the stated model's contact law (bc) has no e"),
     ],
 )
 def test_bad_input_exits_2_naming_it(tmp_path, case, message):
@@ -135,6 +136,7 @@ def test_bad_input_exits_2_naming_it(tmp_path, case, message):
         "missing file": [tmp_path / "nothere.tdms"],
         "unwritable": [*EXAMPLE, "--output", tmp_path / "no" / "such" / "dir.yaml"],
         "table format": [*EXAMPLE, "--table", tmp_path / "t.txt"],
+        "fix of another law": [*EXAMPLE, "--fix", "e=0.5"],
     }[case]
     run = run_cli("identify", *args, *([] if "--output" in args else ["--output", out]))
     assert run.returncode == 2, (run.stdout, run.stderr)
