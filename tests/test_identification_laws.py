@@ -118,3 +118,23 @@ def test_the_model_file_names_the_law_with_its_e(flores_fit):
     model = read_model_file(path)
     assert model.params.law == "flores" and model.params.e == pytest.approx(ident.theta[-1], rel=1e-15)
     assert model.stderr["e"] == pytest.approx(ident.stderr[-1], rel=1e-15)
+
+
+def test_cli_identifies_the_law_of_the_stated_model_file(tmp_path):
+    """--model FILE with a contact block: the law's own constants are fitted and written (the
+    example record is model BC's; only the law and its fitted e are checked, about 15 s)."""
+    from test_cli_identify import EXAMPLE, identify
+
+    from impactosc.model.model_file import read_model_file, write_model_file
+
+    stated = write_model_file(tmp_path / "stated.yaml", law_params("flores"))
+    refused, _ = identify(*EXAMPLE, "--model", stated, "--fix", "b=0", "--output", tmp_path / "no.yaml")
+    assert refused.returncode == 2 and refused.stderr.strip().splitlines() == [
+        "impactosc identify: error: --fix b=0: the stated model's contact law (flores) has no b; its quantities: "
+        "k/m c/m T/m m0e/m kI/m xI e"
+    ]
+    run, _ = identify(*EXAMPLE, "--model", stated, "--stages", "1", "2", "--output", tmp_path / "m.yaml", "--quiet")
+    assert run.returncode == 0, run.stderr
+    model = read_model_file(tmp_path / "m.yaml")
+    assert model.params.law == "flores" and model.stderr["e"] > 0 and 0 < model.params.e < 1
+    assert "  e    = " in run.stdout and "(flores contact law)" in run.stdout and "  b    =" not in run.stdout
