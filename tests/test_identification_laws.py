@@ -138,3 +138,23 @@ def test_cli_identifies_the_law_of_the_stated_model_file(tmp_path):
     model = read_model_file(tmp_path / "m.yaml")
     assert model.params.law == "flores" and model.stderr["e"] > 0 and 0 < model.params.e < 1
     assert "  e    = " in run.stdout and "(flores contact law)" in run.stdout and "  b    =" not in run.stdout
+
+
+@pytest.mark.filterwarnings("ignore::impactosc.model.parameters.UntestedParameterWarning")  # Kelvin-Voigt's n1, kI
+@pytest.mark.parametrize("law", ["hertz", "kelvin-voigt", "flores", "gonthier"])
+def test_window_prediction_of_a_law_continues_its_trajectory(law):
+    """Each window restarted from the core's own trajectory continues it: a restitution law's chi
+    is set at each contact's onset inside the window, as in the uninterrupted run."""
+    from impactosc.core.simulation import Window, simulate
+    from impactosc.identification.window_predictions import Predictor
+    from impactosc.identification.windows import cut_windows
+    from impactosc.records.record import Record
+
+    par = law_params(law)
+    res = simulate(40.86, 20.0, 2.0, params=par, window=Window(20.0, 22.0, 5e-4), record=())
+    tr = res.trajectory
+    w = cut_windows([Record(tr["t"], tr["x"], 40.86, {}, "<clean>")], periods=2.0, level=par.xI)
+    assert w.size >= 5  # 2 s: 13 forcing periods
+    states = np.column_stack([tr["x"][w.start], tr["v"][w.start]])
+    pred = Predictor(w, par.as_array(40.86), par.m).predict(theta_of(par), states)
+    assert np.max(np.abs(pred - w.y)) < 1e-9  # the integration tolerance, far below any noise
