@@ -10,7 +10,7 @@
   same table (results/paper/tables/identification/coverage.md).
 * Model choice: records made with model BC's, Hertz's and Flores' contact laws (e = 0.6, the rest
   model BC's) are each given to the candidates; the supported one (least BIC) is the true law
-  with dry friction, and it predicts the held-out windows best.
+  with dry friction; held out it predicts best, tied only with the laws that contain it.
 """
 
 from __future__ import annotations
@@ -51,6 +51,9 @@ def test_stated_standard_errors_cover_the_truth():
 
 
 LAWS = {"bc": {}, "hertz": {"law": "hertz"}, "flores": {"law": "flores", "e": 0.6}}
+#: The candidates whose law contains the true one: Hertz is model BC at b = 0 and every
+#: restitution law at e = 1.
+CONTAIN = {"bc": {"bc"}, "hertz": {"hertz", "bc", "flores"}, "flores": {"flores"}}
 
 
 @pytest.mark.parametrize("law", list(LAWS))
@@ -64,14 +67,24 @@ def test_model_choice_finds_the_true_contact_law(law, capsys):
     with capsys.disabled():
         print(f"\n  model choice on surrogates of {law}: law, friction, held-out rms (um), dBIC, fit (s)")
         for r in rows:
+            held, dbic = r["held_out_rms_m"] * 1e6, r["delta_bic"]
             print(
-                f"    {r['law']:<13} {r['friction']:<16} {r['held_out_rms_m'] * 1e6:.4f} {r['delta_bic']:9.1f} {r['seconds']:6.1f}"
+                f"    {r['law']:<13} {r['friction']:<16} {held:.6f} {dbic:9.1f} {r['seconds']:6.1f} {r['same_force']}"
             )
     best = rows[0]
     table = [(r["law"], r["friction"], r["held_out_rms_m"], r["bic"]) for r in rows]
     assert (best["law"], best["friction"]) == (law, "dry friction"), table
-    # the true law also predicts the held-out windows best
-    assert best["best_held_out"], table
+    # held out, the true law predicts best, tied with the laws that contain it: those reach the
+    # same force, and fitting their one or two more parameters to some 80 000 samples moves the
+    # held-out rms by about p / 2N = 1e-5 of itself (measured on Hertz: 1.2e-5), either way;
+    # 1e-4 is ten times that. Every other candidate is worse by more than 1 %.
+    held = {(r["law"], r["friction"]): r["held_out_rms_m"] for r in rows}
+    true_held = held[(law, "dry friction")]
+    for (other, friction), value in held.items():
+        if other in CONTAIN[law] and friction == "dry friction":
+            assert true_held < value * (1 + 1e-4), table
+        else:
+            assert value > 1.01 * true_held, table
     # when the true law is nested in the runner-up (Hertz in every other), the runner-up's BIC is
     # worse by ln N - chi2(1): beyond ln N - 9 unless chi2(1) > 9 (probability 0.3 %)
     assert rows[1]["delta_bic"] > math.log(best["n_common"]) - 9
