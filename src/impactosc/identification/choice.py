@@ -39,7 +39,7 @@ import numpy as np
 from impactosc.identification.fitted_parameters import QUANTITIES
 from impactosc.identification.least_squares import fit_states
 from impactosc.identification.staged_fit import STAGES, identify
-from impactosc.identification.start import _restitution_for, for_law, start_values
+from impactosc.identification.start import for_law, restitution_for, start_values
 from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import cut_windows, split_held_out
 from impactosc.model.contact_laws import LAWS
@@ -127,7 +127,7 @@ def same_force(law: str, e: float) -> str:
     out = []
     for name, other in LAWS.items():
         if other.uses_e and name != law:
-            e_other = _restitution_for(other.code, chi, v0)
+            e_other = restitution_for(other.code, chi, v0)
             reached = math.isclose(restitution_damping(other.code, e_other, v0), chi, rel_tol=1e-6, abs_tol=1e-12)
             cap = restitution_damping(other.code, e_other, v0) * v0  # its largest, at the least e
             out.append(f"{name} e={e_other:.4g}" if reached else f"{name} none (chi v0 {chi * v0:.3g} > {cap:.3g})")

@@ -28,7 +28,7 @@ import numpy as np
 from impactosc.identification.fitted_parameters import LOWER, NAMES, QUANTITIES, law_quantities, theta_of
 from impactosc.model.contact_laws import LAWS
 
-__all__ = ["StartValues", "start_values", "for_law", "V_TYPICAL"]
+__all__ = ["StartValues", "start_values", "for_law", "restitution_for", "V_TYPICAL"]
 
 CONTACT_NAMES = ("kI/m", "b", "n3")
 #: A typical impact speed of model BC's motions, m/s: where another law's start damping matches
@@ -143,7 +143,7 @@ def start_values(records, base, *, sigma) -> StartValues:
     return for_law(out, base.law)
 
 
-def _restitution_for(code: int, chi: float, v0: float) -> float:
+def restitution_for(code: int, chi: float, v0: float) -> float:
     """e of the restitution law `code` whose chi at v0 is `chi` (chi falls as e grows; e's bounds
     where no e of the law reaches it)."""
     from scipy.optimize import brentq
@@ -174,12 +174,12 @@ def for_law(start: StartValues, law: str) -> StartValues:
     if law != "bc" and contact is not None:
         chi = contact["b"] * V_TYPICAL ** (contact["n3"] - 1.0)
         if LAWS[law].uses_e:
-            theta[_E] = _restitution_for(LAWS[law].code, chi, V_TYPICAL)
+            theta[_E] = restitution_for(LAWS[law].code, chi, V_TYPICAL)
         if law == "kelvin-voigt":
             k15 = contact["kI/m"]
             h = (1.25 * V_TYPICAL**2 / k15) ** 0.4
             k1 = k15 * math.sqrt(h) / 1.25
-            e = max(_restitution_for(LAWS["hunt-crossley"].code, chi, V_TYPICAL), 1e-3)
+            e = max(restitution_for(LAWS["hunt-crossley"].code, chi, V_TYPICAL), 1e-3)
             zeta = -math.log(e) / math.hypot(math.pi, math.log(e))
             theta[QUANTITIES.index("kI/m")] = k1
             theta[QUANTITIES.index("cI/m")] = 2.0 * zeta * math.sqrt(k1)
