@@ -91,8 +91,8 @@ rule identify:
         rules.identify_choice.output,
 
 
-# beyond the paper: the model file, its table and figure, and the model choice (five fits, some
-# 7 min of CPU at the defaults)
+# beyond the paper: the model file, its table and figure, and the model choice (five fits, 35-170 s
+# of CPU each and some 6.5 min in all at the defaults; model BC without dry friction the longest)
 tier_products("beyond", rules.identify.input)
 tier_jobs("beyond", rules.identify_model, rules.identify_figure, rules.identify_choice)
 tier_jobs("beyond", rules.identify_choice_candidate, candidate=list(range(len(candidates()))))
