@@ -158,3 +158,24 @@ def test_window_prediction_of_a_law_continues_its_trajectory(law):
     states = np.column_stack([tr["x"][w.start], tr["v"][w.start]])
     pred = Predictor(w, par.as_array(40.86), par.m).predict(theta_of(par), states)
     assert np.max(np.abs(pred - w.y)) < 1e-9  # the integration tolerance, far below any noise
+
+
+@pytest.mark.filterwarnings("ignore::impactosc.model.parameters.UntestedParameterWarning")  # Kelvin-Voigt's n1, kI
+def test_kelvin_voigt_is_identified_in_its_own_stiffness_and_damping():
+    """Kelvin-Voigt's kI (N/m) and cI from a 12 s chaotic surrogate of it (about 10 s).
+
+    Within 1 %, not within the stated errors: its force turns 0 inside the obstacle, where
+    kI h + cI v = 0 (a cut that moves with h, unlike model BC's at a fixed speed), a kink the core
+    does not locate as an event, so the predictions are not smooth in the parameters at the
+    difference steps and the last stage stops short of convergence (measured: kI off by 3e-5,
+    cI by 8e-4, c/m by 10 stated errors, the residual at the 5 um noise).
+    """
+    from impactosc.identification.staged_fit import identify
+    from impactosc.records.surrogate import SurrogateOptions, surrogate_record
+
+    truth = law_params("kelvin-voigt")
+    rec, _ = surrogate_record(40.86, 20.0, 12.0, SurrogateOptions(rate=2000.0, noise=5e-6, seed=11), params=truth)
+    ident = identify([rec], base=dataclasses.replace(truth, cI=30.0))
+    assert ident.quantities == law_quantities("kelvin-voigt") and ident.free.all()
+    assert ident.params.kI == pytest.approx(truth.kI, rel=1e-2) and ident.params.cI == pytest.approx(truth.cI, rel=1e-2)
+    assert ident.noise < 5.5e-6  # the surrogate's noise, 5 um: the fit reaches it
