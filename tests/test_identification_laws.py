@@ -179,3 +179,12 @@ def test_kelvin_voigt_is_identified_in_its_own_stiffness_and_damping():
     assert ident.quantities == law_quantities("kelvin-voigt") and ident.free.all()
     assert ident.params.kI == pytest.approx(truth.kI, rel=1e-2) and ident.params.cI == pytest.approx(truth.cI, rel=1e-2)
     assert ident.noise < 5.5e-6  # the surrogate's noise, 5 um: the fit reaches it
+
+
+def test_a_law_file_that_gives_no_parameter_says_so(tmp_path):
+    from impactosc.model.model_file import resolve_model
+
+    path = tmp_path / "flores.yaml"
+    path.write_text("format: impactosc-model/1\ncontact: {law: flores, e: 0.6}\nparameters: {}\n")
+    params, source = resolve_model(path)
+    assert params.law == "flores" and source == f"model file {path} (no parameter; the rest from model BC)"
