@@ -124,6 +124,7 @@ def _record_without_omega(path):
         ("missing file", "nothere.tdms does not exist"),
         ("unwritable", "output directory"),
         ("table format", "--table"),
+        ("fix of another law", "--fix e=0.5: the stated model's contact law (bc) has no e"),
     ],
 )
 def test_bad_input_exits_2_naming_it(tmp_path, case, message):
@@ -135,6 +136,7 @@ def test_bad_input_exits_2_naming_it(tmp_path, case, message):
         "missing file": [tmp_path / "nothere.tdms"],
         "unwritable": [*EXAMPLE, "--output", tmp_path / "no" / "such" / "dir.yaml"],
         "table format": [*EXAMPLE, "--table", tmp_path / "t.txt"],
+        "fix of another law": [*EXAMPLE, "--fix", "e=0.5"],
     }[case]
     run = run_cli("identify", *args, *([] if "--output" in args else ["--output", out]))
     assert run.returncode == 2, (run.stdout, run.stderr)
@@ -147,13 +149,13 @@ def test_bad_input_exits_2_naming_it(tmp_path, case, message):
 
 @pytest.mark.slow
 def test_choose_model_ranks_the_candidates(tmp_path):
-    """Six more fits (about 10 s warm): model BC's own law and friction win on its surrogate."""
+    """Five more fits: model BC's own law and friction win on its surrogate."""
     run, _ = identify(*EXAMPLE, "--output", tmp_path / "m.yaml", "--choose-model", tmp_path / "choice.csv")
     assert run.returncode == 0, run.stderr
     rows = read_table(tmp_path / "choice.csv")
-    assert len(rows) == 6 and rows[0]["law"] == "model BC (n3 free)" and rows[0]["friction"] == "dry friction"
-    assert "candidate Hertz (b = 0), dry friction" in run.stderr and "too short to hold blocks" in run.stderr
-    assert "the records support model BC (n3 free), dry friction" in run.stdout
+    assert len(rows) == 5 and rows[0]["law"] == "bc" and rows[0]["friction"] == "dry friction"
+    assert "candidate hertz, dry friction" in run.stderr and "too short to hold blocks" in run.stderr
+    assert "the records support bc, dry friction" in run.stdout
 
 
 @pytest.mark.slow

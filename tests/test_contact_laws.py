@@ -252,11 +252,11 @@ def test_a_sweep_of_a_restitution_law_runs_through_the_chaotic_band():
     assert (res.status == OK).all() and np.isfinite(res.poincare_x).all()
 
 
-def test_identification_refuses_another_law():
+def test_identification_refuses_to_fix_what_the_law_does_not_have():
     from impactosc.identification.staged_fit import identify
 
-    with pytest.raises(ValueError, match="fits model BC's contact law; the stated model's law is flores"):
-        identify([object()], base=law_params("flores"))
+    with pytest.raises(ValueError, match="unknown parameter 'b' to fix for the flores law"):
+        identify([object()], base=law_params("flores"), fixed={"b": 0.0})
 
 
 @pytest.mark.parametrize("law", RESTITUTION)

@@ -1,10 +1,10 @@
-# A rig's own model: model BC's parameters identified from records (the configured ones, or
+# A rig's own model: the model's parameters (its contact law's own) identified from records (the configured ones, or
 # surrogate records of the configured model at a few w), by multiple shooting on windows of
 # the records (impactosc.identification). The model file it writes, results/<study>/models/identified.yaml,
 # rebuilds any figure for that rig, as a study of its own (results/myrig/):
 #   snakemake -j2 fig02 --config study=myrig model_file=results/paper/models/identified.yaml
 # Targets: identify (model file, parameter table, figure, and the model choice: which contact law
-# and friction the records support, 6 fits, one job each; the default build has all but the
+# and friction the records support, 5 fits, one job each; the default build has all but the
 # choice), identify_choice, identify_coverage (opt-in: are the stated standard errors honest?
 # random truths, one job per part).
 from impactosc.identification.choice import candidates
@@ -91,8 +91,8 @@ rule identify:
         rules.identify_choice.output,
 
 
-# beyond the paper: the model file, its table and figure, and the model choice (six fits, some
-# 7 min of CPU at the defaults)
+# beyond the paper: the model file, its table and figure, and the model choice (five fits, 35-170 s
+# of CPU each and some 6.5 min in all at the defaults; model BC without dry friction the longest)
 tier_products("beyond", rules.identify.input)
 tier_jobs("beyond", rules.identify_model, rules.identify_figure, rules.identify_choice)
 tier_jobs("beyond", rules.identify_choice_candidate, candidate=list(range(len(candidates()))))

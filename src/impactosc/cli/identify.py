@@ -42,18 +42,24 @@ def _stated_model(args):
 
 
 def _fixed_quantities(items, base) -> dict:
-    """name -> value (None: the stated model's) of the --fix items; errors name the item."""
+    """name -> value (None: the stated model's) of the --fix items; errors name the item (a
+    quantity of another contact law than the stated model's, too)."""
     import dataclasses
 
-    from impactosc.identification.fitted_parameters import FIELDS, NAMES, PER_MASS
+    from impactosc.identification.fitted_parameters import ALL_FIELDS, PER_MASS, QUANTITIES, law_quantities
     from impactosc.io.names import closest_name
 
+    own = law_quantities(base.law)
     fixed = {}
     for item in items:
         name, text = split_assignment(item)
-        if name not in NAMES:
-            guess = NAMES[FIELDS.index(name)] if name in FIELDS else closest_name(name, NAMES)
-            hint = f"did you mean {guess!r}?" if guess else f"choose from {' '.join(NAMES)}"
+        if name in QUANTITIES and name not in own:
+            raise ValueError(
+                f"--fix {item}: the stated model's contact law ({base.law}) has no {name}; its quantities: {' '.join(own)}"
+            )
+        if name not in own:
+            guess = QUANTITIES[ALL_FIELDS.index(name)] if name in ALL_FIELDS else closest_name(name, own)
+            hint = f"did you mean {guess!r}?" if guess else f"choose from {' '.join(own)}"
             raise ValueError(f"--fix {item}: unknown quantity {name!r} ({hint})")
         value = None
         if text is not None:
@@ -61,12 +67,12 @@ def _fixed_quantities(items, base) -> dict:
                 value = finite_number(text)
             except argparse.ArgumentTypeError as exc:
                 raise ValueError(f"--fix {item}: {exc}") from None
-            field = FIELDS[NAMES.index(name)]
-            scaled = value * (base.m if PER_MASS[NAMES.index(name)] else 1.0)
+            i = QUANTITIES.index(name)
+            scaled = value * (base.m if PER_MASS[i] else 1.0)
             try:
-                dataclasses.replace(base, **{field: scaled})
+                dataclasses.replace(base, **{ALL_FIELDS[i]: scaled})
             except ValueError as exc:
-                raise ValueError(f"--fix {item} ({field} = {scaled:.6g} at m = {base.m:g} kg): {exc}") from None
+                raise ValueError(f"--fix {item} ({ALL_FIELDS[i]} = {scaled:.6g} at m = {base.m:g} kg): {exc}") from None
         fixed[name] = value
     return fixed
 
@@ -124,7 +130,8 @@ def _identify_summary(args, ident, rows, source: str, choice) -> str:
         else:
             lines.append(f"  {value}{unit}, fixed: {r['status']}")
     lines.append(f"  m    = {p.m:.6g} kg, given ({source}): the mass is not identifiable from displacement")
-    lines.append(f"  eps = {p.eps:g} m/s, n1 = {p.n1:g}, n2 = {p.n2:g}: fixed at the stated model's values")
+    exponents = f"n1 = {p.n1:g}" + (f", n2 = {p.n2:g}" if p.law == "bc" else "")
+    lines.append(f"  eps = {p.eps:g} m/s, {exponents}: fixed at the stated model's values ({p.law} contact law)")
     if args.table:
         lines.append(f"{args.table}: parameter table")
     if choice:
@@ -178,7 +185,7 @@ def _identify_run(args) -> int:
     choice = None
     if args.choose_model:
         say(
-            f"model choice: {len(candidates())} candidate fits (contact law x dry friction), each about as long "
+            f"model choice: {len(candidates())} candidate fits (contact laws, dry friction or not), each about as long "
             f"as the identification ({ident.seconds:.0f} s)"
         )
         with warnings.catch_warnings():  # candidates the records reject stray far out: their fit says so

@@ -400,11 +400,15 @@ def _add_surrogate_parser(sub) -> None:
 
 
 IDENTIFY_EPILOG = """
-What is fitted: k/m, c/m, T/m, m0e/m, kI/m, b, n3 and xI, per unit mass because a displacement
-record sees only forces over m. Not identifiable: the mass (--mass, else the stated model's m,
-scales the ratios into N/m, N s/m, ...); eps (friction regularisation) and the Hertz exponents
-n1 = n2 keep the stated model's values. A quantity the records do not pin (no impacts: kI/m, b,
-n3) is fixed at the stated value, and the summary says why.
+What is fitted: k/m, c/m, T/m, m0e/m, kI/m, xI and the contact law's own constants (model BC's
+b and n3, a restitution law's e, Kelvin-Voigt's cI/m, Hertz none; the law is the stated model's:
+--model FILE with a contact block), per unit mass because a displacement record sees only forces
+over m. Not identifiable: the mass (--mass, else the stated model's m, scales the ratios into
+N/m, N s/m, ...); eps (friction regularisation) and the contact exponents n1, n2 keep the stated
+model's values. A quantity the records do not pin (no impacts: kI/m, b, n3) is fixed at the
+stated value, and the summary says why. --choose-model fits model BC (with and without dry
+friction), Hertz, Kelvin-Voigt and the restitution laws (one fit: they are one force written
+in e four ways) and ranks them by BIC, with each one's error on held-out windows.
 The model file (impactosc-model/1, YAML) holds every parameter with its unit and standard error,
 the fixed ones and why, the correlation of the fitted ones, the records (with sha256), the fit's
 residual and the package version; --model FILE gives it to every command, and the workflow takes
@@ -418,13 +422,13 @@ Examples:
 
 def _add_identify_parser(sub) -> None:
     """The identify command's options (records, stated model, what is fixed, outputs)."""
-    from impactosc.identification.fitted_parameters import NAMES, UNITS
+    from impactosc.identification.fitted_parameters import QUANTITIES, UNITS
     from impactosc.identification.staged_fit import STAGES
 
     idp = sub.add_parser(
         "identify",
         help="identify the model's parameters from displacement records and write a model file",
-        description="Fit model BC's parameters per unit mass to displacement records by multiple shooting: "
+        description="Fit the model's parameters per unit mass to displacement records by multiple shooting: "
         "the records are cut into windows of a few forcing periods, each window's start state is fitted with "
         "the parameters and the core integrates every window; standard errors come from the Jacobian of the "
         "residuals. Each record needs the forcing's phase: an encoder channel (--phase-channel) or omega in "
@@ -446,9 +450,10 @@ def _add_identify_parser(sub) -> None:
         action="append",
         default=[],
         metavar="NAME[=VALUE]",
-        help="keep a fitted quantity fixed at VALUE (per unit mass, in "
-        + ", ".join(f"{nm} {u}" for nm, u in zip(NAMES, UNITS))
-        + ") or, without VALUE, at the stated model's value; repeatable, e.g. --fix b=0 (Hertz contact) "
+        help="keep a fitted quantity of the stated model's contact law fixed at VALUE (per unit mass, in "
+        + ", ".join(f"{nm} {u}" for nm, u in zip(QUANTITIES, UNITS))
+        + "; b and n3 are model BC's, e a restitution law's, cI/m Kelvin-Voigt's, whose kI/m is in 1/s^2) or, "
+        "without VALUE, at the stated model's value; repeatable, e.g. --fix b=0 (Hertz contact) "
         "--fix T/m=0 (no dry friction)",
     )
     idp.add_argument(
@@ -471,9 +476,9 @@ def _add_identify_parser(sub) -> None:
     idp.add_argument(
         "--choose-model",
         metavar="FILE",
-        help="also compare the contact laws (Hertz b = 0, Hunt-Crossley n3 = 1, model BC) with and without "
-        "dry friction on held-out windows and write the ranked table (.md or .csv); six more fits, about six "
-        "times as long",
+        help="also compare the contact laws (model BC with and without dry friction, Hertz, Kelvin-Voigt, the "
+        "restitution laws) on held-out windows and by BIC, and write the ranked table (.md or .csv); five more "
+        "fits, about five times as long",
     )
     idp.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     add_model_options(

@@ -1,9 +1,18 @@
-"""Which contact law and friction the records support: nested models compared out of sample.
+"""Which contact law and friction the records support: the laws compared out of sample.
 
-Why nested models: model BC's contact (Hertz stiffness with Hunt-Crossley damping b |v|^n3, n3
-fitted) contains the plain Hertz contact (b = 0) and the classical Hunt-Crossley law (n3 = 1);
-its dry friction T may be absent from another rig.  Each of the six combinations is fitted to
-the same windows; two yardsticks say which the data support:
+Why these candidates: every contact law of :mod:`impactosc.model.contact_laws` is a member of
+model BC's family, each fitted with its own free constants: model BC's b and n3, Hertz none, a
+restitution law its e, Kelvin-Voigt its damping cI (its stiffness linear, n1 = 1).  The four
+restitution laws are one force, kI h^n1 (1 + g(e) v / v0), whose damping g(e) = chi v0 differs
+only in how it is written in e (Hunt-Crossley 3 (1 - e) / 2, Lankarani-Nikravesh 3 (1 - e^2) / 4,
+Flores 8 (1 - e) / (5 e), Gonthier (1 - e^2) / e): no record can tell them apart where their
+ranges of g overlap, and fitting each would rank identical forces by the noise of their fits.
+So one is fitted, Flores (with Gonthier's, the range of every g >= 0), and its row states the e
+of each other restitution law that gives the same force, or that the law cannot reach it
+(Hunt-Crossley's g stays below 3/2, Lankarani-Nikravesh's below 3/4).  Dry friction T acts in
+free flight, the contact law at impacts: whether the records need it is asked once, of the
+richest law (model BC's).  Each candidate is fitted to the same windows; two yardsticks say
+which the data support:
 
 * prediction error on held-out windows (every ``every``-th block of the records, never fitted:
   only their start states are, with the candidate's parameters), the direct test of a model;
@@ -15,36 +24,53 @@ the same windows; two yardsticks say which the data support:
   samples (the start states, two per chain of windows, are alike for every candidate there).
 
 The supported model is the one with the smallest BIC: a larger model whose extra parameter the
-records do not need pays ln N per parameter, so the true nested law wins when it is the simpler
-one, and the held-out errors say whether the winner also predicts best.
+records do not need pays ln N per parameter, so the true nested law (Hertz inside the others)
+wins when it is the simpler one, and the held-out errors say whether the winner also predicts best.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 
 import numpy as np
 
-from impactosc.identification.fitted_parameters import NAMES
+from impactosc.identification.fitted_parameters import QUANTITIES
 from impactosc.identification.least_squares import fit_states
 from impactosc.identification.staged_fit import STAGES, identify
-from impactosc.identification.start import start_values
+from impactosc.identification.start import for_law, restitution_for, start_values
 from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import cut_windows, split_held_out
+from impactosc.model.contact_laws import LAWS
+from impactosc.model.equations import restitution_damping
 from impactosc.model.parameters import ModelParams, UntestedParameterWarning
 
-__all__ = ["CONTACT_LAWS", "FRICTION", "candidates", "fit_candidate", "rank", "choose_model", "choice_markdown"]
+__all__ = [
+    "CANDIDATES",
+    "FRICTION",
+    "RESTITUTION_FITTED",
+    "candidates",
+    "fit_candidate",
+    "rank",
+    "choose_model",
+    "choice_markdown",
+    "same_force",
+]
 
-#: Contact laws: name -> fixed values (model BC fits both b and n3).
-CONTACT_LAWS = {
-    "Hertz (b = 0)": {"b": 0.0},
-    "Hunt-Crossley (n3 = 1)": {"n3": 1.0},
-    "model BC (n3 free)": {},
-}
 #: Friction: with the dry friction T fitted, or without it.
 FRICTION = {"dry friction": {}, "no dry friction": {"T/m": 0.0}}
-_B, _N3, _XI = (NAMES.index(nm) for nm in ("b", "n3", "xI"))
+#: The restitution law fitted for all four (its g(e) covers every g >= 0).
+RESTITUTION_FITTED = "flores"
+#: (contact law, friction) of every candidate, in a fixed order (the workflow's job numbers).
+CANDIDATES = (
+    ("bc", "dry friction"),
+    ("bc", "no dry friction"),
+    ("hertz", "dry friction"),
+    ("kelvin-voigt", "dry friction"),
+    (RESTITUTION_FITTED, "dry friction"),
+)
+_XI, _E = QUANTITIES.index("xI"), QUANTITIES.index("e")
 #: Samples per block of a record in which each candidate's residuals are summed (the common
 #: samples of the AIC and BIC are the blocks every candidate covered whole).
 BLOCK = 64
@@ -71,45 +97,69 @@ def _block_residuals(ident) -> dict:
 def _not_pinned(ident) -> str:
     """The quantities the records did not pin, fixed at the stated value: 'name = value' each."""
     return " ".join(
-        f"{nm}={ident.theta[NAMES.index(nm)]:.4g}" for nm, why in ident.fixed.items() if "not identifiable" in why
+        f"{nm}={ident.theta[ident.quantities.index(nm)]:.4g}"
+        for nm, why in ident.fixed.items()
+        if "not identifiable" in why
     )
 
 
 def _held_out_error(records, ident, every, rtol):
     """RMS of the held-out windows' residuals with only their start states fitted."""
-    windows = cut_windows(records, periods=ident.periods, level=ident.theta[_XI])
+    windows = cut_windows(records, periods=ident.periods, level=ident.theta_all[_XI])
     held = windows.subset(split_held_out(windows, every=every))
     if held.size == 0:
         return math.nan, 0
     pred = Predictor(held, ident.params.as_array(1.0), ident.params.m, rtol=rtol)
-    _, rss = fit_states(pred, ident.theta, np.column_stack([held.x0, held.v0]))
+    _, rss = fit_states(pred, ident.theta_all, np.column_stack([held.x0, held.v0]))
     return math.sqrt(float(np.sum(rss)) / held.y.size), int(held.y.size)
 
 
 def candidates() -> list[tuple[str, str]]:
-    """Every (contact law, friction) pair, in a fixed order (the workflow's job numbers)."""
-    return [(law, fr) for law in CONTACT_LAWS for fr in FRICTION]
+    """Every (contact law, friction) candidate, in a fixed order (the workflow's job numbers)."""
+    return list(CANDIDATES)
+
+
+def same_force(law: str, e: float) -> str:
+    """The e of each other restitution law whose force equals law's at e (chi v0 = g(e) alike),
+    or that the law cannot reach that damping: 'gonthier e=0.62, ...'."""
+    v0 = 1.0  # g = chi v0 does not depend on v0
+    chi = restitution_damping(LAWS[law].code, e, v0)
+    out = []
+    for name, other in LAWS.items():
+        if other.uses_e and name != law:
+            e_other = restitution_for(other.code, chi, v0)
+            reached = math.isclose(restitution_damping(other.code, e_other, v0), chi, rel_tol=1e-6, abs_tol=1e-12)
+            cap = restitution_damping(other.code, e_other, v0) * v0  # its largest, at the least e
+            out.append(f"{name} e={e_other:.4g}" if reached else f"{name} none (chi v0 {chi * v0:.3g} > {cap:.3g})")
+    return ", ".join(out)
+
+
+def candidate_base(base: ModelParams, law: str) -> ModelParams:
+    """The stated model with the contact law `law`: its own exponent (Kelvin-Voigt's n1 = 1,
+    the others the stated model's Hertz exponents, 1.5 when the stated law is linear)."""
+    n1 = 1.0 if law == "kelvin-voigt" else (1.5 if base.law == "kelvin-voigt" else base.n1)
+    n2 = n1 if base.law == "kelvin-voigt" or law == "kelvin-voigt" else base.n2
+    with warnings.catch_warnings():  # n1 = 1 lies outside the tested ranges of model BC's exponents
+        warnings.simplefilter("ignore", UntestedParameterWarning)
+        return dataclasses.replace(base, law=law, n1=n1, n2=n2)
 
 
 def fit_candidate(records, law, friction, *, base=None, start=None, every=4, stages=STAGES, rtol=1e-10, progress=None):
-    """One candidate fitted on the records' windows outside the held-out blocks: its row."""
+    """One candidate fitted on the records' windows outside the held-out blocks: its row.
+    start: the start values of model BC's law (:func:`start_values`), converted to `law`'s."""
     from impactosc.records.sample_fits import estimate_noise
 
-    base = base or ModelParams()
+    base = candidate_base(base or ModelParams(), law)
     if start is None:
         sigma = float(np.median([estimate_noise(r.x) for r in records]))
-        start = start_values(records, base, sigma=sigma)
-    fixed = {**CONTACT_LAWS[law], **FRICTION[friction]}
-    st = dict(start, theta=start["theta"].copy())
-    if "n3" in fixed:  # keep b |v|^n3 at a typical impact speed (0.2 m/s)
-        st["theta"][_B] *= 0.2 ** (st["theta"][_N3] - fixed["n3"])
+        start = start_values(records, candidate_base(base, "bc"), sigma=sigma)
     with warnings.catch_warnings():  # a wrong law's best fit may leave the tested ranges: it only ranks
         warnings.simplefilter("ignore", UntestedParameterWarning)
         ident = identify(
             records,
             base=base,
-            fixed=fixed,
-            start=st,
+            fixed=FRICTION[friction],
+            start=for_law(start, law),
             stages=stages,
             select=lambda w: ~split_held_out(w, every=every),
             rtol=rtol,
@@ -123,6 +173,7 @@ def fit_candidate(records, law, friction, *, base=None, start=None, every=4, sta
         "friction": friction,
         "free": " ".join(ident.free_names),
         "not_pinned": _not_pinned(ident),
+        "same_force": same_force(law, float(ident.theta_all[_E])) if LAWS[law].uses_e else "",
         "n_free": int(ident.free.sum()),
         "rss_m2": res.rss,
         "n": n,
@@ -130,7 +181,7 @@ def fit_candidate(records, law, friction, *, base=None, start=None, every=4, sta
         "held_out_rms_m": err,
         "n_held_out": n_held,
         "seconds": ident.seconds,
-        **{f"{nm}": float(v) for nm, v in zip(NAMES, ident.theta)},
+        **{f"{nm}": float(v) for nm, v in zip(ident.quantities, ident.theta)},
         "blocks": _block_residuals(ident),
     }
 
@@ -172,7 +223,7 @@ def choose_model(
     say = progress or (lambda msg: None)
     base = base or ModelParams()
     sigma = float(np.median([estimate_noise(r.x) for r in records]))
-    start = start_values(records, base, sigma=sigma)
+    start = start_values(records, candidate_base(base, "bc"), sigma=sigma)
     rows = []
     for law, fr in candidates():
         say(f"candidate {law}, {fr}")
@@ -195,16 +246,19 @@ def choice_markdown(rows: list[dict]) -> str:
         "estimate and leaves out those it fits far worse than the rest); AIC and BIC, and the rms beside them, "
         f"are those of the {best['n_common']} samples every candidate fitted, with the free parameters as "
         "penalty. Not pinned: what the records could not determine for that candidate, fixed at the stated "
-        "value shown.",
+        "value shown. The restitution laws are one force, kI h^n1 (1 + g(e) v / v0), written in e four ways: "
+        f"{RESTITUTION_FITTED} is fitted, and its row gives the e of each other one with the same force (none "
+        "where that law's g cannot reach it).",
         "",
         "| contact law | friction | free | not pinned | rms fit (um), own samples | rms fit (um), common samples "
-        "| rms held out (um) | dAIC | dBIC |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| rms held out (um) | dAIC | dBIC | same force |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         held = f"{r['held_out_rms_m'] * 1e6:.3f}" + (" (best)" if r["best_held_out"] else "")
         lines.append(
             f"| {r['law']} | {r['friction']} | {r['free']} | {r['not_pinned'] or '-'} | {r['rms_m'] * 1e6:.3f} "
-            f"({r['n']}) | {r['rms_common_m'] * 1e6:.3f} | {held} | {r['delta_aic']:.1f} | {r['delta_bic']:.1f} |"
+            f"({r['n']}) | {r['rms_common_m'] * 1e6:.3f} | {held} | {r['delta_aic']:.1f} | {r['delta_bic']:.1f} "
+            f"| {r.get('same_force') or '-'} |"
         )
     return "\n".join(lines) + "\n"

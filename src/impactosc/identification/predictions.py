@@ -14,7 +14,7 @@ import sys
 
 import numpy as np
 
-from impactosc.identification.fitted_parameters import FIELDS, NAMES, PER_MASS, UNITS
+from impactosc.identification.fitted_parameters import ALL_FIELDS, PER_MASS, QUANTITIES, quantity_unit
 from impactosc.model.model_file import ModelFile
 from impactosc.model.parameters import PARAM_UNITS, ModelParams
 
@@ -47,14 +47,15 @@ def field_covariance(model: ModelFile) -> tuple[list[str], np.ndarray] | None:
     names, units, cov = found
     fields, scale = [], []
     for i, name in enumerate(names):
-        if name in NAMES:
-            j = NAMES.index(name)
-            field, factor, unit = FIELDS[j], model.params.m if PER_MASS[j] else 1.0, UNITS[j]
+        if name in QUANTITIES:
+            j = QUANTITIES.index(name)
+            field, factor = ALL_FIELDS[j], model.params.m if PER_MASS[j] else 1.0
+            unit = quantity_unit(name, model.params.n1)
         elif name in PARAM_UNITS:
             field, factor, unit = name, 1.0, PARAM_UNITS[name]
         else:
             raise ValueError(
-                f"{model.path}: covariance names {name!r}: neither a quantity identification fits ({', '.join(NAMES)}) "
+                f"{model.path}: covariance names {name!r}: neither a quantity identification fits ({', '.join(QUANTITIES)}) "
                 f"nor a parameter ({', '.join(PARAM_UNITS)})"
             )
         if units and " ".join(str(units[i]).split()) != unit:

@@ -14,11 +14,11 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from impactosc.identification.fitted_parameters import FIELDS, NAMES, PER_MASS, UNITS
+from impactosc.identification.fitted_parameters import ALL_FIELDS, PER_MASS, QUANTITIES, quantity_unit
 from impactosc.identification.staged_fit import Identification
 from impactosc.io.files import atomic_write, stamp_h5
 from impactosc.model.model_file import write_model_file
-from impactosc.model.parameters import PARAM_UNITS
+from impactosc.model.parameters import unit_of
 
 __all__ = [
     "configured_inputs",
@@ -32,8 +32,8 @@ __all__ = [
 _NOT_FITTED = {
     "m": "given: the mass is not identifiable from displacement",
     "eps": "fixed: the friction regularisation is a numerical device, far below any measured velocity",
-    "n1": "fixed: Hertz contact exponent",
-    "n2": "fixed: Hertz contact exponent",
+    "n1": "fixed: the contact law's exponent",
+    "n2": "fixed: the contact law's exponent",
 }
 
 
@@ -45,7 +45,7 @@ def _sha256(path) -> str | None:
 
 
 def parameter_table(ident: Identification, truth=None) -> list[dict]:
-    """One row per fitted quantity: per unit mass and as a ModelParams field, with errors.
+    """One row per quantity of the identified law: per unit mass and as a ModelParams field, with errors.
 
     truth: the model the records sample, when known (a surrogate's,
     :func:`impactosc.records.surrogate.record_truth`): each row then has ``truth`` (field units)
@@ -53,23 +53,24 @@ def parameter_table(ident: Identification, truth=None) -> list[dict]:
     """
     m = ident.params.m
     rows = []
-    for i, nm in enumerate(NAMES):
-        scale = m if PER_MASS[i] else 1.0
+    for i, nm in enumerate(ident.quantities):
+        j = QUANTITIES.index(nm)
+        scale = m if PER_MASS[j] else 1.0
         se = float(ident.stderr[i]) if ident.free[i] else math.nan
         row = {
             "quantity": nm,
             "value": float(ident.theta[i]),
             "stderr": se,
             "relative_stderr": se / abs(ident.theta[i]) if ident.theta[i] != 0 else math.nan,
-            "field": FIELDS[i],
+            "field": ALL_FIELDS[j],
             "field_value": float(ident.theta[i]) * scale,
             "field_stderr": se * scale,
-            "unit": PARAM_UNITS[FIELDS[i]],
+            "unit": unit_of(ALL_FIELDS[j], ident.params.n1),
             "start": float(ident.start[i]) * scale,
             "status": "fitted" if ident.free[i] else ident.fixed.get(nm, "fixed"),
         }
         if truth is not None:
-            row["truth"] = float(getattr(truth, FIELDS[i]))
+            row["truth"] = float(getattr(truth, ALL_FIELDS[j]))
             fitted = ident.free[i] and row["field_stderr"] > 0
             row["z"] = (row["field_value"] - row["truth"]) / row["field_stderr"] if fitted else math.nan
         rows.append(row)
@@ -81,11 +82,12 @@ def write_identified_model(path, ident: Identification, *, name: str | None = No
     fitted quantities (full precision) and their correlation (rounded, for reading), records."""
     m = ident.params.m
     stderr, fixed = {}, dict(_NOT_FITTED)
-    for i, nm in enumerate(NAMES):
+    for i, nm in enumerate(ident.quantities):
+        j = QUANTITIES.index(nm)
         if ident.free[i]:
-            stderr[FIELDS[i]] = float(ident.stderr[i]) * (m if PER_MASS[i] else 1.0)
+            stderr[ALL_FIELDS[j]] = float(ident.stderr[i]) * (m if PER_MASS[j] else 1.0)
         else:
-            fixed[FIELDS[i]] = ident.fixed.get(nm, "fixed")
+            fixed[ALL_FIELDS[j]] = ident.fixed.get(nm, "fixed")
     records = [{**r, "sha256": _sha256(r["path"])} for r in ident.records]
     res = ident.fit
     return write_model_file(
@@ -93,7 +95,7 @@ def write_identified_model(path, ident: Identification, *, name: str | None = No
         ident.params,
         stderr=stderr,
         fixed=fixed,
-        covariance=(ident.free_names, [u for u, f in zip(UNITS, ident.free) if f], ident.fit.cov),
+        covariance=(ident.free_names, [quantity_unit(nm, ident.params.n1) for nm in ident.free_names], ident.fit.cov),
         correlation=(ident.free_names, np.round(ident.correlation, 6)),
         records=records,
         fit={

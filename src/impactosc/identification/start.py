@@ -12,6 +12,10 @@ Multiple shooting then starts within a few per cent of its answer.
 What the records cannot pin is said here, not discovered as noise later: with fewer than
 ``MIN_TURNING_POINTS`` turning points near the obstacle the contact fit has nothing to fit, and
 kI/m, b, n3 (and xI when the records never come near the obstacle) keep the stated values.
+
+The contact fit is model BC's law (Hertz stiffness, damping b |v|^n3); another law starts from it
+through :func:`for_law`: the same damping at a typical impact (``V_TYPICAL``), through the law's
+own chi for a restitution law, and for Kelvin-Voigt the same deepest penetration and restitution.
 """
 
 from __future__ import annotations
@@ -21,11 +25,16 @@ import warnings
 
 import numpy as np
 
-from impactosc.identification.fitted_parameters import NAMES, theta_of
+from impactosc.identification.fitted_parameters import LOWER, NAMES, QUANTITIES, law_quantities, theta_of
+from impactosc.model.contact_laws import LAWS
 
-__all__ = ["StartValues", "start_values"]
+__all__ = ["StartValues", "start_values", "for_law", "restitution_for", "V_TYPICAL"]
 
 CONTACT_NAMES = ("kI/m", "b", "n3")
+#: A typical impact speed of model BC's motions, m/s: where another law's start damping matches
+#: the contact fit's b |v|^n3.
+V_TYPICAL = 0.2
+_E = QUANTITIES.index("e")
 
 
 class StartValues(dict):
@@ -105,7 +114,7 @@ def start_values(records, base, *, sigma) -> StartValues:
     from impactosc.model.parameters import ModelParams
 
     base = base or ModelParams()
-    theta = theta_of(base)
+    theta = theta_of(base, full=True)
     out = StartValues(unpinned={})
     contact, why = _contact(records, sigma)
     if contact is None:
@@ -131,4 +140,50 @@ def start_values(records, base, *, sigma) -> StartValues:
     out["theta"] = theta
     out["contact"] = contact
     out["free_flight"] = None if ff is None else dict(zip(NAMES[:4], map(float, ff)))
-    return out
+    return for_law(out, base.law)
+
+
+def restitution_for(code: int, chi: float, v0: float) -> float:
+    """e of the restitution law `code` whose chi at v0 is `chi` (chi falls as e grows; e's bounds
+    where no e of the law reaches it)."""
+    from scipy.optimize import brentq
+
+    from impactosc.model.equations import restitution_damping
+
+    lo = LOWER[_E]
+    if restitution_damping(code, 1.0, v0) >= chi:
+        return 1.0
+    if restitution_damping(code, lo, v0) <= chi:
+        return float(lo)
+    return float(brentq(lambda e: restitution_damping(code, e, v0) - chi, lo, 1.0, xtol=1e-12))
+
+
+def for_law(start: StartValues, law: str) -> StartValues:
+    """The start values for the contact law `law` from those of the contact fit (model BC's law).
+
+    A restitution law: the e whose chi(e, V_TYPICAL) equals b V_TYPICAL^(n3 - 1), so that the
+    damping force at a typical impact matches.  Kelvin-Voigt (n1 = 1): the linear stiffness with
+    the same deepest penetration h at V_TYPICAL (energy: kI/m h^2.5 / 2.5 = v^2 / 2 = kKV/m h^2 / 2),
+    and the viscous damping whose linear oscillator has the restitution the chi match gives
+    Hunt-Crossley's.  Names the law does not have leave ``unpinned``.
+    """
+    theta = start["theta"].copy()
+    own = law_quantities(law)
+    unpinned = {nm: why for nm, why in start["unpinned"].items() if nm in own}
+    contact = start.get("contact")
+    if law != "bc" and contact is not None:
+        chi = contact["b"] * V_TYPICAL ** (contact["n3"] - 1.0)
+        if LAWS[law].uses_e:
+            theta[_E] = restitution_for(LAWS[law].code, chi, V_TYPICAL)
+        if law == "kelvin-voigt":
+            k15 = contact["kI/m"]
+            h = (1.25 * V_TYPICAL**2 / k15) ** 0.4
+            k1 = k15 * math.sqrt(h) / 1.25
+            e = max(restitution_for(LAWS["hunt-crossley"].code, chi, V_TYPICAL), 1e-3)
+            zeta = -math.log(e) / math.hypot(math.pi, math.log(e))
+            theta[QUANTITIES.index("kI/m")] = k1
+            theta[QUANTITIES.index("cI/m")] = 2.0 * zeta * math.sqrt(k1)
+    elif contact is None:
+        why = next((w for nm, w in start["unpinned"].items() if nm in CONTACT_NAMES), "no contacts to fit")
+        unpinned.update({nm: why for nm in ("e", "cI/m") if nm in own})
+    return StartValues(start, theta=theta, unpinned=unpinned)

@@ -446,7 +446,8 @@ def resolve_model(file=None, overrides=()) -> tuple[ModelParams, str]:
         model = read_model_file(file)
         params, source = model.params, f"model file {file}"
         if len(model.defaulted) > len(NAMES) // 2:
-            given = [k for k in NAMES if k not in model.defaulted]
+            used = [k for k in NAMES if model.params.law == "bc" or k not in BC_ONLY]  # as ``defaulted``
+            given = [k for k in used if k not in model.defaulted]
             source += f" ({', '.join(given) or 'no parameter'}; the rest from model BC)"
         elif model.defaulted:
             source += f" ({', '.join(model.defaulted)} from model BC)"

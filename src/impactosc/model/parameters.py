@@ -89,6 +89,19 @@ MAGNITUDE_LIMIT = 1e100
 MAX_EXPONENT = 10.0
 
 
+def place_law(p: np.ndarray) -> None:
+    """Fill the law's place in model BC's family (p[P_B], p[P_N2], p[P_N3]) from its code, kI, cI
+    and n1 in p, in place: one definition for a ModelParams' array and for an identification's,
+    which writes fitted values into an array directly."""
+    code = int(p[P_LAW])
+    if code == HERTZ:
+        p[P_B] = 0.0
+    elif code == KELVIN_VOIGT:  # kI h + cI v: b = cI / kI, n2 = 0, n3 = 1
+        p[P_B], p[P_N2], p[P_N3] = p[P_CI] / p[P_KI], 0.0, 1.0
+    elif code >= RESTITUTION_FIRST:  # kI h^n1 (1 + chi v): b = chi of each contact, set at its onset
+        p[P_B], p[P_N2], p[P_N3] = 0.0, p[P_N1], 1.0
+
+
 class ParameterError(ValueError):
     """A value outside what the model or the core can take; ``name`` is the parameter (or the
     argument) it was given as, so that the command line can name its option."""
@@ -174,14 +187,8 @@ class ModelParams:
         p = np.empty(N_PARAMS)
         p[P_M], p[P_M0E], p[P_K], p[P_C], p[P_T], p[P_EPS] = self.m, self.m0e, self.k, self.c, self.T, self.eps
         p[P_KI], p[P_B], p[P_N1], p[P_N2], p[P_N3], p[P_XI] = self.kI, self.b, self.n1, self.n2, self.n3, self.xI
-        code = LAWS[self.law].code
-        p[P_LAW], p[P_E], p[P_CI] = code, self.e, self.cI
-        if code == HERTZ:
-            p[P_B] = 0.0
-        elif code == KELVIN_VOIGT:  # kI h + cI v: b = cI / kI, n2 = 0, n3 = 1
-            p[P_B], p[P_N2], p[P_N3] = self.cI / self.kI, 0.0, 1.0
-        elif code >= RESTITUTION_FIRST:  # kI h^n1 (1 + chi v): b = chi of each contact, set at its onset
-            p[P_B], p[P_N2], p[P_N3] = 0.0, self.n1, 1.0
+        p[P_LAW], p[P_E], p[P_CI] = LAWS[self.law].code, self.e, self.cI
+        place_law(p)
         p[P_OMEGA] = omega
         return p
 
