@@ -230,6 +230,7 @@ def test_model_choice_compares_criteria_on_the_samples_every_candidate_fitted():
             "n": n,
             "rms_m": 1e-6,
             "held_out_rms_m": 1e-6,
+            "held_out_se_m": 1e-8,
             "blocks": {"record": [r for r, _ in rec], "block": [b for _, b in rec], "rss": list(blk)},
         }
 
@@ -245,3 +246,17 @@ def test_model_choice_compares_criteria_on_the_samples_every_candidate_fitted():
     assert f"{10 * BLOCK} samples every candidate fitted" in choice_markdown(ranked)
     with pytest.raises(ValueError, match="share no samples"):
         rank([row("a", 6, [((0, 1), 1e-9)], BLOCK), row("b", 6, [((1, 1), 1e-9)], BLOCK)])
+
+
+def test_the_best_held_out_is_the_simplest_within_one_standard_error():
+    from impactosc.identification.choice import best_held_out
+
+    def row(law, n_free, rms, se):
+        return {"law": law, "n_free": n_free, "held_out_rms_m": rms, "held_out_se_m": se}
+
+    # Hertz's records: model BC (b fitted near 0) a hair below Hertz, far inside one standard error
+    nested = [row("bc", 8, 4.998851e-6, 2e-8), row("hertz", 6, 4.998856e-6, 2e-8), row("flores", 7, 4.998915e-6, 2e-8)]
+    assert best_held_out(nested)["law"] == "hertz"
+    # a simpler law worse by more than the smallest rms's standard error does not count
+    apart = [row("flores", 7, 5.0117e-6, 2e-8), row("hertz", 6, 5.06e-6, 2e-8), row("bc", 8, 6.81e-6, 3e-8)]
+    assert best_held_out(apart)["law"] == "flores"

@@ -162,13 +162,12 @@ def test_window_prediction_of_a_law_continues_its_trajectory(law):
 
 @pytest.mark.filterwarnings("ignore::impactosc.model.parameters.UntestedParameterWarning")  # Kelvin-Voigt's n1, kI
 def test_kelvin_voigt_is_identified_in_its_own_stiffness_and_damping():
-    """Kelvin-Voigt's kI (N/m) and cI from a 12 s chaotic surrogate of it (about 10 s).
+    """Kelvin-Voigt's kI (N/m) and cI from a 12 s chaotic surrogate of it (about 10 s), every
+    quantity within 3 of its standard errors (measured: 2.1 at most, kI/m; kI and cI within 5e-4).
 
-    Within 1 %, not within the stated errors: its force turns 0 inside the obstacle, where
-    kI h + cI v = 0 (a cut that moves with h, unlike model BC's at a fixed speed), a kink the core
-    does not locate as an event, so the predictions are not smooth in the parameters at the
-    difference steps and the last stage stops short of convergence (measured: kI off by 3e-5,
-    cI by 8e-4, c/m by 10 stated errors, the residual at the 5 um noise).
+    Its force turns 0 inside the obstacle where kI h + cI v = 0, a cut that moves with h; the
+    core locates it as an event, so the predictions are smooth in the parameters and the fit
+    converges (without the event c/m ended 10 standard errors off).
     """
     from impactosc.identification.staged_fit import identify
     from impactosc.records.surrogate import SurrogateOptions, surrogate_record
@@ -177,7 +176,9 @@ def test_kelvin_voigt_is_identified_in_its_own_stiffness_and_damping():
     rec, _ = surrogate_record(40.86, 20.0, 12.0, SurrogateOptions(rate=2000.0, noise=5e-6, seed=11), params=truth)
     ident = identify([rec], base=dataclasses.replace(truth, cI=30.0))
     assert ident.quantities == law_quantities("kelvin-voigt") and ident.free.all()
-    assert ident.params.kI == pytest.approx(truth.kI, rel=1e-2) and ident.params.cI == pytest.approx(truth.cI, rel=1e-2)
+    z = (ident.theta - theta_of(truth)) / ident.stderr
+    assert np.all(np.abs(z) < 3.0), dict(zip(ident.quantities, z))
+    assert ident.params.kI == pytest.approx(truth.kI, rel=2e-3) and ident.params.cI == pytest.approx(truth.cI, rel=2e-3)
     assert ident.noise < 5.5e-6  # the surrogate's noise, 5 um: the fit reaches it
 
 

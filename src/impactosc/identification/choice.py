@@ -104,14 +104,20 @@ def _not_pinned(ident) -> str:
 
 
 def _held_out_error(records, ident, every, rtol):
-    """RMS of the held-out windows' residuals with only their start states fitted."""
+    """RMS of the held-out windows' residuals with only their start states fitted, the number
+    of samples, and the rms's standard error with the windows as the independent units (the
+    ratio estimator's, halved for the square root: se(rms) = se(ms) / (2 rms))."""
     windows = cut_windows(records, periods=ident.periods, level=ident.theta_all[_XI])
     held = windows.subset(split_held_out(windows, every=every))
     if held.size == 0:
-        return math.nan, 0
+        return math.nan, 0, math.nan
     pred = Predictor(held, ident.params.as_array(1.0), ident.params.m, rtol=rtol)
     _, rss = fit_states(pred, ident.theta_all, np.column_stack([held.x0, held.v0]))
-    return math.sqrt(float(np.sum(rss)) / held.y.size), int(held.y.size)
+    n_w = held.n.astype(float)
+    ms = float(np.sum(rss)) / n_w.sum()
+    k = n_w.size
+    se_ms = math.sqrt(k / max(k - 1, 1) * float(np.sum((rss - ms * n_w) ** 2))) / n_w.sum()
+    return math.sqrt(ms), int(held.y.size), se_ms / (2.0 * math.sqrt(ms)) if ms > 0 else math.nan
 
 
 def candidates() -> list[tuple[str, str]]:
@@ -165,7 +171,7 @@ def fit_candidate(records, law, friction, *, base=None, start=None, every=4, sta
             rtol=rtol,
             progress=progress,
         )
-        err, n_held = _held_out_error(records, ident, every, rtol)
+        err, n_held, err_se = _held_out_error(records, ident, every, rtol)
     res = ident.fit
     n = res.n_samples
     return {
@@ -179,6 +185,7 @@ def fit_candidate(records, law, friction, *, base=None, start=None, every=4, sta
         "n": n,
         "rms_m": math.sqrt(res.rss / n),
         "held_out_rms_m": err,
+        "held_out_se_m": err_se,
         "n_held_out": n_held,
         "seconds": ident.seconds,
         **{f"{nm}": float(v) for nm, v in zip(ident.quantities, ident.theta)},
@@ -186,10 +193,23 @@ def fit_candidate(records, law, friction, *, base=None, start=None, every=4, sta
     }
 
 
+def best_held_out(rows: list[dict]) -> dict:
+    """The candidate that predicts the held-out windows best, by the one-standard-error rule
+    (Breiman et al. 1984; Hastie, Tibshirani and Friedman, ESL 7.10): the fewest free parameters
+    among those whose held-out rms lies within one standard error of the smallest. Why: a law
+    nested in a larger one (Hertz in model BC, at b = 0) reaches the same force, and the larger
+    one's extra parameters, fitted to the noise, move its held-out rms by some 1e-5 of itself
+    either way, far below what the held-out windows resolve."""
+    least = min(rows, key=lambda r: r["held_out_rms_m"])
+    bound = least["held_out_rms_m"] + least["held_out_se_m"]
+    within = [r for r in rows if r["held_out_rms_m"] <= bound]
+    return min(within, key=lambda r: (r["n_free"], r["held_out_rms_m"]))
+
+
 def rank(rows: list[dict]) -> list[dict]:
     """Rows with AIC and BIC on the samples every candidate fitted (``n_common``, ``rms_common_m``;
-    the block residuals are dropped), sorted by BIC, with their differences to the best and the
-    supported one marked."""
+    the block residuals are dropped), sorted by BIC, with their differences to the best, the
+    supported one and the best held out (:func:`best_held_out`) marked."""
     keys = [set(zip(r["blocks"]["record"], r["blocks"]["block"])) for r in rows]
     common = set.intersection(*keys) if keys else set()
     if not common:
@@ -204,11 +224,11 @@ def rank(rows: list[dict]) -> list[dict]:
         r["bic"] = n * math.log(rss / n) + r["n_free"] * math.log(n)
     rows = sorted(rows, key=lambda r: r["bic"])
     best_aic = min(r["aic"] for r in rows)
-    best_held = min(r["held_out_rms_m"] for r in rows)
+    best_held = best_held_out(rows)
     for i, r in enumerate(rows):
         r["delta_aic"] = r["aic"] - best_aic
         r["delta_bic"] = r["bic"] - rows[0]["bic"]
-        r["best_held_out"] = r["held_out_rms_m"] == best_held
+        r["best_held_out"] = r is best_held
         r["supported"] = i == 0
     return rows
 
@@ -236,13 +256,18 @@ def choose_model(
 def choice_markdown(rows: list[dict]) -> str:
     """The ranked candidates as Markdown: which model the records support, and by how much."""
     best = rows[0]
+    held = next(r for r in rows if r["best_held_out"])
     own = [r["n"] for r in rows]
     lines = [
         "# Model choice: which contact law and friction the records support",
         "",
         f"Supported (smallest BIC): **{best['law']}, {best['friction']}**. Fits on the windows outside the "
         "held-out blocks; held-out error: rms residual of the held-out windows with only their start states "
-        f"fitted. Each fit has its own windows ({min(own)}-{max(own)} samples: it cuts them at its own obstacle "
+        f"fitted, with its standard error (the windows as units); best held out: **{held['law']}, "
+        f"{held['friction']}**, the fewest free parameters within one standard error of the smallest held-out "
+        "rms (a law nested in a larger one reaches the same force; the larger one's extra parameters move "
+        "its held-out rms by far less than the windows resolve). Each fit has its own windows "
+        f"({min(own)}-{max(own)} samples: it cuts them at its own obstacle "
         "estimate and leaves out those it fits far worse than the rest); AIC and BIC, and the rms beside them, "
         f"are those of the {best['n_common']} samples every candidate fitted, with the free parameters as "
         "penalty. Not pinned: what the records could not determine for that candidate, fixed at the stated "
@@ -251,11 +276,13 @@ def choice_markdown(rows: list[dict]) -> str:
         "where that law's g cannot reach it).",
         "",
         "| contact law | friction | free | not pinned | rms fit (um), own samples | rms fit (um), common samples "
-        "| rms held out (um) | dAIC | dBIC | same force |",
+        "| rms held out (um) +- se | dAIC | dBIC | same force |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
-        held = f"{r['held_out_rms_m'] * 1e6:.3f}" + (" (best)" if r["best_held_out"] else "")
+        held = f"{r['held_out_rms_m'] * 1e6:.3f} +- {r['held_out_se_m'] * 1e6:.3f}" + (
+            " (best)" if r["best_held_out"] else ""
+        )
         lines.append(
             f"| {r['law']} | {r['friction']} | {r['free']} | {r['not_pinned'] or '-'} | {r['rms_m'] * 1e6:.3f} "
             f"({r['n']}) | {r['rms_common_m'] * 1e6:.3f} | {held} | {r['delta_aic']:.1f} | {r['delta_bic']:.1f} "
