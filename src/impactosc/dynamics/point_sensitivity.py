@@ -73,7 +73,7 @@ FIELDS = ("k", "c", "T", "m0e", "kI", "b", "n3", "xI")
 #: relocated doubling within 2e-5.
 OMEGA_STEP = 1e-4
 RELATIVE_STEP = 1e-4
-ABSOLUTE_STEP = {"b": 1e-6, "n3": 1e-6, "T": 1e-6, "xI": 1e-7}
+ABSOLUTE_STEP = {"b": 1e-6, "n3": 1e-6, "T": 1e-6, "xI": 1e-7, "cI": 1e-6}
 #: A grazing's steps keep its near-miss gap of 1e-7 m open: 1e-8 of the value, 1e-2 of the
 #: absolute steps, 1e-10 m of xI.
 GRAZING_XI_STEP = 1e-10
