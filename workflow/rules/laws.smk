@@ -3,10 +3,10 @@
 # restitution law's e matched so that a free impact at config laws.v0 = 0.2 m/s dissipates what
 # model BC's does (impactosc.dynamics.restitution.matched_e), drawn over each other. Target:
 #   make laws    (snakemake -j2 laws_study --configfile config/laws.yaml: results/laws/)
-# Budget: 10 min on 2 cores. Measured: 5 min 25 s for `make laws` from nothing (19 jobs, 224 s of
-# CPU, six sweeps of 1001 and 1044 w at the paper's resolution) on 2 cores shared with other work
-# (load about 5; 8 min 8 s at a load of 7). Full resolution fits: a sweep is about 35 s of CPU,
-# so the six take about two minutes of 2 free cores; no coarser grid is needed.
+# Budget: 4 min on 2 cores after `make`. Measured: 1 min 57 s for `make laws` after `make` in a
+# fresh clone, 2 quiet cores (19 jobs, six sweeps of 1001 and 1044 w at the paper's resolution);
+# 5 min 25 s on 2 cores shared with other work (load about 5). Full resolution fits: a sweep is
+# about 35 s of CPU; no coarser grid is needed.
 #
 # Each law's sweeps and their reading are the bifurcation group's rules run on the law's model
 # file (use rule ... with:), so a law's diagram is computed and read exactly as the paper's is.
