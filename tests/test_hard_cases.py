@@ -59,8 +59,12 @@ def test_impact_on_a_poincare_time_and_events_at_the_end():
     assert_passed(hc.coincidence_case(log=quiet))
 
 
-def test_long_run_rate_memory_speed_short():
-    assert_passed(hc.long_run_case(duration=1000.0, block=100.0, chunk_steps=50_000, log=quiet))
+def test_long_run_rate_and_memory_short():
+    # The speed ratio is reported here, not bounded: a speed bound belongs to the benchmarks
+    # (rule hard_cases and the slow test below), not to a test that shares its cores.
+    rows = hc.long_run_case(duration=1000.0, block=100.0, chunk_steps=50_000, speed_bound=None, log=quiet)
+    assert_passed(rows)
+    assert [r["passed"] for r in rows] == [True, True, "n.a."]
 
 
 @pytest.mark.slow

@@ -199,7 +199,9 @@ def _rss_bytes() -> float:
         return math.nan
 
 
-def long_run_case(duration=1e4, omega=40.86, block=1000.0, chunk_steps=200_000, log=print) -> list[dict]:
+def long_run_case(
+    duration=1e4, omega=40.86, block=1000.0, chunk_steps=200_000, speed_bound=2.0, log=print
+) -> list[dict]:
     """10^4 s of the chaotic scene: memory may grow only by the stored events, the impact
     rate may not drift and the speed may not degrade.
 
@@ -207,7 +209,10 @@ def long_run_case(duration=1e4, omega=40.86, block=1000.0, chunk_steps=200_000, 
       bytes of the event array (it grows by doubling) plus 8 MB for the allocator;
     * rate: impacts per `block` s; the least-squares trend over the run, in units of its
       standard error, must stay within 3 (no drift);
-    * wall time per simulated second, last progress interval against the first: <= 2.
+    * speed, simulated seconds per second of this process's CPU time, first progress
+      interval over the last: <= `speed_bound` (None: reported, not bounded). CPU time, not
+      wall time, because a process waiting for a busy core accrues none: the ratio measures
+      the core, not its neighbours.
     """
     if not duration >= 4 * block > 0:
         raise ValueError(
@@ -216,10 +221,10 @@ def long_run_case(duration=1e4, omega=40.86, block=1000.0, chunk_steps=200_000, 
         )
     warm_up()
     marks = []
-    t0 = time.perf_counter()
+    t0 = time.process_time()
 
     def progress(t, t_end, n_imp):
-        marks.append((t, n_imp, _rss_bytes(), time.perf_counter() - t0))
+        marks.append((t, n_imp, _rss_bytes(), time.process_time() - t0))
 
     res = simulate(omega, 0.0, duration, record=("impacts",), chunk_steps=chunk_steps, progress=progress)
     t = res.events["impacts"]["t"]
@@ -258,10 +263,11 @@ def long_run_case(duration=1e4, omega=40.86, block=1000.0, chunk_steps=200_000, 
         ),
         row(
             "long run",
-            "speed (simulated s per wall s), first chunk over last",
+            "speed (simulated s per CPU s), first chunk over last",
             slowdown,
-            2.0,
+            speed_bound,
             "ratio",
-            detail=f"{speeds[0]:.0f} and {speeds[-1]:.0f} simulated s per s" if speeds else "",
+            detail=f"{speeds[0]:.0f} and {speeds[-1]:.0f} simulated s per CPU s" if speeds else "",
+            info=speed_bound is None,
         ),
     ]
