@@ -17,7 +17,7 @@ import numpy as np
 
 from impactosc.core.simulation import Window, simulate
 from impactosc.model.parameters import ModelParams
-from impactosc_bench.hardcases.checks import row
+from impactosc_bench.hardcases.checks import row, work_row
 from impactosc_bench.scipy_reference import solve_reference
 
 ALL_RECORD = ("impacts", "penetrations", "near_misses", "poincare")
@@ -113,14 +113,7 @@ def bounce_to_rest_case(params, omega, t_end, rtol=1e-10, atol=1e-12, log=print)
             "count",
             detail=f"{t.size} impacts, the last at {t[-1]:.4f} s; {a['n_stick']} stick phase(s)",
         ),
-        row(
-            "chattering",
-            f"bouncing to rest: core wall time for {t_end} s",
-            wall,
-            2.0,
-            "s",
-            detail=f"{a['n_steps']} explicit + {a['n_implicit_steps']} implicit steps, {a['n_rhs']} RHS evaluations",
-        ),
+        work_row("chattering", "bouncing to rest", a, t_end, wall),
     ]
 
 

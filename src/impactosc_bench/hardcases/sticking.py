@@ -18,7 +18,7 @@ from scipy.optimize import brentq
 
 from impactosc.core.simulation import Window, simulate
 from impactosc.model.parameters import ModelParams
-from impactosc_bench.hardcases.checks import row
+from impactosc_bench.hardcases.checks import row, work_row
 
 
 class CoulombOscillator:
@@ -223,8 +223,8 @@ def stick_slip_case(
 def stick_on_obstacle_case(omega=15.0, t_end=20.0, rtol=1e-10, atol=1e-12, log=print) -> list[dict]:
     """From rest at w = 15 the cart ends up held on the obstacle by dry friction, where the
     Hunt-Crossley term sgn(v)|v|^n3 is not Lipschitz at v = 0 (Newton on it diverges like
-    on x^(1/3); this run used to stall). It must run fast and its sticks must be physical:
-    wherever the cart is held in contact, the net static force |F0 sin(w t) - k x - F_I(x, 0)|
+    on x^(1/3); this run used to stall). It must not stall (work per simulated second,
+    checks.work_row) and its sticks must be physical: wherever the cart is held in contact, the net static force |F0 sin(w t) - k x - F_I(x, 0)|
     may not exceed what dry friction and the Hunt-Crossley damping can supply at |v| < eps."""
     p = ModelParams()
     t0 = time.perf_counter()
@@ -261,16 +261,7 @@ def stick_on_obstacle_case(omega=15.0, t_end=20.0, rtol=1e-10, atol=1e-12, log=p
         f"max |net|/capacity {worst:.3f}, wall {wall:.3f} s"
     )
     return [
-        row(
-            "sticking",
-            f"held on the obstacle (w = {omega}, from rest): core wall time for {t_end} s",
-            wall,
-            2.0,
-            "s",
-            detail=f"{a['n_stick']} stick phases, {a['n_steps']} explicit + {a['n_implicit_steps']} "
-            f"implicit steps, {a['n_rejected']} rejected; {held.mean() * t_end:.2f} s held in contact "
-            "(before the fix in radau.py/model.py: no result after 300 s)",
-        ),
+        work_row("sticking", f"held on the obstacle (w = {omega}, from rest)", a, t_end, wall),
         row(
             "sticking",
             "held on the obstacle: max |F0 sin(w t) - k x - kI h^n1| over what can hold the cart at |v| < eps "
