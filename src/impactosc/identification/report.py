@@ -22,6 +22,7 @@ from impactosc.model.parameters import unit_of
 
 __all__ = [
     "configured_inputs",
+    "stated_model",
     "parameter_markdown",
     "parameter_table",
     "write_identified_model",
@@ -179,16 +180,23 @@ def parameter_markdown(rows: list[dict], ident: Identification) -> str:
     return "\n".join(lines) + "\n"
 
 
-def configured_inputs(section: dict, model: dict, paths) -> tuple:
-    """(stated model, records) of the workflow's identification config: model with the
-    configured mass, and the record files read as ``section["read"]`` says."""
+def stated_model(section: dict, model: dict):
+    """The stated model of the workflow's identification config: the study's model (its
+    contact law included) with the configured mass."""
     import dataclasses
 
     from impactosc.model.parameters import ModelParams
-    from impactosc.records.formats import read_records
 
     base = ModelParams(**model)
     if section["mass"] is not None:
         base = dataclasses.replace(base, m=float(section["mass"]))
+    return base
+
+
+def configured_inputs(section: dict, model: dict, paths) -> tuple:
+    """(stated model, records) of the workflow's identification config: :func:`stated_model`,
+    and the record files read as ``section["read"]`` says."""
+    from impactosc.records.formats import read_records
+
     read = {k: v for k, v in section["read"].items() if v is not None}
-    return base, read_records(list(paths), duration=section.get("duration"), **read)
+    return stated_model(section, model), read_records(list(paths), duration=section.get("duration"), **read)
