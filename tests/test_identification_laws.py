@@ -189,3 +189,60 @@ def test_a_law_file_that_gives_no_parameter_says_so(tmp_path):
     path.write_text("format: impactosc-model/1\ncontact: {law: flores, e: 0.6}\nparameters: {}\n")
     params, source = resolve_model(path)
     assert params.law == "flores" and source == f"model file {path} (no parameter; the rest from model BC)"
+
+
+# ------------------------------------------------------------ coverage draws of any law
+
+
+def test_coverage_truths_of_model_bc_are_the_draws_of_before():
+    """Model BC's random truths scale the same fields in the same order as before the laws,
+    so a coverage table measured earlier is the one a rerun gives."""
+    from impactosc_study.coverage import SCALED_FIELDS, random_truth
+
+    base = ModelParams()
+    rng = np.random.default_rng(18)
+    before = {f: getattr(base, f) * rng.uniform(0.7, 1.3) for f in SCALED_FIELDS}
+    truth = random_truth(18, 0.3)
+    assert all(getattr(truth, f) == v for f, v in before.items()) and truth.law == "bc"
+
+
+@pytest.mark.filterwarnings("ignore::impactosc.model.parameters.UntestedParameterWarning")  # Kelvin-Voigt's n1, kI
+@pytest.mark.parametrize("law", ["flores", "kelvin-voigt", "hertz"])
+def test_coverage_truths_of_another_law_draw_its_own_quantities(law):
+    from impactosc_study.coverage import random_truth
+
+    base = law_params(law)
+    truths = [random_truth(seed, 0.3, base) for seed in range(200)]
+    assert {t.law for t in truths} == {law} and all(t.n1 == base.n1 and t.m == base.m for t in truths)
+    # b and n3 are model BC's: another law's truths keep base's (unused) values
+    assert all(t.b == base.b and t.n3 == base.n3 for t in truths)
+    kI = np.array([t.kI for t in truths]) / base.kI
+    assert 0.7 <= kI.min() < 0.75 and 1.25 < kI.max() <= 1.3
+    if LAWS[law].uses_e:  # the loss 1 - e = 0.4 scaled within +-30 %: e in [0.48, 0.72], never past 1
+        e = np.array([t.e for t in truths])
+        assert 0.48 <= e.min() < 0.5 and 0.7 < e.max() <= 0.72
+    if LAWS[law].uses_cI:
+        cI = np.array([t.cI for t in truths]) / base.cI
+        assert 0.7 <= cI.min() < 0.75 and 1.25 < cI.max() <= 1.3
+
+
+def test_coverage_table_takes_the_quantities_of_the_draws_law():
+    from impactosc_study.coverage import coverage_markdown, coverage_table
+
+    names = law_quantities("flores")
+
+    def draw(seed, z):
+        row = {"seed": seed, "law": "flores", "all_within_2se": abs(z) <= 2}
+        for nm in names:
+            row.update({f"{nm}_true": 1.0, f"{nm}_fit": 1.0 + 0.01 * z, f"{nm}_se": 0.01, f"{nm}_z": z})
+        return row
+
+    draws = [draw(0, 0.5), draw(1, -1.5), draw(2, 2.5)]
+    table = coverage_table(draws)
+    assert [r["parameter"] for r in table] == list(names) and "e" in names and "b" not in names
+    assert all(r["within_1se"] == 1 and r["within_2se"] == 2 and r["draws"] == 3 for r in table)
+    text = coverage_markdown(table, draws)
+    assert "the flores contact law's model" in text and "| e | 1/3 | 2/3 |" in text
+    assert f"{len(names)} independent quantities" in text and "2/3 draws" in text
+    with pytest.raises(ValueError, match="several contact laws"):
+        coverage_table([*draws, {**draws[0], "law": "bc"}])

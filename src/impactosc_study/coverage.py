@@ -19,10 +19,12 @@ The identification
 ------------------
 Why: a covariance from the Jacobian assumes the fit is unbiased, the residuals white and the
 problem close to linear over the error bars.  Whether that holds for multiple shooting on this
-model is a question for repeated draws: each draw takes model BC's parameters scaled by random
-factors within +-``spread`` (m, eps, n1, n2 kept), makes surrogate records of it (the rig's
-sampling and noise) at several w, identifies them, and counts how often each parameter lies
-within 2 stated standard errors of the truth (95 % if the errors are honest).
+model is a question for repeated draws: each draw takes the stated model's parameters (model BC's
+by default, or another contact law's) scaled by random factors within +-``spread`` (m, eps, n1,
+n2 kept; a restitution law's loss 1 - e scaled, so that e stays below 1), makes surrogate records
+of it (the rig's sampling and noise) at several w, identifies them with the same law, and counts
+how often each of the law's quantities lies within 2 stated standard errors of the truth (95 %
+if the errors are honest).
 
 Each draw also compares the identified model's Fig 2 branch with the true model's: both are
 followed by continuation over the same w grid, and at every w where both are periodic with the
@@ -39,9 +41,10 @@ import math
 
 import numpy as np
 
-from impactosc.identification.fitted_parameters import NAMES, theta_of
+from impactosc.identification.fitted_parameters import law_quantities, theta_of
 from impactosc.identification.report import write_identified_model
 from impactosc.identification.staged_fit import identify
+from impactosc.model.contact_laws import LAWS
 from impactosc.model.model_file import read_model_file
 from impactosc.model.parameters import ModelParams
 from impactosc.records.obstacle_estimate import estimate_x_impact
@@ -153,12 +156,19 @@ SCALED_FIELDS = ("m0e", "k", "c", "T", "kI", "b", "n3", "xI")
 
 
 def random_truth(seed: int, spread: float = 0.3, base: ModelParams | None = None) -> ModelParams:
-    """Model BC with each of SCALED_FIELDS scaled by an independent uniform factor."""
+    """``base`` (default model BC) with each of its law's SCALED_FIELDS, then its e or cI, scaled
+    by an independent uniform factor; e through its loss, 1 - e (a factor above 1 would take e
+    past 1). Model BC's draws are those of every earlier version (same fields, same order)."""
     base = base or ModelParams()
     rng = np.random.default_rng(seed)
-    return dataclasses.replace(
-        base, **{f: getattr(base, f) * rng.uniform(1 - spread, 1 + spread) for f in SCALED_FIELDS}
-    )
+    own = LAWS[base.law]
+    fields = [f for f in SCALED_FIELDS if f not in ("b", "n3") or base.law == "bc"]
+    values = {f: getattr(base, f) * rng.uniform(1 - spread, 1 + spread) for f in fields}
+    if own.uses_cI:
+        values["cI"] = base.cI * rng.uniform(1 - spread, 1 + spread)
+    if own.uses_e:
+        values["e"] = 1.0 - (1.0 - base.e) * rng.uniform(1 - spread, 1 + spread)
+    return dataclasses.replace(base, **values)
 
 
 def _section_state(sweep, i: int) -> tuple:
@@ -247,27 +257,37 @@ def identification_draw(
     noise=5e-6,
     spread=0.3,
     branch_omegas=None,
+    base: ModelParams | None = None,
     progress=None,
 ) -> dict:
-    """One draw: random truth, surrogate records at ``omegas``, identification, errors in
-    standard errors per parameter, and (with ``branch_omegas``) the Fig 2 branch comparison."""
-    truth = random_truth(seed, spread)
+    """One draw: random truth around ``base`` (default model BC), surrogate records at ``omegas``,
+    identification with base's law, errors in standard errors per quantity of the law, and (with
+    ``branch_omegas``) the Fig 2 branch comparison."""
+    base = base or ModelParams()
+    truth = random_truth(seed, spread, base)
     records = [
         surrogate_record(
             w, transient, duration, SurrogateOptions(rate=rate, noise=noise, seed=1000 * seed + i), params=truth
         )[0]
         for i, w in enumerate(omegas)
     ]
-    ident = identify(records, progress=progress)
+    ident = identify(records, base=base, progress=progress)
     th = theta_of(truth)
-    row = {"seed": int(seed), "seconds": ident.seconds, "noise_fit_m": ident.noise, "converged": ident.fit.converged}
-    for i, nm in enumerate(NAMES):
+    row = {
+        "seed": int(seed),
+        "law": truth.law,
+        "seconds": ident.seconds,
+        "noise_fit_m": ident.noise,
+        "converged": ident.fit.converged,
+    }
+    names = law_quantities(truth.law)
+    for i, nm in enumerate(names):
         se = ident.stderr[i]
         row[f"{nm}_true"] = float(th[i])
         row[f"{nm}_fit"] = float(ident.theta[i])
         row[f"{nm}_se"] = float(se)
         row[f"{nm}_z"] = float((ident.theta[i] - th[i]) / se) if ident.free[i] and se > 0 else math.nan
-    row["all_within_2se"] = bool(all(abs(row[f"{nm}_z"]) <= 2 for nm in NAMES if math.isfinite(row[f"{nm}_z"])))
+    row["all_within_2se"] = bool(all(abs(row[f"{nm}_z"]) <= 2 for nm in names if math.isfinite(row[f"{nm}_z"])))
     row.update(covariance_as_written(ident))
     if branch_omegas is not None:
         row.update(branch_distance(truth, ident.params, branch_omegas))
@@ -295,11 +315,19 @@ def covariance_as_written(ident) -> dict:
     }
 
 
+def draws_law(rows: list[dict]) -> str:
+    """The contact law of the draws (one per table; rows without one are model BC's)."""
+    laws = {r.get("law", "bc") for r in rows}
+    if len(laws) != 1:
+        raise ValueError(f"coverage draws of several contact laws ({', '.join(sorted(laws))}): one table per law")
+    return laws.pop()
+
+
 def coverage_table(rows: list[dict]) -> list[dict]:
-    """Per parameter: draws, how many within 1 and 2 standard errors, mean and sd of the
-    errors in standard errors (0 and 1 if honest), median relative standard error."""
+    """Per quantity of the draws' law: draws, how many within 1 and 2 standard errors, mean and
+    sd of the errors in standard errors (0 and 1 if honest), median relative standard error."""
     out = []
-    for nm in NAMES:
+    for nm in law_quantities(draws_law(rows)):
         z = np.array([r[f"{nm}_z"] for r in rows], dtype=float)
         z = z[np.isfinite(z)]
         rel = np.array([r[f"{nm}_se"] / abs(r[f"{nm}_true"]) for r in rows if r[f"{nm}_true"] != 0])
@@ -337,11 +365,14 @@ def coverage_markdown(table: list[dict], draws: list[dict]) -> str:
     """The coverage table and the Fig 2 branch comparison as Markdown."""
     n = len(draws)
     joint = sum(bool(d["all_within_2se"]) for d in draws)
+    law = draws_law(draws)
+    model = "model BC" if law == "bc" else f"the {law} contact law's model"
     lines = [
-        "# Identification coverage: random truths within the configured spread of model BC",
+        f"# Identification coverage: random truths within the configured spread of {model}",
         "",
-        f"{n} draws; every parameter within 2 stated standard errors at once in {joint}/{n} draws "
-        "(for 8 independent parameters at 95.4 % each that is expected in about 69 %).",
+        f"{n} draws; every quantity within 2 stated standard errors at once in {joint}/{n} draws "
+        f"(for {len(table)} independent quantities at 95.4 % each that is expected in about "
+        f"{0.9545 ** len(table):.0%}).",
         "",
         *_covariance_line(draws),
         "| parameter | within 1 se | within 2 se | mean z | sd z | median relative se |",

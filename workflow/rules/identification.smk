@@ -111,6 +111,8 @@ rule identify_coverage_part:
         part=r"\d+",
     params:
         coverage=IDENT["coverage"],
+        identification=IDENT,
+        model=config["model"],
     script:
         "../scripts/identify_coverage_part.py"
 

@@ -1,7 +1,9 @@
 """One part of the identification coverage study: draws part, part + parts, ... of the seeds.
 
-Reads input.kernels (compiled kernels), input.cache, params.coverage (identification.coverage) and
-wildcards.part; writes output.json (one row per draw, impactosc_study.coverage.identification_draw).
+Reads input.kernels (compiled kernels), input.cache, params.coverage (identification.coverage),
+params.identification and params.model (the stated model: the truths are drawn around it, with its
+contact law) and wildcards.part; writes output.json (one row per draw,
+impactosc_study.coverage.identification_draw).
 """
 
 from _logging import configure_logging, mock_snakemake
@@ -14,10 +16,12 @@ import logging
 
 import numpy as np
 
+from impactosc.identification.report import stated_model
 from impactosc.io.files import write_json
 from impactosc_study.coverage import identification_draw
 
 c = snakemake.params.coverage
+base = stated_model(snakemake.params.identification, snakemake.params.model)
 part = int(snakemake.wildcards.part)
 b = c["branch"]
 branch = np.arange(b["start"], b["stop"] + b["step"] / 2, b["step"])
@@ -31,6 +35,7 @@ for seed in range(part, c["draws"], c["parts"]):
         noise=c["noise"],
         spread=c["spread"],
         branch_omegas=branch,
+        base=base,
     )
     rows.append(row)
     logging.info(
