@@ -43,7 +43,7 @@ import numpy as np
 
 from impactosc.identification.fitted_parameters import law_quantities, theta_of
 from impactosc.identification.report import write_identified_model
-from impactosc.identification.staged_fit import identify
+from impactosc.identification.staged_fit import STAGES, identify
 from impactosc.model.contact_laws import LAWS
 from impactosc.model.model_file import read_model_file
 from impactosc.model.parameters import ModelParams
@@ -258,11 +258,12 @@ def identification_draw(
     spread=0.3,
     branch_omegas=None,
     base: ModelParams | None = None,
+    stages=STAGES,
     progress=None,
 ) -> dict:
     """One draw: random truth around ``base`` (default model BC), surrogate records at ``omegas``,
-    identification with base's law, errors in standard errors per quantity of the law, and (with
-    ``branch_omegas``) the Fig 2 branch comparison."""
+    identification with base's law and ``stages``, errors in standard errors per quantity of the
+    law, and (with ``branch_omegas``) the Fig 2 branch comparison."""
     base = base or ModelParams()
     truth = random_truth(seed, spread, base)
     records = [
@@ -271,7 +272,7 @@ def identification_draw(
         )[0]
         for i, w in enumerate(omegas)
     ]
-    ident = identify(records, base=base, progress=progress)
+    ident = identify(records, base=base, stages=tuple(stages), progress=progress)
     th = theta_of(truth)
     row = {
         "seed": int(seed),

@@ -1,8 +1,8 @@
 """One part of the identification coverage study: draws part, part + parts, ... of the seeds.
 
 Reads input.kernels (compiled kernels), input.cache, params.coverage (identification.coverage),
-params.identification and params.model (the stated model: the truths are drawn around it, with its
-contact law) and wildcards.part; writes output.json (one row per draw,
+params.identification (its stages and mass) and params.model (the stated model: the truths are
+drawn around it, with its contact law) and wildcards.part; writes output.json (one row per draw,
 impactosc_study.coverage.identification_draw).
 """
 
@@ -36,6 +36,7 @@ for seed in range(part, c["draws"], c["parts"]):
         spread=c["spread"],
         branch_omegas=branch,
         base=base,
+        stages=snakemake.params.identification["stages"],
     )
     rows.append(row)
     logging.info(
