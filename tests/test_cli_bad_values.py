@@ -321,9 +321,16 @@ def test_nasty_values_get_a_clean_answer(files, tmp_path, fits):
     assert codes.count(2) > len(codes) / 2 and 0 in codes
 
 
-def test_reported_values_are_refused_by_option(files, tmp_path):
+def test_reported_values_are_refused_by_option(files, tmp_path, monkeypatch):
     """The values that once ended in a traceback, a hang or the kernel's kill: each refused in
-    one line naming its option."""
+    one line naming its option, before the compiled core runs (every integration goes through
+    driver.run: a call to it fails the case, whatever the machine's speed)."""
+    from impactosc.core import driver
+
+    def no_integration(*args):
+        raise AssertionError("the core ran before the value was refused")
+
+    monkeypatch.setattr(driver, "run", no_integration)
     out = tmp_path / "out.h5"
     sim = ["simulate", "--omega", "40.86", "--transient", "0", "--duration", "1", "--output", out]
     sur = ["surrogate", "--omega", "40.86", "--transient", "0", "--duration", "1", "--output", out]
@@ -346,9 +353,8 @@ def test_reported_values_are_refused_by_option(files, tmp_path):
         (["predict", files / "bc.yaml", "--w-range", "36.9", "37.6", "--seed-omega", "1e300"], "--seed-omega"),
     ]
     for argv, option in cases:
-        code, lines, seconds = run(argv, out)
+        code, lines, _ = run(argv, out)
         assert code == 2 and lines[-1].startswith(f"impactosc {argv[0]}: error: {option}: "), (argv, lines)
-        assert seconds < 2.0, (argv, seconds)  # refused before computing
     code, lines, _ = run([*sim, "--window", "0", "1", "1e-12"], out)
     assert "GB" in lines[-1] and "coarser step" in lines[-1]
     # a forcing faster than the samples (numpy's own error before): named with the record
