@@ -246,3 +246,24 @@ def test_coverage_table_takes_the_quantities_of_the_draws_law():
     assert f"{len(names)} independent quantities" in text and "2/3 draws" in text
     with pytest.raises(ValueError, match="several contact laws"):
         coverage_table([*draws, {**draws[0], "law": "bc"}])
+
+
+@pytest.mark.filterwarnings("ignore::impactosc.model.parameters.UntestedParameterWarning")  # Kelvin-Voigt's n1, kI
+def test_the_example_model_files_are_what_their_comments_say():
+    """examples/model_flores.yaml and model_kelvin_voigt.yaml, the models of the coverage study's
+    documented runs: their laws and values, and the Kelvin-Voigt impact their comment states
+    (depth and effective restitution of a free impact at 0.2 m/s, to the digits it gives)."""
+    from impactosc.core.simulation import simulate
+    from impactosc.dynamics.restitution import FREE_IMPACT, effective_restitution
+    from impactosc.model.model_file import read_model_file
+
+    flores = read_model_file("examples/model_flores.yaml").params
+    assert (flores.law, flores.e) == ("flores", 0.6) and flores.kI == ModelParams().kI
+    kv = read_model_file("examples/model_kelvin_voigt.yaml").params
+    assert (kv.law, kv.kI, kv.n1, kv.cI) == ("kelvin-voigt", 3.4e6, 1.0, 1.9e3)
+    assert effective_restitution(kv, 0.2) == pytest.approx(0.61, abs=0.005)
+    assert effective_restitution(ModelParams(), 0.2) == pytest.approx(0.55, abs=0.005)
+    for params, depth in ((kv, 0.25e-3), (ModelParams(), 0.27e-3)):
+        free = dataclasses.replace(params, **FREE_IMPACT)
+        run = simulate(10.0, 0.0, 0.01, x0=-1e-6, v0=0.2, params=free, record=("penetrations",))
+        assert run.events["penetrations"]["h"][0] == pytest.approx(depth, abs=0.005e-3)
