@@ -243,7 +243,11 @@ def test_model_choice_compares_criteria_on_the_samples_every_candidate_fitted():
     assert ranked[0]["rms_common_m"] == pytest.approx(np.sqrt(10 * 1e-9 / (10 * BLOCK)))
     n = 10 * BLOCK
     assert ranked[1]["delta_bic"] == pytest.approx(n * np.log(2.0) - np.log(n), rel=1e-9)
-    assert f"{10 * BLOCK} samples every candidate fitted" in choice_markdown(ranked)
+    text = choice_markdown(ranked)
+    assert f"{10 * BLOCK} samples every candidate fitted" in text and "(not converged)" not in text
+    # a candidate whose fit did not converge is marked in the table
+    ranked[1]["converged"] = False
+    assert "| small (not converged) |" in choice_markdown(ranked) and "| large |" in choice_markdown(ranked)
     with pytest.raises(ValueError, match="share no samples"):
         rank([row("a", 6, [((0, 1), 1e-9)], BLOCK), row("b", 6, [((1, 1), 1e-9)], BLOCK)])
 

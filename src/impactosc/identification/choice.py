@@ -188,6 +188,7 @@ def fit_candidate(records, law, friction, *, base=None, start=None, every=4, sta
         "held_out_se_m": err_se,
         "n_held_out": n_held,
         "seconds": ident.seconds,
+        "converged": bool(res.converged),
         **{f"{nm}": float(v) for nm, v in zip(ident.quantities, ident.theta)},
         "blocks": _block_residuals(ident),
     }
@@ -271,7 +272,8 @@ def choice_markdown(rows: list[dict]) -> str:
         "estimate and leaves out those it fits far worse than the rest); AIC and BIC, and the rms beside them, "
         f"are those of the {best['n_common']} samples every candidate fitted, with the free parameters as "
         "penalty. Not pinned: what the records could not determine for that candidate, fixed at the stated "
-        "value shown. The restitution laws are one force, kI h^n1 (1 + g(e) v / v0), written in e four ways: "
+        "value shown. A candidate whose fit did not converge is marked so: its rms is only an upper bound "
+        "on what its law reaches. The restitution laws are one force, kI h^n1 (1 + g(e) v / v0), written in e four ways: "
         f"{RESTITUTION_FITTED} is fitted, and its row gives the e of each other one with the same force (none "
         "where that law's g cannot reach it).",
         "",
@@ -283,8 +285,9 @@ def choice_markdown(rows: list[dict]) -> str:
         held = f"{r['held_out_rms_m'] * 1e6:.3f} +- {r['held_out_se_m'] * 1e6:.3f}" + (
             " (best)" if r["best_held_out"] else ""
         )
+        law = r["law"] if r.get("converged", True) else f"{r['law']} (not converged)"
         lines.append(
-            f"| {r['law']} | {r['friction']} | {r['free']} | {r['not_pinned'] or '-'} | {r['rms_m'] * 1e6:.3f} "
+            f"| {law} | {r['friction']} | {r['free']} | {r['not_pinned'] or '-'} | {r['rms_m'] * 1e6:.3f} "
             f"({r['n']}) | {r['rms_common_m'] * 1e6:.3f} | {held} | {r['delta_aic']:.1f} | {r['delta_bic']:.1f} "
             f"| {r.get('same_force') or '-'} |"
         )
