@@ -1,9 +1,8 @@
 """One part of the identification coverage study: draws part, part + parts, ... of the seeds.
 
-Reads input.kernels (compiled kernels), input.cache, params.coverage (identification.coverage),
-params.identification (its stages and mass) and params.model (the stated model: the truths are
-drawn around it, with its contact law) and wildcards.part; writes output.json (one row per draw,
-impactosc_study.coverage.identification_draw).
+Reads input.kernels, input.cache, params.coverage, params.identification (stages, mass), params.model
+(the truths are drawn around it, with its contact law) and wildcards.part; writes output.json (one
+row per draw, impactosc_study.coverage.identification_draw).
 """
 
 from _logging import configure_logging, mock_snakemake
