@@ -250,8 +250,8 @@ def test_coverage_table_takes_the_quantities_of_the_draws_law():
 
 @pytest.mark.filterwarnings("ignore::impactosc.model.parameters.UntestedParameterWarning")  # Kelvin-Voigt's n1, kI
 def test_the_example_model_files_are_what_their_comments_say():
-    """examples/model_flores.yaml and model_kelvin_voigt.yaml, the models of the coverage study's
-    documented runs: their laws and values, and the Kelvin-Voigt impact their comment states
+    """examples/model_flores.yaml, model_hertz.yaml and model_kelvin_voigt.yaml, the models of
+    the coverage study's documented runs: their laws and values, and the Kelvin-Voigt impact their comment states
     (depth and effective restitution of a free impact at 0.2 m/s, to the digits it gives)."""
     from impactosc.core.simulation import simulate
     from impactosc.dynamics.restitution import FREE_IMPACT, effective_restitution
@@ -259,6 +259,8 @@ def test_the_example_model_files_are_what_their_comments_say():
 
     flores = read_model_file("examples/model_flores.yaml").params
     assert (flores.law, flores.e) == ("flores", 0.6) and flores.kI == ModelParams().kI
+    hertz = read_model_file("examples/model_hertz.yaml").params
+    assert hertz.law == "hertz" and (hertz.kI, hertz.n1) == (ModelParams().kI, 1.5)
     kv = read_model_file("examples/model_kelvin_voigt.yaml").params
     assert (kv.law, kv.kI, kv.n1, kv.cI) == ("kelvin-voigt", 3.4e6, 1.0, 1.9e3)
     assert effective_restitution(kv, 0.2) == pytest.approx(0.61, abs=0.005)
