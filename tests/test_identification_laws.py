@@ -251,8 +251,9 @@ def test_coverage_table_takes_the_quantities_of_the_draws_law():
 @pytest.mark.filterwarnings("ignore::impactosc.model.parameters.UntestedParameterWarning")  # Kelvin-Voigt's n1, kI
 def test_the_example_model_files_are_what_their_comments_say():
     """examples/model_flores.yaml, model_hertz.yaml and model_kelvin_voigt.yaml, the models of
-    the coverage study's documented runs: their laws and values, and the Kelvin-Voigt impact their comment states
-    (depth and effective restitution of a free impact at 0.2 m/s, to the digits it gives)."""
+    the coverage study's documented runs: their laws and values, and the Kelvin-Voigt impact
+    their comment states (depth and effective restitution of a free impact at 0.2 m/s, to the
+    digits it gives)."""
     from impactosc.core.simulation import simulate
     from impactosc.dynamics.restitution import FREE_IMPACT, effective_restitution
     from impactosc.model.model_file import read_model_file
