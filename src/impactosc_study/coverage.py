@@ -45,7 +45,7 @@ from impactosc.identification.fitted_parameters import law_quantities, theta_of
 from impactosc.identification.report import write_identified_model
 from impactosc.identification.staged_fit import STAGES, identify
 from impactosc.model.contact_laws import LAWS
-from impactosc.model.model_file import read_model_file
+from impactosc.model.model_file import BC_ONLY, read_model_file
 from impactosc.model.parameters import ModelParams
 from impactosc.records.obstacle_estimate import estimate_x_impact
 from impactosc.records.record import Record
@@ -162,7 +162,7 @@ def random_truth(seed: int, spread: float = 0.3, base: ModelParams | None = None
     base = base or ModelParams()
     rng = np.random.default_rng(seed)
     own = LAWS[base.law]
-    fields = [f for f in SCALED_FIELDS if f not in ("b", "n3") or base.law == "bc"]
+    fields = [f for f in SCALED_FIELDS if base.law == "bc" or f not in BC_ONLY]
     values = {f: getattr(base, f) * rng.uniform(1 - spread, 1 + spread) for f in fields}
     if own.uses_cI:
         values["cI"] = base.cI * rng.uniform(1 - spread, 1 + spread)

@@ -273,7 +273,8 @@ def choice_markdown(rows: list[dict]) -> str:
         f"are those of the {best['n_common']} samples every candidate fitted, with the free parameters as "
         "penalty. Not pinned: what the records could not determine for that candidate, fixed at the stated "
         "value shown. A candidate whose fit did not converge is marked so: its rms is only an upper bound "
-        "on what its law reaches. The restitution laws are one force, kI h^n1 (1 + g(e) v / v0), written in e four ways: "
+        "on what its law reaches. The restitution laws are one force, kI h^n1 (1 + g(e) v / v0), written "
+        "in e four ways: "
         f"{RESTITUTION_FITTED} is fitted, and its row gives the e of each other one with the same force (none "
         "where that law's g cannot reach it).",
         "",

@@ -224,8 +224,9 @@ def stick_on_obstacle_case(omega=15.0, t_end=20.0, rtol=1e-10, atol=1e-12, log=p
     """From rest at w = 15 the cart ends up held on the obstacle by dry friction, where the
     Hunt-Crossley term sgn(v)|v|^n3 is not Lipschitz at v = 0 (Newton on it diverges like
     on x^(1/3); this run used to stall). It must not stall (work per simulated second,
-    checks.work_row) and its sticks must be physical: wherever the cart is held in contact, the net static force |F0 sin(w t) - k x - F_I(x, 0)|
-    may not exceed what dry friction and the Hunt-Crossley damping can supply at |v| < eps."""
+    checks.work_row) and its sticks must be physical: wherever the cart is held in contact, the
+    net static force |F0 sin(w t) - k x - F_I(x, 0)| may not exceed what dry friction and the
+    Hunt-Crossley damping can supply at |v| < eps."""
     p = ModelParams()
     t0 = time.perf_counter()
     res = simulate(
