@@ -22,7 +22,9 @@ __version__ = "0.1.0"  # the package's one version: pyproject.toml reads it (too
 # reusing stale machine code. An explicit NUMBA_CACHE_DIR is respected.
 CORE_SOURCES = (
     "model/parameters.py",
-    "model/contact_laws.py",
+    "model/slots.py",
+    "model/contact_laws/__init__.py",
+    "model/contact_laws/kernel.py",
     "model/equations.py",
     *(
         f"core/{name}.py"

@@ -54,7 +54,8 @@ from impactosc.core.layout import (
 )
 from impactosc.io.memory import shortfall
 from impactosc.model.contact_laws import RESTITUTION_FIRST
-from impactosc.model.equations import FIELD_NAMES, restitution_damping
+from impactosc.model.contact_laws.kernel import restitution_damping
+from impactosc.model.equations import FIELD_NAMES
 from impactosc.model.parameters import MAX_EXPONENT, P_B, P_E, P_LAW, ModelParams, ParameterError
 
 ALL_EVENTS = EVENT_NAMES

@@ -72,7 +72,8 @@ from impactosc.core.layout import (
 )
 from impactosc.core.pieces import start_piece, store
 from impactosc.model.contact_laws import KELVIN_VOIGT, RESTITUTION_FIRST
-from impactosc.model.equations import CONTACT, CUT, FREE, accel, damping_rate, restitution_damping, stick_force
+from impactosc.model.contact_laws.kernel import restitution_damping
+from impactosc.model.equations import CONTACT, CUT, FREE, accel, damping_rate, stick_force
 from impactosc.model.parameters import P_B, P_E, P_EPS, P_KI, P_LAW, P_M, P_N2, P_N3, P_T, P_XI
 
 SLOW_FACTOR = 1.5  # v = 0 with |net force| < 1.5 T: stick or slow reversal -> implicit phase

@@ -43,7 +43,7 @@ from impactosc.identification.start import for_law, restitution_for, start_value
 from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import cut_windows, split_held_out
 from impactosc.model.contact_laws import LAWS
-from impactosc.model.equations import restitution_damping
+from impactosc.model.contact_laws.kernel import restitution_damping
 from impactosc.model.parameters import ModelParams, UntestedParameterWarning
 
 __all__ = [

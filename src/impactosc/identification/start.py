@@ -148,7 +148,7 @@ def restitution_for(code: int, chi: float, v0: float) -> float:
     where no e of the law reaches it)."""
     from scipy.optimize import brentq
 
-    from impactosc.model.equations import restitution_damping
+    from impactosc.model.contact_laws.kernel import restitution_damping
 
     lo = LOWER[_E]
     if restitution_damping(code, 1.0, v0) >= chi:

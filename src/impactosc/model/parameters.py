@@ -16,6 +16,25 @@ from dataclasses import asdict, dataclass, fields
 import numpy as np
 
 from impactosc.model.contact_laws import HERTZ, KELVIN_VOIGT, LAWS, RESTITUTION_FIRST, law_of
+from impactosc.model.slots import (
+    N_PARAMS,
+    P_B,
+    P_C,
+    P_CI,
+    P_E,
+    P_EPS,
+    P_K,
+    P_KI,
+    P_LAW,
+    P_M,
+    P_M0E,
+    P_N1,
+    P_N2,
+    P_N3,
+    P_OMEGA,
+    P_T,
+    P_XI,
+)
 
 #: Every parameter of the model, in the order of the ModelParams fields and of the array p:
 #: (name, SI unit as a model file writes it, "-" when dimensionless; meaning).
@@ -51,12 +70,6 @@ def unit_of(name: str, n1: float = 1.5) -> str:
         return "N/m" if n1 == 1 else f"N/m^{n1:g}"
     return PARAM_UNITS[name]
 
-
-# --- index into the parameter array p (ModelParams.as_array): PARAMETERS, then w -----------
-# then the law's code, e and cI, and w (P_B, P_N2, P_N3 hold the law's place in model BC's family;
-# a restitution law's P_B is set at each contact's onset by the core)
-(P_M, P_M0E, P_K, P_C, P_T, P_EPS, P_KI, P_B, P_N1, P_N2, P_N3, P_XI, P_LAW, P_E, P_CI, P_OMEGA) = range(16)
-N_PARAMS = 16
 
 # Parameter ranges whose events have been checked against an independent SciPy reference:
 # the randomized differential tests draw from these (benchmarks/random_scenes.BOX, with T
