@@ -11,6 +11,8 @@
   (the explorer's browser test); copied into the site at build time when it exists, else the page
   names the command that makes it.
 * ``{{ include: PATH }}`` inserts a file of the repository (the changelog, the config reference).
+* ``{{ contact_laws }}`` is the table of the contact laws, read from their components
+  (:mod:`impactosc.model.contact_laws`): a new law appears without an edit here.
 * ``$...$`` and ``$$...$$`` (found by pymdownx.arithmatex) become MathML at build time: no
   JavaScript, no CDN. A ``$`` left in a page's text outside code fails the build.
 * A list right after a paragraph line renders as one paragraph ("text - a - b") in
@@ -38,6 +40,7 @@ FIGURE = re.compile(r"\{\{\s*figure:\s*(\S+?)(?:\s+by\s+(.+?))?\s*\}\}")
 SCREENSHOT = re.compile(r"\{\{\s*screenshot:\s*(\S+?)(?:\s+by\s+(.+?))?\s*\}\}")
 ARTIFACTS = Path("tests") / "artifacts"  # what the tests save (git-ignored), under ROOT
 GALLERY_MARK = re.compile(r"\{\{\s*gallery\s*\}\}")
+LAWS_MARK = re.compile(r"\{\{\s*contact_laws\s*\}\}")
 API = re.compile(r"^::: ([\w.]+)", re.M)
 
 STUDY = "paper"
@@ -334,12 +337,32 @@ def undocumented(module_name: str) -> list[str]:
     return missing
 
 
+def contact_laws_table() -> str:
+    """The contact laws as a Markdown table, from their components: force, own parameters with
+    units and ranges, switching surfaces inside the contact, per-contact state, fitted quantities."""
+    from impactosc.model.contact_laws import LAWS
+
+    rows = [
+        "| law | force (h = x - xI > 0) | its own parameters | surfaces beyond onset and exit | "
+        "state per contact | identification fits |",
+        "|---|---|---|---|---|---|",
+    ]
+    for law in LAWS.values():
+        own = ", ".join(f"{p.name} ({p.unit}, {p.range_text})" for p in law.parameters) or "-"
+        surfaces = "; ".join(f"{s.name}: {s.residual} = 0" for s in law.surfaces) or "-"
+        fitted = ", ".join(law.quantities) or "-"
+        cells = [f"`{law.name}`", law.force, own, surfaces, law.contact_state or "-", fitted]
+        rows.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
+    return "\n".join(rows) + "\n"
+
+
 def on_page_markdown(markdown, page, config, files):
     """Insert generated tables, figures and included files; check lists and API docstrings."""
     for module_name in API.findall(markdown):
         for name in undocumented(module_name):
             log.warning(f"{page.file.src_path}: {name} has no docstring")
     markdown = INCLUDE.sub(_include, markdown)
+    markdown = LAWS_MARK.sub(lambda m: contact_laws_table(), markdown)
     for problem in list_problems(markdown) + math_in_headings(markdown):
         log.warning(f"{page.file.src_path}: {problem}")
     prefix = "../" * page.file.src_uri.count("/")

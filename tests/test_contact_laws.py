@@ -29,7 +29,7 @@ FREE = dict(k=1e-60, c=0.0, T=0.0, m0e=1e-60, xI=0.0)
 
 
 def law_params(law, **changes):
-    own = {"e": 0.7} if LAWS[law].uses_e else {"cI": 60.0, "n1": 1.0, "kI": 2.0e6} if LAWS[law].uses_cI else {}
+    own = {"e": 0.7} if "e" in LAWS[law].own else {"cI": 60.0, "n1": 1.0, "kI": 2.0e6} if "cI" in LAWS[law].own else {}
     with warnings.catch_warnings():  # a linear law's n1 = 1 lies outside model BC's tested exponents
         warnings.simplefilter("ignore", UntestedParameterWarning)
         return ModelParams(law=law, **{**own, **changes})
@@ -68,7 +68,7 @@ def scipy_restitution(params, v0=0.2):
 def test_a_free_impact_restitutes_as_the_law_says(law, e):
     # within 1e-6 of SciPy at rtol 1e-13 on the law's own formula (measured: 2e-12 or closer);
     # Kelvin-Voigt's restitution follows from cI (e sets its damping here: cI = 200 (1 - e) N s/m)
-    own = {"e": e} if LAWS[law].uses_e else {"cI": 200.0 * (1 - e)} if LAWS[law].uses_cI else {}
+    own = {"e": e} if "e" in LAWS[law].own else {"cI": 200.0 * (1 - e)} if "cI" in LAWS[law].own else {}
     params = law_params(law, **own, **FREE)
     assert core_restitution(params) == pytest.approx(scipy_restitution(params), abs=1e-6)
 
@@ -136,7 +136,7 @@ def test_model_bc_is_the_default_law_and_its_array_unchanged():
 @pytest.mark.parametrize("law", list(LAWS))
 def test_a_model_file_names_its_law_and_reads_back(tmp_path, law):
     params = law_params(law, k=1500.0)
-    path = write_model_file(tmp_path / "m.yaml", params, stderr={"e": 0.02} if LAWS[law].uses_e else None)
+    path = write_model_file(tmp_path / "m.yaml", params, stderr={"e": 0.02} if "e" in LAWS[law].own else None)
     doc = yaml.safe_load(path.read_text())
     if law == "bc":
         assert "contact" not in doc and "b" in doc["parameters"]
@@ -147,7 +147,7 @@ def test_a_model_file_names_its_law_and_reads_back(tmp_path, law):
         model = read_model_file(path)
     assert model.params == params
     assert not {"b", "n2", "n3"} & set(model.defaulted) or law == "bc"
-    if LAWS[law].uses_e:
+    if "e" in LAWS[law].own:
         assert model.stderr == {"e": 0.02}
 
 

@@ -9,11 +9,14 @@ import yaml
 
 from impactosc.cli.parser import EPILOG
 from impactosc.model import parameters
+from impactosc.model.contact_laws import OWN_PARAMETERS
 from impactosc.model.parameters import (
     LAW_PARAMETERS,
     N_PARAMS,
+    OWN_SLOTS,
     P_LAW,
     P_OMEGA,
+    P_OWN,
     PARAM_UNITS,
     PARAMETERS,
     ModelParams,
@@ -27,10 +30,13 @@ SCHEMA = Path(__file__).resolve().parents[1] / "workflow" / "schemas" / "config.
 def test_the_parameter_table_names_every_field_in_the_order_of_the_array():
     family = [name for name, _, _ in PARAMETERS]
     own = [name for name, _, _ in LAW_PARAMETERS]
+    # the laws' own numbers are fields after law, made from the laws' definitions
     assert [*family, "law", *own] == [f.name for f in dataclasses.fields(ModelParams)]
+    assert own == list(OWN_PARAMETERS) and {"e", "cI"} <= set(own)
     names = family + own
     assert list(PARAM_UNITS) == names and all(unit and meaning for _, unit, meaning in PARAMETERS + LAW_PARAMETERS)
-    assert len(names) + 2 == N_PARAMS and len(family) == P_LAW and P_OMEGA == N_PARAMS - 1
+    assert len(family) == P_LAW and P_OMEGA < P_OWN and P_OWN + len(own) == N_PARAMS
+    assert sorted(OWN_SLOTS.values()) == list(range(P_OWN, N_PARAMS))
     # each P_<NAME> indexes its own parameter: distinct values show a swapped index
     bc = ModelParams()
     with warnings.catch_warnings():  # n1 = n2 = 1.5 is the only tested value
@@ -39,8 +45,10 @@ def test_the_parameter_table_names_every_field_in_the_order_of_the_array():
             **{name: getattr(bc, name) * (1.0 + 1e-3 * i) for i, name in enumerate(family)}, e=0.5, cI=3.0
         )
     p = distinct.as_array(40.86)
-    for name in names:
+    for name in family:
         assert p[getattr(parameters, f"P_{name.upper()}")] == getattr(distinct, name), name
+    for name in own:
+        assert p[OWN_SLOTS[name]] == getattr(distinct, name), name
     assert p[P_OMEGA] == 40.86 and p[P_LAW] == 0  # model BC's law
 
 

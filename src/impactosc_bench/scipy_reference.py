@@ -37,8 +37,9 @@ def model_forces(p: ModelParams, omega: float, contact_state: dict | None = None
     """(external(t, x, v), contact(x, v), bracket(x, v)): the forces of the model and its law in
     plain Python, independent of the numba core, for the SciPy references; the contact force is
     0 where ``bracket`` is negative. A restitution law reads this contact's chi from
-    ``contact_state["chi"]`` (set at each onset by the caller)."""
-    state = contact_state if contact_state is not None else {"chi": 0.0}
+    ``contact_state["chi"]`` (set at each onset by the caller); the two-stage law adds its second
+    stop's force where ``contact_state["stage"]`` is set (behind h = h1, set by the caller)."""
+    state = contact_state if contact_state is not None else {"chi": 0.0, "stage": 0}
 
     def external(t, x, v):
         fr = p.T * v / math.sqrt(v * v + p.eps * p.eps)
@@ -48,19 +49,22 @@ def model_forces(p: ModelParams, omega: float, contact_state: dict | None = None
         h = max(x - p.xI, 0.0)
         if p.law == "bc":
             return h**p.n1 + p.b * h**p.n2 * math.copysign(abs(v) ** p.n3, v)
-        if p.law == "hertz":
+        if p.law in ("hertz", "two-stage"):
             return h**p.n1
         if p.law == "kelvin-voigt":
             return p.kI * h + p.cI * v
+        if p.law == "hertz-viscous":
+            return p.kI * h**p.n1 + p.cI * v
         return h**p.n1 * (1 + state["chi"] * v)
 
     def contact(x, v):
         if x - p.xI <= 0:
             return 0.0
         br = bracket(x, v)
-        if br <= 0:
-            return 0.0
-        return br if p.law == "kelvin-voigt" else p.kI * br
+        f = 0.0 if br <= 0 else (br if p.law in ("kelvin-voigt", "hertz-viscous") else p.kI * br)
+        if p.law == "two-stage" and state.get("stage"):  # the second stop: k2 (h - h1)^n1 behind h1
+            f += p.k2 * max(x - p.xI - p.h1, 0.0) ** p.n1
+        return f
 
     return external, contact, bracket
 
@@ -69,9 +73,9 @@ def _piece_setups(p: ModelParams, omega: float, method: str, max_nfev) -> dict:
     """Right-hand side and events of each piece kind ("free", "contact", "cut") for
     ``solve_ivp``; the right-hand sides count their calls and raise
     :class:`ReferenceBudgetExceeded` past ``max_nfev`` (None: no limit)."""
-    state = {"chi": 0.0}
-    external, contact, _ = model_forces(p, omega, state)
-    vcut = p.cut_velocity
+    state = {"chi": 0.0, "stage": 0}
+    external, contact, bracket = model_forces(p, omega, state)
+    vcut = _cut_velocity(p)
 
     calls = [0]
     limit = math.inf if max_nfev is None else max_nfev
@@ -101,9 +105,9 @@ def _piece_setups(p: ModelParams, omega: float, method: str, max_nfev) -> dict:
 
     def ev_cut(t, y):  # the bracket's sign: model BC's at v = -vcut, a law's where its force turns to 0
         if p.law == "bc":
-            return y[1] + vcut
-        if p.law == "kelvin-voigt":
-            return p.kI * (y[0] - p.xI) + p.cI * y[1]
+            return y[1] + vcut if p.n2 == p.n1 else bracket(y[0], y[1])
+        if p.law in ("kelvin-voigt", "hertz-viscous"):
+            return p.kI * max(y[0] - p.xI, 0.0) ** p.n1 + p.cI * y[1]
         return 1 + state["chi"] * y[1]
 
     ev_cut.terminal, ev_cut.direction = True, 0
@@ -118,19 +122,52 @@ def _piece_setups(p: ModelParams, omega: float, method: str, max_nfev) -> dict:
 
     ev_cut_on.terminal, ev_cut_on.direction = True, -1
     ev_cut_off.terminal, ev_cut_off.direction = True, 1
-    on, off = (ev_cut, ev_cut) if p.law == "bc" else (ev_cut_on, ev_cut_off)
+    on, off = (ev_cut, ev_cut) if _cut_is_line(p) else (ev_cut_on, ev_cut_off)
 
     def ev_vzero(t, y):
         return y[1]
 
     ev_vzero.terminal, ev_vzero.direction = False, -1
 
+    # the two-stage law: its second stop at h = h1 splits the contact as the onset splits the
+    # motion (it has no cut); behind it the "stop" piece, whose own exit is h = h1 downwards
+    def ev_stop(t, y):
+        return y[0] - p.xI - p.h1
+
+    def ev_stop_off(t, y):
+        return ev_stop(t, y)
+
+    def ev_never(t, y):
+        return 1.0
+
+    ev_stop.terminal, ev_stop.direction = True, 1
+    ev_stop_off.terminal, ev_stop_off.direction = True, -1
+    ev_never.terminal = True
+    if p.law == "two-stage":
+        on = ev_stop
+
     return {
         "free": (rhs_free, (ev_onset,)),
         "contact": (rhs_contact, (ev_exit, on, ev_vzero)),
         "cut": (rhs_free, (ev_exit, off)),
+        "stop": (rhs_contact, (ev_stop_off, ev_never, ev_vzero)),
         "state": state,
     }
+
+
+def _cut_velocity(p: ModelParams) -> float:
+    """b^(-1/n3), model BC's cut velocity where its cut is that line (n2 = n1), written here anew."""
+    if p.law != "bc" or p.n2 != p.n1 or p.b <= 0 or p.n3 <= 0:
+        return math.inf
+    try:
+        return p.b ** (-1.0 / p.n3)
+    except OverflowError:  # b < 1 and a tiny n3: the bracket never turns negative
+        return math.inf
+
+
+def _cut_is_line(p: ModelParams) -> bool:
+    """Model BC's cut with n2 = n1 is the line v = -vcut, snapped onto; another cut is a curve."""
+    return p.law == "bc" and p.n2 == p.n1
 
 
 def solve_reference(
@@ -161,7 +198,7 @@ def solve_reference(
     nan outside one), with ``poincare`` off.
     """
     p = params or ModelParams()
-    vcut = p.cut_velocity
+    vcut = _cut_velocity(p)
     setups = _piece_setups(p, omega, method, max_nfev)
     state = setups["state"]
     cut = setups["contact"][1][1]
@@ -174,6 +211,8 @@ def solve_reference(
             state["chi"] = RESTITUTION_CHI[p.law](p.e, onset)
             vcut = 1 / state["chi"]
     mode = "contact" if y[0] >= p.xI and y[1] > -vcut else ("cut" if y[0] >= p.xI else "free")
+    if mode == "contact" and p.law == "two-stage" and y[0] - p.xI > p.h1:
+        mode, state["stage"] = "stop", 1
     period = 2 * math.pi / omega
     sections = period * np.arange(1, int(math.floor(t_end / period * (1 + 1e-14))) + 1) if poincare else None
     imp_t, imp_v, pen_t, pen_h, pc_t, pc_x, pc_v = [], [], [], [], [], [], []
@@ -194,7 +233,7 @@ def solve_reference(
             pc_t.extend(sol.t)
             pc_x.extend(sol.y[0])
             pc_v.extend(sol.y[1])
-        if mode == "contact":
+        if mode in ("contact", "stop"):
             for te, ye in zip(sol.t_events[2], sol.y_events[2]):
                 if te <= t:  # SciPy reports v = 0 at the start of a piece that starts at rest
                     continue
@@ -215,12 +254,19 @@ def solve_reference(
             if p.law in RESTITUTION_CHI:  # this contact's damping, from its onset velocity
                 state["chi"] = RESTITUTION_CHI[p.law](p.e, y[1]) if y[1] > 0 else 0.0
                 onset = y[1]
-            mode = "contact" if (y[1] > -vcut if p.law == "bc" else cut(t, y) > 0 or y[1] >= 0) else "cut"
+            mode = "contact" if (y[1] > -vcut if _cut_is_line(p) else cut(t, y) > 0 or y[1] >= 0) else "cut"
+            state["stage"] = 0
+        elif mode == "stop":  # back in front of the second stop
+            y[0] = p.xI + p.h1
+            state["stage"], mode = 0, "contact"
+        elif k == 1 and p.law == "two-stage":  # onto the second stop
+            y[0] = p.xI + p.h1
+            state["stage"], mode = 1, "stop"
         elif k == 0:  # exit
             y[0] = p.xI
             mode = "free"
         else:  # crossing the cut
-            if p.law == "bc":
+            if _cut_is_line(p):
                 y[1] = -vcut
             mode = "cut" if mode == "contact" else "contact"
     out = {

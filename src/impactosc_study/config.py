@@ -146,29 +146,29 @@ def nest_dotted_keys(config: dict) -> dict:
 
 
 def _contact_fields(model: dict) -> None:
-    """model.contact ({law, e | cI}) as the ModelParams fields law, e and cI (model BC's law and
-    their defaults without it); a law given a number it does not take, or missing one, is named."""
-    from impactosc.model.contact_laws import LAWS  # no numba: the plotting jobs import it too
+    """model.contact ({law, its own numbers}) as the ModelParams fields law, e, cI, ... (model BC's
+    law and their defaults without it); a law given a number it does not take, or missing one, is named."""
+    from impactosc.model.contact_laws import LAWS, OWN_PARAMETERS  # no numba: the plotting jobs import it too
 
     contact = model.pop("contact", None)
     if contact is None:
         return
     law = LAWS[contact["law"]]
     where = "invalid configuration:\n  model.contact"
-    for key in ("e", "cI"):
+    for key in OWN_PARAMETERS:
         if key in contact and key not in law.own:
             raise ConfigError(f"{where}.{key}: the {law.name} law takes {', '.join(law.own) or 'nothing'} beside law")
         if key in law.own and key not in contact:
             raise ConfigError(f"{where}.{key}: missing: the {law.name} law needs it ({law.force})")
-    stray = [k for k in ("b", "n2", "n3") if k in model and law.name != "bc"]
+    stray = [k for k in ("b", "n2", "n3") if k in model and k not in law.family]
     if stray:
         raise ConfigError(
             f"{where}: the {law.name} law has no {stray[0]} (model BC's damping); remove model.{stray[0]}"
         )
     model["law"] = law.name
     model.update({k: float(contact[k]) for k in law.own})
-    if law.name == "kelvin-voigt":
-        model.setdefault("n1", 1.0)
+    if law.n1 is not None:  # a law of its own elastic exponent (Kelvin-Voigt's linear)
+        model.setdefault("n1", law.n1)
 
 
 def _model_from_file(model: dict) -> dict:
@@ -177,8 +177,11 @@ def _model_from_file(model: dict) -> dict:
     _contact_fields(model)
     if model.get("file") is None:
         model.pop("file", None)
-        for key, value in (("law", "bc"), ("e", 1.0), ("cI", 0.0)):  # the ModelParams fields the schema has not
-            model.setdefault(key, value)
+        from impactosc.model.contact_laws import DEFAULT_LAW, OWN_PARAMETERS
+
+        model.setdefault("law", DEFAULT_LAW)  # the ModelParams fields the schema has not
+        for prm in OWN_PARAMETERS.values():
+            model.setdefault(prm.name, prm.default)
         # model BC is stated exactly: no covariance, no error bars
         return {"file": None, "description": "model BC (paper)", "covariance": False}  # model_file.BC_DESCRIPTION
     from impactosc.model.model_file import (  # only here: they import numba, which the plotting jobs do without
@@ -216,12 +219,57 @@ def check_config_files(paths) -> None:
             raise ConfigError(f"invalid configuration:\n  {path}: {exc}") from None
 
 
+def contact_schema() -> dict:
+    """The JSON schema of model.contact, from the contact laws' components: the law's name, and each
+    law's own numbers with their ranges (which law takes which is checked after, with a message
+    naming the law)."""
+    from impactosc.model.contact_laws import LAWS, OWN_PARAMETERS
+
+    def number(prm):
+        node = {"type": "number", "description": f"{prm.meaning}, {prm.unit} (the {', '.join(users(prm))} law)"}
+        if prm.low > -math.inf:
+            node["exclusiveMinimum" if prm.low_open else "minimum"] = prm.low
+        if prm.high < math.inf:
+            node["exclusiveMaximum" if prm.high_open else "maximum"] = prm.high
+        return node
+
+    def users(prm):
+        return [law.name for law in LAWS.values() if prm.name in law.own]
+
+    laws = "; ".join(
+        f"{law.name}: {law.force}" + (f" (keys {', '.join(law.own)})" if law.own else "") for law in LAWS.values()
+    )
+    return {
+        "type": "object",
+        "additionalProperties": False,
+        "required": ["law"],
+        "description": "the contact law, model BC's own when absent; b, n2 and n3 only for a law that reads them "
+        f"(impactosc.model.contact_laws). {laws}. E.g. {{law: flores, e: 0.7}}",
+        "properties": {
+            "law": {"type": "string", "enum": list(LAWS), "description": "the law's name"},
+            **{name: number(prm) for name, prm in OWN_PARAMETERS.items()},
+        },
+    }
+
+
+def load_schema(schema_path) -> dict:
+    """The config's JSON schema, with what the contact laws define filled in (model.contact, the
+    laws study's law list): read from the laws' components, never listed twice by hand."""
+    from impactosc.model.contact_laws import LAWS
+
+    schema = yaml.safe_load(Path(schema_path).read_text())
+    schema["properties"]["model"]["properties"]["contact"] = contact_schema()
+    items = schema["properties"]["laws"]["properties"]["laws"]["items"]
+    items["enum"] = [name for name, law in LAWS.items() if law.n1 is None]
+    return schema
+
+
 def validate_config(config: dict, schema_path, config_files=()) -> dict:
     """Return a validated copy of `config` with schema defaults filled in, dotted top-level
     keys nested, and the model of ``model.file`` (if any) in place of the model section;
     `config_files`, the files it was read from, are checked for keys given twice."""
     check_config_files(config_files)
-    schema = yaml.safe_load(Path(schema_path).read_text())
+    schema = load_schema(schema_path)
     config = nest_dotted_keys(config)
     if "model_file" in config:  # the command line's spelling: --config model_file=rig.yaml
         config.setdefault("model", {})["file"] = config.pop("model_file")

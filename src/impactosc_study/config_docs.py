@@ -13,7 +13,7 @@ import re
 import sys
 from pathlib import Path
 
-import yaml
+from impactosc_study.config import load_schema
 
 SCHEMA = "workflow/schemas/config.schema.yaml"
 OUTPUT = "config/README.md"
@@ -212,7 +212,7 @@ def render(schema: dict, source: str = SCHEMA) -> str:
 
 
 def render_file(schema_path=SCHEMA) -> str:
-    return render(yaml.safe_load(Path(schema_path).read_text(encoding="utf-8")))
+    return render(load_schema(schema_path))
 
 
 def write(schema_path=SCHEMA, output=OUTPUT, check: bool = False) -> bool:

@@ -44,8 +44,8 @@ import numpy as np
 from impactosc.identification.fitted_parameters import law_quantities, theta_of
 from impactosc.identification.report import write_identified_model
 from impactosc.identification.staged_fit import STAGES, identify
-from impactosc.model.contact_laws import LAWS
-from impactosc.model.model_file import BC_ONLY, read_model_file
+from impactosc.model.contact_laws import DEFAULT_LAW, LAWS
+from impactosc.model.model_file import read_model_file
 from impactosc.model.parameters import ModelParams
 from impactosc.records.obstacle_estimate import estimate_x_impact
 from impactosc.records.record import Record
@@ -161,13 +161,15 @@ def random_truth(seed: int, spread: float = 0.3, base: ModelParams | None = None
     past 1). Model BC's draws are those of every earlier version (same fields, same order)."""
     base = base or ModelParams()
     rng = np.random.default_rng(seed)
-    own = LAWS[base.law]
-    fields = [f for f in SCALED_FIELDS if base.law == "bc" or f not in BC_ONLY]
+    law = LAWS[base.law]
+    fields = [f for f in SCALED_FIELDS if f in law.family]
     values = {f: getattr(base, f) * rng.uniform(1 - spread, 1 + spread) for f in fields}
-    if own.uses_cI:
-        values["cI"] = base.cI * rng.uniform(1 - spread, 1 + spread)
-    if own.uses_e:
-        values["e"] = 1.0 - (1.0 - base.e) * rng.uniform(1 - spread, 1 + spread)
+    for prm in law.parameters:  # the law's own, in its order (a bounded one through its distance to the bound)
+        value = getattr(base, prm.name)
+        if prm.high < math.inf and not prm.high_open:
+            values[prm.name] = prm.high - (prm.high - value) * rng.uniform(1 - spread, 1 + spread)
+        else:
+            values[prm.name] = value * rng.uniform(1 - spread, 1 + spread)
     return dataclasses.replace(base, **values)
 
 
@@ -318,7 +320,7 @@ def covariance_as_written(ident) -> dict:
 
 def draws_law(rows: list[dict]) -> str:
     """The contact law of the draws (one per table; rows without one are model BC's)."""
-    laws = {r.get("law", "bc") for r in rows}
+    laws = {r.get("law", DEFAULT_LAW) for r in rows}
     if len(laws) != 1:
         raise ValueError(f"coverage draws of several contact laws ({', '.join(sorted(laws))}): one table per law")
     return laws.pop()
@@ -367,7 +369,7 @@ def coverage_markdown(table: list[dict], draws: list[dict]) -> str:
     n = len(draws)
     joint = sum(bool(d["all_within_2se"]) for d in draws)
     law = draws_law(draws)
-    model = "model BC" if law == "bc" else f"the {law} contact law's model"
+    model = "model BC" if law == DEFAULT_LAW else f"the {law} contact law's model"
     lines = [
         f"# Identification coverage: random truths within the configured spread of {model}",
         "",

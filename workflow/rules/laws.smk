@@ -106,7 +106,7 @@ use rule compare_studies as laws_figures with:
     params:
         # templates filled with each sweep's model (a restitution law's matched e is known once
         # laws_models ran); a function, which Snakemake does not expand as it would a string
-        labels=lambda wc: ["{law}, e = {e:.4f}" if law_of(law).uses_e else "{law}" for law in LAWS_NAMES],
+        labels=lambda wc: ["{law}, e = {e:.4f}" if "e" in law_of(law).own else "{law}" for law in LAWS_NAMES],
         title=f"contact laws {', '.join(LAWS_NAMES)}",
 
 

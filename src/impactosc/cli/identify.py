@@ -18,6 +18,7 @@ from impactosc.cli.options import (
 )
 from impactosc.identification.windows import check_forcing_phase
 from impactosc.io.names import split_assignment
+from impactosc.model.contact_laws import law_of
 
 
 def _progress(args, command: str):
@@ -130,7 +131,7 @@ def _identify_summary(args, ident, rows, source: str, choice) -> str:
         else:
             lines.append(f"  {value}{unit}, fixed: {r['status']}")
     lines.append(f"  m    = {p.m:.6g} kg, given ({source}): the mass is not identifiable from displacement")
-    exponents = f"n1 = {p.n1:g}" + (f", n2 = {p.n2:g}" if p.law == "bc" else "")
+    exponents = f"n1 = {p.n1:g}" + (f", n2 = {p.n2:g}" if "n2" in law_of(p.law).family else "")
     lines.append(f"  eps = {p.eps:g} m/s, {exponents}: fixed at the stated model's values ({p.law} contact law)")
     if args.table:
         lines.append(f"{args.table}: parameter table")

@@ -9,7 +9,9 @@ from __future__ import annotations
 import argparse
 import math
 
-MODEL_NAMES = "m m0e k c T eps kI b n1 n2 n3 xI e cI"
+from impactosc.model.parameters import PARAM_UNITS
+
+MODEL_NAMES = " ".join(PARAM_UNITS)  # every parameter a --param or --mismatch names
 
 
 def finite_number(text: str) -> float:

@@ -422,7 +422,7 @@ Examples:
 
 def _add_identify_parser(sub) -> None:
     """The identify command's options (records, stated model, what is fixed, outputs)."""
-    from impactosc.identification.fitted_parameters import QUANTITIES, UNITS
+    from impactosc.identification.fitted_parameters import QUANTITIES, quantity_unit
     from impactosc.identification.staged_fit import STAGES
 
     idp = sub.add_parser(
@@ -451,8 +451,9 @@ def _add_identify_parser(sub) -> None:
         default=[],
         metavar="NAME[=VALUE]",
         help="keep a fitted quantity of the stated model's contact law fixed at VALUE (per unit mass, in "
-        + ", ".join(f"{nm} {u}" for nm, u in zip(QUANTITIES, UNITS))
-        + "; b and n3 are model BC's, e a restitution law's, cI/m Kelvin-Voigt's, whose kI/m is in 1/s^2) or, "
+        + ", ".join(f"{nm} {quantity_unit(nm)}" for nm in QUANTITIES)
+        + "; b and n3 are model BC's, the others each law's own: see impactosc identify --choose-model; a "
+        "linear law's kI/m is in 1/s^2) or, "
         "without VALUE, at the stated model's value; repeatable, e.g. --fix b=0 (Hertz contact) "
         "--fix T/m=0 (no dry friction)",
     )

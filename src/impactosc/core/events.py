@@ -1,8 +1,8 @@
 """The events the piece solvers locate, and the event rows ``ev`` the core records.
 
 An event is a point where the vector field or the piece's variable changes: an impact
-(x = xI upwards), a contact exit (x = xI downwards), the Hunt-Crossley cut (v = -v_cut, on or
-off), a reversal (v = 0) and a Poincare time. The piece solvers (time_pieces.py,
+(x = xI upwards), a contact exit (x = xI downwards), the contact law's cut (its bracket = 0, on or
+off) and any surface of the law inside the contact (a second stop), a reversal (v = 0) and a Poincare time. The piece solvers (time_pieces.py,
 transformed_pieces.py, implicit.py) locate them and report their kind (EV_*);
 transitions.py applies them and picks the next piece; this module writes the rows: impacts,
 penetrations and near misses (extrema of x), Poincare points.
@@ -27,8 +27,8 @@ from impactosc.core.layout import (
 from impactosc.model.equations import CONTACT, FREE
 from impactosc.model.parameters import P_XI
 
-# event kinds located inside a step (EV_V: v = 0)
-EV_NONE, EV_X_UP, EV_X_DOWN, EV_V, EV_CUT_ON, EV_CUT_OFF = range(6)
+# event kinds located inside a step (EV_V: v = 0; EV_STOP_*: a contact law's surface inside the contact)
+EV_NONE, EV_X_UP, EV_X_DOWN, EV_V, EV_CUT_ON, EV_CUT_OFF, EV_STOP_ON, EV_STOP_OFF = range(8)
 
 
 @njit(cache=True)

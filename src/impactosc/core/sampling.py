@@ -12,6 +12,7 @@ from numba import njit
 
 from impactosc.core import dop853
 from impactosc.core.layout import R_WIN_DT, R_WIN_T0, S_WIN, TIME
+from impactosc.model.contact_laws.kernel import surface_reads, surface_residual
 
 
 @njit(cache=True)
@@ -30,15 +31,18 @@ def bisect(F, y0, c, level, lo, hi, sign_lo):
 
 
 @njit(cache=True)
-def bisect_sum(F, x0, v0, b, level, sign_lo):
-    """Crossing of x + b v through `level` in (0, 1] (x0, v0: the step's start state); returns
-    the first theta past it: a cut that is a line in (x, v), as Kelvin-Voigt's."""
-    lo, hi = 0.0, 1.0
+def locate_surface(p, vcut, surface, F, x0, v0, lo, hi, sign_lo):
+    """Crossing of a contact law's switching surface (its residual, contact_laws.kernel.
+    surface_residual, on the step's dense output) in (lo, hi], the residual's sign before it
+    `sign_lo`; returns the first theta past it. One root-finding for every surface of every law."""
+    reads_x, reads_v = surface_reads(p, surface)
     for _ in range(80):
         mid = 0.5 * (lo + hi)
         if mid <= lo or mid >= hi:
             break
-        g = dop853.dense_eval(F, x0, mid, 1) + b * dop853.dense_eval(F, v0, mid, 2) - level
+        xm = dop853.dense_eval(F, x0, mid, 1) if reads_x else 0.0
+        vm = dop853.dense_eval(F, v0, mid, 2) if reads_v else 0.0
+        g = surface_residual(p, vcut, surface, xm, vm)
         if g * sign_lo > 0.0:
             lo = mid
         else:

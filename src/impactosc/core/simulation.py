@@ -53,10 +53,10 @@ from impactosc.core.layout import (
     record_flags,
 )
 from impactosc.io.memory import shortfall
-from impactosc.model.contact_laws import RESTITUTION_FIRST
-from impactosc.model.contact_laws.kernel import restitution_damping
+from impactosc.model.contact_laws import law_of
+from impactosc.model.contact_laws.kernel import contact_onset
 from impactosc.model.equations import FIELD_NAMES
-from impactosc.model.parameters import MAX_EXPONENT, P_B, P_E, P_LAW, ModelParams, ParameterError
+from impactosc.model.parameters import MAX_EXPONENT, P_B, P_CHI, P_CHI_PER, ModelParams, ParameterError, cut_velocity
 
 ALL_EVENTS = EVENT_NAMES
 DEFAULT_RTOL = 1e-10
@@ -242,14 +242,14 @@ def warm_up() -> float:
 
 
 def _start_contact(params: ModelParams, p, x0: float, v0: float, contact_v0) -> float:
-    """The cut velocity a run starts with. A restitution law's contact damping comes from the
-    velocity at its onset: a run that starts inside a contact needs it (``contact_v0``, the
-    ``contact_v0`` attribute of the run that ended there). One that starts at the obstacle moving
-    in starts that contact itself; one that starts at rest inside the obstacle (model BC's rest
-    lies 2 mm past xI) is a contact without approach speed, undamped (chi = 0) as every touch at
-    v0 = 0 is. Sets the contact's damping in `p`."""
-    if p[P_LAW] < RESTITUTION_FIRST:
-        return params.cut_velocity
+    """The cut velocity a run starts with. A law that keeps its contact's onset velocity (a
+    restitution law's damping comes from it) needs it for a run that starts inside a contact
+    (``contact_v0``, the ``contact_v0`` attribute of the run that ended there). One that starts at
+    the obstacle moving in starts that contact itself; one that starts at rest inside the obstacle
+    (model BC's rest lies 2 mm past xI) is a contact without approach speed, undamped (chi = 0) as
+    every touch at v0 = 0 is. Sets the contact's damping in `p`."""
+    if not law_of(params.law).keeps_contact_state:
+        return cut_velocity(p)
     if contact_v0 is None and ((x0 == params.xI and v0 > 0) or (x0 > params.xI and v0 == 0)):
         contact_v0 = v0  # an onset now, or a contact at rest
     if x0 > params.xI or contact_v0 is not None:
@@ -259,20 +259,18 @@ def _start_contact(params: ModelParams, p, x0: float, v0: float, contact_v0) -> 
                 f"a run that starts inside a contact (x0 > xI) of the {params.law} law needs that contact's onset "
                 f"velocity, contact_v0 >= 0 m/s (a run's end state gives it as attrs['contact_v0']), got {contact_v0!r}",
             )
-        b = restitution_damping(int(p[P_LAW]), p[P_E], float(contact_v0))
-        p[P_B] = b
-        return 1.0 / b if b > 0 else math.inf
+        return contact_onset(p, float(contact_v0), math.inf)
     return math.inf
 
 
 def _end_contact_v0(params: ModelParams, p, x_end: float) -> float:
-    """The onset velocity of the contact a restitution law's run ends in (nan otherwise): what a
-    run continuing from the end state passes as ``contact_v0``."""
-    if p[P_LAW] < RESTITUTION_FIRST or x_end <= params.xI:
+    """The onset velocity of the contact a run ends in, for a law that keeps it (nan otherwise):
+    what a run continuing from the end state passes as ``contact_v0``."""
+    if not law_of(params.law).keeps_contact_state or x_end <= params.xI:
         return math.nan
     if p[P_B] <= 0:  # a contact without approach speed (or e = 1: every v0 gives chi = 0)
         return 0.0
-    return restitution_damping(int(p[P_LAW]), p[P_E], 1.0) / p[P_B]  # chi = g(e) / v0
+    return p[P_CHI] / (p[P_CHI_PER] * p[P_B])  # b = chi = P_CHI / (P_CHI_PER v0)
 
 
 def start_of(state) -> dict:

@@ -2,7 +2,7 @@
 
 Why a module: :func:`time_step` is the solver every piece can fall back to (a contact model
 without the |v|^n3 damping, past the Hunt-Crossley cut, or after a transformed piece broke
-down). It finds impacts, exits, the cut and v = 0 (also a v that touches zero inside a step);
+down). It finds impacts, exits, the contact law's cut and second stop, and v = 0 (also a v that touches zero inside a step);
 :mod:`impactosc.core.transitions` decides what comes next (after an event, and after every
 accepted step: the friction band's variable, or the implicit phase for a stick or a stiff
 creep).
@@ -13,7 +13,17 @@ from __future__ import annotations
 from numba import njit
 
 from impactosc.core import dop853, vector_fields
-from impactosc.core.events import EV_CUT_OFF, EV_CUT_ON, EV_NONE, EV_V, EV_X_DOWN, EV_X_UP, sign
+from impactosc.core.events import (
+    EV_CUT_OFF,
+    EV_CUT_ON,
+    EV_NONE,
+    EV_STOP_OFF,
+    EV_STOP_ON,
+    EV_V,
+    EV_X_DOWN,
+    EV_X_UP,
+    sign,
+)
 from impactosc.core.layout import (
     C_BY_MODE,
     C_DENSE,
@@ -36,11 +46,18 @@ from impactosc.core.layout import (
     UNDERFLOW_EXPLICIT,
 )
 from impactosc.core.pieces import accepted_step_factor, inverse_n3, start_piece, store
-from impactosc.core.sampling import bisect, bisect_sum, sample_window, window_due
+from impactosc.core.sampling import bisect, locate_surface, sample_window, window_due
 from impactosc.core.transitions import after_time_step, apply_event, past_cut
-from impactosc.model.contact_laws import KELVIN_VOIGT
+from impactosc.model.contact_laws.kernel import (
+    SURFACE_CUT,
+    SURFACE_OBSTACLE,
+    SURFACE_STOP,
+    has_stop,
+    stop_side,
+    surface_residual,
+)
 from impactosc.model.equations import CONTACT, CUT, FREE
-from impactosc.model.parameters import P_B, P_EPS, P_LAW, P_M, P_T, P_XI
+from impactosc.model.parameters import P_EPS, P_M, P_STAGE, P_T, P_XI
 
 DIP_SAMPLES = 32
 RESTART_FRACTION = 1e-3  # first step after an event, as a fraction of the step that held it
@@ -106,17 +123,19 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
                 if dop853.dense_eval(F, v, k / DIP_SAMPLES, 2) * sgn0 < 0.0:
                     v_cross = True
                     break
-    g1 = x1 - p[P_XI]
+    g1 = surface_residual(p, st[S_VCUT], SURFACE_OBSTACLE, x1, v1)
     x_up = field == FREE and g1 > 0.0
     x_down = field != FREE and g1 < 0.0
     cut_on = field == CONTACT and past_cut(p, st, x1, v1)
     cut_off = field == CUT and not past_cut(p, st, x1, v1)
-    if v_cross or x_up or x_down or cut_on or cut_off:
+    # a surface of the law inside the contact (a second stop), crossed either way
+    stop = field == CONTACT and has_stop(p) and stop_side(p, x1) != p[P_STAGE]
+    if v_cross or x_up or x_down or cut_on or cut_off or stop:
         if not built:
             dop853.dense_prepare(p, TIME, field, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
             cnt[C_RHS] += 3
             cnt[C_DENSE] += 1
-        th, kind = _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off)
+        th, kind = _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off, stop)
         te = t1 if th >= 1.0 else min(t + th * hs, t1)
         xe = dop853.dense_eval(F, x, th, 1)
         ve = dop853.dense_eval(F, v, th, 2)
@@ -150,8 +169,9 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
 
 
 @njit(cache=True)
-def _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off):
-    """The earliest of the candidate events of a time step, on its interpolant F: (theta, kind)."""
+def _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off, stop):
+    """The earliest of the candidate events of a time step, on its interpolant F: (theta, kind).
+    A contact law's surfaces (the obstacle, the cut, a second stop) by their residuals."""
     th = 2.0
     kind = EV_NONE
     vcut = st[S_VCUT]
@@ -161,22 +181,24 @@ def _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off):
         if int(st[S_FIELD]) == FREE and sgn0 > 0.0 and dop853.dense_eval(F, x, th, 1) >= p[P_XI]:
             x_up = True  # the maximum lies at or past the obstacle: contact came first
     if x_up:
-        th_x = bisect(F, x, 1, p[P_XI], 0.0, th if th <= 1.0 else 1.0, -1.0)
+        th_x = locate_surface(p, vcut, SURFACE_OBSTACLE, F, x, v, 0.0, th if th <= 1.0 else 1.0, -1.0)
         if th_x <= th:
             th = th_x
             kind = EV_X_UP
     if x_down:
-        th_x = bisect(F, x, 1, p[P_XI], 0.0, 1.0, 1.0)
+        th_x = locate_surface(p, vcut, SURFACE_OBSTACLE, F, x, v, 0.0, 1.0, 1.0)
         if th_x < th:
             th = th_x
             kind = EV_X_DOWN
     if cut_on or cut_off:
-        sign_lo = 1.0 if cut_on else -1.0
-        if p[P_LAW] == KELVIN_VOIGT:  # the bracket h + (cI/kI) v, on x and v together
-            th_c = bisect_sum(F, x, v, p[P_B], p[P_XI], sign_lo)
-        else:
-            th_c = bisect(F, v, 2, -vcut, 0.0, 1.0, sign_lo)
+        th_c = locate_surface(p, vcut, SURFACE_CUT, F, x, v, 0.0, 1.0, 1.0 if cut_on else -1.0)
         if th_c < th:
             th = th_c
             kind = EV_CUT_ON if cut_on else EV_CUT_OFF
+    if stop:
+        on = p[P_STAGE] == 0.0
+        th_s = locate_surface(p, vcut, SURFACE_STOP, F, x, v, 0.0, 1.0, -1.0 if on else 1.0)
+        if th_s < th:
+            th = th_s
+            kind = EV_STOP_ON if on else EV_STOP_OFF
     return th, kind

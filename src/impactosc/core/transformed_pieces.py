@@ -47,7 +47,7 @@ from impactosc.core.layout import (
     WVEL,
 )
 from impactosc.core.pieces import accepted_step_factor, inverse_n3, start_piece, store
-from impactosc.core.sampling import bisect, sample_window, window_due
+from impactosc.core.sampling import bisect, locate_surface, sample_window, window_due
 from impactosc.core.transitions import (
     U_BAND,
     after_transformed_step,
@@ -55,6 +55,7 @@ from impactosc.core.transitions import (
     fall_back_to_time,
     stop_in_piece,
 )
+from impactosc.model.contact_laws.kernel import SURFACE_CUT, SURFACE_OBSTACLE, past_cut
 from impactosc.model.equations import CONTACT, FREE
 from impactosc.model.parameters import P_N3, P_XI
 
@@ -183,7 +184,7 @@ def _terminal_event(p, st, field, x1, v1):
         return EV_X_UP
     if field == CONTACT and x1 - p[P_XI] < 0.0:
         return EV_X_DOWN
-    if field == CONTACT and v1 <= -st[S_VCUT]:
+    if field == CONTACT and past_cut(p, st[S_VCUT], x1, v1):
         return EV_CUT_ON
     return EV_NONE
 
@@ -192,11 +193,11 @@ def _terminal_event(p, st, field, x1, v1):
 def _locate(p, st, F, x, v, kind):
     """Fraction of the step at which the event `kind` happens, on its interpolant F."""
     if kind == EV_X_UP:
-        return bisect(F, x, 1, p[P_XI], 0.0, 1.0, -1.0)
+        return locate_surface(p, st[S_VCUT], SURFACE_OBSTACLE, F, x, v, 0.0, 1.0, -1.0)
     if kind == EV_X_DOWN:
-        return bisect(F, x, 1, p[P_XI], 0.0, 1.0, 1.0)
+        return locate_surface(p, st[S_VCUT], SURFACE_OBSTACLE, F, x, v, 0.0, 1.0, 1.0)
     if kind == EV_CUT_ON:
-        return bisect(F, v, 2, -st[S_VCUT], 0.0, 1.0, 1.0)
+        return locate_surface(p, st[S_VCUT], SURFACE_CUT, F, x, v, 0.0, 1.0, 1.0)
     return 2.0
 
 

@@ -5,18 +5,21 @@ A piece is smooth: one vector field (FREE, CONTACT or CUT), explicit steps in on
 (time_pieces.py, transformed_pieces.py, implicit.py) step and locate events; the functions
 here apply what they found and set the next piece's kind through :func:`set_piece`. Each
 arrow below is an event with the condition that picks the next piece; [..] is the piece's
-variable; v0 is the velocity at impact, v_cut = b^(-1/n3) the Hunt-Crossley cut, and
-|net force| the force other than dry friction at v = 0 (tests/test_core_transitions.py
-checks every number against the constants below)::
+variable; v0 is the velocity at impact, "the cut" the root of the contact law's bracket
+(v = -v_cut, v_cut = b^(-1/n3), for model BC; a curve in (x, v) for a law whose n2 differs from
+n1), and |net force| the force other than dry friction at v = 0 (tests/test_core_transitions.py
+checks every number against the constants below). The law's surfaces are residuals of (x, v)
+(contact_laws.kernel.surface_residual), located on the dense output; no law is named here::
 
-    free flight [t] --x = xI, v > -v_cut, v0 > 1e3 eps--> contact onset [sqrt(x - xI)]
-        (a slower impact: the turn [|v|^n3], or contact [t]; b = 0 or n3 >= 1: contact [t])
+    free flight [t] --x = xI, not past the cut, v0 > 1e3 eps--> contact onset [sqrt(x - xI)]
+        (a slower impact: the turn [|v|^n3], or contact [t]; b = 0, n3 >= 1 or a law with a
+        surface inside the contact: contact [t])
     contact onset --v < 0.7 v0, a < 0--> turn [|v|^n3]   (a >= 0: contact [t])
     turn --v = 0 (deepest penetration), net force < 0--> restitution [|v|^n3]
     restitution --|v| = 0.45 v0, x > xI--> exit [sqrt(x - xI)] --x = xI--> free flight [t]
     contact [t] --x = xI, v < 0--> free flight [t]
-    contact [t] --v = -v_cut--> past the cut [t] --v = -v_cut--> contact [t]
-        (Kelvin-Voigt: its cut is kI h + cI v = 0, a line in (x, v): :func:`past_cut`)
+    contact [t] --the cut--> past the cut [t] --the cut--> contact [t]
+    contact [t] --h = h1 (a second stop)--> contact behind it [t] --h = h1--> contact [t]
     free flight [t] --|v| < 1e3 eps, heading for v = 0, T > 0--> friction band [asinh(v/eps)]
     friction band --v = 0--> friction band (other side) --|v| = 1e3 eps--> free flight [t]
     free flight, contact, turn, band --v = 0, |net force| < 1.5 T--> stick / slow reversal [implicit]
@@ -38,7 +41,18 @@ import math
 
 from numba import njit
 
-from impactosc.core.events import EV_CUT_OFF, EV_CUT_ON, EV_V, EV_X_DOWN, EV_X_UP, push, record_extremum, sign
+from impactosc.core.events import (
+    EV_CUT_OFF,
+    EV_CUT_ON,
+    EV_STOP_OFF,
+    EV_STOP_ON,
+    EV_V,
+    EV_X_DOWN,
+    EV_X_UP,
+    push,
+    record_extremum,
+    sign,
+)
 from impactosc.core.layout import (
     C_SLOW_TRANSIT,
     C_STICK,
@@ -71,10 +85,10 @@ from impactosc.core.layout import (
     WVEL,
 )
 from impactosc.core.pieces import start_piece, store
-from impactosc.model.contact_laws import KELVIN_VOIGT, RESTITUTION_FIRST
-from impactosc.model.contact_laws.kernel import restitution_damping
+from impactosc.model.contact_laws.kernel import contact_onset, has_stop, onto_cut, stop_side
+from impactosc.model.contact_laws.kernel import past_cut as law_past_cut
 from impactosc.model.equations import CONTACT, CUT, FREE, accel, damping_rate, stick_force
-from impactosc.model.parameters import P_B, P_E, P_EPS, P_KI, P_LAW, P_M, P_N2, P_N3, P_T, P_XI
+from impactosc.model.parameters import P_B, P_EPS, P_H1, P_KI, P_M, P_N2, P_N3, P_STAGE, P_T, P_XI
 
 SLOW_FACTOR = 1.5  # v = 0 with |net force| < 1.5 T: stick or slow reversal -> implicit phase
 STIFF_ENTER = 4.0  # h |da/dv| above this: explicit steps are held by stability, not accuracy ...
@@ -109,11 +123,8 @@ def _set_variable(st, field, mode, sgn, s):
 @njit(cache=True, inline="always")  # on every accepted step in contact
 def past_cut(p, st, x, v):
     """Is (x, v), in contact, past the cut where the law's bracket turns negative (F_I = 0)?
-    The family with n2 = n1 has its cut at v = -v_cut; Kelvin-Voigt's bracket h + (cI/kI) v
-    (n2 = 0) vanishes on a line in (x, v), so its cut is an event of x and v together."""
-    if p[P_LAW] == KELVIN_VOIGT:
-        return x - p[P_XI] + p[P_B] * v <= 0.0
-    return v <= -st[S_VCUT]
+    (The law's residual: contact_laws.kernel.surface_residual.)"""
+    return law_past_cut(p, st[S_VCUT], x, v)
 
 
 @njit(cache=True)
@@ -129,6 +140,7 @@ def first_piece(p, st, cnt, t, x, v):
     """The piece a run starts on at (t, x, v): the vector field there, explicit in time,
     or the implicit phase when it starts at rest where dry friction holds the cart."""
     field = field_of(p, st, x, v)
+    p[P_STAGE] = stop_side(p, x) if field != FREE else 0.0
     set_piece(st, field, EXPLICIT, TIME)
     if v == 0.0 and goes_implicit(p, field, t, x):
         enter_slow(p, st, cnt, t, x, v, 0.0)
@@ -196,7 +208,8 @@ def enter_slow(p, st, cnt, t, x, v, direction, why=SLOW_FRICTION):
 def _contact_piece(p, st, t, x, v):
     """The contact piece after an impact at (t, x, v), v > 0: sqrt(h) while the velocity is
     well away from zero, |v|^n3 when it already is small; time otherwise."""
-    if p[P_B] <= 0.0 or not (0.0 < p[P_N3] < 1.0) or v <= 0.0:
+    if p[P_B] <= 0.0 or not (0.0 < p[P_N3] < 1.0) or v <= 0.0 or has_stop(p):
+        # (a law with a surface inside the contact runs it in time, where that surface is located)
         set_piece(st, CONTACT, EXPLICIT, TIME)
         return
     a = accel(p, CONTACT, t, x, v)
@@ -237,22 +250,26 @@ def apply_event(p, st, cnt, rs, ev, n, kind, t, x, v, direction, dt_step):
     vcut = st[S_VCUT]
     if kind == EV_X_UP:  # impact
         x = p[P_XI]
-        if p[P_LAW] >= RESTITUTION_FIRST:  # a restitution law: this contact's damping from its v0
-            vcut = set_contact_damping(p, st, v)
+        vcut = contact_onset(p, v, vcut)  # the state the law keeps for this contact (its v0)
+        st[S_VCUT] = vcut
         if int(rs[R_FLAGS]) & RECORD_IMPACTS and t >= rs[R_T_RECORD]:
             ev, n = push(ev, n, IMPACT, t, v, 0.0)
         st[S_PDIR] = 0.0  # a pending free-flight maximum (implicit phase) became a contact
-        if v > -vcut and slow == EXPLICIT:
+        cut = past_cut(p, st, x, v)  # an impact fast enough to start past the cut
+        if not cut and slow == EXPLICIT:
             _contact_piece(p, st, t, x, v)
         else:
-            set_piece(st, CONTACT if v > -vcut else CUT, slow, TIME)
+            set_piece(st, CUT if cut else CONTACT, slow, TIME)
     elif kind == EV_X_DOWN:  # contact exit
         x = p[P_XI]
         set_piece(st, FREE, slow, TIME)
     elif kind in (EV_CUT_ON, EV_CUT_OFF):
-        if p[P_LAW] != KELVIN_VOIGT:  # on the cut v = -v_cut (Kelvin-Voigt's: the located state)
-            v = -vcut
+        v = onto_cut(p, vcut, v)  # onto the line v = -v_cut where the cut is one
         set_piece(st, CUT if kind == EV_CUT_ON else CONTACT, slow, TIME)
+    elif kind in (EV_STOP_ON, EV_STOP_OFF):  # the surface inside the contact: onto it, and the other side
+        x = p[P_XI] + p[P_H1]
+        p[P_STAGE] = 1.0 if kind == EV_STOP_ON else 0.0
+        set_piece(st, st[S_FIELD], slow, TIME)
     else:  # v = 0
         v = 0.0
         if slow != EXPLICIT:  # inside the implicit phase: a reversal against the pre-stick direction
@@ -263,16 +280,6 @@ def apply_event(p, st, cnt, rs, ev, n, kind, t, x, v, direction, dt_step):
             set_piece(st, st[S_FIELD], EXPLICIT, TIME)
             ev, n = _reversal(p, st, cnt, rs, ev, n, t, x, direction, dt_step)
     return ev, n, x, v
-
-
-@njit(cache=True)
-def set_contact_damping(p, st, v0):
-    """A restitution law's contact starts at velocity v0: its b = chi(e, v0) (the family's
-    damping factor, held in p until the next contact) and its cut at v = -1/chi. Returns the cut."""
-    b = restitution_damping(int(p[P_LAW]), p[P_E], v0)
-    p[P_B] = b
-    st[S_VCUT] = 1.0 / b if b > 0.0 else math.inf
-    return st[S_VCUT]
 
 
 @njit(cache=True, inline="always")  # on every accepted time step: inlined as time_step is
@@ -322,7 +329,11 @@ def after_transformed_step(p, st, cnt, rs, ev, n_ev, d0, clamped, mode, field, s
 def after_implicit_step(p, st, cnt, rs, ev, n_ev, d0, field, t1, x1, v1, h_next):
     """An implicit step without events ended at (t1, x1, v1): the phase ends once |v| leaves
     the friction band (stick, slow reversal) or the next step is no longer held by stability
-    (stiff creep); a pending extremum of x is recorded if v came back with the other sign."""
+    (stiff creep); a pending extremum of x is recorded if v came back with the other sign.
+    A surface inside the contact (a second stop) is not located by the implicit steps: the side
+    of it the step ended on is the contact's state."""
+    if field == CONTACT and has_stop(p):
+        p[P_STAGE] = stop_side(p, x1)
     if st[S_SLOW] == SLOW_STIFF:
         leave = damping_rate(p, field, x1, v1) * h_next < STIFF_EXIT
     else:

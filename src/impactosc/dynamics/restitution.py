@@ -16,7 +16,7 @@ from scipy.optimize import brentq
 
 from impactosc.core.layout import S_V, S_X
 from impactosc.core.simulation import simulate
-from impactosc.model.contact_laws import LAWS
+from impactosc.model.contact_laws import LAWS, RestitutionLaw
 from impactosc.model.parameters import ModelParams, UntestedParameterWarning
 
 __all__ = ["FREE_IMPACT", "delivers", "effective_restitution", "matched_e", "matched_models", "restitution_rows"]
@@ -53,7 +53,7 @@ def matched_e(params: ModelParams, law: str, v0: float) -> float:
     model `params` dissipates at v0: effective_restitution equal at v0, by a root finder (e_eff
     rises with e, to 1 at e = 1). Why: a law compared at its nominal e alone would differ from
     model BC by its dissipation, not by the shape of its force."""
-    if not LAWS[law].uses_e:
+    if not isinstance(LAWS[law], RestitutionLaw):
         raise ValueError(f"the {law} law takes no e (the restitution laws: {', '.join(_restitution_laws())})")
     target = effective_restitution(params, v0)
 
@@ -73,7 +73,7 @@ def matched_models(params: ModelParams, laws, v0: float) -> list[dict]:
     reference = effective_restitution(params, v0)
     rows = []
     for law in laws:
-        e = matched_e(params, law, v0) if LAWS[law].uses_e else None
+        e = matched_e(params, law, v0) if isinstance(LAWS[law], RestitutionLaw) else None
         model = dataclasses.replace(params, law=law, **({"e": e} if e is not None else {}))
         rows.append(
             {"law": law, "e": e, "e_eff": effective_restitution(model, v0), "reference": reference, "params": model}
@@ -82,7 +82,7 @@ def matched_models(params: ModelParams, laws, v0: float) -> list[dict]:
 
 
 def _restitution_laws():
-    return [name for name, law in LAWS.items() if law.uses_e]
+    return [name for name, law in LAWS.items() if isinstance(law, RestitutionLaw)]
 
 
 def restitution_rows(params: ModelParams, e_values, v0_values) -> list[dict]:

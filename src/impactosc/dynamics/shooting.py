@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from impactosc.core.simulation import end_state, simulate, start_of
-from impactosc.model.contact_laws import RESTITUTION_FIRST, law_of
+from impactosc.model.contact_laws import law_of
 from impactosc.model.parameters import ModelParams
 
 __all__ = [
@@ -95,7 +95,7 @@ class PeriodicOrbit:
 
 def carries_v0(params: ModelParams | None) -> bool:
     """Whether the law's state inside a contact includes the contact's onset velocity."""
-    return params is not None and law_of(params.law).code >= RESTITUTION_FIRST
+    return params is not None and law_of(params.law).keeps_contact_state
 
 
 def as_state(y, params: ModelParams | None = None) -> np.ndarray:

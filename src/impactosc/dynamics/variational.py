@@ -54,6 +54,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from impactosc.dynamics.shooting import SCALE
+from impactosc.model.contact_laws import law_of
 from impactosc.model.parameters import ModelParams
 
 __all__ = ["UnsupportedTrajectory", "variational_monodromy"]
@@ -175,7 +176,7 @@ def _check_input(y, omega, n_periods, params, rtol, atol, v_window):
     if params is not None and not isinstance(params, ModelParams):
         raise ValueError(f"params must be a ModelParams, got {type(params).__name__}")
     p = params or ModelParams()
-    if p.law != "bc":  # Hertz and Kelvin-Voigt's forces, and the jump of a restitution law's chi(v0), are not here
+    if not law_of(p.law).reads_damping:  # a law that places its own b, n2, n3 (a chi(v0) per contact, ...)
         raise ValueError(f"the variational equations are written for model BC's law only, not the {p.law} law")
     # SciPy raises the smallest rtol to 100 machine epsilons itself (with a warning): refuse instead
     if not isinstance(rtol, numbers.Real) or not 100 * np.finfo(float).eps <= rtol < 1:

@@ -27,8 +27,8 @@ import yaml
 
 from impactosc.dynamics.sweep import SweepSettings
 from impactosc.io.files import atomic_write
-from impactosc.model.contact_laws import LAWS
-from impactosc.model.model_file import BC_ONLY, NAMES
+from impactosc.model.contact_laws import DEFAULT_LAW, LAWS
+from impactosc.model.model_file import NAMES
 from impactosc.model.parameters import LAW_PARAMETERS, PARAMETERS, ModelParams
 
 __all__ = [
@@ -143,10 +143,9 @@ def _replaced(params: ModelParams, **changes) -> ModelParams:
 
 
 def shown_parameters(law: str) -> tuple[str, ...]:
-    """The fields the page shows for a law: model BC's family as the law reads it (b, n2, n3
-    only for model BC), then the law's own e or cI."""
-    own = LAWS[law]
-    return tuple(name for name, _, _ in PARAMETERS if own.name == "bc" or name not in BC_ONLY) + own.own
+    """The fields the page shows for a law (its component's): model BC's family as the law reads
+    it (b, n2, n3 only for a law that reads them as given), then the law's own numbers."""
+    return LAWS[law].fields
 
 
 def with_parameter(params: ModelParams, name: str, text) -> ModelParams:
@@ -159,11 +158,13 @@ def with_parameter(params: ModelParams, name: str, text) -> ModelParams:
 
 
 def with_law(params: ModelParams, law: str, base: ModelParams | None = None) -> ModelParams:
-    """The model with another contact law: Kelvin-Voigt is linear (n1 = 1, kI then in N/m);
-    leaving it restores the exponent of `base` (the model file's, or model BC's)."""
+    """The model with another contact law: a law of its own elastic exponent sets it (Kelvin-Voigt
+    is linear, n1 = 1, kI then in N/m); leaving such a law restores the exponent of `base` (the
+    model file's, or model BC's)."""
     if law not in LAWS:
         raise InputError(f"unknown contact law {law!r}; choose from {', '.join(LAWS)}")
-    n1 = 1.0 if LAWS[law].uses_cI else (base or ModelParams()).n1 if params.law == "kelvin-voigt" else params.n1
+    new, old = LAWS[law], LAWS[params.law]
+    n1 = new.n1 if new.n1 is not None else (base or ModelParams()).n1 if old.n1 is not None else params.n1
     return _replaced(params, law=law, n1=n1)
 
 
@@ -196,10 +197,9 @@ def config_snippet(view: View, study: str = "explore") -> str:
         model = {
             k: float(getattr(view.params, k))
             for k in NAMES
-            if (view.model_file or getattr(view.params, k) != getattr(base, k))
-            and (law.name == "bc" or k not in BC_ONLY)
+            if (view.model_file or getattr(view.params, k) != getattr(base, k)) and k in law.family
         }
-        if law.name != "bc":  # the config names a law as the model files do: model.contact
+        if law.name != DEFAULT_LAW:  # the config names a law as the model files do: model.contact
             model["contact"] = {"law": law.name, **{k: float(getattr(view.params, k)) for k in law.own}}
     # the workflow splits a sweep into chunks seeded by a coarse pass over every stride-th w
     # (impactosc.dynamics.sweep_chunks): a short grid needs a short stride and few chunks

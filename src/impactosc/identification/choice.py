@@ -39,11 +39,10 @@ import numpy as np
 from impactosc.identification.fitted_parameters import QUANTITIES
 from impactosc.identification.least_squares import fit_states
 from impactosc.identification.staged_fit import STAGES, identify
-from impactosc.identification.start import for_law, restitution_for, start_values
+from impactosc.identification.start import for_law, start_values
 from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import cut_windows, split_held_out
-from impactosc.model.contact_laws import LAWS
-from impactosc.model.contact_laws.kernel import restitution_damping
+from impactosc.model.contact_laws import DEFAULT_LAW, LAWS, RestitutionLaw
 from impactosc.model.parameters import ModelParams, UntestedParameterWarning
 
 __all__ = [
@@ -62,13 +61,17 @@ __all__ = [
 FRICTION = {"dry friction": {}, "no dry friction": {"T/m": 0.0}}
 #: The restitution law fitted for all four (its g(e) covers every g >= 0).
 RESTITUTION_FITTED = "flores"
-#: (contact law, friction) of every candidate, in a fixed order (the workflow's job numbers).
+#: (contact law, friction) of every candidate, in a fixed order (the workflow's job numbers): the
+#: default law (model BC's, the richest) with and without dry friction, then every other law of
+#: :data:`impactosc.model.contact_laws.LAWS` with it, the restitution laws by the one fitted.
 CANDIDATES = (
-    ("bc", "dry friction"),
-    ("bc", "no dry friction"),
-    ("hertz", "dry friction"),
-    ("kelvin-voigt", "dry friction"),
-    (RESTITUTION_FITTED, "dry friction"),
+    (DEFAULT_LAW, "dry friction"),
+    (DEFAULT_LAW, "no dry friction"),
+    *(
+        (name, "dry friction")
+        for name, law in LAWS.items()
+        if name != DEFAULT_LAW and (not isinstance(law, RestitutionLaw) or name == RESTITUTION_FITTED)
+    ),
 )
 _XI, _E = QUANTITIES.index("xI"), QUANTITIES.index("e")
 #: Samples per block of a record in which each candidate's residuals are summed (the common
@@ -128,23 +131,24 @@ def candidates() -> list[tuple[str, str]]:
 def same_force(law: str, e: float) -> str:
     """The e of each other restitution law whose force equals law's at e (chi v0 = g(e) alike),
     or that the law cannot reach that damping: 'gonthier e=0.62, ...'."""
-    v0 = 1.0  # g = chi v0 does not depend on v0
-    chi = restitution_damping(LAWS[law].code, e, v0)
+    g = LAWS[law].g(e)  # chi v0, the same for every v0
     out = []
     for name, other in LAWS.items():
-        if other.uses_e and name != law:
-            e_other = restitution_for(other.code, chi, v0)
-            reached = math.isclose(restitution_damping(other.code, e_other, v0), chi, rel_tol=1e-6, abs_tol=1e-12)
-            cap = restitution_damping(other.code, e_other, v0) * v0  # its largest, at the least e
-            out.append(f"{name} e={e_other:.4g}" if reached else f"{name} none (chi v0 {chi * v0:.3g} > {cap:.3g})")
+        if isinstance(other, RestitutionLaw) and name != law:
+            e_other = other.e_for(g)
+            reached = math.isclose(other.g(e_other), g, rel_tol=1e-6, abs_tol=1e-12)
+            cap = other.g(e_other)  # its largest, at the least e
+            out.append(f"{name} e={e_other:.4g}" if reached else f"{name} none (chi v0 {g:.3g} > {cap:.3g})")
     return ", ".join(out)
 
 
 def candidate_base(base: ModelParams, law: str) -> ModelParams:
-    """The stated model with the contact law `law`: its own exponent (Kelvin-Voigt's n1 = 1,
-    the others the stated model's Hertz exponents, 1.5 when the stated law is linear)."""
-    n1 = 1.0 if law == "kelvin-voigt" else (1.5 if base.law == "kelvin-voigt" else base.n1)
-    n2 = n1 if base.law == "kelvin-voigt" or law == "kelvin-voigt" else base.n2
+    """The stated model with the contact law `law`: its own exponent where the law fixes one
+    (Kelvin-Voigt's n1 = 1), the others the stated model's Hertz exponents (1.5 when the stated
+    law fixes its own)."""
+    new, old = LAWS[law].n1, LAWS[base.law].n1
+    n1 = new if new is not None else (1.5 if old is not None else base.n1)
+    n2 = n1 if new is not None or old is not None else base.n2
     with warnings.catch_warnings():  # n1 = 1 lies outside the tested ranges of model BC's exponents
         warnings.simplefilter("ignore", UntestedParameterWarning)
         return dataclasses.replace(base, law=law, n1=n1, n2=n2)
@@ -158,7 +162,7 @@ def fit_candidate(records, law, friction, *, base=None, start=None, every=4, sta
     base = candidate_base(base or ModelParams(), law)
     if start is None:
         sigma = float(np.median([estimate_noise(r.x) for r in records]))
-        start = start_values(records, candidate_base(base, "bc"), sigma=sigma)
+        start = start_values(records, candidate_base(base, DEFAULT_LAW), sigma=sigma)
     with warnings.catch_warnings():  # a wrong law's best fit may leave the tested ranges: it only ranks
         warnings.simplefilter("ignore", UntestedParameterWarning)
         ident = identify(
@@ -179,7 +183,7 @@ def fit_candidate(records, law, friction, *, base=None, start=None, every=4, sta
         "friction": friction,
         "free": " ".join(ident.free_names),
         "not_pinned": _not_pinned(ident),
-        "same_force": same_force(law, float(ident.theta_all[_E])) if LAWS[law].uses_e else "",
+        "same_force": same_force(law, float(ident.theta_all[_E])) if isinstance(LAWS[law], RestitutionLaw) else "",
         "n_free": int(ident.free.sum()),
         "rss_m2": res.rss,
         "n": n,
@@ -244,7 +248,7 @@ def choose_model(
     say = progress or (lambda msg: None)
     base = base or ModelParams()
     sigma = float(np.median([estimate_noise(r.x) for r in records]))
-    start = start_values(records, candidate_base(base, "bc"), sigma=sigma)
+    start = start_values(records, candidate_base(base, DEFAULT_LAW), sigma=sigma)
     rows = []
     for law, fr in candidates():
         say(f"candidate {law}, {fr}")

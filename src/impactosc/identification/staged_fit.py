@@ -38,6 +38,7 @@ from impactosc.identification.least_squares import FitResult, carried_states, fi
 from impactosc.identification.start import start_values
 from impactosc.identification.window_predictions import Predictor
 from impactosc.identification.windows import WindowSet, check_forcing_phase, cut_windows
+from impactosc.model.contact_laws import OWN_PARAMETERS
 from impactosc.model.parameters import ModelParams
 from impactosc.records.sample_fits import estimate_noise
 
@@ -61,8 +62,7 @@ UNPINNED = {
     "b": 1.0,
     "n3": 0.5,
     "xI": 1e-3,
-    "e": 0.5,
-    "cI/m": 1.0,
+    **{prm.quantity: prm.unpinned for prm in OWN_PARAMETERS.values()},  # the laws' own (e: 0.5, cI/m: 1)
 }
 
 
@@ -169,7 +169,7 @@ def _free_parameters(start: dict, fixed: dict | None, base: ModelParams) -> tupl
         free[i] = False
         theta[i] = theta_of(base, full=True)[i] if value is None else float(value)
         why_fixed[nm] = "fixed by the model's definition"
-    if base.law == "bc" and theta[QUANTITIES.index("b")] == 0.0:  # no damping: n3 does nothing
+    if "b" in own and theta[QUANTITIES.index("b")] == 0.0:  # no damping: n3 does nothing
         i = QUANTITIES.index("n3")
         if free[i]:
             free[i] = False
@@ -193,7 +193,7 @@ def identify(
 
     base : the stated model: its contact law, m, eps, n1, n2 and every fixed value (default
         model BC); the law's own quantities are fitted (:func:`law_quantities`: a restitution
-        law's e, Kelvin-Voigt's cI/m, model BC's b and n3).
+        law's e, a viscous damping's cI/m, model BC's b and n3, ...).
     fixed : name -> value (None: base's) of the law's quantities not fitted (a nested contact
         law: {"b": 0.0}; no dry friction: {"T/m": 0.0}).
     select : windows -> mask of the windows to fit (default all; model choice holds some out).

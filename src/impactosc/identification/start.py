@@ -14,8 +14,8 @@ What the records cannot pin is said here, not discovered as noise later: with fe
 kI/m, b, n3 (and xI when the records never come near the obstacle) keep the stated values.
 
 The contact fit is model BC's law (Hertz stiffness, damping b |v|^n3); another law starts from it
-through :func:`for_law`: the same damping at a typical impact (``V_TYPICAL``), through the law's
-own chi for a restitution law, and for Kelvin-Voigt the same deepest penetration and restitution.
+through :func:`for_law`, as the law's component says (the same damping at a typical impact,
+``V_TYPICAL``, for a restitution law; the same deepest penetration and restitution for a linear one).
 """
 
 from __future__ import annotations
@@ -25,16 +25,13 @@ import warnings
 
 import numpy as np
 
-from impactosc.identification.fitted_parameters import LOWER, NAMES, QUANTITIES, law_quantities, theta_of
+from impactosc.identification.fitted_parameters import NAMES, QUANTITIES, law_quantities, theta_of
 from impactosc.model.contact_laws import LAWS
+from impactosc.model.contact_laws.component import V_TYPICAL
 
-__all__ = ["StartValues", "start_values", "for_law", "restitution_for", "V_TYPICAL"]
+__all__ = ["StartValues", "start_values", "for_law", "V_TYPICAL"]
 
 CONTACT_NAMES = ("kI/m", "b", "n3")
-#: A typical impact speed of model BC's motions, m/s: where another law's start damping matches
-#: the contact fit's b |v|^n3.
-V_TYPICAL = 0.2
-_E = QUANTITIES.index("e")
 
 
 class StartValues(dict):
@@ -143,47 +140,21 @@ def start_values(records, base, *, sigma) -> StartValues:
     return for_law(out, base.law)
 
 
-def restitution_for(code: int, chi: float, v0: float) -> float:
-    """e of the restitution law `code` whose chi at v0 is `chi` (chi falls as e grows; e's bounds
-    where no e of the law reaches it)."""
-    from scipy.optimize import brentq
-
-    from impactosc.model.contact_laws.kernel import restitution_damping
-
-    lo = LOWER[_E]
-    if restitution_damping(code, 1.0, v0) >= chi:
-        return 1.0
-    if restitution_damping(code, lo, v0) <= chi:
-        return float(lo)
-    return float(brentq(lambda e: restitution_damping(code, e, v0) - chi, lo, 1.0, xtol=1e-12))
-
-
 def for_law(start: StartValues, law: str) -> StartValues:
-    """The start values for the contact law `law` from those of the contact fit (model BC's law).
-
-    A restitution law: the e whose chi(e, V_TYPICAL) equals b V_TYPICAL^(n3 - 1), so that the
-    damping force at a typical impact matches.  Kelvin-Voigt (n1 = 1): the linear stiffness with
-    the same deepest penetration h at V_TYPICAL (energy: kI/m h^2.5 / 2.5 = v^2 / 2 = kKV/m h^2 / 2),
-    and the viscous damping whose linear oscillator has the restitution the chi match gives
-    Hunt-Crossley's.  Names the law does not have leave ``unpinned``.
-    """
+    """The start values for the contact law `law` from those of the contact fit (model BC's law):
+    the law's own (:meth:`impactosc.model.contact_laws.ContactLaw.start`: a restitution law's e
+    whose damping at a typical impact matches the fit's, a linear law's stiffness with the same
+    deepest penetration and its damping with the same restitution, ...). Names the law does not
+    have leave ``unpinned``; without a contact fit the law's own quantities are unpinned too."""
     theta = start["theta"].copy()
     own = law_quantities(law)
     unpinned = {nm: why for nm, why in start["unpinned"].items() if nm in own}
     contact = start.get("contact")
-    if law != "bc" and contact is not None:
-        chi = contact["b"] * V_TYPICAL ** (contact["n3"] - 1.0)
-        if LAWS[law].uses_e:
-            theta[_E] = restitution_for(LAWS[law].code, chi, V_TYPICAL)
-        if law == "kelvin-voigt":
-            k15 = contact["kI/m"]
-            h = (1.25 * V_TYPICAL**2 / k15) ** 0.4
-            k1 = k15 * math.sqrt(h) / 1.25
-            e = max(restitution_for(LAWS["hunt-crossley"].code, chi, V_TYPICAL), 1e-3)
-            zeta = -math.log(e) / math.hypot(math.pi, math.log(e))
-            theta[QUANTITIES.index("kI/m")] = k1
-            theta[QUANTITIES.index("cI/m")] = 2.0 * zeta * math.sqrt(k1)
-    elif contact is None:
+    component = LAWS[law]
+    if contact is not None:
+        for nm, value in component.start(contact, dict(zip(QUANTITIES, theta))).items():
+            theta[QUANTITIES.index(nm)] = value
+    else:
         why = next((w for nm, w in start["unpinned"].items() if nm in CONTACT_NAMES), "no contacts to fit")
-        unpinned.update({nm: why for nm in ("e", "cI/m") if nm in own})
+        unpinned.update({nm: why for nm in component.quantities if nm in own and nm not in CONTACT_NAMES})
     return StartValues(start, theta=theta, unpinned=unpinned)

@@ -20,8 +20,7 @@ from impactosc.core import driver as core
 from impactosc.core.layout import N_COUNT, RUNNING, S_STATUS
 from impactosc.identification.fitted_parameters import fill_array
 from impactosc.identification.windows import WindowSet
-from impactosc.model.contact_laws import BC, RESTITUTION_FIRST
-from impactosc.model.parameters import P_B, P_LAW, P_N3, P_OMEGA
+from impactosc.model.parameters import P_B, P_N3, P_OMEGA, cut_is_line, new_contact_state
 
 __all__ = ["Predictor", "STATE_STEPS", "relative_steps"]
 
@@ -75,10 +74,9 @@ class Predictor:
         dt, tau0 = float(w.dt[j]), float(w.tau0[j])
         p[P_OMEGA] = w.omega[j]
         period = 2.0 * math.pi / w.omega[j]
-        if p[P_LAW] >= RESTITUTION_FIRST:  # b and the cut are the contact's, set at its onset in the window
-            p[P_B] = 0.0
-        # the cut a run starts with, as the core's simulate sets it: model BC's alone is a velocity
-        vcut = _cut_velocity(p[P_B], p[P_N3]) if p[P_LAW] == BC else math.inf
+        new_contact_state(p)  # a damping set per contact is set at its onset inside the window
+        # the cut a run starts with, as the core's simulate sets it: a velocity where it is that line
+        vcut = _cut_velocity(p[P_B], p[P_N3]) if cut_is_line(p) else math.inf
         st = core.initial_state(p, tau0, float(x0), float(v0), period, vcut, self.step_budget)
         cnt = np.zeros(N_COUNT, dtype=np.int64)
         rs = core.run_settings(tau0 + n * dt * (1 + 1e-12) + 1e-12, math.inf, self.rtol, self.atol, 0, period, tau0, dt)

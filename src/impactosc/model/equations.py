@@ -15,21 +15,15 @@ import math
 
 from numba import njit
 
-from impactosc.model.contact_laws.kernel import _pow, contact_force, contact_force_vn
+from impactosc.model.contact_laws.kernel import contact_damping_rate, contact_force, contact_force_vn, contact_slopes
 from impactosc.model.parameters import (
-    P_B,
     P_C,
     P_EPS,
     P_K,
-    P_KI,
     P_M,
     P_M0E,
-    P_N1,
-    P_N2,
-    P_N3,
     P_OMEGA,
     P_T,
-    P_XI,
 )
 
 # --- which smooth vector field is active on a piece -------------------------------------
@@ -75,36 +69,22 @@ def stick_force(p, field, t, x):
 
 @njit(cache=True)
 def jacobian(p, field, t, x, v, chord):
-    """Partial derivatives (da/dx, da/dv) for the implicit stick-phase solver.
-
-    With ``chord`` the slope of sgn(v)|v|^n3 is replaced by its chord through v = 0,
-    |v|^(n3 - 1) (larger than the tangent n3 |v|^(n3 - 1)): Newton then contracts towards
-    the root instead of overshooting across v = 0 (radau.radau_step falls back to it).
-    """
+    """Partial derivatives (da/dx, da/dv) for the implicit stick-phase solver; with ``chord``
+    the contact damping's slope is its chord through v = 0 (contact_laws.kernel.contact_slopes)."""
     eps = p[P_EPS]
     s = v * v + eps * eps
     dfdx = -p[P_K]
     dfdv = -p[P_C] - p[P_T] * eps * eps / (s * math.sqrt(s))
     if field == CONTACT:
-        h = x - p[P_XI]
-        if h > 0.0:
-            av = max(abs(v), 1e-30)
-            sg = 1.0 if v >= 0.0 else -1.0
-            vn = av ** p[P_N3]
-            bracket = _pow(h, p[P_N1]) + p[P_B] * _pow(h, p[P_N2]) * sg * vn
-            if bracket > 0.0:
-                dfdx -= p[P_KI] * (p[P_N1] * h ** (p[P_N1] - 1.0) + p[P_B] * p[P_N2] * h ** (p[P_N2] - 1.0) * sg * vn)
-                if chord:
-                    dfdv -= p[P_KI] * p[P_B] * _pow(h, p[P_N2]) * max(av, 1e-30) ** (p[P_N3] - 1.0)
-                else:
-                    # |v|^n3 has an infinite slope at v = 0; capping |v| keeps Newton finite.
-                    dfdv -= p[P_KI] * p[P_B] * _pow(h, p[P_N2]) * p[P_N3] * vn / max(av, 1e-12)
+        dx, dv = contact_slopes(p, x, v, chord)
+        dfdx -= dx
+        dfdv -= dv
     return dfdx / p[P_M], dfdv / p[P_M]
 
 
 @njit(cache=True)
 def damping_rate(p, field, x, v):
-    """-da/dv: viscous + friction slope + Hunt-Crossley slope (inf at v = 0 in contact).
+    """-da/dv: viscous + friction slope + the contact damping's (inf at v = 0 in contact).
 
     Unlike jacobian (which caps |v| to keep Newton finite) this is the true slope:
     at a creep of 1e-18 m/s the cap would hide a factor 1e5 of stiffness.
@@ -112,10 +92,6 @@ def damping_rate(p, field, x, v):
     eps = p[P_EPS]
     s2 = v * v + eps * eps
     rate = p[P_C] + p[P_T] * eps * eps / (s2 * math.sqrt(s2))
-    h = x - p[P_XI]
-    if field == CONTACT and h > 0.0 and p[P_B] > 0.0 and 0.0 < p[P_N3] < 1.0:
-        av = abs(v)
-        if av == 0.0:
-            return math.inf
-        rate += p[P_KI] * p[P_B] * h ** p[P_N2] * p[P_N3] * av ** (p[P_N3] - 1.0)
+    if field == CONTACT:
+        rate += contact_damping_rate(p, x, v)
     return rate / p[P_M]

@@ -50,15 +50,13 @@ from impactosc import __version__
 from impactosc.io.files import atomic_write, git_commit
 from impactosc.io.names import closest_name, split_assignment
 from impactosc.io.yaml_text import DuplicateKeyError, load_yaml
-from impactosc.model.contact_laws import LAWS, law_of
+from impactosc.model.contact_laws import DEFAULT_LAW, LAWS, law_of
 from impactosc.model.parameters import PARAM_UNITS, PARAMETERS, ModelParams, unit_of
 
 FORMAT = "impactosc-model/1"
 
 #: The parameters a model file's ``parameters`` block holds (a law's own e and cI go in ``contact``)
 NAMES = [name for name, _, _ in PARAMETERS]
-#: Parameters no law reads but model BC: a file of another law leaves them out
-BC_ONLY = ("b", "n2", "n3")
 BC_DESCRIPTION = "model BC (paper)"
 _TOP_KEYS = (
     "format",
@@ -203,9 +201,9 @@ def write_model_file(
     doc = {"format": FORMAT}
     if name is not None:
         doc["name"] = str(name)
-    if law.name != "bc":  # a file without contact is model BC's
+    if law.name != DEFAULT_LAW:  # a file without contact is of the default law, model BC's
         doc["contact"] = {"law": law.name, **{key: entry(key) for key in law.own}}
-    doc["parameters"] = {key: entry(key) for key in NAMES if law.name == "bc" or key not in BC_ONLY}
+    doc["parameters"] = {key: entry(key) for key in law.family}
     if covariance is not None:
         names, units, matrix = list(covariance[0]), [str(u) for u in covariance[1]], covariance[2]
         if len(units) != len(names):
@@ -298,7 +296,7 @@ def _contact(doc: dict, path: Path) -> tuple[str, dict]:
     """(law name, its own entries) of the ``contact`` block; model BC's without one."""
     block = doc.get("contact")
     if block is None:
-        return "bc", {}
+        return DEFAULT_LAW, {}
     where = f"model file {path}: contact"
     if not isinstance(block, dict) or "law" not in block:
         raise ValueError(f"{where}: a mapping with the law's name, e.g. contact: {{law: flores, e: 0.7}}")
@@ -330,7 +328,7 @@ def read_model_file(path) -> ModelFile:
             if block == "parameters" and key not in NAMES:
                 absent = [n for n in NAMES if n not in given]
                 raise ValueError(f"model file {path}: parameters.{key}: " + _unknown(key, NAMES, "parameter", absent))
-            if block == "parameters" and law != "bc" and key in BC_ONLY:
+            if block == "parameters" and key not in LAWS[law].family:
                 raise ValueError(
                     f"model file {path}: parameters.{key}: the {law} law has no {key} (model BC's damping; "
                     f"{LAWS[law].force})"
@@ -340,8 +338,8 @@ def read_model_file(path) -> ModelFile:
                 stderr[key] = err
             if note is not None:
                 fixed[key] = note
-    if law == "kelvin-voigt":
-        values.setdefault("n1", 1.0)  # the linear law: kI in N/m
+    if LAWS[law].n1 is not None:
+        values.setdefault("n1", LAWS[law].n1)  # a law of its own exponent (Kelvin-Voigt's linear: kI in N/m)
     _check_units({"parameters": given, "contact": own}, values.get("n1", ModelParams.n1), path)
     values["law"] = law
     try:
@@ -354,8 +352,7 @@ def read_model_file(path) -> ModelFile:
     meta = {k: v for k, v in doc.items() if k not in ("format", "parameters", "contact")}
     _check_covariance(meta.get("covariance"), path)  # here, so a bad block is named when the file is read
     _check_correlation(meta.get("correlation"), path)
-    used = [k for k in NAMES if law == "bc" or k not in BC_ONLY]
-    defaulted = tuple(k for k in used if k not in values)
+    defaulted = tuple(k for k in LAWS[law].family if k not in values)
     return ModelFile(params, stderr, fixed, meta, str(path), defaulted)
 
 
@@ -427,7 +424,7 @@ def apply_overrides(params: ModelParams, items) -> ModelParams:
     law = LAWS[params.law]
     for item in items:
         name, value = _override(item)
-        if (name not in NAMES and name not in law.own) or (law.name != "bc" and name in BC_ONLY):
+        if name not in law.fields:
             raise ValueError(f"parameter override {item!r}: the {law.name} law has no {name} ({law.force})")
         try:
             dataclasses.replace(params, **{name: value})
@@ -446,8 +443,7 @@ def resolve_model(file=None, overrides=()) -> tuple[ModelParams, str]:
         model = read_model_file(file)
         params, source = model.params, f"model file {file}"
         if len(model.defaulted) > len(NAMES) // 2:
-            used = [k for k in NAMES if model.params.law == "bc" or k not in BC_ONLY]  # as ``defaulted``
-            given = [k for k in used if k not in model.defaulted]
+            given = [k for k in LAWS[model.params.law].family if k not in model.defaulted]  # as ``defaulted``
             source += f" ({', '.join(given) or 'no parameter'}; the rest from model BC)"
         elif model.defaulted:
             source += f" ({', '.join(model.defaulted)} from model BC)"

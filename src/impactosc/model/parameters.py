@@ -15,15 +15,16 @@ from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 
-from impactosc.model.contact_laws import HERTZ, KELVIN_VOIGT, LAWS, RESTITUTION_FIRST, law_of
-from impactosc.model.slots import (
-    N_PARAMS,
+from impactosc.model.contact_laws import DEFAULT_LAW, INDEX, OWN_PARAMETERS, law_at, law_of, unit_for
+from impactosc.model.slots import (  # noqa: F401  (the indices of p, re-exported where they were defined)
     P_B,
     P_C,
-    P_CI,
-    P_E,
+    P_CHI,
+    P_CHI_PER,
     P_EPS,
+    P_H1,
     P_K,
+    P_K2,
     P_KI,
     P_LAW,
     P_M,
@@ -32,6 +33,8 @@ from impactosc.model.slots import (
     P_N2,
     P_N3,
     P_OMEGA,
+    P_OWN,
+    P_STAGE,
     P_T,
     P_XI,
 )
@@ -52,22 +55,24 @@ PARAMETERS = (
     ("n3", "-", "damping velocity exponent"),
     ("xI", "m", "obstacle position (contact when x >= xI)"),
 )
-#: The contact law's own numbers beside PARAMETERS (a model file gives them in its ``contact``
-#: block with the law's name, :mod:`impactosc.model.contact_laws`): used only by the laws that
-#: name them.
-LAW_PARAMETERS = (
-    ("e", "-", "coefficient of restitution a restitution law is built for"),
-    ("cI", "N s/m", "Kelvin-Voigt contact damping"),
-)
-#: Unit of every parameter (from PARAMETERS and LAW_PARAMETERS).
+#: The contact laws' own numbers beside PARAMETERS, (name, unit for n1 = 1.5, meaning), from the
+#: laws (:data:`impactosc.model.contact_laws.OWN_PARAMETERS`): a model file gives them in its
+#: ``contact`` block with the law's name; only the laws that name them read them.
+LAW_PARAMETERS = tuple((prm.name, unit_for(prm.unit, 1.5), prm.meaning) for prm in OWN_PARAMETERS.values())
+#: Unit of every parameter (from PARAMETERS and LAW_PARAMETERS), for n1 = 1.5 (:func:`unit_of`).
 PARAM_UNITS = {name: unit for name, unit, _ in PARAMETERS + LAW_PARAMETERS}
+#: Units that follow the elastic exponent n1, as a stiffness of h^n1 does.
+_UNIT_TEMPLATES = {"kI": "N/m^n1", **{prm.name: prm.unit for prm in OWN_PARAMETERS.values() if "^n1" in prm.unit}}
+#: Where each law's own number sits in the parameter array p.
+OWN_SLOTS = {name: P_OWN + i for i, name in enumerate(OWN_PARAMETERS)}
+N_PARAMS = P_OWN + len(OWN_PARAMETERS)
 
 
 def unit_of(name: str, n1: float = 1.5) -> str:
-    """The SI unit of parameter `name`; kI's follows the elastic exponent n1 (N/m^1.5 for Hertz's
-    1.5, N/m for a linear law)."""
-    if name == "kI" and n1 != 1.5:
-        return "N/m" if n1 == 1 else f"N/m^{n1:g}"
+    """The SI unit of parameter `name`; a stiffness's (kI, a second stop's k2) follows the elastic
+    exponent n1 (N/m^1.5 for Hertz's 1.5, N/m for a linear law)."""
+    if name in _UNIT_TEMPLATES:
+        return unit_for(_UNIT_TEMPLATES[name], n1)
     return PARAM_UNITS[name]
 
 
@@ -103,16 +108,10 @@ MAX_EXPONENT = 10.0
 
 
 def place_law(p: np.ndarray) -> None:
-    """Fill the law's place in model BC's family (p[P_B], p[P_N2], p[P_N3]) from its code, kI, cI
-    and n1 in p, in place: one definition for a ModelParams' array and for an identification's,
-    which writes fitted values into an array directly."""
-    code = int(p[P_LAW])
-    if code == HERTZ:
-        p[P_B] = 0.0
-    elif code == KELVIN_VOIGT:  # kI h + cI v: b = cI / kI, n2 = 0, n3 = 1
-        p[P_B], p[P_N2], p[P_N3] = p[P_CI] / p[P_KI], 0.0, 1.0
-    elif code >= RESTITUTION_FIRST:  # kI h^n1 (1 + chi v): b = chi of each contact, set at its onset
-        p[P_B], p[P_N2], p[P_N3] = 0.0, p[P_N1], 1.0
+    """Fill the law's place in model BC's family (b, n2, n3, a damping per contact, a second stop)
+    from its own numbers in p, in place: one definition for a ModelParams' array and for an
+    identification's, which writes fitted values into an array directly."""
+    law_at(p).place(p, {name: float(p[OWN_SLOTS[name]]) for name in law_at(p).own})
 
 
 class ParameterError(ValueError):
@@ -128,11 +127,13 @@ class UntestedParameterWarning(UserWarning):
     """A model parameter lies outside the ranges the randomized tests cover."""
 
 
-@dataclass(frozen=True)
 class ModelParams:
-    """Physical parameters of the model (SI units; units and meanings in :data:`PARAMETERS`).
+    """Physical parameters of the model (SI units; units and meanings in :data:`PARAMETERS`),
+    its contact law, and each law's own numbers (LAW_PARAMETERS: a law reads its own).
 
-    The defaults are model BC, the paper's values: the one place they are written."""
+    The defaults are model BC, the paper's values: the one place they are written. The laws'
+    own numbers are fields too, added after ``law`` from the laws' definitions (below the class),
+    so that a law's new parameter needs no edit here."""
 
     m: float = 8.735
     m0e: float = 0.01805
@@ -147,9 +148,7 @@ class ModelParams:
     n3: float = 0.18667
     xI: float = -2.086e-3
     #: the contact law (impactosc.model.contact_laws.LAWS); b, n2 and n3 are model BC's own
-    law: str = "bc"
-    e: float = 1.0
-    cI: float = 0.0
+    law: str = DEFAULT_LAW
 
     def __post_init__(self):
         law = law_of(self.law)
@@ -168,13 +167,13 @@ class ModelParams:
         for name in ("m", "k", "eps", "kI", "n1", "n2"):
             if getattr(self, name) <= 0:
                 raise ParameterError(name, f"model parameter {name} must be > 0, got {getattr(self, name)}")
-        if not 0 < self.e <= 1:
-            raise ParameterError(
-                "e", f"model parameter e must be in (0, 1] (a coefficient of restitution), got {self.e}"
-            )
-        if law.name == "kelvin-voigt" and self.n1 != 1:
-            raise ParameterError("n1", f"the kelvin-voigt law is linear in the penetration: n1 = 1, got {self.n1}")
-        for name in ("m0e", "c", "T", "b", "n3", "cI"):
+        for prm in OWN_PARAMETERS.values():
+            problem = prm.problem(getattr(self, prm.name))
+            if problem:
+                raise ParameterError(prm.name, problem)
+        for name, problem in law.problems(self):
+            raise ParameterError(name, problem)
+        for name in ("m0e", "c", "T", "b", "n3"):
             if getattr(self, name) < 0:
                 raise ParameterError(name, f"model parameter {name} must be >= 0, got {getattr(self, name)}")
         for name in ("n1", "n2", "n3"):
@@ -200,7 +199,9 @@ class ModelParams:
         p = np.empty(N_PARAMS)
         p[P_M], p[P_M0E], p[P_K], p[P_C], p[P_T], p[P_EPS] = self.m, self.m0e, self.k, self.c, self.T, self.eps
         p[P_KI], p[P_B], p[P_N1], p[P_N2], p[P_N3], p[P_XI] = self.kI, self.b, self.n1, self.n2, self.n3, self.xI
-        p[P_LAW], p[P_E], p[P_CI] = LAWS[self.law].code, self.e, self.cI
+        p[P_LAW] = INDEX[self.law]
+        for name, slot in OWN_SLOTS.items():
+            p[slot] = getattr(self, name)
         place_law(p)
         p[P_OMEGA] = omega
         return p
@@ -222,14 +223,42 @@ class ModelParams:
 
     @property
     def cut_velocity(self) -> float:
-        """|v| beyond which the restitution bracket turns negative (F_I = 0): b^(-1/n3) (inf for
-        a law without it, or whose cut is set per contact)."""
-        if self.law != "bc" or self.b == 0 or self.n3 == 0:
-            return math.inf
-        try:
-            return self.b ** (-1.0 / self.n3)
-        except OverflowError:  # b < 1 and a tiny n3: the bracket never turns negative
-            return math.inf
+        """|v| beyond which the bracket turns negative (F_I = 0) where the law's cut is the line
+        v = -b^(-1/n3) (its n2 = n1, b fixed); inf for a law without it, whose cut is another
+        curve (:func:`impactosc.model.contact_laws.kernel.cut_residual`) or set per contact."""
+        return cut_velocity(self.as_array(1.0))
+
+
+for _prm in OWN_PARAMETERS.values():  # the laws' own numbers, after law, in the laws' order
+    ModelParams.__annotations__[_prm.name] = "float"
+    setattr(ModelParams, _prm.name, _prm.default)
+ModelParams = dataclass(frozen=True)(ModelParams)
+
+
+def cut_is_line(p: np.ndarray) -> bool:
+    """Is the law's cut the line v = -b^(-1/n3) with b fixed (its bracket h^n1 (1 + b sgn(v) |v|^n3),
+    n2 = n1, no damping set per contact)? Else the core finds it from the bracket itself."""
+    return p[P_CHI] == 0 and p[P_N2] == p[P_N1]
+
+
+def new_contact_state(p: np.ndarray) -> None:
+    """Forget the contact state a law keeps (a damping set at the last onset, the side of a second
+    stop), in place: a run that starts outside a contact, as each identification window does."""
+    if p[P_CHI] > 0:
+        p[P_B] = 0.0
+    p[P_STAGE] = 0.0
+
+
+def cut_velocity(p: np.ndarray) -> float:
+    """The cut velocity a run with the parameter array p starts with (ModelParams.cut_velocity):
+    b^(-1/n3) where the cut is that line (:func:`cut_is_line`), else inf."""
+    b, n3 = float(p[P_B]), float(p[P_N3])
+    if not cut_is_line(p) or b == 0 or n3 == 0:
+        return math.inf
+    try:
+        return b ** (-1.0 / n3)
+    except OverflowError:  # b < 1 and a tiny n3: the bracket never turns negative
+        return math.inf
 
 
 def model_bc_summary(names=("m", "k", "xI")) -> str:

@@ -1,89 +1,75 @@
-"""The contact laws: model BC's and the named laws of impact mechanics, each one definition.
+"""The contact laws: model BC's and the named laws of impact mechanics, each one component.
 
-Why one family: every law here is model BC's contact force
+Why one family: every law here is a member of model BC's contact force
 
     F = kI (h^n1 + b h^n2 sgn(v) |v|^n3),   0 where the bracket is negative   (h = x - xI > 0)
 
-with its own exponents and damping factor b, so the core evaluates one force, its partial
-derivatives and its singular points (the onset h^n1, the cut where the bracket turns negative)
-for all of them. A law is then two things: how it fills (b, n2, n3) and whether b is set anew
-at each contact from the velocity v0 of its onset:
+with its own exponents and damping factor b (set anew at each contact from the velocity v0 of
+its onset for a restitution law), plus a second stop k2 (h - h1)^n1 behind a surface h = h1 inside
+the contact for a law that has one. So the core evaluates one force, its partial derivatives and
+the residuals of its switching surfaces for all of them (:mod:`.kernel`), and a law is one
+component (:class:`~.component.ContactLaw`) that says how it fills the family and owns everything
+else about itself: its parameters with their units and ranges, its surfaces, the state it keeps
+per contact, its exponents, what identification fits for it and from which start, the fields
+the explorer shows. Every consumer asks the component; none tests a law by its name.
 
-==========================  =================================================================
-law                         contact force, and its place in the family
-==========================  =================================================================
-``bc`` (the paper's)        the family itself: b, n2, n3 as given
-``hertz``                   kI h^n1: b = 0
-``hunt-crossley``           kI h^n1 max(0, 1 + chi v), chi = 3 (1 - e) / (2 v0)
-``lankarani-nikravesh``     the same with chi = 3 (1 - e^2) / (4 v0)
-``flores``                  the same with chi = 8 (1 - e) / (5 e v0)
-``gonthier``                the same with chi = (1 - e^2) / (e v0)
-``kelvin-voigt``            max(0, kI h + cI v), n1 = 1: b = cI / kI, n2 = 0, n3 = 1
-==========================  =================================================================
-
-A restitution law (chi) is the family with n2 = n1, n3 = 1 and b = chi, set at each contact's
-onset from its v0: e is the coefficient of restitution the law is built for (how closely a
-free impact delivers it: the restitution table). Adding a law is one row of :data:`LAWS` (and
-its chi in :func:`impactosc.model.equations.restitution_damping`, compiled into the core,
-when it has one), its tests, and nothing else. This module is plain Python: the workflow's
-config check reads it without numba.
+Adding a law is a module of this package with its component, one entry in :data:`LAWS` below,
+its tests and its docs (docs/development.md). This package is plain Python but for :mod:`.kernel`:
+the workflow's config check reads it without numba.
 """
 
 from __future__ import annotations
 
-import dataclasses
+from impactosc.model.contact_laws import bc, hertz, kelvin_voigt, restitution
+from impactosc.model.contact_laws.component import ContactLaw, LawParameter, RestitutionLaw, unit_for
 
 __all__ = [
+    "DEFAULT_LAW",
+    "INDEX",
     "LAWS",
-    "LAW_CODES",
+    "OWN_PARAMETERS",
     "ContactLaw",
-    "RESTITUTION_FIRST",
+    "LawParameter",
+    "RestitutionLaw",
     "law_of",
+    "law_at",
+    "unit_for",
 ]
 
-# --- codes in the parameter array (p[P_LAW]); the restitution laws are the codes from RESTITUTION_FIRST up
-BC, HERTZ, KELVIN_VOIGT, HUNT_CROSSLEY, LANKARANI_NIKRAVESH, FLORES, GONTHIER = range(7)
-RESTITUTION_FIRST = HUNT_CROSSLEY
-
-
-@dataclasses.dataclass(frozen=True)
-class ContactLaw:
-    """One law: its code in the core, what it is, and which of e (restitution) and cI
-    (Kelvin-Voigt damping, N s/m) it takes."""
-
-    name: str
-    code: int
-    force: str
-    uses_e: bool = False
-    uses_cI: bool = False
-
-    @property
-    def family(self) -> tuple[str, ...]:
-        """The contact parameters of model BC's family this law reads (b, n2, n3 only model BC;
-        the others take them from e or cI)."""
-        return ("kI", "b", "n1", "n2", "n3") if self.code == BC else ("kI", "n1")
-
-    @property
-    def own(self) -> tuple[str, ...]:
-        """The law's own numbers beside the family's (e, cI)."""
-        return ("e",) * self.uses_e + ("cI",) * self.uses_cI
-
-
-LAWS = {
+#: Every law by its name, in the order of the menus and tables (and of their own parameters in
+#: OWN_PARAMETERS: e, cI, ...).
+LAWS: dict[str, ContactLaw] = {
     law.name: law
     for law in (
-        ContactLaw("bc", BC, "kI (h^n1 + b h^n2 sgn(v) |v|^n3), 0 where the bracket is negative"),
-        ContactLaw("hertz", HERTZ, "kI h^n1"),
-        ContactLaw("kelvin-voigt", KELVIN_VOIGT, "max(0, kI h + cI v), n1 = 1", uses_cI=True),
-        ContactLaw("hunt-crossley", HUNT_CROSSLEY, "kI h^n1 max(0, 1 + chi v), chi = 3 (1 - e) / (2 v0)", True),
-        ContactLaw(
-            "lankarani-nikravesh", LANKARANI_NIKRAVESH, "kI h^n1 max(0, 1 + chi v), chi = 3 (1 - e^2) / (4 v0)", True
-        ),
-        ContactLaw("flores", FLORES, "kI h^n1 max(0, 1 + chi v), chi = 8 (1 - e) / (5 e v0)", True),
-        ContactLaw("gonthier", GONTHIER, "kI h^n1 max(0, 1 + chi v), chi = (1 - e^2) / (e v0)", True),
+        bc.LAW,
+        hertz.LAW,
+        *restitution.LAWS,
+        kelvin_voigt.LAW,
     )
 }
-LAW_CODES = {law.code: law.name for law in LAWS.values()}
+
+
+#: The law of a model that names none (model BC's: a model file without a ``contact`` block).
+DEFAULT_LAW = bc.LAW.name
+
+
+def _own_parameters() -> dict[str, LawParameter]:
+    """The laws' own parameters by name, each once: two laws that share a name (cI) share its
+    unit and range, checked here."""
+    out: dict[str, LawParameter] = {}
+    for law in LAWS.values():
+        for prm in law.parameters:
+            first = out.setdefault(prm.name, prm)
+            if (first.unit, first.low, first.high, first.default) != (prm.unit, prm.low, prm.high, prm.default):
+                raise TypeError(f"the laws {law.name} and another define {prm.name} differently")
+    return out
+
+
+#: The laws' own parameters beside model BC's family, by name (a model holds each: a law reads its own).
+OWN_PARAMETERS = _own_parameters()
+#: Each law's index, the number the parameter array carries (p[P_LAW]) for Python code that holds
+#: only an array (identification's windows); the core never reads it.
+INDEX = {name: i for i, name in enumerate(LAWS)}
 
 
 def law_of(name: str) -> ContactLaw:
@@ -91,4 +77,12 @@ def law_of(name: str) -> ContactLaw:
     try:
         return LAWS[name]
     except (KeyError, TypeError):
-        raise ValueError(f"contact law {name!r} is not one of {', '.join(LAWS)}") from None
+        shown = repr(name) if len(repr(name)) <= 80 else repr(name)[:77] + "..."
+        raise ValueError(f"contact law {shown} is not one of {', '.join(LAWS)}") from None
+
+
+def law_at(p) -> ContactLaw:
+    """The law of a parameter array p (ModelParams.as_array)."""
+    from impactosc.model.slots import P_LAW
+
+    return list(LAWS.values())[int(p[P_LAW])]
