@@ -24,6 +24,14 @@ def config():
     return yaml.safe_load(CONFIG.read_text())
 
 
+def alias_bomb(levels: int, indent: str = "  ") -> list:
+    """YAML lines anchoring l0 .. l<levels - 1>, each a list of nine aliases of the one before (a
+    'billion laughs'): a few lines of text, 9**levels values once its aliases are expanded."""
+    lines = [f"{indent}l0: &l0 [x, x, x, x, x, x, x, x, x]"]
+    lines += [f"{indent}l{i}: &l{i} [{', '.join([f'*l{i - 1}'] * 9)}]" for i in range(1, levels)]
+    return lines
+
+
 def test_default_config_is_valid_and_is_model_bc():
     cfg = load_config(CONFIG, SCHEMA)
     assert ModelParams(**cfg["model"]) == ModelParams()
@@ -280,3 +288,19 @@ def test_a_config_file_with_a_key_twice_is_refused(tmp_path):
     path.write_text(Path(CONFIG).read_text() + "\nstudy: other\nstudy: again\n")
     with pytest.raises(ConfigError, match=r"twice\.yaml: key 'study' given twice"):
         load_config(path, SCHEMA)
+
+
+def test_a_value_far_larger_than_its_text_is_echoed_cut(config):
+    # six levels of aliases: 531441 values (a repr of 2.6 MB) from seven lines of YAML
+    huge = yaml.safe_load("\n".join(["anchors:", *alias_bomb(6)]))["anchors"]["l5"]
+    for key, mutate in [
+        ("model.k", lambda c: c["model"].__setitem__("k", huge)),
+        ("study", lambda c: c.__setitem__("study", huge)),
+        ("measured.chaos.label", lambda c: c["measured"]["chaos"].__setitem__("label", "a" * 10**6)),
+    ]:
+        bad = copy.deepcopy(config)
+        mutate(bad)
+        msg = _errors(bad)
+        assert f"  {key}: " in msg and len(msg) < 600, msg[:1000]
+        assert max(len(line) for line in msg.splitlines()) < 300, msg[:1000]
+    assert "  model.k: [[[[[...], [...]," in _errors({**config, "model": {"k": huge}})

@@ -7,7 +7,7 @@ import h5py
 import numpy as np
 import pytest
 import yaml
-from test_config import CONFIG, SCHEMA  # tests/ is on sys.path (pytest's prepend import mode)
+from test_config import CONFIG, SCHEMA, alias_bomb  # tests/ is on sys.path (pytest's prepend import mode)
 
 from impactosc.cli.main import main
 from impactosc.cli.options import MODEL_NAMES
@@ -103,6 +103,34 @@ def test_bad_file_is_named_with_its_key(tmp_path, text, expected):
     with pytest.raises(ValueError) as err:
         read_model_file(path)
     assert str(path) in str(err.value) and expected in str(err.value), str(err.value)
+
+
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("parameters: {k: *l4}", "parameters.k: [[[[[...], [...], [...], [...], [...], [...], ...], [[...], ["),
+        ("parameters: {k: {value: 1500.0, unit: *l4}}", "parameters.k.unit: [[[[[...], [...], [...], [...], [...],"),
+        ("parameters: {k: {value: 1500.0, fixed: *l4}}", "parameters.k.fixed: [[[[[...], [...], [...], [...], "),
+        ("contact: {law: *l4}", "contact.law: contact law [[[[[...], [...], [...], [...], [...], [...], ...], "),
+        (f"parameters: {{k: {'1' * 10**5}x}}", "parameters.k: '1111111111111111111111111111111111111...1111"),
+    ],
+)
+def test_a_value_far_larger_than_its_text_is_echoed_cut(tmp_path, text, expected):
+    # five levels of aliases: 66430 values (a repr of 330 kB) from six lines of YAML
+    path = _write(tmp_path / "bad.yaml", "\n".join([f"format: {FORMAT}", "fit:", *alias_bomb(5), text, ""]))
+    with pytest.raises(ValueError) as err:
+        read_model_file(path)
+    assert expected in str(err.value) and len(str(err.value)) < 300 + len(str(path)), str(err.value)[:1000]
+
+
+def test_a_long_override_or_value_is_echoed_cut():
+    with pytest.raises(ValueError) as err:
+        apply_overrides(ModelParams(), ["k=" + "x" * 10**5])
+    assert str(err.value).startswith("parameter override 'k=xxxx") and len(str(err.value)) < 200, str(err.value)[:1000]
+    with pytest.raises(ValueError) as err:
+        ModelParams(k=[[1.0] * 1000] * 1000)
+    assert "must be a finite number, got [[1.0, 1.0, 1.0, 1.0, 1.0, 1.0, ...], [1.0," in str(err.value)
+    assert len(str(err.value)) < 200, str(err.value)[:1000]
 
 
 def test_missing_file_is_named(tmp_path):

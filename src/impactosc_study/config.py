@@ -26,7 +26,7 @@ from pathlib import Path
 import jsonschema
 import yaml
 
-from impactosc.io.names import closest_name
+from impactosc.io.names import SHOWN_LIMIT, closest_name, shown
 from impactosc.io.yaml_text import DuplicateKeyError, load_yaml, number_as_string_hint
 
 
@@ -89,8 +89,19 @@ def _messages(errors) -> list:
             missing = [k for k in error.validator_value if error.message == f"{k!r} is a required property"]
             if missing and (tuple(error.absolute_path), missing[0]) in suggested:
                 continue
-        lines.append(f"  {_path(error)}: {error.message}{number_as_string_hint(error.instance)}")
+        lines.append(f"  {_path(error)}: {_said(error)}{number_as_string_hint(error.instance)}")
     return lines
+
+
+def _said(error) -> str:
+    """jsonschema's message with the value it echoes cut (:func:`impactosc.io.names.shown`): most
+    of its messages are repr(value) and the rule, e.g. "[[...], ...] is not of type 'number'"."""
+    message = error.message
+    if len(message) > 2 * SHOWN_LIMIT:
+        echoed = repr(error.instance)
+        if message.startswith(echoed):
+            return shown(error.instance) + message[len(echoed) :]
+    return message
 
 
 def _check_finite(node, where: str = "") -> None:
@@ -137,7 +148,7 @@ def nest_dotted_keys(config: dict) -> dict:
                 if part in node:
                     where = ".".join(parents[: i + 1])
                     raise ConfigError(
-                        f"invalid configuration:\n  {key}: {where} is not a section (it is {node[part]!r})"
+                        f"invalid configuration:\n  {key}: {where} is not a section (it is {shown(node[part])})"
                     )
                 node[part] = {}
             node = node[part]
@@ -268,17 +279,17 @@ def _check_study_names(config: dict, schema: dict) -> None:
             continue
         if not isinstance(name, str):
             raise ConfigError(
-                f"invalid configuration:\n  {key}: {name!r} is not a string (a name made of digits only must be "
-                f"quoted, on the command line too: --config '{key.split('.')[-1]}=\"{name}\"')"
+                f"invalid configuration:\n  {key}: {shown(name)} is not a string (a name made of digits only must be "
+                f"quoted, on the command line too: --config '{key.split('.')[-1]}=\"{shown(name)}\"')"
             )
         if not re.fullmatch(pattern, name):
             raise ConfigError(
-                f"invalid configuration:\n  {key}: {name!r} is not a safe directory name (letters, digits, _ and - "
+                f"invalid configuration:\n  {key}: {shown(name)} is not a safe directory name (letters, digits, _ and - "
                 f"only): the study's results go to results/<study>/"
             )
     if other == study:
         raise ConfigError(
-            f"invalid configuration:\n  compare.study: {other!r} is this study (study): name another one to compare with"
+            f"invalid configuration:\n  compare.study: {shown(other)} is this study (study): name another one to compare with"
         )
 
 
@@ -299,7 +310,7 @@ def _check_measured_labels(measured: dict) -> None:
         entry = measured.get(key, {})
         if entry.get("label") and not any(entry.get(r) for r in records):
             raise ConfigError(
-                f"invalid configuration:\n  measured.{key}.label: {entry['label']!r} names a record, but none is "
+                f"invalid configuration:\n  measured.{key}.label: {shown(entry['label'])} names a record, but none is "
                 f"configured (measured.{key}.{' or '.join(records)}): the surrogate's panels are always labelled "
                 "'surrogate (model + noise)'"
             )

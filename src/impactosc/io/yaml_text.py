@@ -12,6 +12,8 @@ import math
 
 import yaml
 
+from impactosc.io.names import SHOWN_LIMIT, shown
+
 __all__ = ["DuplicateKeyError", "load_yaml", "number_as_string_hint"]
 
 
@@ -37,7 +39,7 @@ class _UniqueKeyLoader(yaml.SafeLoader):
                 if first is not None:
                     where = f"line {line}" if first == line else f"lines {first} and {line}"
                     raise DuplicateKeyError(
-                        f"key {key!r} given twice ({where}); YAML would keep only the last: remove one"
+                        f"key {shown(key)} given twice ({where}); YAML would keep only the last: remove one"
                     )
                 seen[key] = line
         return super().construct_mapping(node, deep=deep)
@@ -52,7 +54,7 @@ def load_yaml(text: str):
 def number_as_string_hint(value) -> str:
     """' (YAML 1.1 ...)' when `value` is a string that reads as a finite number, as '1e-5' does:
     how to write it so that YAML reads a number; '' otherwise."""
-    if not isinstance(value, str):
+    if not isinstance(value, str) or len(value) > SHOWN_LIMIT:
         return ""
     try:
         number = float(value)

@@ -33,6 +33,8 @@ from __future__ import annotations
 
 import dataclasses
 
+from impactosc.io.names import shown
+
 __all__ = [
     "LAWS",
     "LAW_CODES",
@@ -91,4 +93,4 @@ def law_of(name: str) -> ContactLaw:
     try:
         return LAWS[name]
     except (KeyError, TypeError):
-        raise ValueError(f"contact law {name!r} is not one of {', '.join(LAWS)}") from None
+        raise ValueError(f"contact law {shown(name)} is not one of {', '.join(LAWS)}") from None
