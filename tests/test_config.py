@@ -304,3 +304,15 @@ def test_a_value_far_larger_than_its_text_is_echoed_cut(config):
         assert f"  {key}: " in msg and len(msg) < 600, msg[:1000]
         assert max(len(line) for line in msg.splitlines()) < 300, msg[:1000]
     assert "  model.k: [[[[[...], [...]," in _errors({**config, "model": {"k": huge}})
+
+
+def test_a_config_file_whose_aliases_expand_beyond_reason_is_refused(tmp_path):
+    path = tmp_path / "laughs.yaml"
+    path.write_text("\n".join(["bomb:", *alias_bomb(7), "model: {k: *l6}", ""]))
+    with pytest.raises(ConfigError) as err:
+        load_config(path, SCHEMA)
+    msg = str(err.value)
+    assert msg == (
+        f"invalid configuration:\n  {path}: its aliases (*name) add 11,434,267 values to the 29 it writes, more "
+        "than the 100,000 allowed (aliases nested in aliases multiply: write the values out)"
+    ), msg[:1000]

@@ -108,19 +108,43 @@ def test_bad_file_is_named_with_its_key(tmp_path, text, expected):
 @pytest.mark.parametrize(
     "text, expected",
     [
-        ("parameters: {k: *l4}", "parameters.k: [[[[[...], [...], [...], [...], [...], [...], ...], [[...], ["),
-        ("parameters: {k: {value: 1500.0, unit: *l4}}", "parameters.k.unit: [[[[[...], [...], [...], [...], [...],"),
-        ("parameters: {k: {value: 1500.0, fixed: *l4}}", "parameters.k.fixed: [[[[[...], [...], [...], [...], "),
-        ("contact: {law: *l4}", "contact.law: contact law [[[[[...], [...], [...], [...], [...], [...], ...], "),
+        ("parameters: {k: *l3}", "parameters.k: [[[['x', 'x', 'x', 'x', 'x', 'x', ...], ['x', 'x', 'x', "),
+        ("parameters: {k: {value: 1500.0, unit: *l3}}", "parameters.k.unit: [[[['x', 'x', 'x', 'x', 'x', 'x', ...], "),
+        (
+            "parameters: {k: {value: 1500.0, fixed: *l3}}",
+            "parameters.k.fixed: [[[['x', 'x', 'x', 'x', 'x', 'x', ...], ",
+        ),
+        ("contact: {law: *l3}", "contact.law: contact law [[[['x', 'x', 'x', 'x', 'x', 'x', ...], ['x', 'x', "),
         (f"parameters: {{k: {'1' * 10**5}x}}", "parameters.k: '1111111111111111111111111111111111111...1111"),
     ],
 )
 def test_a_value_far_larger_than_its_text_is_echoed_cut(tmp_path, text, expected):
-    # five levels of aliases: 66430 values (a repr of 330 kB) from six lines of YAML
-    path = _write(tmp_path / "bad.yaml", "\n".join([f"format: {FORMAT}", "fit:", *alias_bomb(5), text, ""]))
+    # four levels of aliases (under load_yaml's limit): 6561 values, a repr of 34 kB, from five lines
+    path = _write(tmp_path / "bad.yaml", "\n".join([f"format: {FORMAT}", "fit:", *alias_bomb(4), text, ""]))
     with pytest.raises(ValueError) as err:
         read_model_file(path)
     assert expected in str(err.value) and len(str(err.value)) < 300 + len(str(path)), str(err.value)[:1000]
+
+
+@pytest.mark.parametrize(
+    "lines, expected",
+    [
+        # seven levels: 4.8 million values (a repr of 24 MB) from eight lines; a list of a few
+        # aliases reads as it always did
+        (["fit:", *alias_bomb(7), "parameters: {k: *l6}"], "its aliases (*name) add 11,434,267 values to the 31"),
+        (["fit: {a: &a [1, *a]}"], "the value at line 2 holds an alias of itself"),
+    ],
+)
+def test_aliases_that_expand_a_model_file_beyond_reason_are_refused(tmp_path, lines, expected):
+    path = _write(tmp_path / "bad.yaml", "\n".join([f"format: {FORMAT}", *lines, ""]))
+    with pytest.raises(ValueError) as err:
+        read_model_file(path)
+    assert f"model file {path}: {expected}" in str(err.value), str(err.value)[:1000]
+    assert "\n" not in str(err.value) and len(str(err.value)) < 300 + len(str(path))
+    fine = _write(
+        tmp_path / "fine.yaml", f"format: {FORMAT}\nfit: {{w: &w [1.0, 2.0]}}\nrecords: [{{w: *w}}, {{w: *w}}]\n"
+    )
+    assert read_model_file(fine).meta["records"] == [{"w": [1.0, 2.0]}] * 2
 
 
 def test_a_long_override_or_value_is_echoed_cut():

@@ -27,7 +27,7 @@ import jsonschema
 import yaml
 
 from impactosc.io.names import SHOWN_LIMIT, closest_name, shown
-from impactosc.io.yaml_text import DuplicateKeyError, load_yaml, number_as_string_hint
+from impactosc.io.yaml_text import AliasError, DuplicateKeyError, load_yaml, number_as_string_hint
 
 
 class ConfigError(ValueError):
@@ -219,11 +219,12 @@ def _model_from_file(model: dict) -> dict:
 
 def check_config_files(paths) -> None:
     """Each config file read again as a user's YAML (:func:`impactosc.io.yaml_text.load_yaml`):
-    a key given twice, which Snakemake's reader keeps the last of silently, is refused."""
+    a key given twice, which Snakemake's reader keeps the last of silently, and aliases that expand
+    the file beyond reason, which Snakemake's reader expands, are refused."""
     for path in paths:
         try:
             load_yaml(Path(path).read_text(encoding="utf-8"))
-        except DuplicateKeyError as exc:
+        except (DuplicateKeyError, AliasError) as exc:
             raise ConfigError(f"invalid configuration:\n  {path}: {exc}") from None
 
 

@@ -4,6 +4,12 @@ Why: PyYAML keeps the last of two equal keys without a word (``k: 1500`` written
 first forgotten), and YAML 1.1 reads ``1e-5`` (no dot before the exponent) as the string
 '1e-5'. A model file or a workflow config that means a number and holds a string, or that holds
 a key twice, is refused with the file, the key and the line.
+
+And aliases: YAML repeats an anchored value wherever an alias (``*name``) names it, so nine aliases
+of a list of nine aliases, six levels deep, are half a million values written in seven lines (a
+"billion laughs"); any code that prints or serialises them (an error message, a job's params, a
+JSON dump) spends memory and time in proportion. A document whose aliases add more than
+:data:`ALIAS_LIMIT` values, or whose alias sits inside the value it names, is refused.
 """
 
 from __future__ import annotations
@@ -14,11 +20,53 @@ import yaml
 
 from impactosc.io.names import SHOWN_LIMIT, shown
 
-__all__ = ["DuplicateKeyError", "load_yaml", "number_as_string_hint"]
+__all__ = ["ALIAS_LIMIT", "AliasError", "DuplicateKeyError", "load_yaml", "number_as_string_hint"]
+
+#: Most values YAML aliases may add to a document: a model file or a workflow config is a few
+#: hundred values, its aliases (a shared window, a merge key) a few dozen more.
+ALIAS_LIMIT = 100_000
 
 
 class DuplicateKeyError(yaml.YAMLError):
     """A mapping states a key twice (PyYAML would keep the last one silently)."""
+
+
+class AliasError(yaml.YAMLError):
+    """Aliases expand the document beyond ALIAS_LIMIT values, or an alias names a value that holds it."""
+
+
+def _check_aliases(root) -> None:
+    """AliasError when the aliases of the composed document `root` (a node graph in which an
+    alias is the node it names, met again) expand it by more than ALIAS_LIMIT values, or when a
+    node holds itself. One pass over the distinct nodes, not over the expansion."""
+    size, ancestors, written = {}, set(), 0
+    stack = [(root, False)]
+    while stack:
+        node, done = stack.pop()
+        children = [] if isinstance(node, yaml.ScalarNode) else node.value
+        if isinstance(node, yaml.MappingNode):
+            children = [part for pair in children for part in pair]
+        if done:
+            ancestors.discard(id(node))
+            size[id(node)] = 1 + sum(size[id(child)] for child in children)
+            continue
+        if id(node) in ancestors:
+            raise AliasError(
+                f"the value at line {node.start_mark.line + 1} holds an alias of itself: a value without end"
+            )
+        if id(node) in size:
+            continue
+        written += 1
+        ancestors.add(id(node))
+        stack.append((node, True))
+        stack.extend((child, False) for child in children)
+    added = size[id(root)] - written
+    if added > ALIAS_LIMIT:
+        many = f"{added:,}" if added < 10**12 else f"about 10^{len(str(added)) - 1}"
+        raise AliasError(
+            f"its aliases (*name) add {many} values to the {written:,} it writes, more than the "
+            f"{ALIAS_LIMIT:,} allowed (aliases nested in aliases multiply: write the values out)"
+        )
 
 
 class _UniqueKeyLoader(yaml.SafeLoader):
@@ -44,10 +92,14 @@ class _UniqueKeyLoader(yaml.SafeLoader):
                 seen[key] = line
         return super().construct_mapping(node, deep=deep)
 
+    def construct_document(self, node):
+        _check_aliases(node)  # before any value is built
+        return super().construct_document(node)
+
 
 def load_yaml(text: str):
     """The YAML document in `text`, as yaml.safe_load reads it, but a DuplicateKeyError for a key
-    given twice in one mapping."""
+    given twice in one mapping and an AliasError for aliases that expand it beyond ALIAS_LIMIT values."""
     return yaml.load(text, Loader=_UniqueKeyLoader)  # a SafeLoader: no arbitrary objects
 
 

@@ -49,7 +49,7 @@ import yaml
 from impactosc import __version__
 from impactosc.io.files import atomic_write, git_commit
 from impactosc.io.names import closest_name, shown, split_assignment
-from impactosc.io.yaml_text import DuplicateKeyError, load_yaml
+from impactosc.io.yaml_text import AliasError, DuplicateKeyError, load_yaml
 from impactosc.model.contact_laws import LAWS, law_of
 from impactosc.model.parameters import PARAM_UNITS, PARAMETERS, ModelParams, unit_of
 
@@ -242,7 +242,7 @@ def _load(path: Path) -> dict:
         raise FileNotFoundError(f"model file {path} does not exist")
     try:
         doc = load_yaml(path.read_text(encoding="utf-8"))
-    except DuplicateKeyError as exc:
+    except (DuplicateKeyError, AliasError) as exc:
         raise ValueError(f"model file {path}: {exc}") from None
     except (yaml.YAMLError, UnicodeDecodeError) as exc:
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
