@@ -3,6 +3,7 @@ config/README.md is the schema rendered."""
 
 import copy
 import dataclasses
+import json
 from pathlib import Path
 
 import pytest
@@ -304,6 +305,21 @@ def test_a_value_far_larger_than_its_text_is_echoed_cut(config):
         assert f"  {key}: " in msg and len(msg) < 600, msg[:1000]
         assert max(len(line) for line in msg.splitlines()) < 300, msg[:1000]
     assert "  model.k: [[[[[...], [...]," in _errors({**config, "model": {"k": huge}})
+
+
+def test_a_config_file_not_yaml_is_named_with_its_line(tmp_path):
+    path = tmp_path / "tab.yaml"
+    path.write_text("study: paper\nmodel:\n\tk: 1500.0\n")
+    with pytest.raises(ConfigError) as err:
+        load_config(path, SCHEMA)
+    assert str(err.value) == (
+        f"invalid configuration:\n  {path}: not YAML: found character '\\t' that cannot start any token "
+        "(line 3, column 1)"
+    )
+    # JSON indented with tabs is no YAML, but a config file Snakemake reads (JSON first): as is ours
+    path = tmp_path / "tabs.json"
+    path.write_text(json.dumps(yaml.safe_load(CONFIG.read_text()), indent="\t"))
+    assert load_config(path, SCHEMA) == load_config(CONFIG, SCHEMA)
 
 
 def test_a_config_file_whose_aliases_expand_beyond_reason_is_refused(tmp_path):

@@ -157,6 +157,31 @@ def test_a_long_override_or_value_is_echoed_cut():
     assert len(str(err.value)) < 200, str(err.value)[:1000]
 
 
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        (
+            f"format: {FORMAT}\nparameters:\n\tk: 1500.0\n",
+            "not YAML: found character '\\t' that cannot start any token (line 3, column 1)",
+        ),
+        (
+            f"format: {FORMAT}\nparameters: {{k: [1500.0, c: 7.1}}\n",
+            "not YAML: expected ',' or ']', but got '}' (line 2, column 32)",
+        ),
+        (
+            f"format: {FORMAT}\nparameters: [k: 1500.0,\n  c: 7.1\n",
+            "not YAML: expected ',' or ']', but got '<stream end>' (line 4, column 1), while parsing a flow sequence "
+            "from line 2, column 13",
+        ),
+    ],
+)
+def test_a_yaml_mistake_is_named_with_its_line(tmp_path, text, expected):
+    path = _write(tmp_path / "rig.yaml", text)
+    with pytest.raises(ValueError) as err:
+        read_model_file(path)
+    assert str(err.value) == f"model file {path}: {expected}"
+
+
 def test_missing_file_is_named(tmp_path):
     with pytest.raises(FileNotFoundError, match=r"model file .*none\.yaml does not exist"):
         read_model_file(tmp_path / "none.yaml")

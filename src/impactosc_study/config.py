@@ -19,6 +19,7 @@ way ``config["model"]`` ends up holding exactly the ModelParams fields, and
 from __future__ import annotations
 
 import copy
+import json
 import math
 import re
 from pathlib import Path
@@ -27,7 +28,7 @@ import jsonschema
 import yaml
 
 from impactosc.io.names import SHOWN_LIMIT, closest_name, shown
-from impactosc.io.yaml_text import AliasError, DuplicateKeyError, load_yaml, number_as_string_hint
+from impactosc.io.yaml_text import AliasError, DuplicateKeyError, load_yaml, number_as_string_hint, yaml_problem
 
 
 class ConfigError(ValueError):
@@ -220,12 +221,24 @@ def _model_from_file(model: dict) -> dict:
 def check_config_files(paths) -> None:
     """Each config file read again as a user's YAML (:func:`impactosc.io.yaml_text.load_yaml`):
     a key given twice, which Snakemake's reader keeps the last of silently, and aliases that expand
-    the file beyond reason, which Snakemake's reader expands, are refused."""
+    the file beyond reason, which Snakemake's reader expands, are refused; so is text that is
+    neither YAML nor JSON (Snakemake reads JSON first: a JSON file indented with tabs is no YAML)."""
     for path in paths:
         try:
-            load_yaml(Path(path).read_text(encoding="utf-8"))
+            text = Path(path).read_text(encoding="utf-8")
+        except UnicodeDecodeError as exc:
+            raise ConfigError(
+                f"invalid configuration:\n  {path}: not UTF-8 text (byte {exc.start} cannot be decoded)"
+            ) from None
+        try:
+            load_yaml(text)
         except (DuplicateKeyError, AliasError) as exc:
             raise ConfigError(f"invalid configuration:\n  {path}: {exc}") from None
+        except yaml.YAMLError as exc:
+            try:
+                json.loads(text)
+            except ValueError:
+                raise ConfigError(f"invalid configuration:\n  {path}: not YAML: {yaml_problem(exc)}") from None
 
 
 def validate_config(config: dict, schema_path, config_files=()) -> dict:
@@ -374,4 +387,10 @@ def load_config(path, schema_path) -> dict:
     path = Path(path)
     if not path.is_file():
         raise ConfigError(f"configuration file {path} does not exist")
-    return validate_config(yaml.safe_load(path.read_text()) or {}, schema_path, config_files=[path])
+    check_config_files([path])  # a key twice, aliases beyond reason, not YAML: one line, before reading it
+    text = path.read_text(encoding="utf-8")
+    try:  # JSON first, as Snakemake reads a config file
+        config = json.loads(text)
+    except ValueError:
+        config = yaml.safe_load(text)
+    return validate_config(config or {}, schema_path)

@@ -20,7 +20,7 @@ import yaml
 
 from impactosc.io.names import SHOWN_LIMIT, shown
 
-__all__ = ["ALIAS_LIMIT", "AliasError", "DuplicateKeyError", "load_yaml", "number_as_string_hint"]
+__all__ = ["ALIAS_LIMIT", "AliasError", "DuplicateKeyError", "load_yaml", "number_as_string_hint", "yaml_problem"]
 
 #: Most values YAML aliases may add to a document: a model file or a workflow config is a few
 #: hundred values, its aliases (a shared window, a merge key) a few dozen more.
@@ -101,6 +101,27 @@ def load_yaml(text: str):
     """The YAML document in `text`, as yaml.safe_load reads it, but a DuplicateKeyError for a key
     given twice in one mapping and an AliasError for aliases that expand it beyond ALIAS_LIMIT values."""
     return yaml.load(text, Loader=_UniqueKeyLoader)  # a SafeLoader: no arbitrary objects
+
+
+def yaml_problem(exc: yaml.YAMLError) -> str:
+    """What a YAML error says is wrong, on one line with its line and column: "found character
+    '\\t' that cannot start any token (line 3, column 1)"; and where the construct it was reading
+    began, when that is another line ("..., while parsing a flow sequence from line 1, column 4")."""
+    if not isinstance(exc, yaml.MarkedYAMLError):
+        return " ".join(str(exc).split()) or type(exc).__name__
+
+    def where(mark) -> str:
+        return f"line {mark.line + 1}, column {mark.column + 1}"
+
+    problem, mark, context = exc.problem, exc.problem_mark, exc.context
+    if problem is None:
+        problem, mark, context = context, exc.context_mark, None
+    text = " ".join(str(problem or type(exc).__name__).split())
+    if mark is not None:
+        text += f" ({where(mark)})"
+    if context and exc.context_mark is not None and (mark is None or exc.context_mark.line != mark.line):
+        text += f", {' '.join(context.split())} from {where(exc.context_mark)}"
+    return text
 
 
 def number_as_string_hint(value) -> str:

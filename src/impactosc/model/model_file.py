@@ -49,7 +49,7 @@ import yaml
 from impactosc import __version__
 from impactosc.io.files import atomic_write, git_commit
 from impactosc.io.names import closest_name, shown, split_assignment
-from impactosc.io.yaml_text import AliasError, DuplicateKeyError, load_yaml
+from impactosc.io.yaml_text import AliasError, DuplicateKeyError, load_yaml, yaml_problem
 from impactosc.model.contact_laws import LAWS, law_of
 from impactosc.model.parameters import PARAM_UNITS, PARAMETERS, ModelParams, unit_of
 
@@ -244,9 +244,10 @@ def _load(path: Path) -> dict:
         doc = load_yaml(path.read_text(encoding="utf-8"))
     except (DuplicateKeyError, AliasError) as exc:
         raise ValueError(f"model file {path}: {exc}") from None
-    except (yaml.YAMLError, UnicodeDecodeError) as exc:
-        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise ValueError(f"model file {path}: not YAML ({first})") from None
+    except yaml.YAMLError as exc:
+        raise ValueError(f"model file {path}: not YAML: {yaml_problem(exc)}") from None
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"model file {path}: not UTF-8 text (byte {exc.start} cannot be decoded)") from None
     if not isinstance(doc, dict):
         raise ValueError(f"model file {path}: not a model file (a YAML mapping starting with 'format: {FORMAT}')")
     if "format" not in doc:
