@@ -316,6 +316,9 @@ def test_a_config_file_not_yaml_is_named_with_its_line(tmp_path):
         f"invalid configuration:\n  {path}: not YAML: found character '\\t' that cannot start any token "
         "(line 3, column 1)"
     )
+    path.write_text(f"study: {'[' * 10**4}{']' * 10**4}\n")
+    with pytest.raises(ConfigError, match="not YAML: collections nested too deep to read"):
+        load_config(path, SCHEMA)
     # JSON indented with tabs is no YAML, but a config file Snakemake reads (JSON first): as is ours
     path = tmp_path / "tabs.json"
     path.write_text(json.dumps(yaml.safe_load(CONFIG.read_text()), indent="\t"))

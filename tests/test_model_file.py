@@ -173,6 +173,15 @@ def test_a_long_override_or_value_is_echoed_cut():
             "not YAML: expected ',' or ']', but got '<stream end>' (line 4, column 1), while parsing a flow sequence "
             "from line 2, column 13",
         ),
+        # beyond what PyYAML (recursive) and Python (4300 digits) read: named, not a crash
+        (
+            f"format: {FORMAT}\nparameters: {{k: {'[' * 10**4}{']' * 10**4}}}\n",
+            "not YAML: collections nested too deep to read (hundreds of levels, a [ or { inside another)",
+        ),
+        (
+            f"format: {FORMAT}\nparameters: {{k: {'1' * 5000}}}\n",
+            "not YAML: an integer of 5000 characters, more than the 4300 digits Python reads (line 2, column 17)",
+        ),
     ],
 )
 def test_a_yaml_mistake_is_named_with_its_line(tmp_path, text, expected):

@@ -237,7 +237,7 @@ def check_config_files(paths) -> None:
         except yaml.YAMLError as exc:
             try:
                 json.loads(text)
-            except ValueError:
+            except (ValueError, RecursionError):
                 raise ConfigError(f"invalid configuration:\n  {path}: not YAML: {yaml_problem(exc)}") from None
 
 

@@ -15,6 +15,7 @@ JSON dump) spends memory and time in proportion. A document whose aliases add mo
 from __future__ import annotations
 
 import math
+import sys
 
 import yaml
 
@@ -92,6 +93,18 @@ class _UniqueKeyLoader(yaml.SafeLoader):
                 seen[key] = line
         return super().construct_mapping(node, deep=deep)
 
+    def construct_yaml_int(self, node):
+        try:
+            return super().construct_yaml_int(node)
+        except ValueError:  # more digits than Python converts (sys.get_int_max_str_digits)
+            raise yaml.constructor.ConstructorError(
+                None,
+                None,
+                f"an integer of {len(node.value)} characters, more than the {sys.get_int_max_str_digits()} "
+                "digits Python reads",
+                node.start_mark,
+            ) from None
+
     def construct_document(self, node):
         _check_aliases(node)  # before any value is built
         return super().construct_document(node)
@@ -100,7 +113,15 @@ class _UniqueKeyLoader(yaml.SafeLoader):
 def load_yaml(text: str):
     """The YAML document in `text`, as yaml.safe_load reads it, but a DuplicateKeyError for a key
     given twice in one mapping and an AliasError for aliases that expand it beyond ALIAS_LIMIT values."""
-    return yaml.load(text, Loader=_UniqueKeyLoader)  # a SafeLoader: no arbitrary objects
+    try:
+        return yaml.load(text, Loader=_UniqueKeyLoader)  # a SafeLoader: no arbitrary objects
+    except RecursionError:  # PyYAML composes and builds nested collections recursively
+        raise yaml.YAMLError(
+            "collections nested too deep to read (hundreds of levels, a [ or { inside another)"
+        ) from None
+
+
+_UniqueKeyLoader.add_constructor("tag:yaml.org,2002:int", _UniqueKeyLoader.construct_yaml_int)
 
 
 def yaml_problem(exc: yaml.YAMLError) -> str:
