@@ -335,3 +335,31 @@ def test_a_config_file_whose_aliases_expand_beyond_reason_is_refused(tmp_path):
         f"invalid configuration:\n  {path}: its aliases (*name) add 11,434,267 values to the 29 it writes, more "
         "than the 100,000 allowed (aliases nested in aliases multiply: write the values out)"
     ), msg[:1000]
+
+
+#: Models the schema lets through but the model refuses: the config check builds the model once
+REFUSED_MODELS = [
+    (
+        {"contact": {"law": "flores", "e": 1.0e-200}},
+        "model.contact.e: model parameter e = 1e-200 is beyond what the model evaluates (|e| from 1e-100 to 1e+100, "
+        "or 0 where allowed)",
+    ),
+    (
+        {"n1": 1.5, "contact": {"law": "kelvin-voigt", "cI": 100}},
+        "model.n1: the kelvin-voigt law is linear in the penetration: n1 = 1, got 1.5",
+    ),
+]
+
+
+@pytest.mark.parametrize(("model", "expected"), REFUSED_MODELS, ids=["flores-e", "kelvin-voigt-n1"])
+def test_a_model_every_job_would_refuse_is_refused_by_the_check(config, model, expected):
+    config["model"] = model
+    with pytest.raises(ConfigError) as err:
+        validate_config(config, SCHEMA)
+    assert str(err.value) == f"invalid configuration:\n  {expected}"
+
+
+def test_a_model_outside_the_tested_ranges_passes_the_check(config):
+    config["model"] = {"k": 1.0e5, "contact": {"law": "kelvin-voigt", "cI": 100}}  # k and n1 = 1 untested
+    model = validate_config(config, SCHEMA)["model"]  # pytest makes a warning an error: none is raised
+    assert (model["k"], model["n1"], model["law"]) == (1.0e5, 1.0, "kelvin-voigt")

@@ -218,6 +218,25 @@ def _model_from_file(model: dict) -> dict:
     return {"file": str(path), "description": description, "covariance": covariance}
 
 
+def _check_model(model: dict) -> None:
+    """The model section built once, as every job builds it (ModelParams): a value the schema lets
+    through but the model refuses (an e of 1e-200, beyond what the model evaluates; n1 = 1.5 with
+    the kelvin-voigt law) is refused here, named by its config key, rather than by every job.
+    Warnings of values outside the tested ranges stay with the jobs, in their logs."""
+    import warnings
+
+    from impactosc.model.parameters import LAW_PARAMETERS, ModelParams, ParameterError, UntestedParameterWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UntestedParameterWarning)
+        try:
+            ModelParams(**model)
+        except ParameterError as exc:
+            contact = {name for name, _, _ in LAW_PARAMETERS}  # given in model.contact
+            key = f"contact.{exc.name}" if exc.name in contact else exc.name
+            raise ConfigError(f"invalid configuration:\n  model.{key}: {exc}") from None
+
+
 def check_config_files(paths) -> None:
     """Each config file read again as a user's YAML (:func:`impactosc.io.yaml_text.load_yaml`):
     a key given twice, which Snakemake's reader keeps the last of silently, and aliases that expand
@@ -258,6 +277,7 @@ def validate_config(config: dict, schema_path, config_files=()) -> dict:
     if errors:
         raise ConfigError("invalid configuration:\n" + "\n".join(_messages(errors)))
     config["model_source"] = _model_from_file(config.setdefault("model", {}))
+    _check_model(config["model"])
     _fill_defaults(schema, config)
     for name, scene in config["scenes"].items():
         win = scene.get("window")
