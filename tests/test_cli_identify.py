@@ -109,6 +109,13 @@ def test_fix_keeps_a_value_and_the_table_as_csv(tmp_path):
     assert "fixed: held fixed (--fix T/m)" in run.stdout
 
 
+def _record_at_rest(path):
+    """A record of zeros: the cart never moves (a sensor unplugged)."""
+    t = np.arange(20000) * 1e-3
+    path.write_text("# units: m\n# omega: 40.86\nt,x\n" + "".join(f"{a:.3f},0\n" for a in t))
+    return path
+
+
 def _record_without_omega(path):
     lines = (REPO / "examples" / "record_example.csv").read_text().splitlines(keepends=True)
     path.write_text("".join(line for line in lines if not line.startswith("# omega:")))
@@ -125,6 +132,7 @@ def _record_without_omega(path):
         ("unwritable", "output directory"),
         ("table format", "--table"),
         ("fix of another law", "--fix e=0.5: the stated model's contact law (bc) has no e"),
+        ("no motion", "rig.csv: x does not move (constant at 0 m): nothing to identify"),
     ],
 )
 def test_bad_input_exits_2_naming_it(tmp_path, case, message):
@@ -137,6 +145,7 @@ def test_bad_input_exits_2_naming_it(tmp_path, case, message):
         "unwritable": [*EXAMPLE, "--output", tmp_path / "no" / "such" / "dir.yaml"],
         "table format": [*EXAMPLE, "--table", tmp_path / "t.txt"],
         "fix of another law": [*EXAMPLE, "--fix", "e=0.5"],
+        "no motion": [_record_at_rest(tmp_path / "rig.csv")],
     }[case]
     run = run_cli("identify", *args, *([] if "--output" in args else ["--output", out]))
     assert run.returncode == 2, (run.stdout, run.stderr)
@@ -144,6 +153,8 @@ def test_bad_input_exits_2_naming_it(tmp_path, case, message):
     assert len(lines) == 1 and lines[0].startswith("impactosc identify: error: ") and message in lines[0], lines
     if case == "no omega":
         assert "no_omega.csv" in lines[0]
+    if case == "no motion":
+        assert lines[0] == f"impactosc identify: error: record {tmp_path / 'rig.csv'}: {message.split(': ', 1)[1]}"
     assert not out.exists() and run.stdout == ""
 
 
@@ -181,3 +192,15 @@ def test_the_model_file_rebuilds_fig02(example, tmp_path, capsys):
     with h5py.File(tmp_path / "results" / "paper" / "runs" / "bifurcation" / "increasing.h5") as f:
         for field in FIELDS:
             assert f.attrs[f"param_{field}"] == getattr(model.params, field), field
+
+
+def test_windows_are_not_cut_from_a_record_that_does_not_move():
+    from impactosc.identification.windows import cut_windows
+    from impactosc.records.record import Record
+
+    t = np.arange(20000) * 1e-3
+    rec = Record(t, np.full_like(t, -1.5e-3), 40.86, {}, "rig.csv")
+    with pytest.raises(
+        ValueError, match=r"^record rig\.csv: x does not move \(constant at -0\.0015 m\): nothing to identify$"
+    ):
+        cut_windows([rec], level=-1e-3)

@@ -3,6 +3,7 @@ config/README.md is the schema rendered."""
 
 import copy
 import dataclasses
+import json
 from pathlib import Path
 
 import pytest
@@ -22,6 +23,14 @@ README = ROOT / "config" / "README.md"
 @pytest.fixture()
 def config():
     return yaml.safe_load(CONFIG.read_text())
+
+
+def alias_bomb(levels: int, indent: str = "  ") -> list:
+    """YAML lines anchoring l0 .. l<levels - 1>, each a list of nine aliases of the one before (a
+    'billion laughs'): a few lines of text, 9**levels values once its aliases are expanded."""
+    lines = [f"{indent}l0: &l0 [x, x, x, x, x, x, x, x, x]"]
+    lines += [f"{indent}l{i}: &l{i} [{', '.join([f'*l{i - 1}'] * 9)}]" for i in range(1, levels)]
+    return lines
 
 
 def test_default_config_is_valid_and_is_model_bc():
@@ -280,3 +289,77 @@ def test_a_config_file_with_a_key_twice_is_refused(tmp_path):
     path.write_text(Path(CONFIG).read_text() + "\nstudy: other\nstudy: again\n")
     with pytest.raises(ConfigError, match=r"twice\.yaml: key 'study' given twice"):
         load_config(path, SCHEMA)
+
+
+def test_a_value_far_larger_than_its_text_is_echoed_cut(config):
+    # six levels of aliases: 531441 values (a repr of 2.6 MB) from seven lines of YAML
+    huge = yaml.safe_load("\n".join(["anchors:", *alias_bomb(6)]))["anchors"]["l5"]
+    for key, mutate in [
+        ("model.k", lambda c: c["model"].__setitem__("k", huge)),
+        ("study", lambda c: c.__setitem__("study", huge)),
+        ("measured.chaos.label", lambda c: c["measured"]["chaos"].__setitem__("label", "a" * 10**6)),
+    ]:
+        bad = copy.deepcopy(config)
+        mutate(bad)
+        msg = _errors(bad)
+        assert f"  {key}: " in msg and len(msg) < 600, msg[:1000]
+        assert max(len(line) for line in msg.splitlines()) < 300, msg[:1000]
+    assert "  model.k: [[[[[...], [...]," in _errors({**config, "model": {"k": huge}})
+
+
+def test_a_config_file_not_yaml_is_named_with_its_line(tmp_path):
+    path = tmp_path / "tab.yaml"
+    path.write_text("study: paper\nmodel:\n\tk: 1500.0\n")
+    with pytest.raises(ConfigError) as err:
+        load_config(path, SCHEMA)
+    assert str(err.value) == (
+        f"invalid configuration:\n  {path}: not YAML: found character '\\t' that cannot start any token "
+        "(line 3, column 1)"
+    )
+    path.write_text(f"study: {'[' * 10**4}{']' * 10**4}\n")
+    with pytest.raises(ConfigError, match="not YAML: collections nested too deep to read"):
+        load_config(path, SCHEMA)
+    # JSON indented with tabs is no YAML, but a config file Snakemake reads (JSON first): as is ours
+    path = tmp_path / "tabs.json"
+    path.write_text(json.dumps(yaml.safe_load(CONFIG.read_text()), indent="\t"))
+    assert load_config(path, SCHEMA) == load_config(CONFIG, SCHEMA)
+
+
+def test_a_config_file_whose_aliases_expand_beyond_reason_is_refused(tmp_path):
+    path = tmp_path / "laughs.yaml"
+    path.write_text("\n".join(["bomb:", *alias_bomb(7), "model: {k: *l6}", ""]))
+    with pytest.raises(ConfigError) as err:
+        load_config(path, SCHEMA)
+    msg = str(err.value)
+    assert msg == (
+        f"invalid configuration:\n  {path}: its aliases (*name) add 11,434,267 values to the 29 it writes, more "
+        "than the 100,000 allowed (aliases nested in aliases multiply: write the values out)"
+    ), msg[:1000]
+
+
+#: Models the schema lets through but the model refuses: the config check builds the model once
+REFUSED_MODELS = [
+    (
+        {"contact": {"law": "flores", "e": 1.0e-200}},
+        "model.contact.e: model parameter e = 1e-200 is beyond what the model evaluates (|e| from 1e-100 to 1e+100, "
+        "or 0 where allowed)",
+    ),
+    (
+        {"n1": 1.5, "contact": {"law": "kelvin-voigt", "cI": 100}},
+        "model.n1: the kelvin-voigt law is linear in the penetration: n1 = 1, got 1.5",
+    ),
+]
+
+
+@pytest.mark.parametrize(("model", "expected"), REFUSED_MODELS, ids=["flores-e", "kelvin-voigt-n1"])
+def test_a_model_every_job_would_refuse_is_refused_by_the_check(config, model, expected):
+    config["model"] = model
+    with pytest.raises(ConfigError) as err:
+        validate_config(config, SCHEMA)
+    assert str(err.value) == f"invalid configuration:\n  {expected}"
+
+
+def test_a_model_outside_the_tested_ranges_passes_the_check(config):
+    config["model"] = {"k": 1.0e5, "contact": {"law": "kelvin-voigt", "cI": 100}}  # k and n1 = 1 untested
+    model = validate_config(config, SCHEMA)["model"]  # pytest makes a warning an error: none is raised
+    assert (model["k"], model["n1"], model["law"]) == (1.0e5, 1.0, "kelvin-voigt")

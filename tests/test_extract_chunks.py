@@ -3,6 +3,8 @@
 import numpy as np
 import pytest
 
+from impactosc.cli.main import main
+from impactosc.records import extract
 from impactosc.records.extract import extract_events
 from impactosc.records.formats import read_record, write_record
 from impactosc.records.record import Record
@@ -105,3 +107,25 @@ def test_without_hysteresis_the_times_still_increase_across_chunks(record):
             else extract_events(RecordStream.from_record(noisy), options=naive, chunk_samples=size)[0]
         )
         assert np.all(np.diff(ev["impacts"]["t"]) > 0)
+
+
+@pytest.mark.parametrize("x_impact", [None, 1e-3])
+def test_a_record_that_does_not_move_is_refused_as_such(tmp_path, monkeypatch, capsys, x_impact):
+    t = np.arange(2000) * 1e-3
+    at_rest = Record(t, np.zeros_like(t), W, {}, "rig.csv")
+    said = r"^record rig\.csv: x does not move \(constant at 0 m\): nothing to extract$"
+    with pytest.raises(ValueError, match=said):  # not 'only 0 turning points look like contacts'
+        extract_events(at_rest, x_impact)
+    path = tmp_path / "rig.csv"
+    write_record(path, t, at_rest.x, omega=W)
+    given = [] if x_impact is None else ["--x-impact", str(x_impact)]
+    assert main(["extract", str(path), *given, "--output", str(tmp_path / "ev.h5")]) == 2
+    assert (
+        capsys.readouterr().err
+        == f"impactosc extract: error: record {path}: x does not move (constant at 0 m): nothing to extract\n"
+    )
+    assert not (tmp_path / "ev.h5").exists()
+    if x_impact is not None:  # a record longer than its leading samples, read in chunks
+        monkeypatch.setattr(extract, "LEADING_SAMPLES", 500)
+        with pytest.raises(ValueError, match=said):
+            extract_events(at_rest, x_impact, chunk_samples=300)

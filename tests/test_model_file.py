@@ -7,7 +7,7 @@ import h5py
 import numpy as np
 import pytest
 import yaml
-from test_config import CONFIG, SCHEMA  # tests/ is on sys.path (pytest's prepend import mode)
+from test_config import CONFIG, SCHEMA, alias_bomb  # tests/ is on sys.path (pytest's prepend import mode)
 
 from impactosc.cli.main import main
 from impactosc.cli.options import MODEL_NAMES
@@ -103,6 +103,92 @@ def test_bad_file_is_named_with_its_key(tmp_path, text, expected):
     with pytest.raises(ValueError) as err:
         read_model_file(path)
     assert str(path) in str(err.value) and expected in str(err.value), str(err.value)
+
+
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("parameters: {k: *l3}", "parameters.k: [[[['x', 'x', 'x', 'x', 'x', 'x', ...], ['x', 'x', 'x', "),
+        ("parameters: {k: {value: 1500.0, unit: *l3}}", "parameters.k.unit: [[[['x', 'x', 'x', 'x', 'x', 'x', ...], "),
+        (
+            "parameters: {k: {value: 1500.0, fixed: *l3}}",
+            "parameters.k.fixed: [[[['x', 'x', 'x', 'x', 'x', 'x', ...], ",
+        ),
+        ("contact: {law: *l3}", "contact.law: contact law [[[['x', 'x', 'x', 'x', 'x', 'x', ...], ['x', 'x', "),
+        (f"parameters: {{k: {'1' * 10**5}x}}", "parameters.k: '1111111111111111111111111111111111111...1111"),
+    ],
+)
+def test_a_value_far_larger_than_its_text_is_echoed_cut(tmp_path, text, expected):
+    # four levels of aliases (under load_yaml's limit): 6561 values, a repr of 34 kB, from five lines
+    path = _write(tmp_path / "bad.yaml", "\n".join([f"format: {FORMAT}", "fit:", *alias_bomb(4), text, ""]))
+    with pytest.raises(ValueError) as err:
+        read_model_file(path)
+    assert expected in str(err.value) and len(str(err.value)) < 300 + len(str(path)), str(err.value)[:1000]
+
+
+@pytest.mark.parametrize(
+    "lines, expected",
+    [
+        # seven levels: 4.8 million values (a repr of 24 MB) from eight lines; a list of a few
+        # aliases reads as it always did
+        (["fit:", *alias_bomb(7), "parameters: {k: *l6}"], "its aliases (*name) add 11,434,267 values to the 31"),
+        (["fit: {a: &a [1, *a]}"], "the value at line 2 holds an alias of itself"),
+    ],
+)
+def test_aliases_that_expand_a_model_file_beyond_reason_are_refused(tmp_path, lines, expected):
+    path = _write(tmp_path / "bad.yaml", "\n".join([f"format: {FORMAT}", *lines, ""]))
+    with pytest.raises(ValueError) as err:
+        read_model_file(path)
+    assert f"model file {path}: {expected}" in str(err.value), str(err.value)[:1000]
+    assert "\n" not in str(err.value) and len(str(err.value)) < 300 + len(str(path))
+    fine = _write(
+        tmp_path / "fine.yaml", f"format: {FORMAT}\nfit: {{w: &w [1.0, 2.0]}}\nrecords: [{{w: *w}}, {{w: *w}}]\n"
+    )
+    assert read_model_file(fine).meta["records"] == [{"w": [1.0, 2.0]}] * 2
+
+
+def test_a_long_override_or_value_is_echoed_cut():
+    with pytest.raises(ValueError) as err:
+        apply_overrides(ModelParams(), ["k=" + "x" * 10**5])
+    assert str(err.value).startswith("parameter override 'k=xxxx") and len(str(err.value)) < 200, str(err.value)[:1000]
+    with pytest.raises(ValueError) as err:
+        ModelParams(k=[[1.0] * 1000] * 1000)
+    assert "must be a finite number, got [[1.0, 1.0, 1.0, 1.0, 1.0, 1.0, ...], [1.0," in str(err.value)
+    assert len(str(err.value)) < 200, str(err.value)[:1000]
+
+
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        (
+            f"format: {FORMAT}\nparameters:\n\tk: 1500.0\n",
+            "not YAML: found character '\\t' that cannot start any token (line 3, column 1)",
+        ),
+        (
+            f"format: {FORMAT}\nparameters: {{k: [1500.0, c: 7.1}}\n",
+            "not YAML: expected ',' or ']', but got '}' (line 2, column 32)",
+        ),
+        (
+            f"format: {FORMAT}\nparameters: [k: 1500.0,\n  c: 7.1\n",
+            "not YAML: expected ',' or ']', but got '<stream end>' (line 4, column 1), while parsing a flow sequence "
+            "from line 2, column 13",
+        ),
+        # beyond what PyYAML (recursive) and Python (4300 digits) read: named, not a crash
+        (
+            f"format: {FORMAT}\nparameters: {{k: {'[' * 10**4}{']' * 10**4}}}\n",
+            "not YAML: collections nested too deep to read (hundreds of levels, a [ or { inside another)",
+        ),
+        (
+            f"format: {FORMAT}\nparameters: {{k: {'1' * 5000}}}\n",
+            "not YAML: an integer of 5000 characters, more than the 4300 digits Python reads (line 2, column 17)",
+        ),
+    ],
+)
+def test_a_yaml_mistake_is_named_with_its_line(tmp_path, text, expected):
+    path = _write(tmp_path / "rig.yaml", text)
+    with pytest.raises(ValueError) as err:
+        read_model_file(path)
+    assert str(err.value) == f"model file {path}: {expected}"
 
 
 def test_missing_file_is_named(tmp_path):

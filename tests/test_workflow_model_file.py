@@ -13,6 +13,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+import yaml
+from test_config import REFUSED_MODELS, alias_bomb  # tests/ is on sys.path (pytest's prepend import mode)
+
 from impactosc.model.model_file import write_model_file
 from impactosc.model.parameters import ModelParams
 
@@ -51,3 +55,25 @@ def test_model_file_reruns_the_sweeps_with_its_parameters(tmp_path):
     for reason in jobs["bifurcation_coarse"]:  # both sweeps, with the file's k
         assert "Params have changed" in reason and "now: {'m': 8.735, 'm0e': 0.01805, 'k': 1500.0" in reason
     assert len(jobs["bifurcation_coarse"]) == 2 and len(jobs["bifurcation_chunk"]) == 4
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        *[(yaml.safe_dump({"model": model}), expected) for model, expected in REFUSED_MODELS],
+        ("\n".join(["bomb:", *alias_bomb(7), "model: {k: *l6}", ""]), "its aliases (*name) add 11,434,267 values"),
+    ],
+    ids=["flores-e", "kelvin-voigt-n1", "aliases"],
+)
+def test_a_dry_run_refuses_a_config_every_job_would_refuse(tmp_path, text, expected):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(text)
+    run = subprocess.run(
+        [*SNAKEMAKE, "-d", str(tmp_path), "fig02", "-n", *CONFIGS, str(bad)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    out = run.stdout + run.stderr
+    assert run.returncode != 0 and "invalid configuration:\n  " in out and expected in out, out[-3000:]
+    assert len(out) < 5000 and not (tmp_path / "results").exists()

@@ -19,6 +19,7 @@ way ``config["model"]`` ends up holding exactly the ModelParams fields, and
 from __future__ import annotations
 
 import copy
+import json
 import math
 import re
 from pathlib import Path
@@ -26,8 +27,8 @@ from pathlib import Path
 import jsonschema
 import yaml
 
-from impactosc.io.names import closest_name
-from impactosc.io.yaml_text import DuplicateKeyError, load_yaml, number_as_string_hint
+from impactosc.io.names import SHOWN_LIMIT, closest_name, shown
+from impactosc.io.yaml_text import AliasError, DuplicateKeyError, load_yaml, number_as_string_hint, yaml_problem
 
 
 class ConfigError(ValueError):
@@ -89,8 +90,19 @@ def _messages(errors) -> list:
             missing = [k for k in error.validator_value if error.message == f"{k!r} is a required property"]
             if missing and (tuple(error.absolute_path), missing[0]) in suggested:
                 continue
-        lines.append(f"  {_path(error)}: {error.message}{number_as_string_hint(error.instance)}")
+        lines.append(f"  {_path(error)}: {_said(error)}{number_as_string_hint(error.instance)}")
     return lines
+
+
+def _said(error) -> str:
+    """jsonschema's message with the value it echoes cut (:func:`impactosc.io.names.shown`): most
+    of its messages are repr(value) and the rule, e.g. "[[...], ...] is not of type 'number'"."""
+    message = error.message
+    if len(message) > 2 * SHOWN_LIMIT:
+        echoed = repr(error.instance)
+        if message.startswith(echoed):
+            return shown(error.instance) + message[len(echoed) :]
+    return message
 
 
 def _check_finite(node, where: str = "") -> None:
@@ -137,7 +149,7 @@ def nest_dotted_keys(config: dict) -> dict:
                 if part in node:
                     where = ".".join(parents[: i + 1])
                     raise ConfigError(
-                        f"invalid configuration:\n  {key}: {where} is not a section (it is {node[part]!r})"
+                        f"invalid configuration:\n  {key}: {where} is not a section (it is {shown(node[part])})"
                     )
                 node[part] = {}
             node = node[part]
@@ -209,14 +221,46 @@ def _model_from_file(model: dict) -> dict:
     return {"file": str(path), "description": description, "covariance": covariance}
 
 
+def _check_model(model: dict) -> None:
+    """The model section built once, as every job builds it (ModelParams): a value the schema lets
+    through but the model refuses (an e of 1e-200, beyond what the model evaluates; n1 = 1.5 with
+    the kelvin-voigt law) is refused here, named by its config key, rather than by every job.
+    Warnings of values outside the tested ranges stay with the jobs, in their logs."""
+    import warnings
+
+    from impactosc.model.parameters import LAW_PARAMETERS, ModelParams, ParameterError, UntestedParameterWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UntestedParameterWarning)
+        try:
+            ModelParams(**model)
+        except ParameterError as exc:
+            contact = {name for name, _, _ in LAW_PARAMETERS}  # given in model.contact
+            key = f"contact.{exc.name}" if exc.name in contact else exc.name
+            raise ConfigError(f"invalid configuration:\n  model.{key}: {exc}") from None
+
+
 def check_config_files(paths) -> None:
     """Each config file read again as a user's YAML (:func:`impactosc.io.yaml_text.load_yaml`):
-    a key given twice, which Snakemake's reader keeps the last of silently, is refused."""
+    a key given twice, which Snakemake's reader keeps the last of silently, and aliases that expand
+    the file beyond reason, which Snakemake's reader expands, are refused; so is text that is
+    neither YAML nor JSON (Snakemake reads JSON first: a JSON file indented with tabs is no YAML)."""
     for path in paths:
         try:
-            load_yaml(Path(path).read_text(encoding="utf-8"))
-        except DuplicateKeyError as exc:
+            text = Path(path).read_text(encoding="utf-8")
+        except UnicodeDecodeError as exc:
+            raise ConfigError(
+                f"invalid configuration:\n  {path}: not UTF-8 text (byte {exc.start} cannot be decoded)"
+            ) from None
+        try:
+            load_yaml(text)
+        except (DuplicateKeyError, AliasError) as exc:
             raise ConfigError(f"invalid configuration:\n  {path}: {exc}") from None
+        except yaml.YAMLError as exc:
+            try:
+                json.loads(text)
+            except (ValueError, RecursionError):
+                raise ConfigError(f"invalid configuration:\n  {path}: not YAML: {yaml_problem(exc)}") from None
 
 
 def contact_schema() -> dict:
@@ -281,6 +325,7 @@ def validate_config(config: dict, schema_path, config_files=()) -> dict:
     if errors:
         raise ConfigError("invalid configuration:\n" + "\n".join(_messages(errors)))
     config["model_source"] = _model_from_file(config.setdefault("model", {}))
+    _check_model(config["model"])
     _fill_defaults(schema, config)
     for name, scene in config["scenes"].items():
         win = scene.get("window")
@@ -316,17 +361,17 @@ def _check_study_names(config: dict, schema: dict) -> None:
             continue
         if not isinstance(name, str):
             raise ConfigError(
-                f"invalid configuration:\n  {key}: {name!r} is not a string (a name made of digits only must be "
-                f"quoted, on the command line too: --config '{key.split('.')[-1]}=\"{name}\"')"
+                f"invalid configuration:\n  {key}: {shown(name)} is not a string (a name made of digits only must be "
+                f"quoted, on the command line too: --config '{key.split('.')[-1]}=\"{shown(name)}\"')"
             )
         if not re.fullmatch(pattern, name):
             raise ConfigError(
-                f"invalid configuration:\n  {key}: {name!r} is not a safe directory name (letters, digits, _ and - "
+                f"invalid configuration:\n  {key}: {shown(name)} is not a safe directory name (letters, digits, _ and - "
                 f"only): the study's results go to results/<study>/"
             )
     if other == study:
         raise ConfigError(
-            f"invalid configuration:\n  compare.study: {other!r} is this study (study): name another one to compare with"
+            f"invalid configuration:\n  compare.study: {shown(other)} is this study (study): name another one to compare with"
         )
 
 
@@ -347,7 +392,7 @@ def _check_measured_labels(measured: dict) -> None:
         entry = measured.get(key, {})
         if entry.get("label") and not any(entry.get(r) for r in records):
             raise ConfigError(
-                f"invalid configuration:\n  measured.{key}.label: {entry['label']!r} names a record, but none is "
+                f"invalid configuration:\n  measured.{key}.label: {shown(entry['label'])} names a record, but none is "
                 f"configured (measured.{key}.{' or '.join(records)}): the surrogate's panels are always labelled "
                 "'surrogate (model + noise)'"
             )
@@ -410,4 +455,10 @@ def load_config(path, schema_path) -> dict:
     path = Path(path)
     if not path.is_file():
         raise ConfigError(f"configuration file {path} does not exist")
-    return validate_config(yaml.safe_load(path.read_text()) or {}, schema_path, config_files=[path])
+    check_config_files([path])  # a key twice, aliases beyond reason, not YAML: one line, before reading it
+    text = path.read_text(encoding="utf-8")
+    try:  # JSON first, as Snakemake reads a config file
+        config = json.loads(text)
+    except ValueError:
+        config = yaml.safe_load(text)
+    return validate_config(config or {}, schema_path)

@@ -16,7 +16,7 @@ from impactosc.cli.options import (
     model_from_args,
     read_options,
 )
-from impactosc.identification.windows import check_forcing_phase
+from impactosc.identification.windows import check_forcing_phase, check_records_move
 from impactosc.io.names import split_assignment
 from impactosc.model.contact_laws import law_of
 
@@ -178,6 +178,7 @@ def _identify_run(args) -> int:
     fixed = _fixed_quantities(args.fix, base)
     records = read_records(args.record, duration=args.duration, **read_options(args))
     check_forcing_phase(records)  # before any fitting: a clear error, not a failed fit
+    check_records_move(records)
     say = _progress(args, "identify")
     stages = tuple(args.stages)
     ident = identify(records, base=base, fixed=fixed, stages=stages, progress=say)

@@ -31,16 +31,20 @@ def _extract(args) -> int:
         contact_exponent=args.contact_exponent,
         delay=args.sensor_delay,
     )
-    with open_record_args(args, omega=args.omega) as stream:
-        if x_impact is None and "x_impact" not in stream.meta and args.x_impact_method == "contact":
-            lead = min(stream.n_samples or LEADING_SAMPLES, LEADING_SAMPLES)
-            minutes = lead * stream.dt / 60.0
+
+    def estimating(head):  # once the leading samples are read: what the x_impact fit reads, and how long it takes
+        if args.x_impact_method == "contact":
+            minutes = head.x.size * head.dt / 60.0
+            whole = "whole record" if head.x.size < LEADING_SAMPLES else f"first {minutes:.2g} min"
             print(
                 f"{args.record}: no x_impact given; fitting the contact law to the turning points of the record's "
-                f"first {minutes:.2g} min (about {5 * minutes / (2000 * stream.dt):.0f} s)",
+                f"{whole} (about {5 * minutes / (2000 * head.dt):.0f} s)",
                 file=sys.stderr,
             )
-        events, attrs = extract_events(stream, x_impact, options, progress=_progress_printer(args.record, stream))
+
+    with open_record_args(args, omega=args.omega) as stream:
+        progress = _progress_printer(args.record, stream)
+        events, attrs = extract_events(stream, x_impact, options, progress=progress, estimating=estimating)
     if x_impact_source:
         attrs["x_impact_source"] = x_impact_source
     write_run(args.output, events, attrs, sources=[args.record])

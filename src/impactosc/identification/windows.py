@@ -24,7 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["WindowSet", "check_forcing_phase", "cut_windows", "split_held_out"]
+from impactosc.records.record import check_motion
+
+__all__ = ["WindowSet", "check_forcing_phase", "check_records_move", "cut_windows", "split_held_out"]
 
 #: Largest deviation (rad) of a window's encoder phase from its straight line: a window whose
 #: phase bends more (the motor's speed varies within it) is halved until it does not.  A phase
@@ -141,6 +143,14 @@ def check_forcing_phase(records) -> None:
             )
 
 
+def check_records_move(records) -> None:
+    """Every record moves: one whose x is constant has nothing to identify (and would be
+    refused as too short for a window, which it is not)."""
+    for rec in records:
+        if rec.x.size:
+            check_motion(rec.path, float(np.min(rec.x)), float(np.max(rec.x)), "identify")
+
+
 def cut_windows(records, *, periods: float = 2.0, level: float, margin: float = 50e-6) -> WindowSet:
     """Windows of about ``periods`` forcing periods over every record.
 
@@ -152,6 +162,7 @@ def cut_windows(records, *, periods: float = 2.0, level: float, margin: float = 
     cols = {k: [] for k in ("record", "start", "n", "tau0", "dt", "omega", "x0", "v0")}
     ys = []
     check_forcing_phase(records)
+    check_records_move(records)
     for r, rec in enumerate(records):
         t, x = rec.t, rec.x
         dt = float(np.median(np.diff(t)))

@@ -48,8 +48,8 @@ import yaml
 
 from impactosc import __version__
 from impactosc.io.files import atomic_write, git_commit
-from impactosc.io.names import closest_name, split_assignment
-from impactosc.io.yaml_text import DuplicateKeyError, load_yaml
+from impactosc.io.names import closest_name, shown, split_assignment
+from impactosc.io.yaml_text import AliasError, DuplicateKeyError, load_yaml, yaml_problem
 from impactosc.model.contact_laws import DEFAULT_LAW, LAWS, law_of
 from impactosc.model.parameters import PARAM_UNITS, PARAMETERS, ModelParams, unit_of
 
@@ -141,9 +141,9 @@ def _number(value, where: str) -> float:
             raise ValueError
         number = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{where}: {value!r} is not a number") from None
+        raise ValueError(f"{where}: {shown(value)} is not a number") from None
     if not math.isfinite(number):
-        raise ValueError(f"{where}: {value!r} is not a finite number")
+        raise ValueError(f"{where}: {shown(value)} is not a finite number")
     return number
 
 
@@ -240,17 +240,18 @@ def _load(path: Path) -> dict:
         raise FileNotFoundError(f"model file {path} does not exist")
     try:
         doc = load_yaml(path.read_text(encoding="utf-8"))
-    except DuplicateKeyError as exc:
+    except (DuplicateKeyError, AliasError) as exc:
         raise ValueError(f"model file {path}: {exc}") from None
-    except (yaml.YAMLError, UnicodeDecodeError) as exc:
-        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise ValueError(f"model file {path}: not YAML ({first})") from None
+    except yaml.YAMLError as exc:
+        raise ValueError(f"model file {path}: not YAML: {yaml_problem(exc)}") from None
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"model file {path}: not UTF-8 text (byte {exc.start} cannot be decoded)") from None
     if not isinstance(doc, dict):
         raise ValueError(f"model file {path}: not a model file (a YAML mapping starting with 'format: {FORMAT}')")
     if "format" not in doc:
         raise ValueError(f"model file {path}: format: missing (a model file starts with 'format: {FORMAT}')")
     if doc["format"] != FORMAT:
-        raise ValueError(f"model file {path}: format: {doc['format']!r} is not {FORMAT!r}")
+        raise ValueError(f"model file {path}: format: {shown(doc['format'])} is not {FORMAT!r}")
     for key in doc:
         if key not in _TOP_KEYS:
             raise ValueError(f"model file {path}: {key}: " + _unknown(key, _TOP_KEYS))
@@ -275,7 +276,7 @@ def _entry(key: str, entry, path: Path, block: str = "parameters") -> tuple[floa
     if stderr is not None and stderr < 0:
         raise ValueError(f"{where}.stderr: {stderr} is negative")
     if not isinstance(entry.get("fixed", False), bool):
-        raise ValueError(f"{where}.fixed: {entry['fixed']!r} is not true or false")
+        raise ValueError(f"{where}.fixed: {shown(entry['fixed'])} is not true or false")
     note = str(entry.get("note") or "") if entry.get("fixed") else None
     return value, stderr, note
 
@@ -285,9 +286,9 @@ def _check_units(blocks: dict, n1: float, path: Path) -> None:
     for block, entries in blocks.items():
         for key, entry in entries.items():
             unit = entry.get("unit") if isinstance(entry, dict) else None
-            if unit is not None and " ".join(str(unit).split()) != unit_of(key, n1):
+            if unit is not None and (not isinstance(unit, str) or " ".join(unit.split()) != unit_of(key, n1)):
                 raise ValueError(
-                    f"model file {path}: {block}.{key}.unit: {unit!r}, but {key} is in {unit_of(key, n1)!r} "
+                    f"model file {path}: {block}.{key}.unit: {shown(unit)}, but {key} is in {unit_of(key, n1)!r} "
                     "(values are SI, not converted)"
                 )
 
@@ -378,7 +379,7 @@ def _check_covariance(cov, path: Path) -> None:
     _check_names_unique(cov["names"], where)
     units = cov.get("units")
     if units is not None and (not isinstance(units, list) or len(units) != len(cov["names"])):
-        count = f"{len(units)} units" if isinstance(units, list) else f"{units!r}"
+        count = f"{len(units)} units" if isinstance(units, list) else shown(units)
         raise ValueError(f"{where}.units: {count} for {len(cov['names'])} names; give one unit per name, in order")
     _spd(cov["matrix"], len(cov["names"]), f"model file {path}")
 
@@ -411,11 +412,11 @@ def _override(item: str) -> tuple[str, float]:
     """(name, value) of one NAME=VALUE item, errors naming the item."""
     name, text = split_assignment(item)
     if text is None:
-        raise ValueError(f"parameter override {item!r}: write NAME=VALUE, e.g. k=1500")
+        raise ValueError(f"parameter override {shown(item)}: write NAME=VALUE, e.g. k=1500")
     if name not in PARAM_UNITS:
         known = list(PARAM_UNITS)
-        raise ValueError(f"parameter override {item!r}: " + _unknown(name, known, f"parameter {name!r}"))
-    return name, _number(text, f"parameter override {item!r}")
+        raise ValueError(f"parameter override {shown(item)}: " + _unknown(name, known, f"parameter {shown(name)}"))
+    return name, _number(text, f"parameter override {shown(item)}")
 
 
 def apply_overrides(params: ModelParams, items) -> ModelParams:
@@ -425,11 +426,11 @@ def apply_overrides(params: ModelParams, items) -> ModelParams:
     for item in items:
         name, value = _override(item)
         if name not in law.fields:
-            raise ValueError(f"parameter override {item!r}: the {law.name} law has no {name} ({law.force})")
+            raise ValueError(f"parameter override {shown(item)}: the {law.name} law has no {name} ({law.force})")
         try:
             dataclasses.replace(params, **{name: value})
         except ValueError as exc:
-            raise ValueError(f"parameter override {item!r}: {exc}") from None
+            raise ValueError(f"parameter override {shown(item)}: {exc}") from None
         changes[name] = value
     return dataclasses.replace(params, **changes) if changes else params
 

@@ -15,6 +15,7 @@ from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 
+from impactosc.io.names import shown
 from impactosc.model.contact_laws import DEFAULT_LAW, INDEX, OWN_PARAMETERS, law_at, law_of, unit_for
 from impactosc.model.slots import (  # noqa: F401  (the indices of p, re-exported where they were defined)
     P_B,
@@ -157,7 +158,7 @@ class ModelParams:
                 continue
             value = getattr(self, f.name)
             if not isinstance(value, (int, float)) or not math.isfinite(value):
-                raise ParameterError(f.name, f"model parameter {f.name} must be a finite number, got {value!r}")
+                raise ParameterError(f.name, f"model parameter {f.name} must be a finite number, got {shown(value)}")
             if value != 0 and not 1 / MAGNITUDE_LIMIT <= abs(value) <= MAGNITUDE_LIMIT:
                 raise ParameterError(
                     f.name,

@@ -59,7 +59,7 @@ from impactosc.records.contacts import _peaks, _segment_argmax, hysteresis_conta
 from impactosc.records.impact_times import derivative_scales, time_impacts, window_samples
 from impactosc.records.obstacle_estimate import estimate_x_impact
 from impactosc.records.poincare import poincare_attrs, poincare_between, poincare_margin
-from impactosc.records.record import Record
+from impactosc.records.record import Record, check_motion
 from impactosc.records.sample_fits import estimate_noise
 from impactosc.records.streams import RecordStream
 
@@ -174,13 +174,16 @@ def _delay(meta, given, path):
     return _check_delay(delay, f"{path}: sensor_delay"), "record metadata"
 
 
-def _x_impact(head: Record, x_impact, sigma, o: ExtractOptions, attrs: dict) -> float:
-    """x_impact given, from the record's metadata, or estimated from the leading samples ``head``."""
+def _x_impact(head: Record, x_impact, sigma, o: ExtractOptions, attrs: dict, estimating=None) -> float:
+    """x_impact given, from the record's metadata, or estimated from the leading samples ``head``
+    (``estimating(head)`` called first)."""
     if x_impact is not None:
         how = "given"
     elif "x_impact" in head.meta:
         x_impact, how = float(head.meta["x_impact"]), "record metadata"
     else:
+        if estimating is not None:
+            estimating(head)
         x_impact, det = estimate_x_impact(head, method=o.x_impact_method, noise=sigma, exponent=o.contact_exponent)
         if det["method"] == "contact":
             how = (
@@ -312,6 +315,7 @@ def extract_events(
     *,
     chunk_samples: int = CHUNK_SAMPLES,
     progress=None,
+    estimating=None,
 ) -> tuple[dict, dict]:
     """Events of a record in the run-file contract, and the attributes describing them.
 
@@ -321,7 +325,8 @@ def extract_events(
     nor in the metadata, x_impact are measured on the record's first :data:`LEADING_SAMPLES`
     samples; every event is then found in the chunk that holds it, with the samples before it
     carried over, so the events do not depend on where the chunks are cut.  ``progress``:
-    called with the share of the record done after each chunk.
+    called with the share of the record done after each chunk; ``estimating``: called with the
+    leading samples (a :class:`Record`) before x_impact is estimated from them.
 
     Returns ``(events, attrs)`` for :func:`impactosc.io.files.write_run`.  attrs hold x_impact
     (and how it was obtained), the noise level, hysteresis, sample interval, the timing
@@ -335,6 +340,8 @@ def extract_events(
         raise ValueError(f"chunk_samples must be >= 1, got {chunk_samples}")
     delay, delay_source = _delay(stream.meta, o.delay, stream.path)
     lead = stream.read(0, LEADING_SAMPLES)
+    if lead.x.size and (lead.x.size < LEADING_SAMPLES or stream.n_samples == lead.x.size):  # the whole record
+        check_motion(stream.path, float(lead.x.min()), float(lead.x.max()), "extract")
     # every time of the motion is the sample time minus the sensor's delay
     head = Record(lead.t - delay, lead.x, stream.omega, stream.meta, stream.path, lead.phase)
     sigma = o.noise if o.noise is not None else estimate_noise(head.x)
@@ -348,7 +355,7 @@ def extract_events(
     }
     if delay:
         attrs.update(sensor_delay=delay, sensor_delay_source=delay_source)
-    xi = _x_impact(head, x_impact, sigma, o, attrs)
+    xi = _x_impact(head, x_impact, sigma, o, attrs, estimating)
     hyst = o.hysteresis if o.hysteresis is not None else max(o.hysteresis_sigmas * sigma, 1e-7)
     attrs["hysteresis"] = hyst
     if stream.omega is not None:
@@ -369,6 +376,7 @@ def extract_events(
     }
     scan, parts, carry = _Scan(), [], None
     first = last = None
+    x_min, x_max = math.inf, -math.inf
     chunks = stream.chunks(max(int(chunk_samples), 1))
     chunk = next(chunks, None)
     while chunk is not None:
@@ -376,6 +384,8 @@ def extract_events(
         t, x, phase = chunk.t - delay, chunk.x, chunk.phase
         first = t[0] if first is None and t.size else first
         last = t[-1] if t.size else last
+        if x.size:
+            x_min, x_max = min(x_min, float(x.min())), max(x_max, float(x.max()))
         if carry is not None:
             t, x = np.concatenate([carry[0], t]), np.concatenate([carry[1], x])
             phase = None if phase is None else np.concatenate([carry[2], phase])
@@ -387,6 +397,7 @@ def extract_events(
         chunk = following
     if first is None:
         raise ValueError(f"{stream.path}: the record has no samples")
+    check_motion(stream.path, x_min, x_max, "extract")
     attrs.update(t_start=float(first), t_stop=float(last))
     attrs["n_unconfirmed"] = scan.n_unconfirmed
     attrs["confirm_level"] = c["confirm"]

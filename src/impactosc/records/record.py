@@ -40,6 +40,7 @@ import numpy as np
 
 __all__ = [
     "Record",
+    "check_motion",
     "record_from_samples",
     "record_header",
     "RecordHeader",
@@ -254,6 +255,15 @@ def record_header(meta, *, units, omega, source, phase=False, phase_units=None, 
     # an encoder counter's count c means an angle in [c, c + 1) counts: read as its centre
     # (removes a bias of half a count, 0.8 mrad at 4096 counts per revolution, ~20 us at 40 rad/s)
     return RecordHeader(meta, omega, source, UNITS[units], factor, 0.5 if _is_counts(phase_units) else 0.0)
+
+
+def check_motion(source, x_min: float, x_max: float, task: str) -> None:
+    """A record whose displacement never changes (x from `x_min` to `x_max`, equal: a sensor
+    unplugged, a channel of zeros) has no motion: refused naming that, with `task` (what there
+    is nothing to do: "identify", "extract"), rather than by a later step finding no impact,
+    turning point or window in it."""
+    if x_min == x_max:
+        raise ValueError(f"record {source}: x does not move (constant at {x_min:g} m): nothing to {task}")
 
 
 def check_length(n: int, source) -> None:

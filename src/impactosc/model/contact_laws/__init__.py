@@ -20,6 +20,7 @@ the workflow's config check reads it without numba.
 
 from __future__ import annotations
 
+from impactosc.io.names import shown
 from impactosc.model.contact_laws import bc, hertz, kelvin_voigt, restitution
 from impactosc.model.contact_laws.component import ContactLaw, LawParameter, RestitutionLaw, unit_for
 
@@ -77,8 +78,7 @@ def law_of(name: str) -> ContactLaw:
     try:
         return LAWS[name]
     except (KeyError, TypeError):
-        shown = repr(name) if len(repr(name)) <= 80 else repr(name)[:77] + "..."
-        raise ValueError(f"contact law {shown} is not one of {', '.join(LAWS)}") from None
+        raise ValueError(f"contact law {shown(name)} is not one of {', '.join(LAWS)}") from None
 
 
 def law_at(p) -> ContactLaw:
