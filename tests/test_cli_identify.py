@@ -147,6 +147,34 @@ def test_bad_input_exits_2_naming_it(tmp_path, case, message):
     assert not out.exists() and run.stdout == ""
 
 
+def test_a_candidate_whose_fit_fails_is_a_row_and_the_outputs_are_written(tmp_path, monkeypatch, capsys):
+    """In process, the candidates' fits stood in for (one raises the singular factor of a linear
+    solve): the command ends as a success, the model file and both tables written, the failed
+    candidate a row saying why (about 5 s: 5 s of the example, one stage)."""
+    from test_identification import _fake_fits
+
+    from impactosc.cli.main import main
+    from impactosc.identification import choice
+
+    singular = np.linalg.LinAlgError("Factor is exactly singular")
+    monkeypatch.setattr(choice, "fit_candidate", _fake_fits(choice.RESTITUTION_FITTED, singular))
+    out = tmp_path / "m.yaml"
+    args = [*EXAMPLE, "--duration", "5", "--stages", "2", "--output", out, "--table", tmp_path / "parameters.md"]
+    assert main(["identify", *map(str, args), "--choose-model", str(tmp_path / "choice.csv")]) == 0
+    std = capsys.readouterr()
+    assert read_model_file(out).params.law == "bc" and (tmp_path / "parameters.md").exists()
+    rows = read_table(tmp_path / "choice.csv")
+    assert [(r["law"], r["friction"]) for r in rows][-1] == (choice.RESTITUTION_FITTED, "dry friction")
+    assert len(rows) == len(choice.candidates())
+    assert rows[-1]["failure"] == "fit failed: LinAlgError: Factor is exactly singular"
+    assert np.isnan(rows[-1]["bic"]) and rows[-1]["supported"] == "no"  # no numbers: empty cells
+    assert all(np.isnan(r["failure"]) and np.isfinite(r["bic"]) for r in rows[:-1])
+    assert rows[0]["supported"] == "yes" and (rows[0]["law"], rows[0]["friction"]) == ("bc", "dry friction")
+    assert "candidate flores, dry friction" in std.err and "fit failed: LinAlgError" in std.err
+    assert "the records support bc, dry friction (smallest BIC of 4 candidates)" in std.out
+    assert "fit failed (a row of the table, not ranked): flores, dry friction" in std.out
+
+
 @pytest.mark.slow
 def test_choose_model_ranks_the_candidates(tmp_path):
     """Five more fits: model BC's own law and friction win on its surrogate."""
