@@ -371,3 +371,50 @@ def test_the_ranking_ignores_failed_rows():
     assert [r["law"] for r in rows] == ["flores", "hertz", "bc"]
     assert rows[0]["supported"] and rows[0]["best_held_out"] and rows[0]["delta_bic"] == 0.0
     assert rows[2]["failure"] == "fit failed: LinAlgError: Singular matrix" and "delta_bic" not in rows[2]
+
+
+def test_the_continuity_step_survives_a_window_whose_difference_runs_failed(clean_trajectory):
+    """A run the core stops gives NaN samples; in one window's sensitivities, such a NaN made the
+    KKT matrix's LU report 'Factor is exactly singular' and ended the whole fit. That window
+    now sits out the step; a parameter without effect (a zero column) stays solvable too."""
+    from impactosc.identification import continuity
+    from impactosc.identification.fitted_parameters import LOWER, QUANTITIES, UPPER, law_quantities
+
+    par = ModelParams()
+    tr, clean = clean_trajectory
+    noisy = np.random.default_rng(3).normal(0.0, 5e-6, clean.x.size)
+    w = cut_windows([Record(clean.t, clean.x + noisy, 40.86, {}, "<noisy>")], periods=2.0, level=par.xI)
+    theta = theta_of(par, full=True)
+    free = np.array([nm in law_quantities("bc") for nm in QUANTITIES])
+    states = np.column_stack([tr["x"][w.start], tr["v"][w.start]])
+    pred = Predictor(w, par.as_array(40.86), par.m)
+    _, E, A, Phi, B, G = pred.jacobian(theta, states, free, QUANTITIES)
+    r = pred.predict(theta, states) - w.y
+    lk = continuity.links(w)
+    gaps = E[lk] - states[lk + 1]
+    assert w.size >= 8 and lk.size >= 6
+    zero = B.copy()
+    zero[:, 0] = 0.0  # k/m without effect: solvable as it was
+    continuity._kkt(A, Phi, zero, G, r, gaps, w, lk, 0.0)
+    spoiled = A.copy()
+    spoiled[w.offset[3] + 5, 1] = np.nan  # window 3's run from v0 + a step stopped
+    with pytest.raises(RuntimeError, match="Factor is exactly singular"):
+        continuity._kkt(spoiled, Phi, B, G, r, gaps, w, lk, 0.0)
+
+    class Stopped(Predictor):
+        """Window 3's difference runs stop, at every point of the fit."""
+
+        def jacobian(self, *args):
+            out = list(super().jacobian(*args))
+            rows = slice(self.w.offset[3], self.w.offset[3] + self.w.n[3])
+            out[2][rows], out[4][rows], out[3][3], out[5][3] = np.nan, np.nan, np.nan, np.nan
+            return tuple(out)
+
+    shifted = theta.copy()
+    shifted[QUANTITIES.index("k/m")] *= 1.0 + 1e-5  # a step to take
+    res = continuity.fit_continuous(
+        Stopped(w, par.as_array(40.86), par.m), shifted, states, free, QUANTITIES, lower=LOWER, upper=UPPER
+    )
+    assert np.all(np.isfinite(res.theta)) and np.all(np.isfinite(res.cov)) and res.iterations >= 2
+    z = (res.theta - theta)[free] / res.stderr[free]
+    assert np.all(np.abs(z) < 4), dict(zip(np.array(QUANTITIES)[free], np.round(z, 2)))
