@@ -264,3 +264,157 @@ def test_the_best_held_out_is_the_simplest_within_one_standard_error():
     # a simpler law worse by more than the smallest rms's standard error does not count
     apart = [row("flores", 7, 5.0117e-6, 2e-8), row("hertz", 6, 5.06e-6, 2e-8), row("bc", 8, 6.81e-6, 3e-8)]
     assert best_held_out(apart)["law"] == "flores"
+
+
+def _choice_row(law, friction, n_free, rss, held_out):
+    """A fitted candidate's row as fit_candidate gives it: ten common blocks of rss each."""
+    from impactosc.identification.choice import BLOCK
+
+    return {
+        "law": law,
+        "friction": friction,
+        "free": "k/m c/m",
+        "not_pinned": "",
+        "n_free": n_free,
+        "n": 10 * BLOCK,
+        "rms_m": 1e-6,
+        "held_out_rms_m": held_out,
+        "held_out_se_m": 1e-9,
+        "n_held_out": 4 * BLOCK,
+        "converged": True,
+        "blocks": {"record": [0] * 10, "block": list(range(10)), "rss": [rss] * 10},
+    }
+
+
+def _fake_fits(failing, exc):
+    """A stand-in for choice.fit_candidate: model BC's law fits best, ``failing`` raises exc."""
+
+    def fit(records, law, friction, **options):
+        if law == failing:
+            raise exc
+        bc = law == "bc" and friction == "dry friction"
+        return _choice_row(law, friction, 6 if law == "hertz" else 7, 1e-9 if bc else 2e-9, 5e-6 if bc else 6e-6)
+
+    return fit
+
+
+@pytest.mark.parametrize(
+    "exc",
+    [
+        np.linalg.LinAlgError("Factor is exactly singular"),
+        RuntimeError("Factor is exactly singular"),  # SuperLU's, from the continuity stage
+        ValueError("x0 = nan: the start state must be finite"),
+    ],
+    ids=["LinAlgError", "RuntimeError", "ValueError"],
+)
+def test_a_candidate_whose_fit_fails_is_a_row_saying_so_not_ranked(monkeypatch, exc):
+    from types import SimpleNamespace
+
+    from impactosc.identification import choice
+
+    monkeypatch.setattr(choice, "fit_candidate", _fake_fits(choice.RESTITUTION_FITTED, exc))
+    monkeypatch.setattr(choice, "start_values", lambda *args, **kwargs: None)
+    records = [SimpleNamespace(x=np.random.default_rng(1).normal(0.0, 5e-6, 4000))]
+    said = []
+    rows = choice.choose_model(records, progress=said.append)
+    # by BIC (Hertz's one parameter fewer ranks it above the two of equal rss), the failed one last
+    assert [(r["law"], r["friction"]) for r in rows] == [
+        ("bc", "dry friction"),
+        ("hertz", "dry friction"),
+        ("bc", "no dry friction"),
+        ("kelvin-voigt", "dry friction"),
+        (choice.RESTITUTION_FITTED, "dry friction"),
+    ]
+    failed = rows[-1]
+    assert failed["law"] == choice.RESTITUTION_FITTED and choice.fit_failed(failed)
+    assert failed["failure"] == f"fit failed: {type(exc).__name__}: {exc}"
+    assert not failed["supported"] and not failed["best_held_out"] and "bic" not in failed
+    assert not any(choice.fit_failed(r) for r in rows[:-1]) and all("bic" in r for r in rows[:-1])
+    assert rows[0]["supported"] and (rows[0]["law"], rows[0]["friction"]) == ("bc", "dry friction")
+    assert [r["best_held_out"] for r in rows].count(True) == 1 and rows[0]["best_held_out"]
+    assert f"  {failed['failure']}" in said
+    text = choice.choice_markdown(rows)
+    assert f"| {choice.RESTITUTION_FITTED} | dry friction | {failed['failure']} | - |" in text
+    assert "Supported (smallest BIC): **bc, dry friction**" in text and "a row that says so" in text
+
+
+def test_a_failed_fit_states_one_line_of_its_reason_and_a_programming_error_still_raises(monkeypatch):
+    from impactosc.core.simulation import StallError
+    from impactosc.identification import choice
+
+    long = StallError("the core stopped at t = 1.5 s: " + "step size underflow " * 10 + "\nstate: ...", {})
+    monkeypatch.setattr(choice, "fit_candidate", _fake_fits("hertz", long))
+    row = choice.try_candidate([], "hertz", "dry friction")
+    assert row["failure"].startswith("fit failed: StallError: the core stopped at t = 1.5 s: step size underflow")
+    assert len(row["failure"]) <= len("fit failed: ") + choice.REASON_CHARS and row["failure"].endswith("...")
+    assert "\n" not in row["failure"] and "state" not in row["failure"]
+    monkeypatch.setattr(choice, "fit_candidate", _fake_fits("hertz", TypeError("a bug")))
+    with pytest.raises(TypeError):
+        choice.try_candidate([], "hertz", "dry friction")
+    # every fit failed: the table says so and chooses none
+    rows = choice.rank([choice.failed_row(law, fr, RuntimeError("x | y")) for law, fr in choice.candidates()])
+    assert len(rows) == len(choice.candidates()) and not any(r["supported"] or r["best_held_out"] for r in rows)
+    text = choice.choice_markdown(rows)
+    assert "No candidate's fit succeeded" in text and "fit failed: RuntimeError: x \\| y" in text
+
+
+def test_the_ranking_ignores_failed_rows():
+    from impactosc.identification.choice import failed_row, rank
+
+    rows = rank(
+        [
+            failed_row("bc", "dry friction", np.linalg.LinAlgError("Singular matrix")),
+            _choice_row("hertz", "dry friction", 6, 2e-9, 6e-6),
+            _choice_row("flores", "dry friction", 7, 1e-9, 5e-6),
+        ]
+    )
+    assert [r["law"] for r in rows] == ["flores", "hertz", "bc"]
+    assert rows[0]["supported"] and rows[0]["best_held_out"] and rows[0]["delta_bic"] == 0.0
+    assert rows[2]["failure"] == "fit failed: LinAlgError: Singular matrix" and "delta_bic" not in rows[2]
+
+
+def test_the_continuity_step_survives_a_window_whose_difference_runs_failed(clean_trajectory):
+    """A run the core stops gives NaN samples; in one window's sensitivities, such a NaN made the
+    KKT matrix's LU report 'Factor is exactly singular' and ended the whole fit. That window
+    now sits out the step; a parameter without effect (a zero column) stays solvable too."""
+    from impactosc.identification import continuity
+    from impactosc.identification.fitted_parameters import LOWER, QUANTITIES, UPPER, law_quantities
+
+    par = ModelParams()
+    tr, clean = clean_trajectory
+    noisy = np.random.default_rng(3).normal(0.0, 5e-6, clean.x.size)
+    w = cut_windows([Record(clean.t, clean.x + noisy, 40.86, {}, "<noisy>")], periods=2.0, level=par.xI)
+    theta = theta_of(par, full=True)
+    free = np.array([nm in law_quantities("bc") for nm in QUANTITIES])
+    states = np.column_stack([tr["x"][w.start], tr["v"][w.start]])
+    pred = Predictor(w, par.as_array(40.86), par.m)
+    _, E, A, Phi, B, G = pred.jacobian(theta, states, free, QUANTITIES)
+    r = pred.predict(theta, states) - w.y
+    lk = continuity.links(w)
+    gaps = E[lk] - states[lk + 1]
+    assert w.size >= 8 and lk.size >= 6
+    zero = B.copy()
+    zero[:, 0] = 0.0  # k/m without effect: solvable as it was
+    continuity._kkt(A, Phi, zero, G, r, gaps, w, lk, 0.0)
+    spoiled = A.copy()
+    spoiled[w.offset[3] + 5, 1] = np.nan  # window 3's run from v0 + a step stopped
+    with pytest.raises(RuntimeError, match="Factor is exactly singular"):
+        continuity._kkt(spoiled, Phi, B, G, r, gaps, w, lk, 0.0)
+
+    class Stopped(Predictor):
+        """Window 3's difference runs stop, at every point of the fit."""
+
+        def jacobian(self, *args):
+            out = list(super().jacobian(*args))
+            rows = slice(self.w.offset[3], self.w.offset[3] + self.w.n[3])
+            out[2][rows], out[4][rows], out[3][3], out[5][3] = np.nan, np.nan, np.nan, np.nan
+            return tuple(out)
+
+    shifted = theta.copy()
+    shifted[QUANTITIES.index("k/m")] *= 1.0 + 1e-5  # a step to take
+    res = continuity.fit_continuous(
+        Stopped(w, par.as_array(40.86), par.m), shifted, states, free, QUANTITIES, lower=LOWER, upper=UPPER
+    )
+    assert np.all(np.isfinite(res.theta)) and np.all(np.isfinite(res.cov)) and res.iterations >= 2
+    z = (res.theta - theta)[free] / res.stderr[free]
+    assert np.all(np.abs(z) < 4), dict(zip(np.array(QUANTITIES)[free], np.round(z, 2)))

@@ -2,7 +2,8 @@
 
 Reads input.kernels (compiled kernels), input.cache, input.records, params (identification, model, solver) and
 wildcards.candidate (a number of impactosc.identification.choice.candidates()); writes output.json (fit, held-
-out error, residuals by block for the AIC and BIC).
+out error, residuals by block for the AIC and BIC; a fit that failed: the row saying why, which the table shows
+unranked).
 """
 
 from _logging import configure_logging, mock_snakemake
@@ -13,7 +14,7 @@ configure_logging(snakemake)
 
 import logging
 
-from impactosc.identification.choice import candidates, fit_candidate
+from impactosc.identification.choice import candidates, fit_failed, try_candidate
 from impactosc.identification.report import configured_inputs
 from impactosc.io.files import write_json
 
@@ -22,7 +23,7 @@ g = p.identification
 base, records = configured_inputs(g, p.model, snakemake.input.records)
 law, friction = candidates()[int(snakemake.wildcards.candidate)]
 logging.info(f"candidate: {law}, {friction}")
-row = fit_candidate(
+row = try_candidate(
     records,
     law,
     friction,
@@ -32,5 +33,10 @@ row = fit_candidate(
     rtol=p.solver["rtol"],
     progress=logging.info,
 )
-logging.info(f"rms {row['rms_m'] * 1e6:.3f} um on {row['n']} samples, held out {row['held_out_rms_m'] * 1e6:.3f} um")
+if fit_failed(row):
+    logging.warning(row["failure"])
+else:
+    logging.info(
+        f"rms {row['rms_m'] * 1e6:.3f} um on {row['n']} samples, held out {row['held_out_rms_m'] * 1e6:.3f} um"
+    )
 write_json(snakemake.output.json, {"row": row}, sources=list(snakemake.input.records))

@@ -117,6 +117,8 @@ def _write_rows(path, rows, markdown: str, sources, columns=None) -> None:
 
 def _identify_summary(args, ident, rows, source: str, choice) -> str:
     """What was written and identified: residual, every parameter with its error, what was fixed and why."""
+    from impactosc.identification.choice import fit_failed
+
     p = ident.params
     lines = [
         f"{args.output}: model identified from {len(ident.records)} record(s) in {ident.seconds:.1f} s; "
@@ -136,10 +138,17 @@ def _identify_summary(args, ident, rows, source: str, choice) -> str:
     if args.table:
         lines.append(f"{args.table}: parameter table")
     if choice:
-        lines.append(
-            f"{args.choose_model}: the records support {choice[0]['law']}, {choice[0]['friction']} "
-            f"(smallest BIC of {len(choice)} candidates)"
-        )
+        failed = [f"{r['law']}, {r['friction']}" for r in choice if fit_failed(r)]
+        fitted = len(choice) - len(failed)
+        if choice[0].get("supported"):
+            lines.append(
+                f"{args.choose_model}: the records support {choice[0]['law']}, {choice[0]['friction']} "
+                f"(smallest BIC of {fitted} candidates)"
+            )
+        else:
+            lines.append(f"{args.choose_model}: no candidate's fit succeeded")
+        if failed:
+            lines.append(f"  fit failed (a row of the table, not ranked): {'; '.join(failed)}")
     return "\n".join(lines)
 
 
@@ -165,7 +174,7 @@ def _identify(args) -> int:
 
 
 def _identify_run(args) -> int:
-    from impactosc.identification.choice import candidates, choice_markdown, choose_model
+    from impactosc.identification.choice import candidates, choice_markdown, choose_model, fit_failed
     from impactosc.identification.report import parameter_markdown, parameter_table, write_identified_model
     from impactosc.identification.staged_fit import identify
     from impactosc.records.formats import read_records
@@ -193,7 +202,8 @@ def _identify_run(args) -> int:
         with warnings.catch_warnings():  # candidates the records reject stray far out: their fit says so
             warnings.simplefilter("ignore")
             choice = choose_model(records, base=base, stages=stages, progress=say)
-        if not any(row["n_held_out"] for row in choice):
+        fitted = [row for row in choice if not fit_failed(row)]
+        if fitted and not any(row["n_held_out"] for row in fitted):
             print(
                 "impactosc identify: warning: the records are too short to hold blocks of windows out of the fits; "
                 "the model choice rests on AIC and BIC alone",

@@ -26,6 +26,11 @@ which the data support:
 The supported model is the one with the smallest BIC: a larger model whose extra parameter the
 records do not need pays ln N per parameter, so the true nested law (Hertz inside the others)
 wins when it is the simpler one, and the held-out errors say whether the winner also predicts best.
+
+A candidate whose fit fails (:data:`FIT_FAILURES`: a singular system, the core stopped, a start
+value its law refuses) is a row that says so and why, and is neither ranked nor chosen: a wrong
+law the records reject can break its own fit, and that answers the question as well as a poor
+fit would; the other candidates and the identification stand.
 """
 
 from __future__ import annotations
@@ -36,6 +41,7 @@ import warnings
 
 import numpy as np
 
+from impactosc.core.simulation import StallError
 from impactosc.identification.fitted_parameters import QUANTITIES
 from impactosc.identification.least_squares import fit_states
 from impactosc.identification.staged_fit import STAGES, identify
@@ -51,6 +57,10 @@ __all__ = [
     "RESTITUTION_FITTED",
     "candidates",
     "fit_candidate",
+    "try_candidate",
+    "failed_row",
+    "fit_failed",
+    "FIT_FAILURES",
     "rank",
     "choose_model",
     "choice_markdown",
@@ -77,6 +87,13 @@ _XI, _E = QUANTITIES.index("xI"), QUANTITIES.index("e")
 #: Samples per block of a record in which each candidate's residuals are summed (the common
 #: samples of the AIC and BIC are the blocks every candidate covered whole).
 BLOCK = 64
+#: What a candidate's fit can fail with, a row of the table rather than the end of the model
+#: choice: a singular system (numpy's LinAlgError; SuperLU's RuntimeError "Factor is exactly
+#: singular"), the core stopped (StallError), a value the law or a solver refuses (ValueError),
+#: an overflow (ArithmeticError). A programming error (TypeError, KeyError, ...) still raises.
+FIT_FAILURES = (np.linalg.LinAlgError, StallError, RuntimeError, ValueError, ArithmeticError)
+#: Longest reason a failed row states, characters.
+REASON_CHARS = 80
 
 
 def _block_residuals(ident) -> dict:
@@ -198,6 +215,31 @@ def fit_candidate(records, law, friction, *, base=None, start=None, every=4, sta
     }
 
 
+def _one_line(exc: BaseException) -> str:
+    """'Type: first line of the message', cut to REASON_CHARS characters."""
+    text = str(exc).strip().splitlines()
+    reason = f"{type(exc).__name__}: {text[0].strip()}" if text else type(exc).__name__
+    return reason if len(reason) <= REASON_CHARS else reason[: REASON_CHARS - 3].rstrip() + "..."
+
+
+def failed_row(law: str, friction: str, exc: BaseException) -> dict:
+    """The row of a candidate whose fit failed: its law, friction and why, no numbers."""
+    return {"law": law, "friction": friction, "failure": f"fit failed: {_one_line(exc)}", "converged": False}
+
+
+def fit_failed(row: dict) -> bool:
+    """Whether the row is that of a failed fit (:func:`failed_row`)."""
+    return bool(row.get("failure"))
+
+
+def try_candidate(records, law, friction, **options) -> dict:
+    """:func:`fit_candidate`'s row, or :func:`failed_row` when the fit fails (FIT_FAILURES)."""
+    try:
+        return fit_candidate(records, law, friction, **options)
+    except FIT_FAILURES as exc:
+        return failed_row(law, friction, exc)
+
+
 def best_held_out(rows: list[dict]) -> dict:
     """The candidate that predicts the held-out windows best, by the one-standard-error rule
     (Breiman et al. 1984; Hastie, Tibshirani and Friedman, ESL 7.10): the fewest free parameters
@@ -214,7 +256,12 @@ def best_held_out(rows: list[dict]) -> dict:
 def rank(rows: list[dict]) -> list[dict]:
     """Rows with AIC and BIC on the samples every candidate fitted (``n_common``, ``rms_common_m``;
     the block residuals are dropped), sorted by BIC, with their differences to the best, the
-    supported one and the best held out (:func:`best_held_out`) marked."""
+    supported one and the best held out (:func:`best_held_out`) marked.  The rows of failed fits
+    (:func:`failed_row`) are neither ranked nor marked: they follow the others, in their order."""
+    failures = [dict(r, supported=False, best_held_out=False) for r in rows if fit_failed(r)]
+    rows = [r for r in rows if not fit_failed(r)]
+    if not rows:
+        return failures
     keys = [set(zip(r["blocks"]["record"], r["blocks"]["block"])) for r in rows]
     common = set.intersection(*keys) if keys else set()
     if not common:
@@ -235,13 +282,14 @@ def rank(rows: list[dict]) -> list[dict]:
         r["delta_bic"] = r["bic"] - rows[0]["bic"]
         r["best_held_out"] = r is best_held
         r["supported"] = i == 0
-    return rows
+    return rows + failures
 
 
 def choose_model(
     records, *, base: ModelParams | None = None, every: int = 4, stages=STAGES, rtol: float = 1e-10, progress=None
 ):
-    """Fit every (contact law, friction) candidate; one row each, best BIC first (:func:`rank`)."""
+    """Fit every (contact law, friction) candidate; one row each, best BIC first (:func:`rank`),
+    a candidate whose fit failed last, saying why (:func:`try_candidate`)."""
     from impactosc.records.sample_fits import estimate_noise
 
     records = list(records)
@@ -252,41 +300,59 @@ def choose_model(
     rows = []
     for law, fr in candidates():
         say(f"candidate {law}, {fr}")
-        rows.append(fit_candidate(records, law, fr, base=base, start=start, every=every, stages=stages, rtol=rtol))
+        rows.append(try_candidate(records, law, fr, base=base, start=start, every=every, stages=stages, rtol=rtol))
         r = rows[-1]
-        say(f"  rms {r['rms_m'] * 1e6:.3f} um on {r['n']} samples, held out {r['held_out_rms_m'] * 1e6:.3f} um")
+        if fit_failed(r):
+            say(f"  {r['failure']}")
+        else:
+            say(f"  rms {r['rms_m'] * 1e6:.3f} um on {r['n']} samples, held out {r['held_out_rms_m'] * 1e6:.3f} um")
     return rank(rows)
 
 
 def choice_markdown(rows: list[dict]) -> str:
-    """The ranked candidates as Markdown: which model the records support, and by how much."""
-    best = rows[0]
-    held = next(r for r in rows if r["best_held_out"])
-    own = [r["n"] for r in rows]
+    """The ranked candidates as Markdown: which model the records support, and by how much; the
+    candidates whose fit failed last, each saying why."""
+    ranked = [r for r in rows if not fit_failed(r)]
+    failures = [r for r in rows if fit_failed(r)]
+    failed_note = (
+        f" A candidate whose fit failed ({len(failures)} here) is a row that says so and why, with no numbers: "
+        "it is neither ranked nor chosen."
+        if failures
+        else ""
+    )
+    if ranked:
+        best = ranked[0]
+        held = next(r for r in ranked if r["best_held_out"])
+        own = [r["n"] for r in ranked]
+        intro = (
+            f"Supported (smallest BIC): **{best['law']}, {best['friction']}**. Fits on the windows outside the "
+            "held-out blocks; held-out error: rms residual of the held-out windows with only their start states "
+            f"fitted, with its standard error (the windows as units); best held out: **{held['law']}, "
+            f"{held['friction']}**, the fewest free parameters within one standard error of the smallest held-out "
+            "rms (a law nested in a larger one reaches the same force; the larger one's extra parameters move "
+            "its held-out rms by far less than the windows resolve). Each fit has its own windows "
+            f"({min(own)}-{max(own)} samples: it cuts them at its own obstacle "
+            "estimate and leaves out those it fits far worse than the rest); AIC and BIC, and the rms beside them, "
+            f"are those of the {best['n_common']} samples every candidate fitted, with the free parameters as "
+            "penalty. Not pinned: what the records could not determine for that candidate, fixed at the stated "
+            "value shown. A candidate whose fit did not converge is marked so: its rms is only an upper bound "
+            f"on what its law reaches.{failed_note} The restitution laws are one force, kI h^n1 (1 + g(e) v / v0), "
+            "written in e four ways: "
+            f"{RESTITUTION_FITTED} is fitted, and its row gives the e of each other one with the same force (none "
+            "where that law's g cannot reach it)."
+        )
+    else:
+        intro = "No candidate's fit succeeded: the records support none of them here." + failed_note
     lines = [
         "# Model choice: which contact law and friction the records support",
         "",
-        f"Supported (smallest BIC): **{best['law']}, {best['friction']}**. Fits on the windows outside the "
-        "held-out blocks; held-out error: rms residual of the held-out windows with only their start states "
-        f"fitted, with its standard error (the windows as units); best held out: **{held['law']}, "
-        f"{held['friction']}**, the fewest free parameters within one standard error of the smallest held-out "
-        "rms (a law nested in a larger one reaches the same force; the larger one's extra parameters move "
-        "its held-out rms by far less than the windows resolve). Each fit has its own windows "
-        f"({min(own)}-{max(own)} samples: it cuts them at its own obstacle "
-        "estimate and leaves out those it fits far worse than the rest); AIC and BIC, and the rms beside them, "
-        f"are those of the {best['n_common']} samples every candidate fitted, with the free parameters as "
-        "penalty. Not pinned: what the records could not determine for that candidate, fixed at the stated "
-        "value shown. A candidate whose fit did not converge is marked so: its rms is only an upper bound "
-        "on what its law reaches. The restitution laws are one force, kI h^n1 (1 + g(e) v / v0), written "
-        "in e four ways: "
-        f"{RESTITUTION_FITTED} is fitted, and its row gives the e of each other one with the same force (none "
-        "where that law's g cannot reach it).",
+        intro,
         "",
         "| contact law | friction | free | not pinned | rms fit (um), own samples | rms fit (um), common samples "
         "| rms held out (um) +- se | dAIC | dBIC | same force |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
-    for r in rows:
+    for r in ranked:
         held = f"{r['held_out_rms_m'] * 1e6:.3f} +- {r['held_out_se_m'] * 1e6:.3f}" + (
             " (best)" if r["best_held_out"] else ""
         )
@@ -296,4 +362,7 @@ def choice_markdown(rows: list[dict]) -> str:
             f"({r['n']}) | {r['rms_common_m'] * 1e6:.3f} | {held} | {r['delta_aic']:.1f} | {r['delta_bic']:.1f} "
             f"| {r.get('same_force') or '-'} |"
         )
+    for r in failures:
+        why = r["failure"].replace("|", "\\|")
+        lines.append(f"| {r['law']} | {r['friction']} | {why} | - | - | - | - | - | - | - |")
     return "\n".join(lines) + "\n"

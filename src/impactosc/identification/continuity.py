@@ -19,6 +19,13 @@ through its sparse KKT system (scipy.sparse LU), with the unknowns scaled by the
 J^T J.  The covariance of theta is the theta block of the inverse KKT matrix times s^2 =
 RSS / (N - P - 2 (windows - links)).  It starts from the free-window fit, where the
 continuity gaps are already small (micrometres, mm/s), so full steps converge in a few.
+
+A window whose runs for the differences did not all finish (the core stopped one at a start
+state or parameter a step away: its sensitivities are NaN) sits out the step it would spoil:
+one NaN in the KKT matrix makes its LU report "Factor is exactly singular" and ends the fit.
+Its rows are zeroed and its joins dropped for that step (:func:`_finite_step`), so it neither
+pulls theta nor moves; a parameter without effect (a zero column) needs nothing of the kind,
+the 1e-10 on the scaled diagonal keeps it solvable.
 """
 
 from __future__ import annotations
@@ -93,6 +100,24 @@ def _kkt(A, Phi, B, G, r, gaps, w, lk, lam):
     return splu(K), rhs, d
 
 
+def _finite_step(w: WindowSet, lk, r, E, A, Phi, B, G):
+    """(r, A, Phi, B, G, lk) for the KKT system with every window whose residuals,
+    sensitivities or end state are not all finite taken out: its rows zero and its joins
+    (to and from it) dropped; the arrays themselves where every window is finite."""
+    rows = np.isfinite(r) & np.all(np.isfinite(A), axis=1) & np.all(np.isfinite(B), axis=1)
+    ok = np.logical_and.reduceat(rows, w.offset) if w.size else np.ones(0, dtype=bool)
+    ok &= np.all(np.isfinite(Phi), axis=(1, 2)) & np.all(np.isfinite(G), axis=(1, 2)) & np.all(np.isfinite(E), axis=1)
+    if ok.all():
+        return r, A, Phi, B, G, lk
+    bad = np.repeat(~ok, w.n)
+    r = np.where(bad, 0.0, r)
+    A = np.where(bad[:, None], 0.0, A)
+    B = np.where(bad[:, None], 0.0, B)
+    Phi = np.where(ok[:, None, None], Phi, 0.0)
+    G = np.where(ok[:, None, None], G, 0.0)
+    return r, A, Phi, B, G, lk[ok[lk] & ok[lk + 1]]
+
+
 def fit_continuous(
     pred: Predictor,
     theta0,
@@ -127,8 +152,9 @@ def fit_continuous(
     lk = lk[np.abs(E[lk, 0] - states[lk + 1, 0]) < GAP_LIMIT * noise]
     dof = int(w.y.size - P - 2 * (W - lk.size))
     for it in range(1, max_iter + 1):
-        gaps = E[lk] - states[lk + 1]
-        lu, rhs, d = _kkt(A, Phi, B, G, r, gaps, w, lk, 0.0)
+        rf, Af, Phif, Bf, Gf, lkf = _finite_step(w, lk, r, E, A, Phi, B, G)
+        gaps = E[lkf] - states[lkf + 1]
+        lu, rhs, d = _kkt(Af, Phif, Bf, Gf, rf, gaps, w, lkf, 0.0)
         z = d * lu.solve(rhs)[: 2 * W + P]
         se = _stderr(lu, d, W, P, cost / max(dof, 1))
         gap = float(np.max(np.abs(gaps[:, 0]), initial=0.0))
@@ -155,7 +181,8 @@ def fit_continuous(
         r = pr - w.y
         cost = float(r @ r)
     # the Jacobian in hand is at (theta, states) on every way out of the loop
-    lu, _, d = _kkt(A, Phi, B, G, r, E[lk] - states[lk + 1], w, lk, 0.0)
+    rf, Af, Phif, Bf, Gf, lkf = _finite_step(w, lk, r, E, A, Phi, B, G)
+    lu, _, d = _kkt(Af, Phif, Bf, Gf, rf, E[lkf] - states[lkf + 1], w, lkf, 0.0)
     cov = _covariance(lu, d, W, P) * (cost / max(dof, 1))
     converged = converged and bool(np.max(np.abs(E[lk, 0] - states[lk + 1, 0]), initial=0.0) < 1e-2 * noise)
     return FitResult(theta, states, free, cov, cost, int(w.y.size), dof, it, converged, _window_rss(r, w))
