@@ -24,7 +24,7 @@ from impactosc.core.layout import (
     RECORD_POINCARE,
     S_ISEC,
 )
-from impactosc.model.equations import CONTACT, FREE
+from impactosc.model.equations import FREE, in_contact
 from impactosc.model.parameters import P_XI
 
 # event kinds located inside a step (EV_V: v = 0; EV_STOP_*: a contact law's surface inside the contact)
@@ -66,7 +66,7 @@ def record_extremum(p, rs, ev, n, field, t, x, direction):
     """A maximum of x (direction +1) is a penetration in contact, a near miss in flight."""
     flags = int(rs[R_FLAGS])
     if direction > 0.0 and t >= rs[R_T_RECORD]:
-        if field == CONTACT and flags & RECORD_PENETRATIONS:
+        if in_contact(field) and flags & RECORD_PENETRATIONS:
             ev, n = push(ev, n, PENETRATION, t, x - p[P_XI], 0.0)
         elif field == FREE and flags & RECORD_NEAR_MISSES:
             ev, n = push(ev, n, NEAR_MISS, t, p[P_XI] - x, 0.0)

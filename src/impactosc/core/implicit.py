@@ -33,7 +33,7 @@ from impactosc.core.layout import (
 from impactosc.core.pieces import store
 from impactosc.core.sampling import sample_hermite, window_due
 from impactosc.core.transitions import after_implicit_step, apply_event
-from impactosc.model.equations import CONTACT, FREE
+from impactosc.model.equations import FREE, in_contact
 from impactosc.model.parameters import P_EPS, P_M, P_T, P_XI
 
 
@@ -91,7 +91,7 @@ def implicit_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     t1 = t_target if clamped else t + hs
     # events inside the step: obstacle crossing, v changing sign (not from v = 0 exactly)
     g1 = x1 - p[P_XI]
-    hit_x = (field == FREE and g1 > 0.0) or (field == CONTACT and g1 < 0.0)
+    hit_x = (field == FREE and g1 > 0.0) or (in_contact(field) and g1 < 0.0)
     # a sign change of v inside the tolerance band (|v| <= atol, e.g. the creep of a cart
     # stuck on the obstacle, ~1e-13 m/s) is noise, not a reversal
     hit_v = abs(v) > atol and abs(v1) > atol and sign(v1) != sign(v)

@@ -52,12 +52,12 @@ from impactosc.model.contact_laws.kernel import (
     SURFACE_CUT,
     SURFACE_OBSTACLE,
     SURFACE_STOP,
+    behind_stop,
     has_stop,
-    stop_side,
     surface_residual,
 )
-from impactosc.model.equations import CONTACT, CUT, FREE
-from impactosc.model.parameters import P_EPS, P_M, P_STAGE, P_T, P_XI
+from impactosc.model.equations import CONTACT, CUT, FREE, STOP
+from impactosc.model.parameters import P_EPS, P_M, P_T, P_XI
 
 DIP_SAMPLES = 32
 RESTART_FRACTION = 1e-3  # first step after an event, as a fraction of the step that held it
@@ -129,7 +129,7 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     cut_on = field == CONTACT and past_cut(p, st, x1, v1)
     cut_off = field == CUT and not past_cut(p, st, x1, v1)
     # a surface of the law inside the contact (a second stop), crossed either way
-    stop = field == CONTACT and has_stop(p) and stop_side(p, x1) != p[P_STAGE]
+    stop = (field == CONTACT and has_stop(p) and behind_stop(p, x1)) or (field == STOP and not behind_stop(p, x1))
     if v_cross or x_up or x_down or cut_on or cut_off or stop:
         if not built:
             dop853.dense_prepare(p, TIME, field, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
@@ -196,7 +196,7 @@ def _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off, s
             th = th_c
             kind = EV_CUT_ON if cut_on else EV_CUT_OFF
     if stop:
-        on = p[P_STAGE] == 0.0
+        on = int(st[S_FIELD]) == CONTACT
         th_s = locate_surface(p, vcut, SURFACE_STOP, F, x, v, 0.0, 1.0, -1.0 if on else 1.0)
         if th_s < th:
             th = th_s

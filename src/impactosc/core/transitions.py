@@ -85,10 +85,10 @@ from impactosc.core.layout import (
     WVEL,
 )
 from impactosc.core.pieces import start_piece, store
-from impactosc.model.contact_laws.kernel import contact_onset, has_stop, onto_cut, stop_side
+from impactosc.model.contact_laws.kernel import behind_stop, contact_onset, has_stop, onto_cut
 from impactosc.model.contact_laws.kernel import past_cut as law_past_cut
-from impactosc.model.equations import CONTACT, CUT, FREE, accel, damping_rate, stick_force
-from impactosc.model.parameters import P_B, P_EPS, P_H1, P_KI, P_M, P_N2, P_N3, P_STAGE, P_T, P_XI
+from impactosc.model.equations import CONTACT, CUT, FREE, STOP, accel, damping_rate, in_contact, stick_force
+from impactosc.model.parameters import P_B, P_EPS, P_H1, P_KI, P_M, P_N2, P_N3, P_T, P_XI
 
 SLOW_FACTOR = 1.5  # v = 0 with |net force| < 1.5 T: stick or slow reversal -> implicit phase
 STIFF_ENTER = 4.0  # h |da/dv| above this: explicit steps are held by stability, not accuracy ...
@@ -131,7 +131,9 @@ def past_cut(p, st, x, v):
 def field_of(p, st, x, v):
     """Vector field at the state (x, v): free flight, contact, or contact past the cut."""
     if x - p[P_XI] >= 0.0:
-        return CUT if past_cut(p, st, x, v) else CONTACT
+        if past_cut(p, st, x, v):
+            return CUT
+        return STOP if has_stop(p) and behind_stop(p, x) else CONTACT
     return FREE
 
 
@@ -140,7 +142,6 @@ def first_piece(p, st, cnt, t, x, v):
     """The piece a run starts on at (t, x, v): the vector field there, explicit in time,
     or the implicit phase when it starts at rest where dry friction holds the cart."""
     field = field_of(p, st, x, v)
-    p[P_STAGE] = stop_side(p, x) if field != FREE else 0.0
     set_piece(st, field, EXPLICIT, TIME)
     if v == 0.0 and goes_implicit(p, field, t, x):
         enter_slow(p, st, cnt, t, x, v, 0.0)
@@ -268,8 +269,7 @@ def apply_event(p, st, cnt, rs, ev, n, kind, t, x, v, direction, dt_step):
         set_piece(st, CUT if kind == EV_CUT_ON else CONTACT, slow, TIME)
     elif kind in (EV_STOP_ON, EV_STOP_OFF):  # the surface inside the contact: onto it, and the other side
         x = p[P_XI] + p[P_H1]
-        p[P_STAGE] = 1.0 if kind == EV_STOP_ON else 0.0
-        set_piece(st, st[S_FIELD], slow, TIME)
+        set_piece(st, STOP if kind == EV_STOP_ON else CONTACT, slow, TIME)
     else:  # v = 0
         v = 0.0
         if slow != EXPLICIT:  # inside the implicit phase: a reversal against the pre-stick direction
@@ -290,7 +290,7 @@ def after_time_step(p, st, cnt, d0, field, t1, x1, v1, hs):
     eps = p[P_EPS]
     if abs(v1) < BAND * eps and goes_implicit(p, field, t1, x1):
         enter_slow(p, st, cnt, t1, x1, v1, sign(v1))
-    elif (field == CONTACT or abs(v1) < BAND * eps) and stiff(p, field, x1, v1, hs):
+    elif (in_contact(field) or abs(v1) < BAND * eps) and stiff(p, field, x1, v1, hs):
         enter_slow(p, st, cnt, t1, x1, v1, sign(v1), SLOW_STIFF)
         st[S_H] = hs  # the implicit solver starts from the step that stability held
     elif field == FREE and p[P_T] > 0.0 and v1 * d0[2] < 0.0 and abs(v1) < U_BAND * eps:
@@ -331,9 +331,10 @@ def after_implicit_step(p, st, cnt, rs, ev, n_ev, d0, field, t1, x1, v1, h_next)
     the friction band (stick, slow reversal) or the next step is no longer held by stability
     (stiff creep); a pending extremum of x is recorded if v came back with the other sign.
     A surface inside the contact (a second stop) is not located by the implicit steps: the side
-    of it the step ended on is the contact's state."""
-    if field == CONTACT and has_stop(p):
-        p[P_STAGE] = stop_side(p, x1)
+    of it the step ended on sets the vector field."""
+    if in_contact(field) and has_stop(p):
+        field = STOP if behind_stop(p, x1) else CONTACT
+        set_piece(st, field, st[S_SLOW], st[S_MODE])
     if st[S_SLOW] == SLOW_STIFF:
         leave = damping_rate(p, field, x1, v1) * h_next < STIFF_EXIT
     else:

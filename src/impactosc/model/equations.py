@@ -5,8 +5,8 @@
 
 The functions read the parameters from the array ``p`` (indices P_* in
 :mod:`impactosc.model.parameters`). The smooth vector field they evaluate is one of three
-kinds (FREE, CONTACT, CUT): a trajectory switches between them at contact onset, exit and
-the Hunt-Crossley cut.
+kinds (FREE, CONTACT, CUT, STOP): a trajectory switches between them at contact onset, exit,
+the contact law's cut and a second stop inside the contact (a law's surfaces: contact_laws.kernel).
 """
 
 from __future__ import annotations
@@ -15,7 +15,14 @@ import math
 
 from numba import njit
 
-from impactosc.model.contact_laws.kernel import contact_damping_rate, contact_force, contact_force_vn, contact_slopes
+from impactosc.model.contact_laws.kernel import (
+    contact_damping_rate,
+    contact_force,
+    contact_force_vn,
+    contact_slopes,
+    stop_force,
+    stop_slope,
+)
 from impactosc.model.parameters import (
     P_C,
     P_EPS,
@@ -27,8 +34,14 @@ from impactosc.model.parameters import (
 )
 
 # --- which smooth vector field is active on a piece -------------------------------------
-FREE, CONTACT, CUT = 0, 1, 2  # free flight; contact; contact past the Hunt-Crossley cut (F_I = 0)
-FIELD_NAMES = ("free flight", "contact", "contact past the Hunt-Crossley cut")
+FREE, CONTACT, CUT, STOP = 0, 1, 2, 3  # free flight; contact; past the cut (F_I = 0); behind a second stop
+FIELD_NAMES = ("free flight", "contact", "contact past the cut", "contact behind the second stop")
+
+
+@njit(cache=True, inline="always")
+def in_contact(field):
+    """Is the field one of the contact (in front of or behind a second stop, not past the cut)?"""
+    return (field == CONTACT) | (field == STOP)
 
 
 @njit(cache=True, inline="always")
@@ -45,6 +58,8 @@ def accel(p, field, t, x, v):
     f = external_force(p, t, x, v)
     if field == CONTACT:
         f -= contact_force(p, x, v)
+    elif field == STOP:
+        f -= stop_force(p, x, v)
     return f / p[P_M]
 
 
@@ -54,6 +69,8 @@ def accel_vn(p, field, t, x, v, vn):
     f = external_force(p, t, x, v)
     if field == CONTACT:
         f -= contact_force_vn(p, x, v, vn)
+    elif field == STOP:
+        f -= stop_force(p, x, v)
     return f / p[P_M]
 
 
@@ -64,6 +81,8 @@ def stick_force(p, field, t, x):
     f = p[P_M0E] * w * w * math.sin(w * t) - p[P_K] * x
     if field == CONTACT:
         f -= contact_force(p, x, 0.0)
+    elif field == STOP:
+        f -= stop_force(p, x, 0.0)
     return f
 
 
@@ -75,10 +94,12 @@ def jacobian(p, field, t, x, v, chord):
     s = v * v + eps * eps
     dfdx = -p[P_K]
     dfdv = -p[P_C] - p[P_T] * eps * eps / (s * math.sqrt(s))
-    if field == CONTACT:
+    if in_contact(field):
         dx, dv = contact_slopes(p, x, v, chord)
         dfdx -= dx
         dfdv -= dv
+        if field == STOP:
+            dfdx -= stop_slope(p, x)
     return dfdx / p[P_M], dfdv / p[P_M]
 
 
@@ -92,6 +113,6 @@ def damping_rate(p, field, x, v):
     eps = p[P_EPS]
     s2 = v * v + eps * eps
     rate = p[P_C] + p[P_T] * eps * eps / (s2 * math.sqrt(s2))
-    if field == CONTACT:
+    if in_contact(field):
         rate += contact_damping_rate(p, x, v)
     return rate / p[P_M]

@@ -35,7 +35,6 @@ from impactosc.model.slots import (  # noqa: F401  (the indices of p, re-exporte
     P_N3,
     P_OMEGA,
     P_OWN,
-    P_STAGE,
     P_T,
     P_XI,
 )
@@ -243,11 +242,10 @@ def cut_is_line(p: np.ndarray) -> bool:
 
 
 def new_contact_state(p: np.ndarray) -> None:
-    """Forget the contact state a law keeps (a damping set at the last onset, the side of a second
-    stop), in place: a run that starts outside a contact, as each identification window does."""
+    """Forget the contact state a law keeps in p (a damping set at the last onset), in place: a
+    run that starts outside a contact, as each identification window does."""
     if p[P_CHI] > 0:
         p[P_B] = 0.0
-    p[P_STAGE] = 0.0
 
 
 def cut_velocity(p: np.ndarray) -> float:

@@ -28,7 +28,6 @@ this leaf imports nothing, so each of them may import it.
     P_CHI_PER,  # ... as a fraction, as it is written: the same bits as the published form); P_CHI = 0: b as placed
     P_H1,  # depth of a surface inside the contact, h = h1, behind which ...
     P_K2,  # ... a second stop adds k2 (h - h1)^n1 (inf and 0: no such surface)
-    P_STAGE,  # the contact's state: 1 behind that surface, else 0 (set by the core)
     P_OMEGA,
-) = range(19)
-P_OWN = 19
+) = range(18)
+P_OWN = 18

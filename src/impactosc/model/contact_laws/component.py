@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from impactosc.model.slots import P_B, P_CHI, P_CHI_PER, P_H1, P_K2, P_N1, P_N2, P_N3, P_STAGE
+from impactosc.model.slots import P_B, P_CHI, P_CHI_PER, P_H1, P_K2, P_N1, P_N2, P_N3
 
 __all__ = ["ContactLaw", "LawParameter", "RestitutionLaw", "Surface", "FAMILY", "DAMPING", "V_TYPICAL"]
 
@@ -142,8 +142,8 @@ class ContactLaw:
     def place(self, p: np.ndarray, own: dict) -> None:
         """Fill the law's place in model BC's family in the parameter array p, in place, from
         p's family numbers and the law's own values `own` (name -> value): b, n2, n3, the damping
-        set per contact (P_CHI), the second stop (P_H1, P_K2), and no contact state yet."""
-        p[P_CHI], p[P_CHI_PER], p[P_H1], p[P_K2], p[P_STAGE] = 0.0, 1.0, math.inf, 0.0, 0.0
+        set per contact (P_CHI), the second stop (P_H1, P_K2)."""
+        p[P_CHI], p[P_CHI_PER], p[P_H1], p[P_K2] = 0.0, 1.0, math.inf, 0.0
         self._place(p, own)
 
     def _place(self, p: np.ndarray, own: dict) -> None:

@@ -7,7 +7,7 @@ in the parameter array ``p`` (:meth:`~impactosc.model.contact_laws.component.Con
 and the functions here read only numbers, never a law's name or code: the force and its partial
 derivatives, the residual of each switching surface (:func:`surface_residual`: the obstacle,
 the cut where the bracket reaches zero, a surface inside the contact) and the state a contact
-keeps (:func:`contact_onset`: a damping set from the onset velocity, the side of that surface).
+keeps (:func:`contact_onset`: a damping set from the onset velocity).
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import math
 
 from numba import njit
 
-from impactosc.model.slots import P_B, P_CHI, P_CHI_PER, P_H1, P_K2, P_KI, P_N1, P_N2, P_N3, P_STAGE, P_XI
+from impactosc.model.slots import P_B, P_CHI, P_CHI_PER, P_H1, P_K2, P_KI, P_N1, P_N2, P_N3, P_XI
 
 # --- the switching surfaces of a contact law (the core locates the roots of their residuals)
 SURFACE_OBSTACLE, SURFACE_CUT, SURFACE_STOP = 0, 1, 2
@@ -53,17 +53,18 @@ def contact_force_vn(p, x, v, vn):
         if v < 0.0:
             damp = -damp
     br = _pow(h, p[P_N1]) + damp
-    if p[P_STAGE] != 0.0:  # behind a second stop (a law with one)
-        return (p[P_KI] * br if br > 0.0 else 0.0) + stop_force(p, h)
     if br <= 0.0:
         return 0.0
     return p[P_KI] * br
 
 
-@njit(cache=True, inline="always")
-def stop_force(p, h):
-    """The second stop's force k2 (h - h1)^n1 (0 in front of it)."""
-    return p[P_K2] * _pow(max(h - p[P_H1], 0.0), p[P_N1])
+@njit(cache=True)  # a call, not inlined: only a law with a second stop, behind it, pays for it
+def stop_force(p, x, v):
+    """The contact force behind a second stop: the family's and k2 (h - h1)^n1. (The vector field
+    behind it is a field of its own, STOP, so model BC's contact force carries no test of it:
+    a test of a stage in contact_force cost 6 % of the chaotic scene's time.)"""
+    h = x - p[P_XI]
+    return contact_force(p, x, v) + p[P_K2] * _pow(max(h - p[P_H1], 0.0), p[P_N1])
 
 
 @njit(cache=True, inline="always")
@@ -102,9 +103,14 @@ def contact_slopes(p, x, v, chord):
             else:
                 # |v|^n3 has an infinite slope at v = 0; capping |v| keeps Newton finite.
                 dfdv = p[P_KI] * p[P_B] * _pow(h, p[P_N2]) * p[P_N3] * vn / max(av, 1e-12)
-        if p[P_STAGE] != 0.0 and h > p[P_H1]:
-            dfdx += p[P_K2] * p[P_N1] * (h - p[P_H1]) ** (p[P_N1] - 1.0)
     return dfdx, dfdv
+
+
+@njit(cache=True)
+def stop_slope(p, x):
+    """dF/dx of a second stop's force k2 (h - h1)^n1 (0 in front of it)."""
+    h = x - p[P_XI] - p[P_H1]
+    return p[P_K2] * p[P_N1] * h ** (p[P_N1] - 1.0) if h > 0.0 else 0.0
 
 
 @njit(cache=True)
@@ -161,18 +167,17 @@ def has_stop(p):
 
 
 @njit(cache=True, inline="always")
-def stop_side(p, x):
-    """1.0 behind the law's second stop (h > h1), else 0.0: the state P_STAGE a contact keeps."""
-    return 1.0 if x - p[P_XI] > p[P_H1] else 0.0
+def behind_stop(p, x):
+    """Is x behind the law's second stop (h > h1)? The side is the contact's state, kept as its
+    vector field (equations.STOP behind, CONTACT in front)."""
+    return x - p[P_XI] > p[P_H1]
 
 
 @njit(cache=True)
 def contact_onset(p, v0, vcut):
     """A contact starts at velocity v0: the state it keeps. A damping set per contact (P_CHI > 0)
     takes b = chi = g(e) / v0, g = P_CHI / P_CHI_PER (held in p until the next contact; 0 without
-    approach speed) and its cut v = -1/chi; the contact starts in front of any second stop.
-    Returns the cut velocity."""
-    p[P_STAGE] = 0.0
+    approach speed) and its cut v = -1/chi. Returns the cut velocity."""
     if p[P_CHI] > 0.0:
         b = p[P_CHI] / (p[P_CHI_PER] * v0) if v0 > 0.0 else 0.0
         p[P_B] = b
