@@ -18,7 +18,7 @@ from impactosc.core.simulation import simulate
 from impactosc.explorer.view import shown_parameters, with_law
 from impactosc.identification.fitted_parameters import QUANTITIES, law_quantities, quantity_unit
 from impactosc.model.contact_laws import LAWS, OWN_PARAMETERS, law_of
-from impactosc.model.model_file import read_model_file, write_model_file
+from impactosc.model.model_file import apply_overrides, read_model_file, write_model_file
 from impactosc.model.parameters import N_PARAMS, ModelParams, UntestedParameterWarning, unit_of
 from impactosc_study.config import load_schema
 
@@ -133,6 +133,30 @@ def test_every_law_is_one_component_that_every_consumer_reads(law, tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UntestedParameterWarning)
         assert read_model_file(path).params == params
+
+
+@pytest.mark.parametrize(
+    ("law", "items", "expected"),
+    [("hertz-viscous", ["cI=400"], {"cI": 400.0})],
+)
+def test_the_new_laws_are_named_as_the_others(law, items, expected, tmp_path):
+    """Model files, --param and the config's model.contact name the laws added by their definition alone."""
+    import yaml
+
+    from impactosc_study.config import validate_config
+
+    params = apply_overrides(_model(law), items)
+    assert all(getattr(params, k) == v for k, v in expected.items())
+    own = ", ".join(f"{k}: {v!r}" for k, v in expected.items())
+    path = tmp_path / "rig.yaml"
+    path.write_text(f"format: impactosc-model/1\ncontact: {{law: {law}, {own}}}\nparameters: {{}}\n")
+    assert read_model_file(path).params == params
+    config = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    config["model"] = {"contact": {"law": law, **expected}}
+    checked = validate_config(config, SCHEMA)
+    assert checked["model"]["law"] == law and all(checked["model"][k] == v for k, v in expected.items())
+    with pytest.raises(ValueError, match="has no"):
+        apply_overrides(_model("hertz"), items)
 
 
 def test_other_laws_keep_their_impact_times():

@@ -24,9 +24,12 @@ from impactosc.identification.start import V_TYPICAL, StartValues, for_law
 from impactosc.model.contact_laws import LAWS
 from impactosc.model.parameters import ModelParams, UntestedParameterWarning
 
+#: A model of each law that takes numbers of its own (a linear law's kI in N/m)
+EXAMPLES = {"kelvin-voigt": {"cI": 60.0, "n1": 1.0, "kI": 2.0e6}, "hertz-viscous": {"cI": 400.0}}
+
 
 def law_params(law, **changes):
-    own = {"e": 0.6} if "e" in LAWS[law].own else {"cI": 60.0, "n1": 1.0, "kI": 2.0e6} if "cI" in LAWS[law].own else {}
+    own = {"e": 0.6} if "e" in LAWS[law].own else EXAMPLES.get(law, {})
     with warnings.catch_warnings():  # a linear law's n1 = 1 lies outside model BC's tested exponents
         warnings.simplefilter("ignore", UntestedParameterWarning)
         return ModelParams(law=law, **{**own, **changes})

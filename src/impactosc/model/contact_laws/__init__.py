@@ -21,7 +21,7 @@ the workflow's config check reads it without numba.
 from __future__ import annotations
 
 from impactosc.io.names import shown
-from impactosc.model.contact_laws import bc, hertz, kelvin_voigt, restitution
+from impactosc.model.contact_laws import bc, hertz, hertz_viscous, kelvin_voigt, restitution
 from impactosc.model.contact_laws.component import ContactLaw, LawParameter, RestitutionLaw, unit_for
 
 __all__ = [
@@ -46,6 +46,7 @@ LAWS: dict[str, ContactLaw] = {
         hertz.LAW,
         *restitution.LAWS,
         kelvin_voigt.LAW,
+        hertz_viscous.LAW,
     )
 }
 
