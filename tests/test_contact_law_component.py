@@ -137,7 +137,7 @@ def test_every_law_is_one_component_that_every_consumer_reads(law, tmp_path):
 
 @pytest.mark.parametrize(
     ("law", "items", "expected"),
-    [("hertz-viscous", ["cI=400"], {"cI": 400.0})],
+    [("hertz-viscous", ["cI=400"], {"cI": 400.0}), ("two-stage", ["h1=5e-5", "k2=2e9"], {"h1": 5e-5, "k2": 2e9})],
 )
 def test_the_new_laws_are_named_as_the_others(law, items, expected, tmp_path):
     """Model files, --param and the config's model.contact name the laws added by their definition alone."""

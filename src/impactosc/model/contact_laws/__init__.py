@@ -21,7 +21,7 @@ the workflow's config check reads it without numba.
 from __future__ import annotations
 
 from impactosc.io.names import shown
-from impactosc.model.contact_laws import bc, hertz, hertz_viscous, kelvin_voigt, restitution
+from impactosc.model.contact_laws import bc, hertz, hertz_viscous, kelvin_voigt, restitution, two_stage
 from impactosc.model.contact_laws.component import ContactLaw, LawParameter, RestitutionLaw, unit_for
 
 __all__ = [
@@ -47,6 +47,7 @@ LAWS: dict[str, ContactLaw] = {
         *restitution.LAWS,
         kelvin_voigt.LAW,
         hertz_viscous.LAW,
+        two_stage.LAW,
     )
 }
 
