@@ -27,9 +27,8 @@ class TwoStage(ContactLaw):
         p[P_H1], p[P_K2] = own["h1"], own["k2"]
 
     def start(self, contact, theta):
-        # the second stop halfway into a typical impact's penetration, as stiff again as the first
-        h = penetration_at(contact["kI/m"], V_TYPICAL)
-        return {"h1": 0.5 * h, "k2/m": contact["kI/m"]}
-
+        # the first stop's stiffness from the contact fit is that of both stops at once: the
+        # second stop, its depth and stiffness, start at the stated model's values
+        return {}
 
 LAW = TwoStage()
