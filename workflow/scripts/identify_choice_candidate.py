@@ -1,9 +1,8 @@
 """Fit one candidate of the model choice (contact law x friction) on the configured records.
 
-Reads input.kernels (compiled kernels), input.cache, input.records, params (identification, model, solver) and
-wildcards.candidate (a number of impactosc.identification.choice.candidates()); writes output.json (fit, held-
-out error, residuals by block for the AIC and BIC; a fit that failed: the row saying why, which the table shows
-unranked).
+Reads input.kernels, input.cache, input.records, params (identification, model, solver), wildcards.candidate
+(a number of impactosc.identification.choice.candidates()); writes output.json (fit, held-out error, residuals
+by block for the AIC and BIC; a fit that failed: the row saying why, which the table shows unranked).
 """
 
 from _logging import configure_logging, mock_snakemake

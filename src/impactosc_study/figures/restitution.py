@@ -14,15 +14,14 @@ from impactosc_study.figures.style import DOUBLE, apply_style
 
 __all__ = ["restitution_figure"]
 
-COLORS = {"hunt-crossley": "#1f77b4", "lankarani-nikravesh": "#ff7f0e", "flores": "#2ca02c", "gonthier": "#d62728"}
-
 
 def restitution_figure(by_e: list[dict], by_v0: list[dict]):
     """(a) the rows of one v0 over e, (b) the rows of one e over v0 (each row: law, e, v0, e_eff)."""
     apply_style()
     fig, (a, b) = plt.subplots(1, 2, figsize=(DOUBLE, 0.42 * DOUBLE), constrained_layout=True)
     a.plot([0, 1], [0, 1], "k--", lw=0.8, label="e_eff = e")
-    for law, color in COLORS.items():
+    laws = list(dict.fromkeys(r["law"] for r in [*by_e, *by_v0]))  # the restitution laws, in their order
+    for law, color in zip(laws, (f"C{i}" for i in range(len(laws)))):
         rows = [r for r in by_e if r["law"] == law]
         a.plot([r["e"] for r in rows], [r["e_eff"] for r in rows], "o-", color=color, ms=3, label=law)
         rows = [r for r in by_v0 if r["law"] == law]

@@ -7,7 +7,7 @@ that the core locates and splits at, as it does at the onset. No damping: the co
 
 from __future__ import annotations
 
-from impactosc.model.contact_laws.component import V_TYPICAL, ContactLaw, LawParameter, Surface, penetration_at
+from impactosc.model.contact_laws.component import ContactLaw, LawParameter, Surface
 from impactosc.model.slots import P_B, P_H1, P_K2
 
 H1 = LawParameter(
@@ -30,5 +30,6 @@ class TwoStage(ContactLaw):
         # the first stop's stiffness from the contact fit is that of both stops at once: the
         # second stop, its depth and stiffness, start at the stated model's values
         return {}
+
 
 LAW = TwoStage()
