@@ -10,8 +10,9 @@
   same table (results/paper/tables/identification/coverage.md).
 * Model choice: records made with model BC's, Hertz's and Flores' contact laws (e = 0.6, the rest
   model BC's) are each given to the candidates; the supported one (least BIC) is the true law
-  with dry friction; held out it predicts best, tied only with the laws that contain it. 4-7 min
-  each on 2 cores (the five fits, 10-170 s each: a wrong law's fit takes longest).
+  with dry friction; held out it predicts best, tied only with the laws that contain it. 6-10 min
+  each on 2 cores (the seven fits, 10-170 s each: a wrong law's fit takes longest). Rigs of the
+  two laws added last (hertz-viscous, two-stage) are ranked first too.
 """
 
 from __future__ import annotations
