@@ -86,6 +86,7 @@ from impactosc.core.layout import (
     TIME,
 )
 from impactosc.core.transitions import first_piece
+from impactosc.model.equations import STOP
 
 
 def run_settings(t_end, t_record, rtol, atol, flags, period, win_t0=0.0, win_dt=1.0):
@@ -105,9 +106,13 @@ def resume(p, st, cnt, d0):
         st[S_TREF] = 0.0
         st[S_TAU] = st[S_T]
         st[S_S] = st[S_T]
-    d0[0], d0[1], d0[2] = vector_fields.deriv(
-        p, mode, int(st[S_FIELD]), st[S_SGN], pieces.inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], st[S_X], st[S_V]
-    )
+    field = int(st[S_FIELD])
+    if field == STOP:  # behind a contact law's second stop: its force too
+        d0[0], d0[1], d0[2] = vector_fields.deriv_stop(p, field, st[S_T], st[S_X], st[S_V])
+    else:
+        d0[0], d0[1], d0[2] = vector_fields.deriv(
+            p, mode, field, st[S_SGN], pieces.inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], st[S_X], st[S_V]
+        )
     cnt[C_RHS] += 1
 
 
@@ -134,6 +139,8 @@ def step_piece(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_sec):
         ev, n_ev = implicit.implicit_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target)
     elif st[S_MODE] != TIME:
         ev, n_ev = transformed_pieces.transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v)
+    elif st[S_FIELD] == STOP:  # behind a contact law's second stop
+        ev, n_ev = time_pieces.stop_time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target)
     else:
         ev, n_ev = time_pieces.time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target)
     return ev, n_ev

@@ -40,6 +40,7 @@ from impactosc.core.layout import (
     S_X,
     TIME,
 )
+from impactosc.model.equations import STOP
 from impactosc.model.parameters import P_N3
 
 
@@ -94,7 +95,11 @@ def start_piece(p, st, cnt, d0, ta, x, v, h):
     else:  # a transformed piece measures time from its start (tiny increments stay resolved)
         st[S_TREF] = ta
         store(st, 0.0, x, v, st[S_S], h)
-    d0[0], d0[1], d0[2] = vector_fields.deriv(
-        p, mode, int(st[S_FIELD]), st[S_SGN], inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], x, v
-    )
+    field = int(st[S_FIELD])
+    if field == STOP:  # behind a contact law's second stop: its force too
+        d0[0], d0[1], d0[2] = vector_fields.deriv_stop(p, field, st[S_TAU], x, v)
+    else:
+        d0[0], d0[1], d0[2] = vector_fields.deriv(
+            p, mode, field, st[S_SGN], inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], x, v
+        )
     cnt[C_RHS] += 1

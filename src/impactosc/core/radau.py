@@ -15,7 +15,7 @@ import numpy as np
 from numba import njit
 
 from impactosc.core.layout import C_NEWTON, C_RHS
-from impactosc.model.equations import accel, jacobian
+from impactosc.model.equations import accel_any, jacobian
 
 _S6 = math.sqrt(6.0)
 RA = np.array(
@@ -93,7 +93,7 @@ def radau_step(p, field, t, x, v, h, rtol, atol, work, cnt):
                 xj = x + Z[2 * j]
                 vj = v + Z[2 * j + 1]
                 fx = vj
-                fv = accel(p, field, t + RC[j] * h, xj, vj)
+                fv = accel_any(p, field, t + RC[j] * h, xj, vj)
                 cnt[C_RHS] += 1
                 jx, jv = jacobian(p, field, t + RC[j] * h, xj, vj, attempt == 1)
                 for i in range(3):

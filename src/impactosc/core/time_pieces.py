@@ -69,6 +69,21 @@ APPROACH_FRACTION = 0.5  # ... a step covers at most this fraction of the time l
 def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     """One DOP853 step in time on the current piece, clamped to t_target (the next Poincare
     time or the end of the run); locates the events inside it and applies the first."""
+    return _step_in_time(False, p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target)
+
+
+@njit(cache=True)  # a call: only a contact behind a second stop takes it
+def stop_time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
+    """time_step behind a contact law's second stop (field STOP), whose force its stepper adds."""
+    return _step_in_time(True, p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target)
+
+
+@njit(cache=True, inline="always")
+def _step_in_time(stop, p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
+    """The step of time_step; stop, a literal of each caller, picks the stepper behind a second
+    stop (dop853's ``*_stop``): model BC's time step carries no test of it (a test of it in every
+    stage's right-hand side cost the chaotic scene 7-10 %). (The first step's guess,
+    initial_step, leaves the second stop's force out: its controller corrects the guess.)"""
     K, F, _, d0 = ws
     field = int(st[S_FIELD])
     t, x, v, h = st[S_TAU], st[S_X], st[S_V], st[S_H]
@@ -86,7 +101,10 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
         h = min(h, max(APPROACH_FRACTION * abs(v), 0.25 * eps) / abs(ax))
     clamped = h >= t_target - t
     hs = t_target - t if clamped else h
-    t1, x1, v1, err = dop853.step(p, TIME, field, 0.0, q, t, 0.0, t, x, v, d0[0], d0[1], d0[2], hs, rtol, atol, K)
+    if stop:
+        t1, x1, v1, err = dop853.step_stop(p, field, t, x, v, d0[0], d0[1], d0[2], hs, rtol, atol, K)
+    else:
+        t1, x1, v1, err = dop853.step(p, TIME, field, 0.0, q, t, 0.0, t, x, v, d0[0], d0[1], d0[2], hs, rtol, atol, K)
     cnt[C_RHS] += 12
     cnt[C_BY_MODE + TIME] += 1
     if err > 1.0:
@@ -115,7 +133,7 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
             amax = max(amax, abs(K[j, 2]))
         if abs(v) + abs(v1) - (2.0 * amax + 2.0 * p[P_T] / p[P_M]) * hs <= 0.0:
             cnt[C_DIP] += 1
-            dop853.dense_prepare(p, TIME, field, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
+            _dense(stop, p, field, q, t, x, v, t1, x1, v1, hs, K, F)
             cnt[C_RHS] += 3
             cnt[C_DENSE] += 1
             built = True
@@ -129,13 +147,15 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     cut_on = field == CONTACT and past_cut(p, st, x1, v1)
     cut_off = field == CUT and not past_cut(p, st, x1, v1)
     # a surface of the law inside the contact (a second stop), crossed either way
-    stop = (field == CONTACT and has_stop(p) and behind_stop(p, x1)) or (field == STOP and not behind_stop(p, x1))
-    if v_cross or x_up or x_down or cut_on or cut_off or stop:
+    crosses_stop = (field == CONTACT and has_stop(p) and behind_stop(p, x1)) or (
+        field == STOP and not behind_stop(p, x1)
+    )
+    if v_cross or x_up or x_down or cut_on or cut_off or crosses_stop:
         if not built:
-            dop853.dense_prepare(p, TIME, field, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
+            _dense(stop, p, field, q, t, x, v, t1, x1, v1, hs, K, F)
             cnt[C_RHS] += 3
             cnt[C_DENSE] += 1
-        th, kind = _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off, stop)
+        th, kind = _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off, crosses_stop)
         te = t1 if th >= 1.0 else min(t + th * hs, t1)
         xe = dop853.dense_eval(F, x, th, 1)
         ve = dop853.dense_eval(F, v, th, 2)
@@ -152,7 +172,7 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     # --- no event: accept the step ---
     if window_due(st, rs, win_x, t1):
         if not built:
-            dop853.dense_prepare(p, TIME, field, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
+            _dense(stop, p, field, q, t, x, v, t1, x1, v1, hs, K, F)
             cnt[C_RHS] += 3
             cnt[C_DENSE] += 1
         sample_window(F, TIME, 0.0, t, x, v, hs, t1, st, rs, win_x, win_v)
@@ -161,15 +181,27 @@ def time_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     if t + hs == t1:
         d0[0], d0[1], d0[2] = K[12, 0], K[12, 1], K[12, 2]
     else:
-        d0[0], d0[1], d0[2] = vector_fields.deriv(p, TIME, field, 0.0, q, t1, 0.0, t1, x1, v1)
+        if stop:
+            d0[0], d0[1], d0[2] = vector_fields.deriv_stop(p, field, t1, x1, v1)
+        else:
+            d0[0], d0[1], d0[2] = vector_fields.deriv(p, TIME, field, 0.0, q, t1, 0.0, t1, x1, v1)
         cnt[C_RHS] += 1
     store(st, t1, x1, v1, t1, h_next)
     after_time_step(p, st, cnt, d0, field, t1, x1, v1, hs)
     return ev, n_ev
 
 
+@njit(cache=True, inline="always")
+def _dense(stop, p, field, q, t, x, v, t1, x1, v1, hs, K, F):
+    """The step's interpolant, behind a second stop (stop, a literal) with its force."""
+    if stop:
+        dop853.dense_prepare_stop(p, field, t, x, v, t1, x1, v1, hs, K, F)
+    else:
+        dop853.dense_prepare(p, TIME, field, 0.0, q, t, 0.0, t, x, v, t1, x1, v1, hs, K, F)
+
+
 @njit(cache=True)
-def _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off, stop):
+def _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off, crosses_stop):
     """The earliest of the candidate events of a time step, on its interpolant F: (theta, kind).
     A contact law's surfaces (the obstacle, the cut, a second stop) by their residuals."""
     th = 2.0
@@ -195,7 +227,7 @@ def _first_event(p, st, F, x, v, sgn0, v_cross, x_up, x_down, cut_on, cut_off, s
         if th_c < th:
             th = th_c
             kind = EV_CUT_ON if cut_on else EV_CUT_OFF
-    if stop:
+    if crosses_stop:
         on = int(st[S_FIELD]) == CONTACT
         th_s = locate_surface(p, vcut, SURFACE_STOP, F, x, v, 0.0, 1.0, -1.0 if on else 1.0)
         if th_s < th:

@@ -14,7 +14,7 @@ import math
 from numba import njit
 
 from impactosc.core.layout import SQRTH, TIME, WVEL
-from impactosc.model.equations import accel, accel_vn
+from impactosc.model.equations import accel, accel_any, accel_vn
 from impactosc.model.parameters import P_EPS, P_XI
 
 
@@ -52,3 +52,11 @@ def deriv(p, mode, field, sgn, q, s, tref, t, x, v):
     dv = sgn * p[P_EPS] * (0.5 * (e + 1.0 / e))
     dt = dv / a if a != 0.0 else math.inf  # a = 0: outside this map's range
     return dt, vv * dt, dv
+
+
+@njit(cache=True, inline="always")
+def deriv_stop(p, field, t, x, v):
+    """deriv in time on any field, behind a contact law's second stop (STOP) too: the steppers'
+    variant for such a piece (dop853's ``*_stop`` functions), so that model BC's steppers carry no
+    test of it."""
+    return 1.0, v, accel_any(p, field, t, x, v)

@@ -58,9 +58,18 @@ def accel(p, field, t, x, v):
     f = external_force(p, t, x, v)
     if field == CONTACT:
         f -= contact_force(p, x, v)
-    elif field == STOP:
-        f -= stop_force(p, x, v)
     return f / p[P_M]
+
+
+@njit(cache=True)
+def accel_any(p, field, t, x, v):
+    """accel on any field, behind a second stop (STOP) too. Apart from accel on purpose: a test of
+    STOP in accel, inlined into every stage of every stepper, cost model BC's chaotic scene 7-9 %
+    (benchmark core_speed against the revision before); the steppers reach this through
+    layout.STOP_TIME, the implicit solver always."""
+    if field == STOP:
+        return (external_force(p, t, x, v) - stop_force(p, x, v)) / p[P_M]
+    return accel(p, field, t, x, v)
 
 
 @njit(cache=True, inline="always")
@@ -69,8 +78,6 @@ def accel_vn(p, field, t, x, v, vn):
     f = external_force(p, t, x, v)
     if field == CONTACT:
         f -= contact_force_vn(p, x, v, vn)
-    elif field == STOP:
-        f -= stop_force(p, x, v)
     return f / p[P_M]
 
 
