@@ -47,13 +47,14 @@ from impactosc.core.layout import (
 )
 from impactosc.core.pieces import accepted_step_factor, inverse_n3, start_piece, store
 from impactosc.core.sampling import bisect, locate_surface, sample_window, window_due
-from impactosc.core.transitions import after_time_step, apply_event, past_cut
+from impactosc.core.transitions import after_time_step, apply_event
 from impactosc.model.contact_laws.kernel import (
     SURFACE_CUT,
     SURFACE_OBSTACLE,
     SURFACE_STOP,
     behind_stop,
     has_stop,
+    past_cut,
     surface_residual,
 )
 from impactosc.model.equations import CONTACT, CUT, FREE, STOP
@@ -144,8 +145,8 @@ def _step_in_time(stop, p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     g1 = surface_residual(p, st[S_VCUT], SURFACE_OBSTACLE, x1, v1)
     x_up = field == FREE and g1 > 0.0
     x_down = field != FREE and g1 < 0.0
-    cut_on = field == CONTACT and past_cut(p, st, x1, v1)
-    cut_off = field == CUT and not past_cut(p, st, x1, v1)
+    cut_on = field == CONTACT and past_cut(p, st[S_VCUT], x1, v1)
+    cut_off = field == CUT and not past_cut(p, st[S_VCUT], x1, v1)
     # a surface of the law inside the contact (a second stop), crossed either way
     crosses_stop = (field == CONTACT and has_stop(p) and behind_stop(p, x1)) or (
         field == STOP and not behind_stop(p, x1)

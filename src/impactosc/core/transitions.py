@@ -85,8 +85,7 @@ from impactosc.core.layout import (
     WVEL,
 )
 from impactosc.core.pieces import start_piece, store
-from impactosc.model.contact_laws.kernel import behind_stop, contact_onset, has_stop, onto_cut
-from impactosc.model.contact_laws.kernel import past_cut as law_past_cut
+from impactosc.model.contact_laws.kernel import behind_stop, contact_onset, has_stop, onto_cut, past_cut
 from impactosc.model.equations import CONTACT, CUT, FREE, STOP, accel, damping_rate, in_contact, stick_force
 from impactosc.model.parameters import P_B, P_EPS, P_H1, P_KI, P_M, P_N2, P_N3, P_T, P_XI
 
@@ -120,18 +119,11 @@ def _set_variable(st, field, mode, sgn, s):
     st[S_S] = s
 
 
-@njit(cache=True, inline="always")  # on every accepted step in contact
-def past_cut(p, st, x, v):
-    """Is (x, v), in contact, past the cut where the law's bracket turns negative (F_I = 0)?
-    (The law's residual: contact_laws.kernel.surface_residual.)"""
-    return law_past_cut(p, st[S_VCUT], x, v)
-
-
 @njit(cache=True)
 def field_of(p, st, x, v):
     """Vector field at the state (x, v): free flight, contact, or contact past the cut."""
     if x - p[P_XI] >= 0.0:
-        if past_cut(p, st, x, v):
+        if past_cut(p, st[S_VCUT], x, v):
             return CUT
         return STOP if has_stop(p) and behind_stop(p, x) else CONTACT
     return FREE
@@ -256,7 +248,7 @@ def apply_event(p, st, cnt, rs, ev, n, kind, t, x, v, direction, dt_step):
         if int(rs[R_FLAGS]) & RECORD_IMPACTS and t >= rs[R_T_RECORD]:
             ev, n = push(ev, n, IMPACT, t, v, 0.0)
         st[S_PDIR] = 0.0  # a pending free-flight maximum (implicit phase) became a contact
-        cut = past_cut(p, st, x, v)  # an impact fast enough to start past the cut
+        cut = past_cut(p, st[S_VCUT], x, v)  # an impact fast enough to start past the cut
         if not cut and slow == EXPLICIT:
             _contact_piece(p, st, t, x, v)
         else:

@@ -7,10 +7,9 @@ damper pulls as the cart leaves: the force turns to 0 where kI h^n1 + cI v = 0, 
 
 from __future__ import annotations
 
-from impactosc.model.contact_laws.component import ContactLaw, LawParameter, Surface, linear_damping_start
+from impactosc.model.contact_laws.component import ContactLaw, Surface, linear_damping_start
+from impactosc.model.contact_laws.kelvin_voigt import CI  # the same viscous damping, one definition
 from impactosc.model.slots import P_B, P_KI, P_N2, P_N3
-
-CI = LawParameter("cI", "N s/m", "a viscous contact damping", 0.0, per_mass=True, unpinned=1.0, step=1e-6)
 
 
 class HertzViscous(ContactLaw):

@@ -20,7 +20,6 @@ from impactosc.model.slots import P_B, P_CHI, P_CHI_PER, P_H1, P_K2, P_KI, P_N1,
 
 # --- the switching surfaces of a contact law (the core locates the roots of their residuals)
 SURFACE_OBSTACLE, SURFACE_CUT, SURFACE_STOP = 0, 1, 2
-SURFACE_NAMES = ("obstacle h = 0", "cut (bracket = 0)", "second stop h = h1")
 
 
 @njit(cache=True)
