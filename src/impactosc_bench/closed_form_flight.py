@@ -1,7 +1,7 @@
 """Free flight in closed form against the core's DOP853 free-flight pieces (benchmark_closed_form).
 
 Why: before the core gets a closed-form free-flight piece, measure what it can gain.
-The piece itself, its events and its friction residual: :mod:`impactosc_bench.closed_form_piece`.
+The piece itself, its events and its friction residual: :mod:`impactosc.core.closed_flight` (timed and corrected in :mod:`impactosc_bench.closed_form_piece`).
 
 Measured per forcing period on the chaotic scene (w = 40.86, rtol 1e-10): the core's free-flight
 pieces and band pieces replayed by the core's own step functions from the states the core
