@@ -105,8 +105,11 @@ def test_friction_residual_within_its_bound_and_corrected(flights):
         assert bound["max_dF"] <= PARAMS.T * PARAMS.eps**2 / (2 * EDGE**2) * (1 + 1e-6)
         assert abs(x1 - x_ref) <= bound["bound_x"] * 1.01 + 1e-14
         assert abs(v1 - v_ref) <= bound["bound_v"] * 1.01 + 1e-13
+        # the piece adds the residual's first-order correction itself (closed_flight.residual_correction):
+        # it matches the bench's dense quadrature of the same integral and lands on SciPy
         dx, dv = friction_correction(PARAMS, *start, t1)
-        assert abs(x1 + dx - x_ref) < 2e-14 and abs(v1 + dv - v_ref) < 5e-13
+        assert abs(dx) <= bound["bound_x"] * 1.01 + 1e-14 and abs(dv) <= bound["bound_v"] * 1.01 + 1e-13
+        assert abs(x1 - x_ref) < 2e-14 and abs(v1 - v_ref) < 5e-13
 
 
 @pytest.mark.parametrize("above", [True, False])
@@ -137,4 +140,6 @@ def test_velocity_dip_next_to_the_band_edge_is_never_stepped_over(flights, above
     if above:
         assert t1 > tmin + 1e-4
     else:
-        assert kind == EV_BAND and tmin - 1e-4 < t1 < tmin and abs(abs(v1) - U_BAND * p[P_EPS]) < 1e-12
+        assert (
+            kind == EV_BAND and tmin - 1e-4 < t1 < tmin and abs(abs(v1) - U_BAND * p[P_EPS]) < 1e-11
+        )  # on the edge, but for the residual's correction

@@ -20,9 +20,10 @@ import time
 import numpy as np
 from numba import njit
 
-from impactosc.core.driver import initial_state, resume, run_settings, step_piece
+from impactosc.core.driver import initial_state, on_section, resume, run_settings, step_piece
 from impactosc.core.events import record_poincare
 from impactosc.core.layout import (
+    CLOSED,
     EXPLICIT,
     N_COUNT,
     N_STATE,
@@ -32,7 +33,6 @@ from impactosc.core.layout import (
     S_MODE,
     S_SLOW,
     S_T,
-    S_TAU,
     S_V,
     S_X,
     TIME,
@@ -52,10 +52,11 @@ KEY_FLIGHT, KEY_BAND = 0, 1  # the piece kinds replayed (free flight in time; th
 
 @njit(cache=True, inline="always")
 def _key(st):
-    """KEY_FLIGHT, KEY_BAND, or -1 for any other piece (contact, implicit phase, ...)."""
+    """KEY_FLIGHT (free flight outside the band, in time or in closed form), KEY_BAND, or -1 for
+    any other piece (contact, implicit phase, ...)."""
     if st[S_SLOW] != EXPLICIT or st[S_FIELD] != FREE:
         return -1
-    if st[S_MODE] == TIME:
+    if st[S_MODE] == TIME or st[S_MODE] == CLOSED:
         return KEY_FLIGHT
     if st[S_MODE] == UVEL:
         return KEY_BAND
@@ -66,7 +67,7 @@ def _key(st):
 def _one_step(p, st, cnt, rs, ws, ev, n_ev, win, period):
     """One iteration of core.run's loop (a Poincare time, or one step of the current piece)."""
     t_sec = st[S_ISEC] * period
-    if st[S_MODE] == TIME and st[S_TAU] >= t_sec:
+    if on_section(st, t_sec):
         ev, n_ev = record_poincare(st, rs, ev, n_ev, t_sec, st[S_X], st[S_V])
         return ev, n_ev, False
     ev, n_ev = step_piece(p, st, cnt, rs, ws, ev, n_ev, win, win, t_sec)

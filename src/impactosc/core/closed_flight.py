@@ -24,14 +24,20 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
-from impactosc.core.transitions import U_BAND
+from impactosc.core.events import EV_X_UP
+from impactosc.core.layout import C_BY_MODE, C_STEPS, CLOSED, EXPLICIT, R_WIN_DT, R_WIN_T0, S_T, S_V, S_WIN, S_X, TIME
+from impactosc.core.pieces import start_piece, store
+from impactosc.core.sampling import window_due
+from impactosc.core.transitions import U_BAND, apply_event, enter_band, set_piece
+from impactosc.model.equations import FREE
 from impactosc.model.parameters import P_C, P_EPS, P_K, P_M, P_M0E, P_OMEGA, P_T, P_XI
 
-__all__ = ["EV_BAND", "EV_IMPACT", "EV_NONE", "flight_piece", "flight_state"]
+__all__ = ["EV_BAND", "EV_END", "EV_IMPACT", "EV_NONE", "closed_step", "flight_piece", "flight_state", "march"]
 
-EV_NONE, EV_IMPACT, EV_BAND = 0, 1, 2  # how a closed-form piece ends
+EV_NONE, EV_IMPACT, EV_BAND, EV_END = 0, 1, 2, 3  # how a closed-form march ends
 MAX_MARCH = 400  # safe-marching iterations per piece before giving up (EV_NONE)
 G_TOL = 1e-12  # an event function within G_TOL of its scale is on its root: one Newton step ends it
 T_TOL = 1e-14  # ... as is one whose root is closer than T_TOL max(1, t) in time (the safe step cannot resolve less)
@@ -89,13 +95,80 @@ def _safe_step(g, g1, g2max):
     return (g1 + disc) / g2max
 
 
-@njit(cache=True)
-def flight_piece(p, t0, x0, v0, isec, period, sections):
-    """Closed-form free flight from (t0, x0, v0), |v0| >= U_BAND eps, to its first event.
+# --- the friction residual -------------------------------------------------------------------
+# Gauss-Legendre nodes and weights on [0, 1] for the residual's quadrature (10 points)
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(10)
+GL_Y, GL_W = 0.5 * (_GL_X + 1.0), 0.5 * _GL_W
+RESIDUAL_PANELS = 2  # panels per half segment: 2 x 10 points integrate the residual to ~4e-4 of itself
+# (on a 0.17 s flight of the period-4 scene into the band: 1 x 10 points 1e-2, 2 x 16 points 6e-6)
+RESIDUAL_FLOOR = 1e-17  # m/s: a segment whose residual impulse per unit mass is below this is left as it is
 
-    Returns (kind, t, x, v, isec, n_eval): kind EV_IMPACT (x = xI upwards) or EV_BAND (|v| =
-    U_BAND eps heading for 0), EV_NONE if MAX_MARCH iterations found neither; the Poincare
-    states t = isec * period passed on the way go to sections[j] = (t, x, v) (isec advances)."""
+
+@njit(cache=True, inline="always")
+def _residual_force(p, s, v):
+    """The regularised friction minus the closed form's: T s (1 - |v| / sqrt(v^2 + eps^2)) >= 0
+    along s (the true friction is weaker), ~ T eps^2 / (2 v^2) outside the band."""
+    eps = p[P_EPS]
+    av = abs(v)
+    return s * p[P_T] * (eps * eps / (math.sqrt(av * av + eps * eps) * (math.sqrt(av * av + eps * eps) + av)))
+
+
+@njit(cache=True)
+def _half(p, s, w, alpha, wd, P, Q, xs, A, B, t0, t_end, t_from, direction, span):
+    """One half of the residual's Duhamel integral to t_end: from t_from over `span` towards the
+    other end (direction +1 forwards, -1 backwards), in z with tau = tau_c (exp(z) - 1), tau_c =
+    |v|/|a| at t_from: the residual ~ 1 / (|v| + |a| tau)^2 decays like exp(-z) there and the
+    integrand is smooth in z (Gauss-Legendre on RESIDUAL_PANELS panels)."""
+    m = p[P_M]
+    _, v, a, _ = _eval(w, alpha, wd, P, Q, xs, A, B, t0, t_from)
+    tau_c = abs(v) / abs(a) if abs(a) > 0.0 else span
+    tau_c = min(max(tau_c, 1e-9 * span), span)
+    z_max = math.log1p(span / tau_c)
+    panel = z_max / RESIDUAL_PANELS
+    dx, dv = 0.0, 0.0
+    for k in range(RESIDUAL_PANELS):
+        for i in range(GL_Y.shape[0]):
+            z = panel * (k + GL_Y[i])
+            ez = math.exp(z)
+            tau = tau_c * (ez - 1.0)
+            t = t_from + direction * tau
+            _, vt, _, _ = _eval(w, alpha, wd, P, Q, xs, A, B, t0, t)
+            f = _residual_force(p, s, vt) * panel * GL_W[i] * tau_c * ez
+            u = t_end - t  # the time the impulse at t has to act until t_end
+            e = math.exp(-alpha * u)
+            su, cu = math.sin(wd * u), math.cos(wd * u)
+            dx += f * e * su / (m * wd)
+            dv += f * e * (cu - alpha / wd * su) / m
+    return dx, dv
+
+
+@njit(cache=True)
+def residual_correction(p, s, w, alpha, wd, P, Q, xs, A, B, t0, t1):
+    """(dx, dv) at t1 of the regularised friction's residual over the segment [t0, t1] of the
+    closed form (Duhamel's integral against the oscillator's impulse response, to first order: the
+    residual is ~1e-7 of T at the band's edge and the state it moves is moved by ~1e-10 of itself).
+    The residual peaks where |v| is smallest, at the segment's ends next to a friction band: each
+    half is integrated from its end in a variable graded there."""
+    if t1 <= t0:
+        return 0.0, 0.0
+    m = p[P_M]
+    _, va, _, _ = _eval(w, alpha, wd, P, Q, xs, A, B, t0, t0)
+    _, vb, _, _ = _eval(w, alpha, wd, P, Q, xs, A, B, t0, t1)
+    if max(abs(_residual_force(p, s, va)), abs(_residual_force(p, s, vb))) * (t1 - t0) / m < RESIDUAL_FLOOR:
+        return 0.0, 0.0
+    half = 0.5 * (t1 - t0)
+    dx1, dv1 = _half(p, s, w, alpha, wd, P, Q, xs, A, B, t0, t1, t0, 1.0, half)
+    dx2, dv2 = _half(p, s, w, alpha, wd, P, Q, xs, A, B, t0, t1, t1, -1.0, half)
+    return dx1 + dx2, dv1 + dv2
+
+
+@njit(cache=True)
+def march(p, t0, x0, v0, t_end):
+    """Closed-form free flight from (t0, x0, v0), |v0| >= U_BAND eps, to its first event or t_end.
+
+    Returns (kind, t, x, v, n_eval): kind EV_IMPACT (x = xI upwards), EV_BAND (|v| = U_BAND eps
+    heading for 0), EV_END (t_end reached first), or EV_NONE if MAX_MARCH iterations found none
+    of them (the state reached is returned: time steps go on from there)."""
     w = p[P_OMEGA]
     s = 1.0 if v0 > 0.0 else -1.0
     alpha, wd, wn, P, Q, xs, A, B = _coefficients(p, s, t0, x0, v0)
@@ -104,15 +177,12 @@ def flight_piece(p, t0, x0, v0, isec, period, sections):
     xI, edge = p[P_XI], U_BAND * p[P_EPS]
     tol_x, tol_v = G_TOL * max(abs(xI), 1e-3), G_TOL * edge
     t = t0
-    n_sec = 0
-    on_section = False
+    x, v = x0, v0
     for n in range(MAX_MARCH):
         x, v, a, _ = _eval(w, alpha, wd, P, Q, xs, A, B, t0, t)
-        if on_section:
-            if n_sec < sections.shape[0]:
-                sections[n_sec, 0], sections[n_sec, 1], sections[n_sec, 2] = t, x, v
-            n_sec += 1
-            on_section = False
+        if t >= t_end:
+            dx, dv = residual_correction(p, s, w, alpha, wd, P, Q, xs, A, B, t0, t)
+            return EV_END, t, x + dx, v + dv, n + 1
         r = R0 * math.exp(-alpha * (t - t0))
         # band edge: g = s v - edge, g' = s a, |g''| <= |x'''|
         gv = s * v - edge
@@ -120,23 +190,82 @@ def flight_piece(p, t0, x0, v0, isec, period, sections):
         if s * a < 0.0 and (gv <= tol_v or gv < -s * a * t_tol):
             t = t - gv / (s * a)  # one Newton step onto the root
             x, v, _, _ = _eval(w, alpha, wd, P, Q, xs, A, B, t0, t)
-            return EV_BAND, t, x, v, isec, n + 2
+            dx, dv = residual_correction(p, s, w, alpha, wd, P, Q, xs, A, B, t0, t)
+            return EV_BAND, t, x + dx, v + dv, n + 2
         h = _safe_step(max(gv, 0.0), s * a, r * wn**3 + pamp * w**3)
         if s > 0.0:  # impact: g = xI - x, g' = -v, |g''| <= |x''|
             gx = xI - x
             if gx <= tol_x or gx < v * t_tol:
                 t = t + gx / v
-                x, v, _, _ = _eval(w, alpha, wd, P, Q, xs, A, B, t0, t)
-                return EV_IMPACT, t, x, v, isec, n + 2
+                x, v, a, _ = _eval(w, alpha, wd, P, Q, xs, A, B, t0, t)
+                dx, dv = residual_correction(p, s, w, alpha, wd, P, Q, xs, A, B, t0, t)
+                dt = -dx / v  # the corrected trajectory reaches xI this much earlier
+                return EV_IMPACT, t + dt, x + dx + v * dt, v + dv + a * dt, n + 2
             h = min(h, _safe_step(gx, -v, r * wn * wn + pamp * w * w))
-        t_sec = isec * period
-        if t + h >= t_sec:
-            t = t_sec
-            on_section = True  # its state is the next iteration's
-            isec += 1
-        else:
-            t = t + h
-    return EV_NONE, t, x, v, isec, MAX_MARCH
+        t = min(t + h, t_end)
+    dx, dv = residual_correction(p, s, w, alpha, wd, P, Q, xs, A, B, t0, t)
+    return EV_NONE, t, x + dx, v + dv, MAX_MARCH
+
+
+@njit(cache=True)
+def flight_piece(p, t0, x0, v0, isec, period, sections):
+    """Closed-form free flight from (t0, x0, v0), |v0| >= U_BAND eps, to its first event.
+
+    Returns (kind, t, x, v, isec, n_eval): kind EV_IMPACT (x = xI upwards) or EV_BAND (|v| =
+    U_BAND eps heading for 0), EV_NONE if MAX_MARCH iterations found neither; the Poincare
+    states t = isec * period passed on the way go to sections[j] = (t, x, v) (isec advances),
+    each the start of the next march, as in the core."""
+    t, x, v = t0, x0, v0
+    n_eval = 0
+    n_sec = 0
+    while True:
+        kind, t, x, v, n = march(p, t, x, v, isec * period)
+        n_eval += n
+        if kind != EV_END:
+            return kind, t, x, v, isec, n_eval
+        if n_sec < sections.shape[0]:
+            sections[n_sec, 0], sections[n_sec, 1], sections[n_sec, 2] = t, x, v
+        n_sec += 1
+        isec += 1
+
+
+@njit(cache=True)
+def closed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
+    """One step of a free-flight piece in closed form: from the state to its first event, or to
+    t_target (the next Poincare time or the run's end), where the driver takes over. An impact
+    starts the contact as time steps would; the band edge hands over to the band's variable; a
+    march that gave up (a long grazing approach) goes on in time steps."""
+    t0, x0, v0 = st[S_T], st[S_X], st[S_V]
+    kind, t, x, v, _ = march(p, t0, x0, v0, t_target)
+    cnt[C_BY_MODE + CLOSED] += 1
+    cnt[C_STEPS] += 1
+    if window_due(st, rs, win_x, t):
+        _sample_window(p, t0, x0, v0, t, st, rs, win_x, win_v)
+    d0 = ws[3]
+    if kind == EV_END:
+        store(st, t, x, v, t, 0.0)
+    elif kind == EV_IMPACT:
+        ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_X_UP, t, x, v, 1.0, 0.0)
+        start_piece(p, st, cnt, d0, t, x, v, 0.0)
+    elif kind == EV_BAND:
+        enter_band(p, st, cnt, d0, t, x, v)
+    else:
+        set_piece(st, FREE, EXPLICIT, TIME)
+        start_piece(p, st, cnt, d0, t, x, v, 0.0)
+    return ev, n_ev
+
+
+@njit(cache=True)
+def _sample_window(p, t0, x0, v0, t1, st, rs, win_x, win_v):
+    """The trajectory-window samples due up to t1, from the closed form of the piece."""
+    j = int(st[S_WIN])
+    while j < win_x.shape[0]:
+        ts = rs[R_WIN_T0] + j * rs[R_WIN_DT]
+        if ts > t1:
+            break
+        win_x[j], win_v[j] = flight_state(p, t0, x0, v0, ts)
+        j += 1
+    st[S_WIN] = j
 
 
 @njit(cache=True)
