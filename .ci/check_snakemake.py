@@ -60,9 +60,9 @@ def check(uv: str, requirement: str, root: Path) -> dict:
     python, snakemake = venv / "bin" / "python", venv / "bin" / "snakemake"
     result = {"requirement": requirement, "version": None, "log": str(log), "steps": {}}
     start = time.monotonic()
+    install = [uv, "pip", "install", "--quiet", "--compile-bytecode", "--python", python]
     ok = run([uv, "venv", "--quiet", "--no-python-downloads", "--python", sys.executable, venv], log) and run(
-        [uv, "pip", "install", "--quiet", "--compile-bytecode", "--python", python, f"{REPO}[explore,peers]", requirement],
-        log,
+        [*install, f"{REPO}[explore,peers]", requirement], log
     )
     result["steps"]["install"] = ok
     if not ok:
