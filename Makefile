@@ -163,7 +163,8 @@ check-slurm: $(VENV)/.installed
 # Opt-in, needs the package index (PyPI): the workflow on the oldest and the newest Snakemake of
 # pyproject's range, each in a throw-away venv with the package (.ci/check_snakemake.py): dry runs
 # of all, beyond and benchmarks, and a build of everything on config/tiny.yaml. Run it before
-# changing the range or bumping Snakemake in the lock (docs/development.md); about 15 min on 2 cores.
+# changing the range or bumping Snakemake in the lock (docs/development.md). Measured: 22 min on
+# 2 cores shared with other work (9.11.6: 12.6 min, 9.27.1: 9.6 min; load average 2 to 15).
 check-snakemake: $(UV)
 	$(PYTHON) .ci/check_snakemake.py $(UV)
 
