@@ -10,6 +10,10 @@ BC = config["benchmark_core"]
 rule cyrk_shim:
     output:
         marker=CYRK_SHIM,
+    log:
+        logs("benchmark/cyrk_shim"),
+    benchmark:
+        benchmarks("benchmark/cyrk_shim")
     priority: 15
     script:
         "../scripts/cyrk_shim.py"
@@ -24,6 +28,10 @@ rule benchmark_core:
         csv=BENCHMARK_CORE_CSV,
         headline=BENCHMARK_CORE_HEADLINE,
         md=BENCHMARK_CORE_MD,
+    log:
+        logs("benchmark/benchmark_core"),
+    benchmark:
+        benchmarks("benchmark/benchmark_core")
     priority: 5
     threads: timing_threads
     params:
@@ -41,6 +49,10 @@ rule benchmark_taylor:
     output:
         csv=BENCHMARK_TAYLOR_CSV,
         md=BENCHMARK_TAYLOR_MD,
+    log:
+        logs("benchmark/benchmark_taylor"),
+    benchmark:
+        benchmarks("benchmark/benchmark_taylor")
     threads: timing_threads
     params:
         bt=config["benchmark_taylor"],
@@ -60,6 +72,10 @@ rule benchmark_extraction:
         md=BENCHMARK_EXTRACTION_MD,
         png=supplementary("benchmark", "extraction_scaling")[0],
         pdf=supplementary("benchmark", "extraction_scaling")[1],
+    log:
+        logs("benchmark/benchmark_extraction"),
+    benchmark:
+        benchmarks("benchmark/benchmark_extraction")
     threads: timing_threads
     params:
         be=config["benchmark_extraction"],
@@ -76,6 +92,10 @@ rule explorer_latency:
         cache=NUMBA_CACHE,
     output:
         md=EXPLORER_LATENCY_MD,
+    log:
+        logs("benchmark/explorer_latency"),
+    benchmark:
+        benchmarks("benchmark/explorer_latency")
     threads: timing_threads
     params:
         repeats=config["explorer_latency"]["repeats"],
@@ -93,6 +113,10 @@ rule benchmarks_report:
     output:
         csv=BENCHMARKS_REPORT_CSV,
         md=BENCHMARKS_REPORT_MD,
+    log:
+        logs("benchmark/benchmarks_report"),
+    benchmark:
+        benchmarks("benchmark/benchmarks_report")
     params:
         command="snakemake -j2 benchmarks_report",
     script:
@@ -126,6 +150,10 @@ rule random_scenes_part:
         cache=NUMBA_CACHE,
     output:
         csv=RANDOM_SCENES_PART,
+    log:
+        logs("benchmark/random_scenes_part_{part}"),
+    benchmark:
+        benchmarks("benchmark/random_scenes_part_{part}")
     params:
         rs=config["random_scenes"],
     script:
@@ -138,6 +166,10 @@ rule random_scenes:
     output:
         csv=RANDOM_SCENES_CSV,
         md=RANDOM_SCENES_MD,
+    log:
+        logs("benchmark/random_scenes"),
+    benchmark:
+        benchmarks("benchmark/random_scenes")
     params:
         rs=config["random_scenes"],
     script:
