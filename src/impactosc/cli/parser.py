@@ -80,8 +80,7 @@ def _add_stats_parser(sub) -> None:
         "trains' statistics side by side, and the ISI-distance (Kreuz 2007) and SPIKE-distance (Kreuz 2013) "
         "of the two trains on a common span, each tested against " + " and ".join(SURROGATE_KINDS) + " "
         "surrogates (joint_isi: each impact re-drawn between its neighbours from the train's joint "
-        "distribution of successive intervals; shuffled: the intervals in random order). The test: "
-        + TEST_TEXT + ".",
+        "distribution of successive intervals; shuffled: the intervals in random order). The test: " + TEST_TEXT + ".",
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog="Examples:\n  impactosc simulate --omega 40.86 --transient 100 --duration 400 --output chaos.h5\n"
         "  impactosc stats chaos.h5 --json chaos_stats.json\n"

@@ -24,7 +24,10 @@ EXPLAINED = (
     ("cv_squared", "var(S)/mean(S)^2, the dimensionless squared coefficient of variation (Poisson 1, periodic 0)"),
     ("fano", "var(N)/mean(N) of the counts N in windows of each length (the paper's D[N]/M[N])"),
     ("isi_maxima", "maxima of the intervals' kernel density, s (Fig 9: the paper's T1, T2)"),
-    ("acf_peaks", "peaks of the eq. (3) ACF's spectrum, cycles per interval, and whether shuffled surrogates exceed them"),
+    (
+        "acf_peaks",
+        "peaks of the eq. (3) ACF's spectrum, cycles per interval, and whether shuffled surrogates exceed them",
+    ),
     ("penetration_modes", "modes of the penetrations' kernel density, m (Fig 11; files with penetrations/h)"),
     ("cv2", "Holt's CV2: mean of 2|S_{i+1}-S_i|/(S_{i+1}+S_i); local, valid when the rate drifts"),
     ("lv", "Shinomoto's LV: 3/(n-1) sum ((S_i-S_{i+1})/(S_i+S_{i+1}))^2 (regular < 1 = Poisson < bursty)"),
@@ -129,7 +132,9 @@ def common_span(a, b, align: str) -> tuple[np.ndarray, np.ndarray, float, float]
     t1, t2 = t1[(t1 >= lo) & (t1 <= hi)], t2[(t2 >= lo) & (t2 <= hi)]
     for t, tr in ((t1, a), (t2, b)):
         if t.size < 4:
-            raise ValueError(f"{tr.label}: {t.size} impacts in the common span [{lo:g}, {hi:g}] s; the distances need 4")
+            raise ValueError(
+                f"{tr.label}: {t.size} impacts in the common span [{lo:g}, {hi:g}] s; the distances need 4"
+            )
     return t1, t2, lo, hi
 
 

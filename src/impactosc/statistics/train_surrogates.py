@@ -9,8 +9,10 @@ keep the first and the last event (so the span and the number of events are unch
 * :func:`joint_isi_surrogate`  joint-ISI dithering (Gerstein 2004; Louis et al. 2010, as
   Elephant's ``JointISI``): each event moves between its two neighbours, its new position
   drawn from the train's own pairs of successive intervals whose sums are nearest to the
-  pair it sits in. The joint distribution of successive intervals, and so the serial
-  correlation at lag 1, is kept approximately; timing at the scale of one interval is not.
+  pair it sits in. Timing at the scale of one interval is destroyed, the interval
+  distribution kept roughly and the lag-1 serial correlation in part: on intervals with
+  r_1 = -0.49 the surrogates have about -0.21 (Elephant's JointISI: -0.24), and their interval
+  quantiles move by up to 14 % (Elephant's: 7 %).
   Elephant smooths a histogram of the pairs with fixed bins in ms (tuned to neurons' intervals);
   drawing among the nearest pairs needs no time scale, which impact trains (0.02-0.3 s) and
   neural ones do not share.
