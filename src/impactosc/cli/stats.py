@@ -10,6 +10,7 @@ workflow; this module only picks the numbers, aligns two trains and prints them.
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 
 import numpy as np
 
@@ -38,19 +39,16 @@ EXPLAINED = (
 
 def _load(path, role: str):
     """The train of a run file or an extracted events file, with errors that name the file."""
+    import h5py
+
     from impactosc.statistics.impact_train import load_train
 
-    try:
-        import h5py
-
-        if not h5py.is_hdf5(path):
-            raise ValueError(f"{role} {path}: not an HDF5 file (impactosc simulate or impactosc extract writes one)")
-    except FileNotFoundError:
-        raise FileNotFoundError(f"{role} {path} does not exist") from None
+    if not Path(path).is_file():
+        raise FileNotFoundError(f"{role} {path} does not exist")
+    if not h5py.is_hdf5(path):
+        raise ValueError(f"{role} {path}: not an HDF5 file (impactosc simulate or impactosc extract writes one)")
     try:
         return load_train(path)
-    except FileNotFoundError:
-        raise FileNotFoundError(f"{role} {path} does not exist") from None
     except ValueError as exc:
         text = str(exc)
         if "too few samples" in text:
