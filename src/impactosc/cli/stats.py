@@ -20,7 +20,7 @@ PARTS = ("stationarity", "variability", "isi_density", "acf", "penetrations", "l
 
 #: One line per statistic, for --help and the docs.
 EXPLAINED = (
-    ("counts", "impacts in the span and in N equal windows, with the chi-square equal-rate (stationarity) p-value"),
+    ("window_counts", "impacts in 5 equal windows of the span (n_impacts: in all), equal_rate_pvalue: chi-square test"),
     ("cv2_paper", "var(S)/mean(S) of the intervals S in s: what the paper plots as C_V^2 (Fig 8)"),
     ("cv_squared", "var(S)/mean(S)^2, the dimensionless squared coefficient of variation (Poisson 1, periodic 0)"),
     ("fano", "var(N)/mean(N) of the counts N in windows of each length (the paper's D[N]/M[N])"),

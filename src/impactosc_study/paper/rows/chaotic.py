@@ -332,7 +332,7 @@ def _local_variability_rows(model: dict, ensemble: dict) -> list[dict]:
             + " ".join(f"{v:+.3f}" for v in r[:5])
             + f"; beyond the independent-interval band 2/sqrt(n) = {noise:.3f} at "
             + (f"lags {', '.join(map(str, beyond))} of {r.size}" if beyond.size else f"no lag of {r.size}")
-            + _ens(ensemble, "serial_correlation_1", "+.3f").replace("ensemble", "ensemble r(1)"),
+            + _ens(ensemble, "serial_correlation_1", ".3f").replace("ensemble", "ensemble r(1)"),
             "n.a. (beyond the paper)",
             "n.a.",
             "2.2 (beyond the paper)",
