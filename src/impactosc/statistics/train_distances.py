@@ -42,8 +42,8 @@ def _with_edges(t: np.ndarray, t_start: float, t_stop: float) -> np.ndarray:
 
 
 def _pieces(t1, t2, t_start, t_stop):
-    """Merged breakpoints on [t_start, t_stop], and for each train the index in its edged train
-    of the spike before each piece (the piece lies between that spike and the next)."""
+    """The merged spike times with the span's ends (the pieces' edges), and each piece's midpoint,
+    which locates the piece between two spikes of each train."""
     b = np.unique(np.concatenate([[t_start, t_stop], t1, t2]))
     mid = 0.5 * (b[:-1] + b[1:])
     return b, mid
