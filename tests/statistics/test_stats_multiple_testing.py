@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from impactosc.statistics import THREE_SD_LEVEL, holm, two_sided_p
+from impactosc.statistics import THREE_SD_LEVEL, holm, largest_z_bound, two_sided_p
 
 
 def _holm_by_definition(p, alpha):
@@ -55,6 +55,19 @@ def test_two_sided_p_and_the_three_sd_level():
     assert math.erfc(4.2 / math.sqrt(2)) < THREE_SD_LEVEL / 60
 
 
+def test_largest_z_bound_is_holms_first_step():
+    assert largest_z_bound(1) == pytest.approx(3.0, rel=1e-12)  # one test: the 3-sd rule itself
+    for n in (2, 10, 120):
+        bound = largest_z_bound(n)
+        z = np.zeros(n)
+        z[0] = bound * (1 + 1e-9)
+        assert holm(two_sided_p(z)).any_rejected
+        z[0] = bound * (1 - 1e-9)
+        assert not holm(two_sided_p(z)).any_rejected
+    # 0.0027 / 10 two-sided: 3.64 (normal tables: P(|Z| > 3.64) = 2.7e-4)
+    assert largest_z_bound(10) == pytest.approx(3.64, abs=0.01)
+
+
 @pytest.mark.parametrize(
     "call, match",
     [
@@ -62,6 +75,7 @@ def test_two_sided_p_and_the_three_sd_level():
         (lambda: holm([0.1], 1.5), "alpha"),
         (lambda: holm([]), "empty"),
         (lambda: two_sided_p([np.nan]), "non-finite"),
+        (lambda: largest_z_bound(0), "n_tests"),
     ],
 )
 def test_bad_input_names_the_problem(call, match):

@@ -98,5 +98,6 @@ export(
         "HolmVerdict": "impactosc.statistics.multiple_testing",
         "two_sided_p": "impactosc.statistics.multiple_testing",
         "holm": "impactosc.statistics.multiple_testing",
+        "largest_z_bound": "impactosc.statistics.multiple_testing",
     },
 )

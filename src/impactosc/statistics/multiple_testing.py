@@ -16,7 +16,7 @@ import numpy as np
 
 from impactosc.statistics._validation import as_finite_1d
 
-__all__ = ["THREE_SD_LEVEL", "HolmVerdict", "two_sided_p", "holm"]
+__all__ = ["THREE_SD_LEVEL", "HolmVerdict", "two_sided_p", "holm", "largest_z_bound"]
 
 #: Two-sided normal tail beyond 3 sd, 0.0027: the level of the single 3-sd checks, used as the family-wise level.
 THREE_SD_LEVEL = math.erfc(3.0 / math.sqrt(2.0))
@@ -76,3 +76,20 @@ def holm(pvalues, alpha: float = THREE_SD_LEVEL) -> HolmVerdict:
     adjusted = np.empty_like(p)
     adjusted[order] = adjusted_sorted
     return HolmVerdict(p, adjusted, adjusted < alpha, float(alpha))
+
+
+def largest_z_bound(n_tests: int, alpha: float = THREE_SD_LEVEL) -> float:
+    """The |z| the largest of ``n_tests`` z-scores must exceed for Holm (whose first step is
+    Bonferroni's) to reject anything: the two-sided normal quantile at ``alpha / n_tests``.
+
+    Why: a check that reports only its worst |z| (a hard case's row) bounds it by this instead of
+    3, and so decides as Holm's procedure on all its tests does (3.0 for one test, 3.6 for ten).
+    """
+    n = int(n_tests)
+    if n < 1:
+        raise ValueError(f"n_tests must be >= 1, got {n_tests}")
+    if not 0 < alpha < 1:
+        raise ValueError(f"alpha must be in (0, 1), got {alpha}")
+    from scipy import special
+
+    return float(math.sqrt(2.0) * special.erfcinv(alpha / n))
