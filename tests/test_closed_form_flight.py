@@ -15,7 +15,6 @@ from scipy.integrate import solve_ivp
 
 from impactosc.core.transitions import U_BAND
 from impactosc.model.parameters import P_EPS, ModelParams
-from impactosc_bench.closed_form_flight import KEY_FLIGHT, core_pieces
 from impactosc_bench.closed_form_piece import (
     EV_BAND,
     EV_IMPACT,
@@ -24,6 +23,7 @@ from impactosc_bench.closed_form_piece import (
     friction_correction,
     friction_residual,
 )
+from impactosc_bench.piece_replay import KEY_FLIGHT, core_pieces
 from impactosc_bench.scene import OMEGA
 from impactosc_bench.scipy_reference import model_forces
 
