@@ -19,14 +19,18 @@ import time
 
 import numpy as np
 
-from impactosc.core.layout import S_ISEC, S_T, S_V, S_X
+from impactosc.core.layout import EXPLICIT, S_ISEC, S_T, S_V, S_X, TIME, UVEL
 from impactosc.core.transitions import U_BAND
+from impactosc.model.equations import FREE
 from impactosc.model.parameters import ModelParams
 from impactosc_bench.closed_form_piece import all_flights, flight_piece
-from impactosc_bench.piece_replay import KEY_BAND, KEY_FLIGHT, RTOL, core_pieces, replay
+from impactosc_bench.piece_replay import RTOL, core_pieces, kind, replay
 from impactosc_bench.scene import OMEGA, TRANSIENT
 
-__all__ = ["measure", "projection", "markdown"]
+__all__ = ["measure", "projection", "markdown", "FREE_FLIGHT", "BAND"]
+
+FREE_FLIGHT = kind(EXPLICIT, FREE, TIME, 0)  # the pieces the prototype replaces
+BAND = (kind(EXPLICIT, FREE, UVEL, 1), kind(EXPLICIT, FREE, UVEL, -1))  # the friction band, either way
 
 
 # --- the measurement ----------------------------------------------------------------------------
@@ -37,16 +41,19 @@ def measure(repeats: int = 7, t_end: float = TRANSIENT + 400.0, rtol: float = RT
 
     warm_up()
     params = ModelParams()
-    p, rs, starts, ends = core_pieces(t_end, rtol, params)
+    pieces = core_pieces(t_end, rtol, params)
+    p, rs, starts = pieces.p, pieces.rs, pieces.starts
     period = 2 * math.pi / OMEGA
     periods = t_end / period
+    whole = np.arange(len(starts)) < len(starts) - 1  # the last piece is cut by t_end
+    free_flight = whole & (pieces.codes == FREE_FLIGHT)
     # free flight that starts outside the band is the prototype's (after an exit or the band);
     # a piece that starts inside it (after an implicit phase, |v| > 100 eps) stays the core's
     outside = np.abs(starts[:, S_V]) >= U_BAND * params.eps * (1 - 1e-9)
-    flight = ((ends[:, 0] == KEY_FLIGHT) & outside).astype(np.int64)
-    flight_in = ((ends[:, 0] == KEY_FLIGHT) & ~outside).astype(np.int64)
-    band = (ends[:, 0] == KEY_BAND).astype(np.int64)
-    rest = 1 - flight - band  # contact, implicit phases, free flight starting inside the band
+    flight = (free_flight & outside).astype(np.int64)
+    flight_in = (free_flight & ~outside).astype(np.int64)
+    band = (whole & np.isin(pieces.codes, BAND)).astype(np.int64)
+    rest = whole.astype(np.int64) - flight - band  # contact, implicit phases, free flight starting inside the band
     fs = starts[flight == 1]
     f_starts = np.ascontiguousarray(fs[:, [S_T, S_X, S_V]])
     f_isec = np.ascontiguousarray(fs[:, S_ISEC])
