@@ -347,6 +347,11 @@ def measure(
 
 
 # --- tables ------------------------------------------------------------------------------------------
+def _num(x: float) -> str:
+    """A count per period: one decimal, or two significant digits below 1 (a rare kind's 0.0003)."""
+    return f"{x:.1f}" if x >= 1 or x == 0 else f"{x:.2g}"
+
+
 def _cell(text: str) -> str:
     """A table cell: a | of the text (|v|^n3) escaped."""
     return text.replace("|", "\\|")
@@ -389,7 +394,7 @@ def markdown(m: dict, command: str) -> str:
     for r in m["rows"]:
         lo, hi = r["us_range"]
         lines.append(
-            f"| {_cell(r['piece'])} | {r['pieces_per_period']:.2f} | {r['attempts_per_period']:.1f} | "
+            f"| {_cell(r['piece'])} | {_num(r['pieces_per_period'])} | {_num(r['attempts_per_period'])} | "
             f"{r['us_per_period']:.1f} | {lo:.1f} - {hi:.1f} | {r['share']:.1%} |"
         )
     lo, hi = m["core_us_range"]
@@ -410,8 +415,8 @@ def side_by_side(before: dict, after: dict, command: str) -> str:
     names = list(dict.fromkeys([*b_rows, *a_rows]))
     head = f"{before['label']} (before) against {after['label']} (after)"
 
-    def cells(r, key, spec):
-        return format(r[key], spec) if r else "-"
+    def cells(r, key):
+        return _num(r[key]) if r else "-"
 
     lines = [
         "# Where the core's time goes, piece by piece: " + head,
@@ -425,8 +430,8 @@ def side_by_side(before: dict, after: dict, command: str) -> str:
         b, a = b_rows.get(n), a_rows.get(n)
         ratio = f"{a['us_per_period'] / b['us_per_period']:.2f}" if a and b else "-"
         lines.append(
-            f"| {_cell(n)} | {cells(b, 'attempts_per_period', '.1f')} | {cells(a, 'attempts_per_period', '.1f')} | "
-            f"{cells(b, 'us_per_period', '.1f')} | {cells(a, 'us_per_period', '.1f')} | {ratio} |"
+            f"| {_cell(n)} | {cells(b, 'attempts_per_period')} | {cells(a, 'attempts_per_period')} | "
+            f"{cells(b, 'us_per_period')} | {cells(a, 'us_per_period')} | {ratio} |"
         )
     for label, key_att, key_us in (
         ("sum of the pieces", None, "pieces_us"),
