@@ -60,6 +60,22 @@ rule benchmark_taylor:
         "../scripts/benchmark_taylor.py"
 
 
+# Under a minute: snakemake -j1 benchmark_pieces. Where the core's time goes: step attempts and
+# microseconds per forcing period of each kind of piece (replayed from the states the core
+# reached) and of each window of a contact; benchmark_pieces.against: another revision's core beside it.
+rule benchmark_pieces:
+    input:
+        cache=NUMBA_CACHE,
+    output:
+        csv=BENCHMARK_PIECES_CSV,
+        md=BENCHMARK_PIECES_MD,
+    threads: timing_threads
+    params:
+        bp=config["benchmark_pieces"],
+    script:
+        "../scripts/benchmark_pieces.py"
+
+
 # About 6 min, 3 GB of scratch disk at a time: snakemake -j2 benchmark_extraction.
 # Throughput and peak memory of impactosc extract against sample rate and record length, HDF5 and
 # TDMS: each surrogate record written to a scratch folder, extracted in a fresh process, checked
@@ -109,6 +125,7 @@ rule benchmarks_report:
     input:
         wp_headline=WP_HEADLINE,
         core_headline=BENCHMARK_CORE_HEADLINE,
+        pieces=BENCHMARK_PIECES_CSV,
         hard=HARD_CASES_TABLE,
     output:
         csv=BENCHMARKS_REPORT_CSV,
@@ -127,6 +144,7 @@ tier_products(
     "benchmarks",
     rules.benchmark_core.output,
     rules.benchmark_taylor.output,
+    rules.benchmark_pieces.output,
     rules.benchmark_extraction.output,
     rules.explorer_latency.output,
     rules.benchmarks_report.output,
@@ -136,6 +154,7 @@ tier_jobs(
     rules.cyrk_shim,
     rules.benchmark_core,
     rules.benchmark_taylor,
+    rules.benchmark_pieces,
     rules.benchmark_extraction,
     rules.explorer_latency,
     rules.benchmarks_report,

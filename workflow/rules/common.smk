@@ -453,6 +453,8 @@ BENCHMARKS_REPORT_MD = study_path("tables/benchmark/benchmarks_report.md")
 EXPLORER_LATENCY_MD = study_path("tables/benchmark/explorer_latency.md")
 BENCHMARK_TAYLOR_CSV = study_path("tables/benchmark/benchmark_taylor.csv")
 BENCHMARK_TAYLOR_MD = study_path("tables/benchmark/benchmark_taylor.md")
+BENCHMARK_PIECES_CSV = study_path("tables/benchmark/benchmark_pieces.csv")  # where the core's time goes, per piece
+BENCHMARK_PIECES_MD = study_path("tables/benchmark/benchmark_pieces.md")
 # extraction of long records: throughput and peak memory (opt-in: snakemake -j2 benchmark_extraction)
 BENCHMARK_EXTRACTION_CSV = study_path("tables/benchmark/extraction_scaling.csv")
 BENCHMARK_EXTRACTION_MD = study_path("tables/benchmark/extraction_scaling.md")
