@@ -69,6 +69,10 @@ rule benchmark_pieces:
     output:
         csv=BENCHMARK_PIECES_CSV,
         md=BENCHMARK_PIECES_MD,
+    log:
+        logs("benchmark/benchmark_pieces"),
+    benchmark:
+        benchmarks("benchmark/benchmark_pieces")
     threads: timing_threads
     params:
         bp=config["benchmark_pieces"],
