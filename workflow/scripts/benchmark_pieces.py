@@ -1,6 +1,7 @@
 """Where the core's time goes, piece by piece, on the chaotic scene.
 
-Reads params.bp (config benchmark_pieces); writes output.csv (per core, one row per piece, the sum
+Reads input.cache (the compiled core, so that no timing round compiles) and params.bp (config
+benchmark_pieces); writes output.csv (per core, one row per piece, the sum
 of the pieces and the core) and output.md (the tables; before and after with benchmark_pieces.against).
 """
 
