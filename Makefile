@@ -34,7 +34,7 @@ STUDY ?= paper
 # it, so the name is checked as the config checks the key (letters, digits, _ and -)
 CHECK_STUDY = case "$(STUDY)" in ""|*[!A-Za-z0-9_-]*) echo "STUDY='$(STUDY)': letters, digits, _ and - only" >&2; exit 1;; esac
 
-.PHONY: all beyond bench everything laws install lock test test-slow report lint docs config-docs format check-cluster check-slurm clean
+.PHONY: all beyond bench everything laws install lock test test-slow report lint docs config-docs format check-cluster check-slurm check-snakemake clean
 
 # A build killed part-way resumes with a plain `make`: a lock left by a dead Snakemake is removed
 # (never one a live Snakemake holds, workflow/unlock_stale.py) and incomplete outputs are redone.
@@ -159,6 +159,14 @@ check-cluster: $(VENV)/.installed
 # Opt-in, needs root: a one-node SLURM (Debian slurm-wlm, munge) runs a tiny map2d via sbatch.
 check-slurm: $(VENV)/.installed
 	bash workflow/slurm/check_slurm.sh --install
+
+# Opt-in, needs the package index (PyPI): the workflow on the oldest and the newest Snakemake of
+# pyproject's range, each in a throw-away venv with the package (.ci/check_snakemake.py): dry runs
+# of all, beyond and benchmarks, and a build of everything on config/tiny.yaml. Run it before
+# changing the range or bumping Snakemake in the lock (docs/development.md). Measured: 22 min on
+# 2 cores shared with other work (9.11.6: 12.6 min, 9.27.1: 9.6 min; load average 2 to 15).
+check-snakemake: $(UV)
+	$(PYTHON) .ci/check_snakemake.py $(UV)
 
 # One study's results (make clean STUDY=myrig; default paper) and the docs site; other studies'
 # results stay, and so does the numba cache (outside results/, keyed on the core's sources).

@@ -62,7 +62,3 @@ rule everything:
         rules.all.input,
         rules.beyond.input,
         rules.benchmarks.input,
-
-
-# Every rule's log and benchmark file, named after the rule (workflow/rules/common.smk)
-give_jobs_their_files()

@@ -13,9 +13,11 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from impactosc.core.layout import CLOSED, EXPLICIT
 from impactosc.core.transitions import U_BAND
+from impactosc.model.equations import FREE
 from impactosc.model.parameters import P_EPS, ModelParams
-from impactosc_bench.closed_form_flight import KEY_FLIGHT, core_pieces
+from impactosc_bench.closed_form_flight import FREE_FLIGHT
 from impactosc_bench.closed_form_piece import (
     EV_BAND,
     EV_IMPACT,
@@ -24,23 +26,26 @@ from impactosc_bench.closed_form_piece import (
     friction_correction,
     friction_residual,
 )
+from impactosc_bench.piece_replay import core_pieces, kind
 from impactosc_bench.scene import OMEGA
 from impactosc_bench.scipy_reference import model_forces
 
 PERIOD = 2 * math.pi / OMEGA
 PARAMS = ModelParams()
 EDGE = U_BAND * PARAMS.eps
+FLIGHT_KINDS = (FREE_FLIGHT, kind(EXPLICIT, FREE, CLOSED, 0))  # free flight in time steps or in closed form
 
 
 @pytest.fixture(scope="module")
 def flights():
     """The core's free-flight pieces of the first 3 s that start outside the band:
     (start (t, x, v), Poincare index, core end (t, x, v), ended by an impact)."""
-    _, _, starts, ends = core_pieces(3.0)
+    pieces = core_pieces(3.0)
     out = []
-    for st, e in zip(starts, ends):
-        if e[0] == KEY_FLIGHT and abs(st[2]) >= EDGE * (1 - 1e-9):
-            out.append(((st[0], st[1], st[2]), st[9], (e[1], e[2], e[3]), e[6] == 1))
+    for i in range(len(pieces.codes) - 1):  # the last piece is cut by the run's end
+        st, (t1, x1, v1) = pieces.starts[i], pieces.ends[i]
+        if pieces.codes[i] in FLIGHT_KINDS and abs(st[2]) >= EDGE * (1 - 1e-9):
+            out.append(((st[0], st[1], st[2]), st[9], (t1, x1, v1), pieces.starts[i + 1][3] == 1))
     return out
 
 

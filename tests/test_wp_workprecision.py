@@ -175,6 +175,25 @@ def test_statistics_summary_flags_unconverged_tolerances():
         ts.statistics_summary([r for r in _stat_rows() if r["kind"] == "sweep"])
 
 
+def test_one_chance_z_among_many_is_not_non_convergence():
+    """A |z| of 3.02 among the sweep's tests is chance (Holm allows for their number); a |z| of 20 is not."""
+    rows = _stat_rows()
+    ens = [r for r in rows if r["kind"] == "ensemble"]
+    cv = np.array([r["cv2"] for r in ens])
+    # ten more sweep rows at the ensemble's means, then one whose C_V^2 lies 3.02 sd off
+    base = dict(ens[0], kind="sweep", rhs_evals=1, **{k: float(np.mean([r[k] for r in ens])) for k in ts.STAT_KEYS})
+    base["window_counts"] = [float(np.mean([r["window_counts"] for r in ens]))] * 5
+    clean = [dict(base, rtol=10.0**-k) for k in range(3, 13)]
+    chance = dict(base, rtol=1e-8 * 1.5, cv2=float(cv.mean() + 3.02 * cv.std(ddof=1)))
+    out = {r["rtol"]: r for r in ts.statistics_summary([*rows, *clean, chance])}
+    assert out[chance["rtol"]]["z_cv2"] == pytest.approx(3.02)
+    assert out[chance["rtol"]]["converged"] is True  # 3.02 is not beyond Holm's 0.0027 / 130 (|z| > 4.1)
+    # Holm: the rejected rtol 1e-2 comes first, then 3.02 is second of the 130 tests: 129 x p(3.02) = 0.33
+    assert out[chance["rtol"]]["holm_p"] == pytest.approx(129 * math.erfc(3.02 / math.sqrt(2)), rel=1e-9)
+    assert out[1e-2]["converged"] is False and out[1e-2]["n_tests"] == 13 * 10
+    assert all(out[r["rtol"]]["converged"] for r in clean)
+
+
 def test_tables_roundtrip_mixed_columns(tmp_path):
     rows = [{"a": 1.0, "b": "x", "c": [1, 2]}, {"a": 2.5e-13, "d": True}]
     path = write_table(tmp_path / "t.csv", rows)

@@ -50,9 +50,32 @@ def _peer_speed(core_head: list[dict]) -> tuple[str, str]:
     return text + "; no compiled peer within the error bound (peers extra not installed?)", "n.a."
 
 
-def benchmark_rows(wp_head: list[dict], core_head: list[dict], hard: list[dict], command: str) -> list[dict]:
+def _piece_shares(pieces: list[dict]) -> str:
+    """This core's time per forcing period and each piece's share of it (benchmark_pieces)."""
+    label = pieces[0]["core"] if pieces else None
+    rows = [r for r in pieces if r["core"] == label]
+    by_piece = {r["piece"]: r for r in rows}
+    core, total = by_piece.get("core"), by_piece.get("sum of the pieces")
+    if core is None or total is None:
+        return "not measured"
+    shares = "; ".join(
+        f"{r['piece']} {float(r['us_per_period']):.1f} us ({float(r['share']):.0%})"
+        for r in rows
+        if r["piece"] not in ("core", "sum of the pieces") and _finite(r.get("share")) and float(r["share"]) >= 0.005
+    )
+    return (
+        f"over {float(core['t_end']):g} s from rest at rtol {float(core['rtol']):g}: core {float(core['us_per_period']):.1f} us per forcing period; "
+        f"its pieces replayed: {shares}; "
+        f"their sum {float(total['us_per_period']):.1f} us"
+    )
+
+
+def benchmark_rows(
+    wp_head: list[dict], core_head: list[dict], hard: list[dict], command: str, pieces: list[dict] = ()
+) -> list[dict]:
     """Rows of the benchmarks' report from the work-precision headline (``wp_head``), the core
-    benchmark's headline (``core_head``) and the hard-case table (``hard``)."""
+    benchmark's headline (``core_head``), the hard-case table (``hard``) and the piece-by-piece
+    breakdown (``pieces``, benchmark_pieces' table)."""
     bound = next((float(r["max_error"]) for r in core_head if _finite(r.get("max_error"))), math.nan)
     peer_text, peer_ok = _peer_speed(core_head)
     failed = [r for r in hard if r["passed"] in (False, "no")]
@@ -73,6 +96,15 @@ def benchmark_rows(wp_head: list[dict], core_head: list[dict], hard: list[dict],
             "replication": peer_text,
             "tolerance": f"impact-time error <= {bound:g} s over the first 1.5 s; the core at least as fast",
             "agrees": peer_ok,
+            "command": command,
+        },
+        {
+            "section": "2.2 (numerics)",
+            "quantity": "where the core's time goes per forcing period, by kind of piece (chaotic scene)",
+            "paper": "not stated",
+            "replication": _piece_shares(list(pieces)),
+            "tolerance": "n.a. (wall-clock times: results/<study>/tables/benchmark/benchmark_pieces.md)",
+            "agrees": "n.a.",
             "command": command,
         },
         {

@@ -36,7 +36,7 @@ import numpy as np
 from impactosc_bench.scene import ERR_HORIZON, OMEGA
 from impactosc_bench.timing_rounds import Contestant, PeerRun
 
-__all__ = ["RevisionCore", "revision_contestants", "revision_lines", "same_impacts"]
+__all__ = ["export_revision", "revision_env", "RevisionCore", "revision_contestants", "revision_lines", "same_impacts"]
 
 #: the worker: one JSON request per line (rtol, atol, transient, duration), one JSON answer per line
 _WORKER = r"""
@@ -65,23 +65,40 @@ def _git(*args: str, cwd: Path) -> str:
     return subprocess.run(["git", *args], cwd=cwd, check=True, capture_output=True, text=True).stdout.strip()
 
 
+def export_revision(rev: str, path: str = "src", repo: Path | None = None) -> tuple[str, Path]:
+    """``path`` of git revision `rev` exported into a new temporary folder (removed at exit):
+    (its short commit, the folder). A run with :func:`revision_env` imports from it."""
+    repo = Path(repo or Path(__file__).resolve().parents[2])
+    try:
+        commit = _git("rev-parse", "--short", f"{rev}^{{commit}}", cwd=repo)
+    except (subprocess.CalledProcessError, FileNotFoundError):
+        raise ValueError(f"--against {rev!r}: not a git revision of {repo}") from None
+    folder = Path(tempfile.mkdtemp(prefix=f"core-{commit}-"))
+    atexit.register(shutil.rmtree, folder, ignore_errors=True)
+    archive = subprocess.run(["git", "archive", commit, path], cwd=repo, check=True, capture_output=True)
+    subprocess.run(["tar", "-x", "-C", str(folder)], input=archive.stdout, check=True)
+    return commit, folder
+
+
+def revision_env(folder: Path) -> dict:
+    """The environment of a process that imports the exported revision's packages before the
+    installed ones, with a numba cache of its own."""
+    return {**os.environ, "PYTHONPATH": str(folder / "src"), "NUMBA_CACHE_DIR": str(folder / "numba")}
+
+
 class RevisionCore:
     """A worker process running the core of git revision `rev` of the repository at `repo`."""
 
     def __init__(self, rev: str, repo: Path | None = None):
-        repo = Path(repo or Path(__file__).resolve().parents[2])
-        try:
-            self.commit = _git("rev-parse", "--short", f"{rev}^{{commit}}", cwd=repo)
-        except (subprocess.CalledProcessError, FileNotFoundError):
-            raise ValueError(f"--against {rev!r}: not a git revision of {repo}") from None
+        self.commit, self.folder = export_revision(rev, "src", repo)
         self.label = f"impactosc core at {self.commit}"
-        self.folder = Path(tempfile.mkdtemp(prefix=f"core-{self.commit}-"))
         atexit.register(self.close)
-        archive = subprocess.run(["git", "archive", self.commit, "src"], cwd=repo, check=True, capture_output=True)
-        subprocess.run(["tar", "-x", "-C", str(self.folder)], input=archive.stdout, check=True)
-        env = {**os.environ, "PYTHONPATH": str(self.folder / "src"), "NUMBA_CACHE_DIR": str(self.folder / "numba")}
         self.proc = subprocess.Popen(
-            [sys.executable, "-c", _WORKER], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, env=env
+            [sys.executable, "-c", _WORKER],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            text=True,
+            env=revision_env(self.folder),
         )
 
     def run(self, rtol: float, atol: float, transient: float, duration: float) -> PeerRun:

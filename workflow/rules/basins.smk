@@ -19,6 +19,10 @@ rule basins_part:
         cache=NUMBA_CACHE,
     output:
         part=BASINS_PART,
+    log:
+        logs("basins/basins_part_{grid}_{chunk}"),
+    benchmark:
+        benchmarks("basins/basins_part_{grid}_{chunk}")
     wildcard_constraints:
         grid="|".join(BASINS_GRIDS),
         chunk=r"\d+",
@@ -39,6 +43,10 @@ rule basins:
         table=BASINS_TABLE.format(grid="coarse"),
         png=report(supplementary("basins", "basins")[0], caption="../report/basins.rst", category=BASINS_REPORT),
         pdf=supplementary("basins", "basins")[1],
+    log:
+        logs("basins/basins"),
+    benchmark:
+        benchmarks("basins/basins")
     params:
         **BASINS_COMMON,
     # merges the parts, classifies rest (0, 0), writes the table and draws the figure
@@ -55,6 +63,10 @@ use rule basins as basins_fine with:
         table=BASINS_TABLE.format(grid="fine"),
         png=report(supplementary("basins", "basins_fine")[0], caption="../report/basins.rst", category=BASINS_REPORT),
         pdf=supplementary("basins", "basins_fine")[1],
+    log:
+        logs("basins/basins_fine"),
+    benchmark:
+        benchmarks("basins/basins_fine")
 
 
 tier_products("beyond", rules.basins.output)

@@ -10,6 +10,10 @@ BC = config["benchmark_core"]
 rule cyrk_shim:
     output:
         marker=CYRK_SHIM,
+    log:
+        logs("benchmark/cyrk_shim"),
+    benchmark:
+        benchmarks("benchmark/cyrk_shim")
     priority: 15
     script:
         "../scripts/cyrk_shim.py"
@@ -24,6 +28,10 @@ rule benchmark_core:
         csv=BENCHMARK_CORE_CSV,
         headline=BENCHMARK_CORE_HEADLINE,
         md=BENCHMARK_CORE_MD,
+    log:
+        logs("benchmark/benchmark_core"),
+    benchmark:
+        benchmarks("benchmark/benchmark_core")
     priority: 5
     threads: timing_threads
     params:
@@ -41,11 +49,35 @@ rule benchmark_taylor:
     output:
         csv=BENCHMARK_TAYLOR_CSV,
         md=BENCHMARK_TAYLOR_MD,
+    log:
+        logs("benchmark/benchmark_taylor"),
+    benchmark:
+        benchmarks("benchmark/benchmark_taylor")
     threads: timing_threads
     params:
         bt=config["benchmark_taylor"],
     script:
         "../scripts/benchmark_taylor.py"
+
+
+# Under a minute: snakemake -j1 benchmark_pieces. Where the core's time goes: step attempts and
+# microseconds per forcing period of each kind of piece (replayed from the states the core
+# reached) and of each window of a contact; benchmark_pieces.against: another revision's core beside it.
+rule benchmark_pieces:
+    input:
+        cache=NUMBA_CACHE,
+    output:
+        csv=BENCHMARK_PIECES_CSV,
+        md=BENCHMARK_PIECES_MD,
+    log:
+        logs("benchmark/benchmark_pieces"),
+    benchmark:
+        benchmarks("benchmark/benchmark_pieces")
+    threads: timing_threads
+    params:
+        bp=config["benchmark_pieces"],
+    script:
+        "../scripts/benchmark_pieces.py"
 
 
 # About 6 min, 3 GB of scratch disk at a time: snakemake -j2 benchmark_extraction.
@@ -60,6 +92,10 @@ rule benchmark_extraction:
         md=BENCHMARK_EXTRACTION_MD,
         png=supplementary("benchmark", "extraction_scaling")[0],
         pdf=supplementary("benchmark", "extraction_scaling")[1],
+    log:
+        logs("benchmark/benchmark_extraction"),
+    benchmark:
+        benchmarks("benchmark/benchmark_extraction")
     threads: timing_threads
     params:
         be=config["benchmark_extraction"],
@@ -76,6 +112,10 @@ rule explorer_latency:
         cache=NUMBA_CACHE,
     output:
         md=EXPLORER_LATENCY_MD,
+    log:
+        logs("benchmark/explorer_latency"),
+    benchmark:
+        benchmarks("benchmark/explorer_latency")
     threads: timing_threads
     params:
         repeats=config["explorer_latency"]["repeats"],
@@ -89,10 +129,15 @@ rule benchmarks_report:
     input:
         wp_headline=WP_HEADLINE,
         core_headline=BENCHMARK_CORE_HEADLINE,
+        pieces=BENCHMARK_PIECES_CSV,
         hard=HARD_CASES_TABLE,
     output:
         csv=BENCHMARKS_REPORT_CSV,
         md=BENCHMARKS_REPORT_MD,
+    log:
+        logs("benchmark/benchmarks_report"),
+    benchmark:
+        benchmarks("benchmark/benchmarks_report")
     params:
         command="snakemake -j2 benchmarks_report",
     script:
@@ -103,6 +148,7 @@ tier_products(
     "benchmarks",
     rules.benchmark_core.output,
     rules.benchmark_taylor.output,
+    rules.benchmark_pieces.output,
     rules.benchmark_extraction.output,
     rules.explorer_latency.output,
     rules.benchmarks_report.output,
@@ -112,6 +158,7 @@ tier_jobs(
     rules.cyrk_shim,
     rules.benchmark_core,
     rules.benchmark_taylor,
+    rules.benchmark_pieces,
     rules.benchmark_extraction,
     rules.explorer_latency,
     rules.benchmarks_report,
@@ -126,6 +173,10 @@ rule random_scenes_part:
         cache=NUMBA_CACHE,
     output:
         csv=RANDOM_SCENES_PART,
+    log:
+        logs("benchmark/random_scenes_part_{part}"),
+    benchmark:
+        benchmarks("benchmark/random_scenes_part_{part}")
     params:
         rs=config["random_scenes"],
     script:
@@ -138,6 +189,10 @@ rule random_scenes:
     output:
         csv=RANDOM_SCENES_CSV,
         md=RANDOM_SCENES_MD,
+    log:
+        logs("benchmark/random_scenes"),
+    benchmark:
+        benchmarks("benchmark/random_scenes")
     params:
         rs=config["random_scenes"],
     script:

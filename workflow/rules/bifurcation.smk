@@ -23,6 +23,10 @@ rule bifurcation_coarse:
         cache=NUMBA_CACHE,
     output:
         seeds=BIF_COARSE,
+    log:
+        logs("bifurcation/bifurcation_coarse_{sweep}"),
+    benchmark:
+        benchmarks("bifurcation/bifurcation_coarse_{sweep}")
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
     priority: 8
@@ -41,6 +45,10 @@ rule bifurcation_chunk:
         seeds=lambda wc: expand(rules.bifurcation_coarse.output.seeds, sweep=wc.sweep) if int(wc.chunk) else [],
     output:
         chunk=BIF_CHUNK,
+    log:
+        logs("bifurcation/bifurcation_chunk_{sweep}_{chunk}"),
+    benchmark:
+        benchmarks("bifurcation/bifurcation_chunk_{sweep}_{chunk}")
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
         chunk=BIF_WILDCARDS["chunk"],
@@ -61,6 +69,10 @@ rule bifurcation_merge:
         coarse=lambda wc: expand(rules.bifurcation_coarse.output.seeds, sweep=wc.sweep) if BIF["chunks"] > 1 else [],
     output:
         sweep=BIF_SWEEP,
+    log:
+        logs("bifurcation/bifurcation_merge_{sweep}"),
+    benchmark:
+        benchmarks("bifurcation/bifurcation_merge_{sweep}")
     wildcard_constraints:
         sweep=BIF_WILDCARDS["sweep"],
     params:
@@ -79,6 +91,10 @@ rule bifurcation_tables:
         transitions=BIF_TABLES["transitions"],
         stats=BIF_STATS,
         rows=rows_file("bifurcation"),
+    log:
+        logs("bifurcation/bifurcation_tables"),
+    benchmark:
+        benchmarks("bifurcation/bifurcation_tables")
     params:
         names=BIF_SWEEPS,
         reading=BIF["reading"],
@@ -120,6 +136,10 @@ rule bifurcation_overlay:
             category=BIF_REPORT,
         ),
         pdf=supplementary("bifurcation", "bifurcation_overlay")[1],
+    log:
+        logs("bifurcation/bifurcation_overlay"),
+    benchmark:
+        benchmarks("bifurcation/bifurcation_overlay")
     params:
         names=BIF["overlay"]["sweeps"],
         model=config["model"],
@@ -132,6 +152,10 @@ rule bifurcation_benchmark:
         sweeps=expand(BIF_SWEEP, sweep=BIF_SWEEPS),
     output:
         json=BIF_BENCHMARK,
+    log:
+        logs("bifurcation/bifurcation_benchmark"),
+    benchmark:
+        benchmarks("bifurcation/bifurcation_benchmark")
     params:
         names=BIF_SWEEPS,
     script:
@@ -143,6 +167,10 @@ rule map2d_part:
         cache=NUMBA_CACHE,
     output:
         part=MAP2D_PART,
+    log:
+        logs("bifurcation/map2d_part_{chunk}"),
+    benchmark:
+        benchmarks("bifurcation/map2d_part_{chunk}")
     wildcard_constraints:
         chunk=BIF_WILDCARDS["chunk"],
     params:
@@ -161,6 +189,10 @@ rule map2d:
         map=MAP2D,
         png=report(supplementary("bifurcation", "map2d")[0], caption="../report/map2d.rst", category=BIF_REPORT),
         pdf=supplementary("bifurcation", "map2d")[1],
+    log:
+        logs("bifurcation/map2d"),
+    benchmark:
+        benchmarks("bifurcation/map2d")
     params:
         model=config["model"],
     script:

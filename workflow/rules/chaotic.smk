@@ -27,6 +27,10 @@ if CHAOTIC_MEMBER_NAMES:
             cache=NUMBA_CACHE,
         output:
             runs=expand(CHAOTIC_MEMBER_RUN, member=CHAOTIC_MEMBER_NAMES),
+        log:
+            logs("chaotic/chaotic_members"),
+        benchmark:
+            benchmarks("chaotic/chaotic_members")
         params:
             model=config["model"],
             solvers=[{k: CHAOTIC_MEMBERS[m][k] for k in ("rtol", "atol")} for m in CHAOTIC_MEMBER_NAMES],
@@ -51,6 +55,10 @@ rule chaotic_train_stats:
         events=lambda wc: CHAOTIC_TRAINS[wc.train][0],
     output:
         json=CHAOTIC_TRAIN_STATS,
+    log:
+        logs("chaotic/chaotic_train_stats_{train}"),
+    benchmark:
+        benchmarks("chaotic/chaotic_train_stats_{train}")
     wildcard_constraints:
         train="|".join(CHAOTIC_TRAINS),
     params:
@@ -67,6 +75,10 @@ rule chaotic_ensemble:
     output:
         json=CHAOTIC_ENSEMBLE_STATS,
         csv=CHAOTIC_ENSEMBLE_TABLE,
+    log:
+        logs("chaotic/chaotic_ensemble"),
+    benchmark:
+        benchmarks("chaotic/chaotic_ensemble")
     params:
         analysis=CHAOTIC["analysis"],
     script:
@@ -82,6 +94,10 @@ rule chaotic_stats:
     output:
         rows=rows_file("chaotic"),
         mixture=ISI_MIXTURE_TABLE,
+    log:
+        logs("chaotic/chaotic_stats"),
+    benchmark:
+        benchmarks("chaotic/chaotic_stats")
     params:
         command="snakemake -j1 chaotic_stats",
     script:

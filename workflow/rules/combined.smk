@@ -11,6 +11,10 @@ rule fig03:
     output:
         png=report(figure(3)[0], caption="../report/fig03.rst", category="Impact map (paper Fig 3)"),
         pdf=figure(3)[1],
+    log:
+        logs("combined/fig03"),
+    benchmark:
+        benchmarks("combined/fig03")
     params:
         sweep=config["bifurcation"]["fig03b"]["sweep"],
         start=config["periodic"]["fig03a"]["start"],
@@ -28,6 +32,10 @@ rule paper_vs_replication:
         csv=PAPER_TABLE_CSV,
         md=PAPER_TABLE_MD,
         html=report(PAPER_TABLE_HTML, caption="../report/paper_vs_replication.rst", category="Paper vs replication"),
+    log:
+        logs("combined/paper_vs_replication"),
+    benchmark:
+        benchmarks("combined/paper_vs_replication")
     params:
         model=config["model_source"],
         study=config["study"],
@@ -48,6 +56,8 @@ rule build_times:
     output:
         csv=BUILD_TIMES_CSV,
         md=BUILD_TIMES_MD,
+    log:
+        logs("combined/build_times_{tier}"),
     wildcard_constraints:
         tier="|".join(TIERS),
     params:

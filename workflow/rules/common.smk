@@ -9,7 +9,6 @@ from pathlib import Path
 
 import impactosc
 from snakemake.exceptions import WorkflowError
-from snakemake.io import strip_wildcard_constraints
 from impactosc.records.surrogate import LABEL as SURROGATE_LABEL
 from impactosc_study.config import validate_config
 
@@ -59,10 +58,10 @@ def tier_jobs(tier, *rules_, **wildcards):
 
 
 def tier_benchmarks(wildcards):
-    """The benchmark file of every job of one tier (read once the rules have their files)."""
+    """The benchmark file of every job of one tier (each rule's benchmark: pattern, filled in)."""
     files = []
     for rule_, values in TIER_JOBS[wildcards.tier]:
-        pattern = strip_wildcard_constraints(str(rule_.rule.benchmark))
+        pattern = str(rule_.benchmark)
         files.extend(expand(pattern, **values) if values else [pattern])
     return files
 
@@ -123,42 +122,22 @@ NUMBA_KERNELS = study_path(".numba_kernels_ready")  # marker: record and mixture
 CYRK_SHIM = study_path(".cyrk_shim_ready")  # marker: the CyRK shim is built (or why it cannot be)
 
 
-def logfile(group, name):
-    """Log file of one job; name = the rule's name plus its wildcards, e.g. simulate_scene_{scene}."""
-    return f"{RESULTS}/logs/{group}/{name}.log"
+# Every job's log and benchmark file is named after its rule and wildcards, in the folder of its
+# group (the rules file that defines the rule): each rule states them with the same argument,
+#     log: logs("scenes/simulate_scene_{scene}"), benchmark: benchmarks("scenes/simulate_scene_{scene}")
+# (the wildcards in the order of the first output's path, as a dry run lists them). The build-time
+# tables (build_times) have a log and no benchmark, which could not be in their own table.
+def logs(name):
+    """Log file of one job: results/<study>/logs/<group>/<rule>[_<wildcard>...].log, for
+    name = "<group>/<rule>[_<wildcard>...]"."""
+    return f"{RESULTS}/logs/{name}.log"
 
 
-def benchmark_file(group, name):
-    """Snakemake benchmark (wall time, CPU time, memory) of one job of a rule, read by the
-    build-time table (rule build_times)."""
-    return f"{RESULTS}/benchmarks/{group}/{name}.tsv"
-
-
-# The group of a rule made by a function of this file for another rules file (fig02_and_fig03b,
-# chaotic_figure): the rules file it was made for, not this one.
-RULE_GROUPS = {}
-
-
-def give_jobs_their_files():
-    """Each script's job gets its log and benchmark file here, named after its rule and wildcards,
-    results/<study>/logs/<group>/<name>[_<wildcard>...].log and the same under benchmarks/ (.tsv),
-    <group> being the stem of the rules file that defines it (scenes for scenes.smk). No rule states a log
-    or a benchmark itself. Called once, at the end of the Snakefile, when every rule exists. The
-    build-time tables have no benchmark of their own (they could not be in their table)."""
-    for rule_ in workflow.rules:
-        if not rule_.script:  # the aggregating targets (all, identify, ...) run no job
-            continue
-        if rule_.log or rule_.benchmark:
-            raise WorkflowError(f"{rule_.name}: its log and benchmark come from give_jobs_their_files()")
-        group = RULE_GROUPS.get(rule_.name, Path(rule_.snakefile).stem)
-        # the wildcards in the order of the first output's path, as the DAG lists a job's wildcards
-        order = sorted(rule_.wildcard_names, key=lambda w: str(rule_.output[0]).find(f"{{{w}"))
-        name = "_".join([rule_.name, *(f"{{{w}}}" for w in order)])
-        # as a log: or benchmark: directive would set them (the workflow's path modifier)
-        rule_.log_modifier = rule_.benchmark_modifier = workflow.modifier.path_modifier
-        rule_.set_log(logfile(group, name))
-        if not rule_.name.startswith("build_times"):
-            rule_.benchmark = benchmark_file(group, name)
+def benchmarks(name):
+    """Snakemake benchmark (wall time, CPU time, memory) of one job, read by the build-time tables
+    (build_times), results/<study>/benchmarks/<group>/<rule>[_<wildcard>...].tsv, for
+    name = "<group>/<rule>[_<wildcard>...]"."""
+    return f"{RESULTS}/benchmarks/{name}.tsv"
 
 
 def figure(nn):
@@ -187,14 +166,14 @@ def fig02_and_fig03b(layer, group, category, inputs, params=lambda fig: {}):
         name = fig if layer is None else f"{fig}_{layer}"
         sweep = config["bifurcation"][fig]["sweep"]
         paths = (figure(2) if fig == "fig02" else panel(fig)) if layer is None else supplementary(group, name)
-        RULE_GROUPS[name] = group
-        figure_rule(name, paths, category, inputs(fig, sweep), params(fig))
+        figure_rule(name, group, paths, category, inputs(fig, sweep), params(fig))
 
 
-def figure_rule(name, paths, category, inputs, params):
-    """Make the rule ``name`` that draws a figure (PNG and PDF ``paths``) from ``inputs`` with
-    ``params`` and the model's, by workflow/scripts/<name>.py (a function of its own, so that the
-    script's path, which Snakemake reads when the job runs, is this name's)."""
+def figure_rule(name, group, paths, category, inputs, params):
+    """Make the rule ``name`` of ``group`` that draws a figure (PNG and PDF ``paths``) from ``inputs``
+    with ``params`` and the model's, by workflow/scripts/<name>.py (a function of its own, so that the
+    script's path, which Snakemake reads when the job runs, is this name's); its log and benchmark
+    are in ``group``."""
 
     rule:
         name:
@@ -204,6 +183,10 @@ def figure_rule(name, paths, category, inputs, params):
         output:
             png=report(paths[0], caption=f"../report/{name}.rst", category=category),
             pdf=paths[1],
+        log:
+            logs(f"{group}/{name}"),
+        benchmark:
+            benchmarks(f"{group}/{name}")
         params:
             **params,
             model=config["model"],
@@ -214,9 +197,8 @@ def figure_rule(name, paths, category, inputs, params):
 def chaotic_figure(name, params=None, **inputs):
     """Make the rule of one figure of the chaotic regime (paper Figs 6-11), drawn from ``inputs``
     (the scene's run, or the trains' statistics) with ``params`` by workflow/scripts/<name>.py."""
-    RULE_GROUPS[name] = "chaotic"
     nn = int(name.removeprefix("fig"))
-    figure_rule(name, figure(nn), "Chaotic regime (Figs 6-11)", inputs, params or {})
+    figure_rule(name, "chaotic", figure(nn), "Chaotic regime (Figs 6-11)", inputs, params or {})
 
 
 def rows_file(group):
@@ -471,6 +453,8 @@ BENCHMARKS_REPORT_MD = study_path("tables/benchmark/benchmarks_report.md")
 EXPLORER_LATENCY_MD = study_path("tables/benchmark/explorer_latency.md")
 BENCHMARK_TAYLOR_CSV = study_path("tables/benchmark/benchmark_taylor.csv")
 BENCHMARK_TAYLOR_MD = study_path("tables/benchmark/benchmark_taylor.md")
+BENCHMARK_PIECES_CSV = study_path("tables/benchmark/benchmark_pieces.csv")  # where the core's time goes, per piece
+BENCHMARK_PIECES_MD = study_path("tables/benchmark/benchmark_pieces.md")
 # extraction of long records: throughput and peak memory (opt-in: snakemake -j2 benchmark_extraction)
 BENCHMARK_EXTRACTION_CSV = study_path("tables/benchmark/extraction_scaling.csv")
 BENCHMARK_EXTRACTION_MD = study_path("tables/benchmark/extraction_scaling.md")

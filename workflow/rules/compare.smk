@@ -22,6 +22,10 @@ rule compare_studies:
             category="Comparison of studies",
         ),
         fig03b_pdf=COMPARE_FIGURES["fig03b"][1],
+    log:
+        logs("compare/compare_studies"),
+    benchmark:
+        benchmarks("compare/compare_studies")
     params:
         labels=[f"study {config['study']}", f"study {COMPARE_STUDY}"],
         title=f"studies {config['study']} and {COMPARE_STUDY}",

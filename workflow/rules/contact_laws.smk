@@ -17,6 +17,10 @@ rule restitution:
             category="Contact laws",
         ),
         pdf=supplementary("contact_laws", "restitution")[1],
+    log:
+        logs("contact_laws/restitution"),
+    benchmark:
+        benchmarks("contact_laws/restitution")
     params:
         model=config["model"],
         e=[0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95],

@@ -20,6 +20,10 @@ rule identify_surrogate:
         cache=NUMBA_CACHE,
     output:
         records=IDENT_SURROGATE,
+    log:
+        logs("identification/identify_surrogate"),
+    benchmark:
+        benchmarks("identification/identify_surrogate")
     params:
         **IDENT_COMMON,
         surrogate=config["measured"]["surrogate"],
@@ -37,6 +41,10 @@ rule identify_model:
         windows=IDENT_WINDOWS,
         csv=IDENT_TABLE_CSV,
         md=IDENT_TABLE_MD,
+    log:
+        logs("identification/identify_model"),
+    benchmark:
+        benchmarks("identification/identify_model")
     priority: 6
     params:
         **IDENT_COMMON,
@@ -55,6 +63,10 @@ rule identify_figure:
             category=IDENT_REPORT,
         ),
         pdf=supplementary("identification", "identify")[1],
+    log:
+        logs("identification/identify_figure"),
+    benchmark:
+        benchmarks("identification/identify_figure")
     script:
         "../scripts/identify_figure.py"
 
@@ -66,6 +78,10 @@ rule identify_choice_candidate:
         records=IDENT_RECORDS,
     output:
         json=IDENT_CHOICE_PART,
+    log:
+        logs("identification/identify_choice_candidate_{candidate}"),
+    benchmark:
+        benchmarks("identification/identify_choice_candidate_{candidate}")
     wildcard_constraints:
         candidate=r"\d+",
     params:
@@ -80,6 +96,10 @@ rule identify_choice:
     output:
         csv=IDENT_CHOICE_CSV,
         md=IDENT_CHOICE_MD,
+    log:
+        logs("identification/identify_choice"),
+    benchmark:
+        benchmarks("identification/identify_choice")
     script:
         "../scripts/identify_choice.py"
 
@@ -107,6 +127,10 @@ rule identify_coverage_part:
         cache=NUMBA_CACHE,
     output:
         json=IDENT_COVERAGE_PART,
+    log:
+        logs("identification/identify_coverage_part_{part}"),
+    benchmark:
+        benchmarks("identification/identify_coverage_part_{part}")
     wildcard_constraints:
         part=r"\d+",
     params:
@@ -124,5 +148,9 @@ rule identify_coverage:
         csv=IDENT_COVERAGE_CSV,
         md=IDENT_COVERAGE_MD,
         draws=IDENT_COVERAGE_DRAWS,
+    log:
+        logs("identification/identify_coverage"),
+    benchmark:
+        benchmarks("identification/identify_coverage")
     script:
         "../scripts/identify_coverage.py"

@@ -31,6 +31,10 @@ rule laws_models:
         table=LAWS_TABLE,
         md=LAWS_MD,
         models=expand(LAWS_MODEL, law=LAWS_NAMES),
+    log:
+        logs("laws/laws_models"),
+    benchmark:
+        benchmarks("laws/laws_models")
     params:
         model=config["model"],
         model_source=config["model_source"],
@@ -46,6 +50,10 @@ use rule bifurcation_coarse as laws_coarse with:
         model=LAWS_MODEL,
     output:
         seeds=LAWS_COARSE,
+    log:
+        logs("laws/laws_coarse_{law}_{sweep}"),
+    benchmark:
+        benchmarks("laws/laws_coarse_{law}_{sweep}")
     wildcard_constraints:
         **LAWS_WILDCARDS,
 
@@ -57,6 +65,10 @@ use rule bifurcation_chunk as laws_chunk with:
         seeds=lambda wc: expand(LAWS_COARSE, law=wc.law, sweep=wc.sweep) if int(wc.chunk) else [],
     output:
         chunk=LAWS_CHUNK,
+    log:
+        logs("laws/laws_chunk_{law}_{sweep}_{chunk}"),
+    benchmark:
+        benchmarks("laws/laws_chunk_{law}_{sweep}_{chunk}")
     wildcard_constraints:
         **LAWS_WILDCARDS,
         chunk=r"\d+",
@@ -68,6 +80,10 @@ use rule bifurcation_merge as laws_merge with:
         coarse=lambda wc: expand(LAWS_COARSE, law=wc.law, sweep=wc.sweep) if LAWS_BIF["chunks"] > 1 else [],
     output:
         sweep=LAWS_SWEEP,
+    log:
+        logs("laws/laws_merge_{law}_{sweep}"),
+    benchmark:
+        benchmarks("laws/laws_merge_{law}_{sweep}")
     wildcard_constraints:
         **LAWS_WILDCARDS,
 
@@ -82,6 +98,10 @@ use rule bifurcation_tables as laws_tables with:
         transitions=LAWS_TABLES["transitions"],
         stats=LAWS_STATS,
         rows=LAWS_ROWS,
+    log:
+        logs("laws/laws_tables_{law}"),
+    benchmark:
+        benchmarks("laws/laws_tables_{law}")
     wildcard_constraints:
         law=LAWS_WILDCARDS["law"],
     params:
@@ -103,6 +123,10 @@ use rule compare_studies as laws_figures with:
         fig02_pdf=LAWS_FIGURES["fig02"][1],
         fig03b_png=report(LAWS_FIGURES["fig03b"][0], caption="../report/fig03b_laws.rst", category=LAWS_REPORT),
         fig03b_pdf=LAWS_FIGURES["fig03b"][1],
+    log:
+        logs("laws/laws_figures"),
+    benchmark:
+        benchmarks("laws/laws_figures")
     params:
         # templates filled with each sweep's model (a restitution law's matched e is known once
         # laws_models ran); a function, which Snakemake does not expand as it would a string
@@ -115,8 +139,3 @@ rule laws_study:
     input:
         rules.laws_models.output,
         rules.laws_figures.output,
-
-
-RULE_GROUPS.update(
-    {name: "laws" for name in ("laws_coarse", "laws_chunk", "laws_merge", "laws_tables", "laws_figures")}
-)

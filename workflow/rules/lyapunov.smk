@@ -16,6 +16,10 @@ rule lyapunov_members:
         cache=NUMBA_CACHE,
     output:
         runs=expand(LYAP_MEMBER, member=LYA_MEMBERS),
+    log:
+        logs("lyapunov/lyapunov_members"),
+    benchmark:
+        benchmarks("lyapunov/lyapunov_members")
     priority: 3
     params:
         chaos=LYA["chaos"],
@@ -31,6 +35,10 @@ rule lyapunov_checks:
         run=expand(LYAP_MEMBER, member=0),
     output:
         checks=LYAP_CHECKS,
+    log:
+        logs("lyapunov/lyapunov_checks"),
+    benchmark:
+        benchmarks("lyapunov/lyapunov_checks")
     params:
         chaos=LYA["chaos"],
         model=config["model"],
@@ -49,6 +57,10 @@ rule lyapunov_chaos:
             supplementary("lyapunov", "lyapunov_chaos")[0], caption="../report/lyapunov_chaos.rst", category=LYA_REPORT
         ),
         pdf=supplementary("lyapunov", "lyapunov_chaos")[1],
+    log:
+        logs("lyapunov/lyapunov_chaos"),
+    benchmark:
+        benchmarks("lyapunov/lyapunov_chaos")
     script:
         "../scripts/lyapunov_chaos.py"
 
@@ -58,6 +70,10 @@ rule lyapunov_sweep_part:
         sweep=BIF_SWEEP,
     output:
         part=LYAP_SWEEP_PART,
+    log:
+        logs("lyapunov/lyapunov_sweep_part_{sweep}_{chunk}"),
+    benchmark:
+        benchmarks("lyapunov/lyapunov_sweep_part_{sweep}_{chunk}")
     wildcard_constraints:
         chunk=r"\d+",
     # at the end of the sweeps' chain: start as soon as a sweep is merged
@@ -80,6 +96,10 @@ rule lyapunov_sweeps:
     output:
         lambdas=expand(LYAP_SWEEP, sweep=config["bifurcation"]["sweeps"]),
         signs=LYAP_SIGNS,
+    log:
+        logs("lyapunov/lyapunov_sweeps"),
+    benchmark:
+        benchmarks("lyapunov/lyapunov_sweeps")
     params:
         names=list(config["bifurcation"]["sweeps"]),
         chunks=LYA["sweeps"]["chunks"],

@@ -29,6 +29,10 @@ rule measured_surrogate:
         cache=NUMBA_CACHE,
     output:
         record=MEAS_SURROGATE,
+    log:
+        logs("measured/measured_surrogate_{kind}"),
+    benchmark:
+        benchmarks("measured/measured_surrogate_{kind}")
     wildcard_constraints:
         kind="chaos|sweep",
     params:
@@ -45,6 +49,10 @@ rule measured_chaos_events:
         record=MEAS_CHAOS_RECORD,
     output:
         events=MEAS_CHAOS_EVENTS,
+    log:
+        logs("measured/measured_chaos_events"),
+    benchmark:
+        benchmarks("measured/measured_chaos_events")
     params:
         x_impact=MEAS["chaos"]["x_impact"],
         noise=MEAS["chaos"]["noise"],
@@ -59,6 +67,10 @@ rule measured_fig02_points:
         records=MEAS_FIG02_RECORDS,
     output:
         points=MEAS_FIG02_POINTS,
+    log:
+        logs("measured/measured_fig02_points"),
+    benchmark:
+        benchmarks("measured/measured_fig02_points")
     params:
         segments=MEAS["fig02"]["segments"] if MEAS_FIG02_SWEEP else None,
         reader=MEAS["fig02"]["read"],
@@ -85,6 +97,10 @@ rule measured_noise_rate:
     output:
         json=MEAS_NOISE_RATE_JSON,
         csv=MEAS_NOISE_RATE_CSV,
+    log:
+        logs("measured/measured_noise_rate_{rate}"),
+    benchmark:
+        benchmarks("measured/measured_noise_rate_{rate}")
     wildcard_constraints:
         rate=r"[0-9.e+]+",
     params:
@@ -102,6 +118,10 @@ rule measured_noise_realism:
     output:
         json=MEAS_NOISE_REALISM_JSON,
         csv=MEAS_NOISE_REALISM_CSV,
+    log:
+        logs("measured/measured_noise_realism"),
+    benchmark:
+        benchmarks("measured/measured_noise_realism")
     params:
         **MEAS_NOISE_COMMON,
         study={k: MEAS_NOISE[k] for k in ("realism", "density_rate", "x_impact_span")},
@@ -118,6 +138,10 @@ rule measured_noise_study:
     output:
         csv=MEAS_NOISE_TABLE,
         json=MEAS_NOISE_STATS,
+    log:
+        logs("measured/measured_noise_study"),
+    benchmark:
+        benchmarks("measured/measured_noise_study")
     script:
         "../scripts/measured_noise_study.py"
 
@@ -132,6 +156,10 @@ rule measured_noise_figure:
             category=MEAS_REPORT,
         ),
         pdf=supplementary("measured", "measured_noise_study")[1],
+    log:
+        logs("measured/measured_noise_figure"),
+    benchmark:
+        benchmarks("measured/measured_noise_figure")
     params:
         density_rate=MEAS_NOISE["density_rate"],
     script:
@@ -168,6 +196,10 @@ rule measured_x_impact_coverage_part:
         cache=NUMBA_CACHE,
     output:
         json=MEAS_XI_COVERAGE_PART,
+    log:
+        logs("measured/measured_x_impact_coverage_part_{level}"),
+    benchmark:
+        benchmarks("measured/measured_x_impact_coverage_part_{level}")
     wildcard_constraints:
         level=r"\d+",
     params:
@@ -188,6 +220,10 @@ rule measured_x_impact_coverage:
     output:
         csv=MEAS_XI_COVERAGE_TABLE,
         draws=MEAS_XI_COVERAGE_DRAWS,
+    log:
+        logs("measured/measured_x_impact_coverage"),
+    benchmark:
+        benchmarks("measured/measured_x_impact_coverage")
     script:
         "../scripts/measured_x_impact_coverage.py"
 
@@ -202,6 +238,10 @@ if MEAS_HOOK_CHAOS:
             noise=MEAS_NOISE_RATE_JSON.format(rate=MEAS_NOISE_PAPER_RATE),
         output:
             rows=rows_file("measured"),
+        log:
+            logs("measured/measured_rows"),
+        benchmark:
+            benchmarks("measured/measured_rows")
         params:
             is_surrogate=MEAS["chaos"]["record"] is None,
             command="snakemake -j1 measured_rows",

@@ -11,6 +11,10 @@ rule impact_checks:
         cache=NUMBA_CACHE,
     output:
         csv=NUMERICS_IMPACT_CHECKS,
+    log:
+        logs("numerics/impact_checks"),
+    benchmark:
+        benchmarks("numerics/impact_checks")
     params:
         hc=config["hard_cases"],
     script:
@@ -23,6 +27,10 @@ rule tolerance_statistics:
     output:
         csv=TOLERANCE_STATISTICS,
         summary=TOLERANCE_SUMMARY,
+    log:
+        logs("numerics/tolerance_statistics"),
+    benchmark:
+        benchmarks("numerics/tolerance_statistics")
     priority: 3
     params:
         model=config["model"],
@@ -40,6 +48,10 @@ rule numerics_rows:
         summary=rules.tolerance_statistics.output.summary,
     output:
         rows=rows_file("numerics"),
+    log:
+        logs("numerics/numerics_rows"),
+    benchmark:
+        benchmarks("numerics/numerics_rows")
     params:
         command="snakemake -j2 numerics_rows",
     script:

@@ -16,6 +16,10 @@ rule orbit_segment:
         cache=NUMBA_CACHE,
     output:
         segment=ORBIT_SEGMENT,
+    log:
+        logs("orbits/orbit_segment_{segment}"),
+    benchmark:
+        benchmarks("orbits/orbit_segment_{segment}")
     wildcard_constraints:
         segment="|".join(ORB_SEGMENTS) or "none",
     priority: 5
@@ -37,6 +41,10 @@ rule orbits:
         csv=ORBIT_POINTS_TABLE,
         md=ORBIT_POINTS_MD,
         rows=rows_file("orbits"),
+    log:
+        logs("orbits/orbits"),
+    benchmark:
+        benchmarks("orbits/orbits")
     params:
         names=ORB_SEGMENTS,
         command="snakemake -j2 orbits",

@@ -19,6 +19,10 @@ rule periodic_branch:
     output:
         branch=GRAZING_BRANCH,
         bisection=GRAZING_BISECTION,
+    log:
+        logs("periodic/periodic_branch"),
+    benchmark:
+        benchmarks("periodic/periodic_branch")
     priority: 10
     params:
         branch=PERIODIC["branch"],
@@ -34,6 +38,10 @@ rule periodic_from_rest:
         cache=NUMBA_CACHE,
     output:
         sweep=GRAZING_FROM_REST,
+    log:
+        logs("periodic/periodic_from_rest"),
+    benchmark:
+        benchmarks("periodic/periodic_from_rest")
     priority: 3
     params:
         scan=PERIODIC["from_rest"],
@@ -49,6 +57,10 @@ rule periodic_before_grazing:
         branch=rules.periodic_branch.output.branch,
     output:
         run=BRANCH_BEFORE_GRAZING_RUN,
+    log:
+        logs("periodic/periodic_before_grazing"),
+    benchmark:
+        benchmarks("periodic/periodic_before_grazing")
     params:
         scene=PERIODIC["before_grazing"],
         model=config["model"],
@@ -64,6 +76,10 @@ rule periodic_stats:
     output:
         stats=PERIODIC_STATS,
         spectrum=PERIOD4_SPECTRUM,
+    log:
+        logs("periodic/periodic_stats"),
+    benchmark:
+        benchmarks("periodic/periodic_stats")
     params:
         spectrum=PERIODIC["spectrum"],
         spectrum_of="after_grazing",
@@ -76,6 +92,10 @@ rule before_grazing_stats:
         before_grazing_branch=rules.periodic_before_grazing.output.run,
     output:
         stats=BEFORE_GRAZING_STATS,
+    log:
+        logs("periodic/before_grazing_stats"),
+    benchmark:
+        benchmarks("periodic/before_grazing_stats")
     params:
         spectrum=PERIODIC["spectrum"],
     script:
@@ -89,6 +109,10 @@ rule grazing_stats:
         from_rest=rules.periodic_from_rest.output.sweep,
     output:
         stats=GRAZING_STATS,
+    log:
+        logs("periodic/grazing_stats"),
+    benchmark:
+        benchmarks("periodic/grazing_stats")
     params:
         paper_omegas=PERIODIC["grazing"]["paper_omegas"],
         n_fit=PERIODIC["grazing"]["n_fit"],
@@ -103,6 +127,10 @@ rule periodic_rows:
         grazing=rules.grazing_stats.output.stats,
     output:
         rows=rows_file("periodic"),
+    log:
+        logs("periodic/periodic_rows"),
+    benchmark:
+        benchmarks("periodic/periodic_rows")
     script:
         "../scripts/periodic_rows.py"
 
@@ -111,6 +139,10 @@ rule fig01:
     output:
         png=report(figure(1)[0], caption="../report/fig01.rst", category=PERIODIC_REPORT),
         pdf=figure(1)[1],
+    log:
+        logs("periodic/fig01"),
+    benchmark:
+        benchmarks("periodic/fig01")
     script:
         "../scripts/fig01.py"
 
@@ -121,6 +153,10 @@ rule fig03a:
     output:
         png=report(panel("fig03a")[0], caption="../report/fig03a.rst", category=PERIODIC_REPORT),
         pdf=panel("fig03a")[1],
+    log:
+        logs("periodic/fig03a"),
+    benchmark:
+        benchmarks("periodic/fig03a")
     params:
         start=PERIODIC["fig03a"]["start"],
         span=PERIODIC["fig03a"]["span"],
@@ -138,6 +174,10 @@ rule fig04:
     output:
         png=report(figure(4)[0], caption="../report/fig04.rst", category=PERIODIC_REPORT),
         pdf=figure(4)[1],
+    log:
+        logs("periodic/fig04"),
+    benchmark:
+        benchmarks("periodic/fig04")
     params:
         inset=PERIODIC["fig04"]["inset"],
     script:
@@ -151,6 +191,10 @@ rule fig05:
     output:
         png=report(figure(5)[0], caption="../report/fig05.rst", category=PERIODIC_REPORT),
         pdf=figure(5)[1],
+    log:
+        logs("periodic/fig05"),
+    benchmark:
+        benchmarks("periodic/fig05")
     script:
         "../scripts/fig05.py"
 
@@ -161,6 +205,10 @@ rule grazing:
     output:
         png=report(supplementary("periodic", "grazing")[0], caption="../report/grazing.rst", category=PERIODIC_REPORT),
         pdf=supplementary("periodic", "grazing")[1],
+    log:
+        logs("periodic/grazing"),
+    benchmark:
+        benchmarks("periodic/grazing")
     params:
         window=[PERIODIC["from_rest"]["start"], PERIODIC["from_rest"]["stop"]],
     script:

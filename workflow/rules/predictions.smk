@@ -15,6 +15,10 @@ rule prediction_segment:
         cache=NUMBA_CACHE,
     output:
         band=PREDICTION_SEGMENT,
+    log:
+        logs("predictions/prediction_segment_{segment}"),
+    benchmark:
+        benchmarks("predictions/prediction_segment_{segment}")
     wildcard_constraints:
         segment="|".join(PREDICTION_SEGMENTS) or "none",
     params:
@@ -29,6 +33,10 @@ rule predictions:
     output:
         csv=PREDICTION_TABLE,
         md=PREDICTION_MD,
+    log:
+        logs("predictions/predictions"),
+    benchmark:
+        benchmarks("predictions/predictions")
     params:
         names=PREDICTION_SEGMENTS,
         model_source=config["model_source"],
@@ -45,6 +53,10 @@ rule prediction_check:
     output:
         csv=PREDICTION_CHECK_CSV,
         md=PREDICTION_CHECK_MD,
+    log:
+        logs("predictions/prediction_check"),
+    benchmark:
+        benchmarks("predictions/prediction_check")
     threads: available_cores
     params:
         check=PRED["check"],

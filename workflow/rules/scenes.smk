@@ -7,6 +7,10 @@ rule numba_cache:
         sources=CORE_SOURCES,
     output:
         marker=NUMBA_CACHE,
+    log:
+        logs("scenes/numba_cache"),
+    benchmark:
+        benchmarks("scenes/numba_cache")
     priority: 20
     script:
         "../scripts/numba_cache.py"
@@ -18,6 +22,10 @@ rule numba_cache_kernels:
         sources=KERNEL_SOURCES,
     output:
         marker=NUMBA_KERNELS,
+    log:
+        logs("scenes/numba_cache_kernels"),
+    benchmark:
+        benchmarks("scenes/numba_cache_kernels")
     priority: 20
     script:
         "../scripts/numba_cache_kernels.py"
@@ -28,6 +36,10 @@ rule simulate_scene:
         cache=NUMBA_CACHE,
     output:
         run=SCENE_RUN,
+    log:
+        logs("scenes/simulate_scene_{scene}"),
+    benchmark:
+        benchmarks("scenes/simulate_scene_{scene}")
     wildcard_constraints:
         scene="|".join(config["scenes"]),
     params:

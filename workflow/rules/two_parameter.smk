@@ -15,6 +15,10 @@ rule two_parameter_curve:
         cache=NUMBA_CACHE,
     output:
         curve=TWO_CURVE,
+    log:
+        logs("two_parameter/two_parameter_curve_{curve}"),
+    benchmark:
+        benchmarks("two_parameter/two_parameter_curve_{curve}")
     wildcard_constraints:
         curve="|".join(TWO_CURVES) or "none",
     params:
@@ -37,6 +41,10 @@ rule two_parameter:
         csv=TWO_POINTS_CSV,
         codim=TWO_CODIM_CSV,
         md=TWO_POINTS_MD,
+    log:
+        logs("two_parameter/two_parameter"),
+    benchmark:
+        benchmarks("two_parameter/two_parameter")
     params:
         names=TWO_CURVES,
     script:
@@ -57,6 +65,10 @@ rule map2d_curves:
         pdf=supplementary("two_parameter", "map2d_curves")[1],
         separation=TWO_SEPARATION_CSV,
         md=TWO_SEPARATION_MD,
+    log:
+        logs("two_parameter/map2d_curves"),
+    benchmark:
+        benchmarks("two_parameter/map2d_curves")
     params:
         names=TWO_CURVES,
         model=config["model"],
@@ -72,6 +84,10 @@ rule two_parameter_band:
         cache=NUMBA_CACHE,
     output:
         band=TWO_BAND,
+    log:
+        logs("two_parameter/two_parameter_band_{curve}"),
+    benchmark:
+        benchmarks("two_parameter/two_parameter_band_{curve}")
     wildcard_constraints:
         curve="|".join(TWO_CURVES) or "none",
     params:
@@ -91,6 +107,10 @@ rule two_parameter_bands:
             category=PRED_REPORT,
         ),
         pdf=supplementary("two_parameter", "curves_bands")[1],
+    log:
+        logs("two_parameter/two_parameter_bands"),
+    benchmark:
+        benchmarks("two_parameter/two_parameter_bands")
     params:
         names=TWO_CURVES,
         model=config["model"],

@@ -25,6 +25,10 @@ rule wp_reference:
         cache=NUMBA_CACHE,
     output:
         json=WP_REFERENCE,
+    log:
+        logs("work_precision/wp_reference_{wp_scene}"),
+    benchmark:
+        benchmarks("work_precision/wp_reference_{wp_scene}")
     wildcard_constraints:
         wp_scene="|".join(WP["scenes"]),
     priority: 10
@@ -44,6 +48,10 @@ rule wp_measure:
         reference=WP_REFERENCE,
     output:
         csv=WP_MEASURE,
+    log:
+        logs("work_precision/wp_measure_{wp_scene}_{contestants}"),
+    benchmark:
+        benchmarks("work_precision/wp_measure_{wp_scene}_{contestants}")
     wildcard_constraints:
         wp_scene="|".join(WP["scenes"]),
         contestants="|".join(WP_CONTESTANTS),
@@ -64,6 +72,10 @@ rule wp_jit:
         cache=NUMBA_CACHE,
     output:
         json=WP_JIT,
+    log:
+        logs("work_precision/wp_jit"),
+    benchmark:
+        benchmarks("work_precision/wp_jit")
     params:
         cold=WP["jit_cold"],
     script:
@@ -84,6 +96,10 @@ rule work_precision:
             category=WP_CAPTIONS,
         ),
         pdf=supplementary("work_precision", "work_precision")[1],
+    log:
+        logs("work_precision/work_precision"),
+    benchmark:
+        benchmarks("work_precision/work_precision")
     params:
         levels=WP["headline_errors"],
     script:
@@ -96,6 +112,10 @@ rule hard_cases:
         checks=NUMERICS_IMPACT_CHECKS,  # the numerics group's impact checks: the table's first rows
     output:
         csv=HARD_CASES_TABLE,
+    log:
+        logs("work_precision/hard_cases"),
+    benchmark:
+        benchmarks("work_precision/hard_cases")
     priority: 3
     params:
         hc=HC,

@@ -1,4 +1,4 @@
-"""Command line: ``impactosc simulate|extract|sweep-extract|surrogate|identify|predict|explore ...`` (see ``impactosc <command> --help``)."""
+"""Command line: ``impactosc simulate|extract|sweep-extract|surrogate|identify|predict|stats|explore ...`` (see ``impactosc <command> --help``)."""
 
 from __future__ import annotations
 
@@ -15,6 +15,7 @@ from impactosc.cli.options import MODEL_NAMES, model_from_args, open_record_args
 from impactosc.cli.parser import build_parser
 from impactosc.cli.predict import _predict
 from impactosc.cli.progress import WallTimeForecast
+from impactosc.cli.stats import _stats
 from impactosc.io.names import split_assignment
 from impactosc.model.parameters import ParameterError
 
@@ -233,6 +234,7 @@ COMMANDS = {
     "surrogate": _surrogate,
     "identify": _identify,
     "predict": _predict,
+    "stats": _stats,
     "explore": _explore,
 }
 

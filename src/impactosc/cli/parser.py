@@ -58,8 +58,64 @@ def build_parser() -> argparse.ArgumentParser:
     _add_surrogate_parser(sub)
     _add_identify_parser(sub)
     _add_predict_parser(sub)
+    _add_stats_parser(sub)
     _add_explore_parser(sub)
     return parser
+
+
+def _add_stats_parser(sub) -> None:
+    """The stats command: the statistics of a train, and its distances to another."""
+    from impactosc.cli.stats import EXPLAINED, TEST_TEXT
+    from impactosc.statistics.train_surrogates import SURROGATE_KINDS
+
+    lines = "\n".join(f"  {name:<19} {text}" for name, text in EXPLAINED)
+    sta = sub.add_parser(
+        "stats",
+        help="the paper's statistics and the local ones (CV2, LV, LvR, serial correlations) of an impact train; "
+        "with --against, the ISI- and SPIKE-distances to another train and their surrogate tests",
+        description="Read the impact train of a run file (impactosc simulate) or of a record's events "
+        "(impactosc extract), compute the statistics of the paper's section 2.2 with the workflow's own "
+        "functions and the local measures beyond it, print a short table and, with --json, write every "
+        "number. The statistics (keys of the JSON file):\n" + lines + "\n\nWith --against OTHER.h5: both "
+        "trains' statistics side by side, and the ISI-distance (Kreuz 2007) and SPIKE-distance (Kreuz 2013) "
+        "of the two trains on a common span, each tested against " + " and ".join(SURROGATE_KINDS) + " "
+        "surrogates (joint_isi: each impact re-drawn between its neighbours from the train's joint "
+        "distribution of successive intervals; shuffled: the intervals in random order). The test: " + TEST_TEXT + ".",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="Examples:\n  impactosc simulate --omega 40.86 --transient 100 --duration 400 --output chaos.h5\n"
+        "  impactosc stats chaos.h5 --json chaos_stats.json\n"
+        "  impactosc extract rig.csv --output events.h5\n  impactosc stats events.h5 --against chaos.h5 --json rig_vs_model.json",
+    )
+    sta.add_argument("train", metavar="TRAIN.h5", help="a run file or an extracted events file (impacts/t)")
+    sta.add_argument("--json", metavar="FILE", help="also write every number to this JSON file (atomically)")
+    sta.add_argument(
+        "--against",
+        metavar="OTHER.h5",
+        help="a second train: its statistics beside the first's, and the two trains' distances with their tests",
+    )
+    sta.add_argument(
+        "--align",
+        choices=("start", "absolute"),
+        default="start",
+        help="the common span of --against: each train from its own span's start, cut to the shorter (start, "
+        "default), or the times as recorded on the overlap of the spans (absolute: keeps the forcing's phase "
+        "when both start at phase 0)",
+    )
+    sta.add_argument(
+        "--refractoriness",
+        type=finite_number,
+        default=5e-3,
+        metavar="R",
+        help="LvR's refractoriness R, s (default 0.005: Shinomoto et al. 2009 and Elephant's default)",
+    )
+    sta.add_argument(
+        "--surrogates",
+        type=int,
+        default=99,
+        metavar="N",
+        help="surrogates of each train per kind for the distance tests (default 99; p-values are at least 1/(2N+1))",
+    )
+    sta.add_argument("--seed", type=int, default=0, help="seed of every surrogate (default 0)")
 
 
 def _add_explore_parser(sub) -> None:

@@ -21,6 +21,11 @@ periods      period of a Poincare sequence, impacts per orbit
 periodic_train  the periodic regime's numbers (Figs 3a, 4, 5)
 spectral_lines  the lines of a displacement spectrum (Figs 4c, 6b)
 ensemble     the ensemble of realisations of a chaotic train and the spread of its numbers
+local_variability  beyond the paper: Holt's CV2, LV, LvR, serial correlations of the intervals
+train_distances    ISI- and SPIKE-distance of two trains (Kreuz et al. 2007, 2013; PySpike's edges)
+train_surrogates   shuffled-interval and joint-ISI surrogates of a train
+distance_test      the two distances of two trains against surrogates of each (p-values)
+multiple_testing   two-sided p-values of z-scores and Holm's step-down for verdicts that test many
 
 scipy.signal and scipy.stats are imported inside the functions that call them: importing them
 costs 1-2 s, which every workflow job importing this package would pay, most of them for nothing.
@@ -76,5 +81,23 @@ export(
         "AnalysisOptions": "impactosc.statistics.impact_train",
         "load_train": "impactosc.statistics.impact_train",
         "analyse_train": "impactosc.statistics.train_analysis",
+        "DEFAULT_REFRACTORINESS": "impactosc.statistics.local_variability",
+        "holt_cv2": "impactosc.statistics.local_variability",
+        "local_variation": "impactosc.statistics.local_variability",
+        "revised_local_variation": "impactosc.statistics.local_variability",
+        "serial_correlation": "impactosc.statistics.local_variability",
+        "isi_distance": "impactosc.statistics.train_distances",
+        "spike_distance": "impactosc.statistics.train_distances",
+        "SURROGATE_KINDS": "impactosc.statistics.train_surrogates",
+        "shuffled_isi_surrogate": "impactosc.statistics.train_surrogates",
+        "joint_isi_surrogate": "impactosc.statistics.train_surrogates",
+        "DISTANCES": "impactosc.statistics.distance_test",
+        "DistanceTest": "impactosc.statistics.distance_test",
+        "distance_tests": "impactosc.statistics.distance_test",
+        "THREE_SD_LEVEL": "impactosc.statistics.multiple_testing",
+        "HolmVerdict": "impactosc.statistics.multiple_testing",
+        "two_sided_p": "impactosc.statistics.multiple_testing",
+        "holm": "impactosc.statistics.multiple_testing",
+        "largest_z_bound": "impactosc.statistics.multiple_testing",
     },
 )

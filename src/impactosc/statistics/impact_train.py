@@ -55,6 +55,10 @@ class AnalysisOptions:
     mixture_restarts : int
     ks_bootstrap : int
         Bootstrap replicates of the exponential KS test.
+    lvr_refractoriness : float
+        Refractoriness R of LvR, s (Shinomoto et al. 2009 and Elephant: 5 ms).
+    serial_lags : int
+        Lags 1..serial_lags of the intervals' serial correlation.
     alpha : float
         Significance level of every test.
     seed : int
@@ -75,6 +79,8 @@ class AnalysisOptions:
     mixture_components: tuple = (1, 2, 3)
     mixture_restarts: int = 8
     ks_bootstrap: int = 999
+    lvr_refractoriness: float = 5e-3
+    serial_lags: int = 10
     alpha: float = 0.05
     seed: int = 0
 
@@ -85,6 +91,7 @@ class AnalysisOptions:
             ("acf_kmax", 4),
             ("acf_n_peaks", 1),
             ("min_fano_windows", 2),
+            ("serial_lags", 1),
         ):
             if int(getattr(self, name)) < low:
                 raise ValueError(f"{name} must be >= {low}, got {getattr(self, name)}")
@@ -92,6 +99,8 @@ class AnalysisOptions:
             raise ValueError(f"alpha must be in (0, 1), got {self.alpha}")
         if not 0 <= self.min_prominence < 1 or not 0 <= self.acf_min_prominence < 1:
             raise ValueError("min_prominence and acf_min_prominence must be in [0, 1)")
+        if not self.lvr_refractoriness >= 0:
+            raise ValueError(f"lvr_refractoriness must be >= 0 s, got {self.lvr_refractoriness}")
         if self.acf_surrogates < 0 or self.ks_bootstrap < 0:
             raise ValueError("acf_surrogates and ks_bootstrap must be >= 0")
         if not self.fano_windows or min(self.fano_windows) <= 0:

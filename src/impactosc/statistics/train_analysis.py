@@ -15,6 +15,8 @@ built on :mod:`impactosc.statistics`:
 ``mixture``       1..K-component mixtures (gaussian/lognormal/gamma), AIC/BIC ranking
 ``acf``           paper eq. (3) ACF, its spectrum, a shuffle-surrogate significance level
 ``penetrations``  histogram, kernel density and modes of the penetrations H_j
+``local_variability``  beyond the paper: Holt's CV2, LV, LvR and the intervals' serial
+                  correlations (:mod:`impactosc.statistics.local_variability`)
 
 Units: seconds, metres, rad/s.  Curves are stored so figures are redrawn without
 recomputing anything.  :func:`key_numbers` takes the scalars the ensemble and the table
@@ -50,7 +52,7 @@ __all__ = [
     "mixture_table",
 ]
 
-PARTS = ("stationarity", "variability", "poisson", "isi_density", "mixture", "acf", "penetrations")
+PARTS = ("stationarity", "variability", "poisson", "isi_density", "mixture", "acf", "penetrations", "local_variability")
 
 
 # ----------------------------------------------------------------------------- parts
@@ -300,6 +302,22 @@ def _penetrations(train: ImpactTrain, o: AnalysisOptions) -> dict | None:
     return out
 
 
+def _local_variability(train: ImpactTrain, o: AnalysisOptions) -> dict:
+    """Beyond the paper: the local measures that stay valid when the rate drifts, and the serial
+    correlations, with 2/sqrt(n), the 95 % band of a correlation of independent intervals."""
+    S = train.intervals
+    lags = int(min(o.serial_lags, S.size - 3))
+    return {
+        "holt_cv2": st.holt_cv2(S),
+        "lv": st.local_variation(S),
+        "lvr": st.revised_local_variation(S, o.lvr_refractoriness),
+        "lvr_refractoriness": o.lvr_refractoriness,
+        "serial_lags": np.arange(1, lags + 1),
+        "serial_correlation": st.serial_correlation(S, lags),
+        "serial_noise_level": 2 / math.sqrt(S.size),
+    }
+
+
 def analyse_train(train: ImpactTrain, options: AnalysisOptions | None = None, parts=PARTS) -> dict:
     """All section-2.2 statistics of one impact train, as a JSON-ready dict.
 
@@ -356,6 +374,8 @@ def analyse_train(train: ImpactTrain, options: AnalysisOptions | None = None, pa
         out["acf"] = _acf(train, o, dens.get("scales") if dens else None)
     if "penetrations" in parts:
         out["penetrations"] = _penetrations(train, o)
+    if "local_variability" in parts:
+        out["local_variability"] = _local_variability(train, o)
     return out
 
 
@@ -388,12 +408,16 @@ def key_numbers(stats: dict) -> dict:
         out["acf_n_significant"] = stats["acf"]["n_significant"]
     if stats.get("penetrations"):
         out["penetration_n_modes"] = stats["penetrations"]["n_modes"]
+    if "local_variability" in stats:
+        loc = stats["local_variability"]
+        out.update(holt_cv2=loc["holt_cv2"], lv=loc["lv"], lvr=loc["lvr"])
+        out["serial_correlation_1"] = float(np.asarray(loc["serial_correlation"])[0])
     return out
 
 
 #: Parts computed for every ensemble member (the KS bootstrap is left out: its p-value is
 #: at the bootstrap floor for every chaotic run and it is the slowest part).
-ENSEMBLE_PARTS = ("stationarity", "variability", "isi_density", "mixture", "acf", "penetrations")
+ENSEMBLE_PARTS = ("stationarity", "variability", "isi_density", "mixture", "acf", "penetrations", "local_variability")
 
 
 def ensemble_members(paths, options: AnalysisOptions | None = None) -> dict:
