@@ -49,7 +49,7 @@ from impactosc.core.layout import (
 from impactosc.core.pieces import accepted_step_factor, inverse_n3, start_piece, store
 from impactosc.core.sampling import bisect, locate_surface, sample_window, window_due
 from impactosc.core.transitions import (
-    U_BAND,
+    band_edge,
     after_transformed_step,
     apply_event,
     fall_back_to_time,
@@ -77,7 +77,7 @@ def _mode_end(p, st):
     if mode == WVEL:
         return 0.0 if st[S_SGN] > 0.0 else st[S_V1] ** p[P_N3]
     # UVEL: first to v = 0 (s = 0), then out of the band
-    return 0.0 if s < 0.0 else math.asinh(U_BAND)
+    return 0.0 if s < 0.0 else math.asinh(band_edge(p))
 
 
 @njit(cache=True, inline="always")  # inlined into core.run, as time_step
