@@ -17,15 +17,16 @@ checks every number against the constants below). The law's surfaces are residua
     contact onset --v < 0.7 v0, a < 0--> turn [|v|^n3]   (a >= 0: contact [t])
     turn --v = 0 (deepest penetration), net force < 0--> restitution [|v|^n3]
     restitution --|v| = 0.45 v0, x > xI--> exit [sqrt(x - xI)] --x = xI--> free flight [closed form]
-        (T = 0, an overdamped oscillator, or an exit slower than |v| = 30 eps: free flight [t])
+        (T = 0, an overdamped oscillator, or an exit slower than the closed form's edge: free flight [t])
     free flight [closed form] --x = xI--> as free flight [t] at x = xI
-    free flight [closed form] --|v| = 30 eps, heading for v = 0--> friction band [asinh(v/eps)]
+    free flight [closed form] --|v| = 30 eps (the closed form's edge), heading for v = 0--> friction band
+        [asinh(v/eps)]
     contact [t] --x = xI, v < 0--> free flight [t]
     contact [t] --the cut--> past the cut [t] --the cut--> contact [t]
     contact [t] --h = h1 (a second stop)--> contact behind it [t] --h = h1--> contact [t]
     free flight [t] --|v| < 1e3 eps, heading for v = 0, T > 0--> friction band [asinh(v/eps)]
-    friction band --v = 0--> friction band (other side) --|v| = 30 eps (1e3 eps without a closed
-        form)--> free flight [closed form]
+    friction band --v = 0--> friction band (other side) --the closed form's edge (|v| = 1e3 eps
+        without one)--> free flight [closed form] (or [t])
     free flight, contact, turn, band --v = 0, |net force| < 1.5 T--> stick / slow reversal [implicit]
     free flight [t], band --|v| < 100 eps, |net force| < 1.5 T--> stick / slow reversal [implicit]
     stick / slow reversal --|v| > 100 eps--> free flight or contact [t]
