@@ -144,8 +144,8 @@ def test_velocity_dip_next_to_the_band_edge_is_never_stepped_over(flights, above
     ta = ts[i - 1]  # the new start, on the same trajectory just before the dip
     xa, va = flight_state(base, t0, x0, v0, ta)
     p = base.copy()
-    p[P_EPS] = vmin * (1 - 1e-7 if above else 1 + 1e-7) / U_CLOSED  # the closed form reads eps for the edge only
-    kind, t1, _, v1, _, _ = flight_piece(p, ta, xa, va, math.floor(ta / PERIOD) + 1, PERIOD, np.empty((4, 3)))
+    p[P_EPS] = vmin * (1 - 1e-7 if above else 1 + 1e-7) / U_CLOSED  # the edge next to the dip
+    kind, t1, _, _, _, _ = flight_piece(p, ta, xa, va, math.floor(ta / PERIOD) + 1, PERIOD, np.empty((4, 3)))
     if above:
         assert t1 > tmin + 1e-4
     else:

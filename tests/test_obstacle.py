@@ -1,8 +1,8 @@
 """The obstacle position estimated from a record (contact-law fit) against the surrogate's truth."""
 
 import numpy as np
-from scipy.optimize import minimize
 import pytest
+from scipy.optimize import minimize
 
 from impactosc.model.parameters import ModelParams
 from impactosc.records.contact_window import fit_vertices, integrate_window, model_window, projected_jacobian

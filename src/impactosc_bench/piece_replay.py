@@ -36,7 +36,6 @@ from impactosc.core.layout import (
     S_SGN,
     S_SLOW,
     S_T,
-    S_TAU,
     S_V,
     S_X,
     TIME,

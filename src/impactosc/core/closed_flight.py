@@ -148,7 +148,9 @@ def _half(p, s, w, alpha, wd, P, Q, A, B, t0, t_from, direction, span, ec, es):
         tau = t - t0
         e = math.exp(-alpha * tau)
         cd, sd = math.cos(wd * tau), math.sin(wd * tau)
-        vt = w * (P * math.cos(w * t) - Q * math.sin(w * t)) + e * ((-alpha * A + wd * B) * cd + (-alpha * B - wd * A) * sd)
+        vt = w * (P * math.cos(w * t) - Q * math.sin(w * t)) + e * (
+            (-alpha * A + wd * B) * cd + (-alpha * B - wd * A) * sd
+        )
         f = _residual_force(p, s, vt) * z_max * GL_W[i] * tau_c * ez / (m * e)
         kc, ks = ec * cd + es * sd, es * cd - ec * sd  # exp(alpha (t1 - t)) (cos, sin)(wd (t1 - t)) * exp(-alpha tau)
         dx += f * ks / wd

@@ -50,9 +50,9 @@ from impactosc.core.pieces import accepted_step_factor, inverse_n3, start_piece,
 from impactosc.core.sampling import bisect, locate_surface, sample_window, window_due
 from impactosc.core.transitions import (
     CONTACT_SWITCH,
-    band_edge,
     after_transformed_step,
     apply_event,
+    band_edge,
     fall_back_to_time,
     stop_in_piece,
 )
