@@ -160,9 +160,12 @@ def test_the_new_laws_are_named_as_the_others(law, items, expected, tmp_path):
 
 
 def test_other_laws_keep_their_impact_times():
-    """Each law's impacts over the chaotic scene's first 1.5 s from rest, within 1e-12 s of the core
+    """Each law's impacts over the chaotic scene's first 1.5 s from rest, within 2.5e-9 s (the
+    core's accuracy against SciPy, which tests/test_contact_laws.py checks law by law) of the core
     before the laws were components (tests/data/make_law_impacts_reference.py): the generic
-    location of the cut finds Kelvin-Voigt's where its own code did (measured: 2.2e-15 s at most)."""
+    location of the cut finds Kelvin-Voigt's where its own code did (measured: 2.2e-15 s at most
+    with the same steps; free flight in closed form and the onset's first step move the
+    impacts by up to 3.8e-10 s, Flores's last, as the chaos grows a step's truncation error)."""
     data = json.loads((ROOT / "tests" / "data" / "law_impacts_before_components.json").read_text())
     for law, ref in data["laws"].items():
         with warnings.catch_warnings():
@@ -170,4 +173,4 @@ def test_other_laws_keep_their_impact_times():
             params = ModelParams(**ref["params"])
         t = simulate(data["omega"], 0.0, data["horizon"], params=params, record=("impacts",)).events["impacts"]["t"]
         assert t.size == len(ref["impacts_t"]) > 4, law
-        assert np.max(np.abs(t - ref["impacts_t"])) < 1e-12, law
+        assert np.max(np.abs(t - ref["impacts_t"])) < 2.5e-9, law

@@ -24,12 +24,27 @@ def case(request):
     return request.param, rec, truth, events, attrs
 
 
+def _matched(truth, events, noise):
+    """Index of the true impact each extracted one is nearest to (each within half the shortest
+    true ISI: no extra impact), after checking that only contacts too shallow to confirm are
+    missed: a contact counts once the record rises confirm_sigmas (3) noise std above x_impact,
+    so one whose penetration is below 5 noise std (2 std of margin) may hide in the noise."""
+    T, E = truth["impacts"]["t"], events["impacts"]["t"]
+    idx = np.clip(np.searchsorted(T, E), 1, T.size - 1)
+    idx = np.where(np.abs(E - T[idx - 1]) < np.abs(E - T[idx]), idx - 1, idx)
+    assert np.all(np.abs(E - T[idx]) < np.diff(T).min() / 2) and np.unique(idx).size == idx.size
+    missed = np.setdiff1d(np.arange(T.size), idx)
+    pen_t, pen_h = truth["penetrations"]["t"], truth["penetrations"]["h"]
+    depth = pen_h[np.clip(np.searchsorted(pen_t, T[missed]), 0, pen_t.size - 1)]  # each contact's first maximum
+    assert np.all(depth < (ExtractOptions().confirm_sigmas + 2) * noise), (noise, T[missed], depth)
+    return idx
+
+
 def test_every_impact_within_stated_uncertainty_and_no_extra(case):
     noise, _rec, truth, events, attrs = case
-    T, E, s = truth["impacts"]["t"], events["impacts"]["t"], events["impacts"]["sigma_t"]
-    assert E.size == T.size, f"noise {noise}: {E.size} extracted vs {T.size} true impacts"
-    # one-to-one in order: each extracted time is nearest to its own true impact
-    assert np.all(np.abs(E - T) < np.diff(T).min() / 2)
+    idx = _matched(truth, events, noise)
+    T, E, s = truth["impacts"]["t"][idx], events["impacts"]["t"], events["impacts"]["sigma_t"]
+    assert E.size >= 0.995 * truth["impacts"]["t"].size  # the shallow misses are rare (1 of 434 at 5 um)
     # 5 sigma_t: with ~430 impacts a Gaussian error exceeds 4 sigma about once in 60 records
     assert np.all(np.abs(E - T) <= 5 * s + 1e-6), np.max(np.abs(E - T) / s)
     # the stated uncertainty is informative: median below the sample interval at <= 5 um
@@ -41,7 +56,10 @@ def test_noise_and_penetrations(case):
     # the MAD estimate sees the sensor noise (plus ~0.4 um of motion curvature at 2 kHz)
     assert attrs["noise_sigma"] == pytest.approx(noise, abs=max(0.2 * noise, 1e-6))
     h, ht = events["penetrations"]["h"], truth["penetrations"]["h"]
-    assert h.size == ht.size
+    if h.size != ht.size:  # a contact too shallow to confirm was missed: compare the others
+        keep = np.array([np.min(np.abs(events["penetrations"]["t"] - t)) < 2e-3 for t in truth["penetrations"]["t"]])
+        assert keep.sum() == h.size
+        ht = ht[keep]
     # the vertex fit is within 2 noise std + 1 um (sampling of a ~6 ms contact at 2 kHz)
     assert np.median(np.abs(h - ht)) < 2 * noise + 1e-6
 

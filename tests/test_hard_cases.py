@@ -74,7 +74,10 @@ def test_long_run_1e4_s():
 
 def test_regularisation_eps_and_stiffer_contact():
     rows = hc.regularisation_case(
-        eps_values=(1e-9,), ensemble_x0=(1e-4, -1e-4, 5e-4, -5e-4, 1e-3), approach_speeds=(0.1, 1.5), log=quiet
+        eps_values=(1e-9,),
+        ensemble_x0=(1e-4, -1e-4, 2e-4, -2e-4, 5e-4, -5e-4, 1e-3, -1e-3),  # the configured 8: bound 7.1
+        approach_speeds=(0.1, 1.5),
+        log=quiet,
     )
     assert_passed(rows)
     info = [r for r in rows if r["passed"] == "n.a."]

@@ -38,6 +38,7 @@ CORE_SOURCES = (
             "transitions",
             "sampling",
             "pieces",
+            "closed_flight",
             "time_pieces",
             "transformed_pieces",
             "implicit",

@@ -33,6 +33,7 @@ import time
 import numpy as np
 
 from impactosc.core.layout import (
+    CLOSED,
     EXPLICIT,
     MODE_NAMES,
     R_RTOL,
@@ -69,6 +70,7 @@ T_END = TRANSIENT + DURATION
 #: it lists, in the table's order; kinds of one name are one row.
 NAMES = {
     kind(EXPLICIT, FREE, TIME, 0): "free flight",
+    kind(EXPLICIT, FREE, CLOSED, 0): "free flight",
     kind(EXPLICIT, FREE, UVEL, 1): "friction band",
     kind(EXPLICIT, FREE, UVEL, -1): "friction band",
     kind(EXPLICIT, CONTACT, SQRTH, 1): "contact onset",

@@ -20,10 +20,11 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from impactosc.core.driver import initial_state, resume, run_settings, step_piece
+from impactosc.core.driver import initial_state, on_section, resume, run_settings, step_piece
 from impactosc.core.events import record_poincare
 from impactosc.core.layout import (
     C_BY_MODE,
+    CLOSED,
     EXPLICIT,
     MODE_NAMES,
     N_COUNT,
@@ -35,7 +36,6 @@ from impactosc.core.layout import (
     S_SGN,
     S_SLOW,
     S_T,
-    S_TAU,
     S_V,
     S_X,
     TIME,
@@ -53,12 +53,12 @@ E_T, E_X, E_V = range(3)  # columns of CorePieces.ends
 @njit(cache=True, inline="always")
 def kind_code(st):
     """The kind of the piece the state st is on, one integer (:func:`kind_of` unpacks it). Time
-    has no orientation (S_SGN then holds the last transformed piece's), nor has the implicit
-    solver: their orientation is 0."""
+    has no orientation (S_SGN then holds the last transformed piece's), nor has the closed form
+    (S_SGN: the sign of v) or the implicit solver: their orientation is 0."""
     slow = int(st[S_SLOW])
     mode = int(st[S_MODE])
     sgn = 0
-    if slow == EXPLICIT and mode != TIME:
+    if slow == EXPLICIT and mode != TIME and mode != CLOSED:
         sgn = 1 if st[S_SGN] > 0.0 else -1
     return ((slow * KIND_BASE + int(st[S_FIELD])) * KIND_BASE + mode) * 3 + sgn + 1
 
@@ -80,7 +80,7 @@ def kind_of(code: int) -> tuple[int, int, int, int]:
 def _one_step(p, st, cnt, rs, ws, ev, n_ev, win, period):
     """One iteration of core.run's loop (a Poincare time, or one step of the current piece)."""
     t_sec = st[S_ISEC] * period
-    if st[S_MODE] == TIME and st[S_TAU] >= t_sec:
+    if on_section(st, t_sec):
         ev, n_ev = record_poincare(st, rs, ev, n_ev, t_sec, st[S_X], st[S_V])
         return ev, n_ev, False
     ev, n_ev = step_piece(p, st, cnt, rs, ws, ev, n_ev, win, win, t_sec)

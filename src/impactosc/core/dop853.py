@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from impactosc.core import tableau as tab
-from impactosc.core.layout import TIME
+from impactosc.core.layout import TIME, UVEL
 from impactosc.core.vector_fields import deriv, deriv_stop
 
 A = np.ascontiguousarray(tab.A)
@@ -196,6 +196,8 @@ def initial_step(p, mode, field, sgn, q, s, tref, t, x, v, d0t, d0x, d0v, rtol, 
         h0 = 1e-6
     else:
         h0 = 0.01 * d0 / d1
+    if mode == UVEL:  # the scales above are x's and v's; in s = asinh(v/eps) a probe beyond one
+        h0 = min(h0, 1.0)  # e-fold of |v| overflows where |v| is near atol (a band of a few eps)
     _d1t, d1x, d1v = deriv(p, mode, field, sgn, q, s + h0, tref, t + h0 * d0t, x + h0 * d0x, v + h0 * d0v)
     d2 = math.sqrt((((d1x - d0x) / sx) ** 2 + ((d1v - d0v) / sv) ** 2) / 2.0) / h0
     if not (d2 == d2):

@@ -48,11 +48,12 @@ import math
 import numpy as np
 from numba import njit
 
-from impactosc.core import implicit, pieces, time_pieces, transformed_pieces, vector_fields
+from impactosc.core import closed_flight, implicit, pieces, time_pieces, transformed_pieces, vector_fields
 from impactosc.core.events import record_poincare
 from impactosc.core.layout import (
     C_ATTEMPTS,
     C_RHS,
+    CLOSED,
     DEFAULT_STEP_BUDGET,
     N_COUNT,
     N_SETTINGS,
@@ -102,10 +103,12 @@ def resume(p, st, cnt, d0):
     """Normalise the saved clock (a fresh state only sets S_T) and rebuild the derivative
     the next explicit step starts from."""
     mode = int(st[S_MODE])
-    if mode == TIME:
+    if mode in (TIME, CLOSED):
         st[S_TREF] = 0.0
         st[S_TAU] = st[S_T]
         st[S_S] = st[S_T]
+        if mode == CLOSED:  # evaluated where it is needed, no derivative to carry
+            return
     field = int(st[S_FIELD])
     if field == STOP:  # behind a contact law's second stop: its force too
         d0[0], d0[1], d0[2] = vector_fields.deriv_stop(p, field, st[S_T], st[S_X], st[S_V])
@@ -114,6 +117,14 @@ def resume(p, st, cnt, d0):
             p, mode, field, st[S_SGN], pieces.inverse_n3(p), st[S_S], st[S_TREF], st[S_TAU], st[S_X], st[S_V]
         )
     cnt[C_RHS] += 1
+
+
+@njit(cache=True, inline="always")
+def on_section(st, t_sec):
+    """Has a piece in time (time steps, closed form) landed on the Poincare time t_sec? Their
+    steps are clamped to it; a transformed piece records its sections inside its steps."""
+    mode = st[S_MODE]
+    return mode in (TIME, CLOSED) and st[S_TAU] >= t_sec
 
 
 @njit(cache=True)
@@ -137,6 +148,8 @@ def step_piece(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_sec):
     t_target = min(rs[R_T_END], t_sec)
     if st[S_SLOW] != 0.0:
         ev, n_ev = implicit.implicit_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target)
+    elif st[S_MODE] == CLOSED:
+        ev, n_ev = closed_flight.closed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target)
     elif st[S_MODE] != TIME:
         ev, n_ev = transformed_pieces.transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v)
     elif st[S_FIELD] == STOP:  # behind a contact law's second stop
@@ -161,7 +174,7 @@ def run(p, st, cnt, rs, ev, n_ev, win_x, win_v, max_steps):
     steps = 0
     while True:
         t_sec = st[S_ISEC] * period
-        if st[S_MODE] == TIME and st[S_TAU] >= t_sec:  # landed on a Poincare time (steps are clamped to it)
+        if on_section(st, t_sec):
             ev, n_ev = record_poincare(st, rs, ev, n_ev, t_sec, st[S_X], st[S_V])
             continue
         if st[S_T] >= rs[R_T_END] or steps >= max_steps:

@@ -17,8 +17,9 @@ TIME = 0  # s = t
 SQRTH = 1  # s = sgn * sqrt(x - xI): contact onset (sgn +1) or exit (sgn -1); h^n1 smooth in s
 WVEL = 2  # s = -sgn * |v|^n3: contact around v = 0, where |v|^n3 is smooth in s
 UVEL = 3  # s = sgn * asinh(v / eps): free flight through the friction band
-MODE_NAMES = ("t", "sqrt(x - xI)", "|v|^n3", "asinh(v/eps)")
-MODE_KEYS = ("time", "sqrth", "wvel", "uvel")  # the same, as names of counters (simulate's n_attempts_*)
+CLOSED = 4  # free flight in closed form (s = t; S_SGN: the sign of v, which sets the friction)
+MODE_NAMES = ("t", "sqrt(x - xI)", "|v|^n3", "asinh(v/eps)", "closed form")
+MODE_KEYS = ("time", "sqrth", "wvel", "uvel", "closed")  # the same, as names of counters (simulate's n_attempts_*)
 
 # --- resumable state vector st ----------------------------------------------------------
 (
@@ -35,9 +36,9 @@ MODE_KEYS = ("time", "sqrth", "wvel", "uvel")  # the same, as names of counters 
     S_WIN,  # next trajectory-window sample
     S_TSLOW,  # total time spent in implicit phases
     S_VCUT,  # |v| beyond which the restitution bracket is negative
-    S_MODE,  # TIME / SQRTH / WVEL / UVEL
+    S_MODE,  # TIME / SQRTH / WVEL / UVEL / CLOSED
     S_S,  # value of the piece's own variable
-    S_SGN,  # orientation of the piece's variable
+    S_SGN,  # orientation of the piece's variable (CLOSED: the sign of v)
     S_V1,  # velocity at which a contact piece changes variable
     S_TREF,  # start time of a transformed piece (its t is measured from here)
     S_NINV,  # consecutive invalid transformed steps
@@ -91,9 +92,9 @@ DEFAULT_STEP_BUDGET = 1_000_000  # attempts per forcing period: the chaotic scen
     C_FALLBACK,  # transformed pieces that fell back to time stepping
     C_ATTEMPTS,  # step attempts of every kind (what the watchdog counts)
     C_STIFF,  # implicit phases entered because explicit steps were stability-limited
-    C_BY_MODE,  # explicit step attempts in each variable: C_BY_MODE + TIME / SQRTH / WVEL / UVEL
+    C_BY_MODE,  # explicit step attempts in each variable: C_BY_MODE + TIME / SQRTH / WVEL / UVEL / CLOSED
 ) = range(14)
-N_COUNT = C_BY_MODE + 4
+N_COUNT = C_BY_MODE + len(MODE_KEYS)
 
 # --- event kinds (column 0 of ev) and the bit that asks for each --------------------------
 IMPACT, PENETRATION, NEAR_MISS, POINCARE = 0, 1, 2, 3

@@ -25,6 +25,7 @@ from numba import njit
 from impactosc.core import dop853, vector_fields
 from impactosc.core.layout import (
     C_RHS,
+    CLOSED,
     S_ERRACC,
     S_FIELD,
     S_H,
@@ -89,9 +90,11 @@ def start_piece(p, st, cnt, d0, ta, x, v, h):
     mode = int(st[S_MODE])
     st[S_REJECTED] = 0.0
     st[S_HACC] = 0.0
-    if mode == TIME:
+    if mode in (TIME, CLOSED):
         st[S_TREF] = 0.0
         store(st, ta, x, v, ta, h)
+        if mode == CLOSED:  # evaluated where it is needed, no derivative to carry
+            return
     else:  # a transformed piece measures time from its start (tiny increments stay resolved)
         st[S_TREF] = ta
         store(st, 0.0, x, v, st[S_S], h)

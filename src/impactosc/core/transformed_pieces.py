@@ -49,15 +49,16 @@ from impactosc.core.layout import (
 from impactosc.core.pieces import accepted_step_factor, inverse_n3, start_piece, store
 from impactosc.core.sampling import bisect, locate_surface, sample_window, window_due
 from impactosc.core.transitions import (
-    U_BAND,
+    CONTACT_SWITCH,
     after_transformed_step,
     apply_event,
+    band_edge,
     fall_back_to_time,
     stop_in_piece,
 )
-from impactosc.model.contact_laws.kernel import SURFACE_CUT, SURFACE_OBSTACLE, past_cut
+from impactosc.model.contact_laws.kernel import SURFACE_CUT, SURFACE_OBSTACLE, contact_force, past_cut
 from impactosc.model.equations import CONTACT, FREE
-from impactosc.model.parameters import P_N3, P_XI
+from impactosc.model.parameters import P_M, P_N3, P_XI
 
 # Each transformed variable is regular at one end of its stretch and singular at the other
 # (sqrt(h) at v = 0, |v|^n3 at h = 0): stepping away from a singular point is cheap
@@ -65,6 +66,25 @@ from impactosc.model.parameters import P_N3, P_XI
 # away from its own singularity: sqrt(h) just after onset and before exit, |v|^n3 between.
 MIN_S_STEP = 1e-7  # a transformed step below this fraction of its s-range means degeneration
 MAX_INVALID = 3  # consecutive invalid transformed steps before falling back to time stepping
+
+
+ONSET_FIRST = 0.25  # the onset's first step in sqrt(x - xI): this fraction of the onset piece's range
+ONSET_PROBE = 1e-6  # m: the penetration at which the law's force is read for that range
+
+
+@njit(cache=True, inline="always")
+def onset_step(p, v0):
+    """The first step of a contact onset in sqrt(x - xI), from the piece's expected range: the
+    penetration h1 at which the contact has taken 1 - CONTACT_SWITCH^2 of the impact's kinetic
+    energy, for a force ~ h^1.5 through the law's force at ONSET_PROBE. Hairer's heuristic there
+    starts at ~1e-4 of the range (x's and v's derivatives in s vanish at s = 0) and the steps then
+    take 6-8 attempts to grow. 0 if the law pushes nothing at the probe."""
+    f1 = contact_force(p, p[P_XI] + ONSET_PROBE, v0)
+    if not f1 > 0.0:
+        return 0.0
+    work = 0.5 * (1.0 - CONTACT_SWITCH * CONTACT_SWITCH) * p[P_M] * v0 * v0
+    h1 = (2.5 * work * ONSET_PROBE**1.5 / f1) ** 0.4
+    return ONSET_FIRST * math.sqrt(h1)
 
 
 @njit(cache=True)
@@ -77,7 +97,7 @@ def _mode_end(p, st):
     if mode == WVEL:
         return 0.0 if st[S_SGN] > 0.0 else st[S_V1] ** p[P_N3]
     # UVEL: first to v = 0 (s = 0), then out of the band
-    return 0.0 if s < 0.0 else math.asinh(U_BAND)
+    return 0.0 if s < 0.0 else math.asinh(band_edge(p))
 
 
 @njit(cache=True, inline="always")  # inlined into core.run, as time_step
@@ -93,6 +113,11 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
     if h <= 0.0:
         if mode == WVEL and sgn < 0.0:  # starts where every derivative vanishes
             h = 0.1 * s_end
+        elif mode == SQRTH and sgn > 0.0 and s == 0.0:
+            h = onset_step(p, v)
+            if h <= 0.0:
+                h = dop853.initial_step(p, mode, field, sgn, q, s, tref, t, x, v, d0[0], d0[1], d0[2], rtol, atol)
+                cnt[C_RHS] += 1
         else:
             h = dop853.initial_step(p, mode, field, sgn, q, s, tref, t, x, v, d0[0], d0[1], d0[2], rtol, atol)
             cnt[C_RHS] += 1

@@ -16,12 +16,17 @@ checks every number against the constants below). The law's surfaces are residua
         surface inside the contact: contact [t])
     contact onset --v < 0.7 v0, a < 0--> turn [|v|^n3]   (a >= 0: contact [t])
     turn --v = 0 (deepest penetration), net force < 0--> restitution [|v|^n3]
-    restitution --|v| = 0.45 v0, x > xI--> exit [sqrt(x - xI)] --x = xI--> free flight [t]
+    restitution --|v| = 0.45 v0, x > xI--> exit [sqrt(x - xI)] --x = xI--> free flight [closed form]
+        (T = 0, an overdamped oscillator, or an exit slower than the closed form's edge: free flight [t])
+    free flight [closed form] --x = xI--> as free flight [t] at x = xI
+    free flight [closed form] --|v| = 30 eps (the closed form's edge), heading for v = 0--> friction band
+        [asinh(v/eps)]
     contact [t] --x = xI, v < 0--> free flight [t]
     contact [t] --the cut--> past the cut [t] --the cut--> contact [t]
     contact [t] --h = h1 (a second stop)--> contact behind it [t] --h = h1--> contact [t]
     free flight [t] --|v| < 1e3 eps, heading for v = 0, T > 0--> friction band [asinh(v/eps)]
-    friction band --v = 0--> friction band (other side) --|v| = 1e3 eps--> free flight [t]
+    friction band --v = 0--> friction band (other side) --the closed form's edge (|v| = 1e3 eps
+        without one)--> free flight [closed form] (or [t])
     free flight, contact, turn, band --v = 0, |net force| < 1.5 T--> stick / slow reversal [implicit]
     free flight [t], band --|v| < 100 eps, |net force| < 1.5 T--> stick / slow reversal [implicit]
     stick / slow reversal --|v| > 100 eps--> free flight or contact [t]
@@ -57,6 +62,7 @@ from impactosc.core.layout import (
     C_SLOW_TRANSIT,
     C_STICK,
     C_STIFF,
+    CLOSED,
     EXPLICIT,
     IMPACT,
     R_FLAGS,
@@ -87,7 +93,7 @@ from impactosc.core.layout import (
 from impactosc.core.pieces import start_piece, store
 from impactosc.model.contact_laws.kernel import behind_stop, contact_onset, has_stop, onto_cut, past_cut
 from impactosc.model.equations import CONTACT, CUT, FREE, STOP, accel, damping_rate, in_contact, stick_force
-from impactosc.model.parameters import P_B, P_EPS, P_H1, P_KI, P_M, P_N2, P_N3, P_T, P_XI
+from impactosc.model.parameters import P_B, P_C, P_EPS, P_H1, P_K, P_KI, P_M, P_N2, P_N3, P_T, P_XI
 
 SLOW_FACTOR = 1.5  # v = 0 with |net force| < 1.5 T: stick or slow reversal -> implicit phase
 STIFF_ENTER = 4.0  # h |da/dv| above this: explicit steps are held by stability, not accuracy ...
@@ -99,7 +105,9 @@ RESTITUTION_SWITCH = 0.45  # ... until |v| = 0.45 v_onset on the way out, then s
 # (chosen by the work they cost on the chaotic scene: 0.95 / 0.2 took 116 step attempts per
 # forcing period, 0.7 / 0.45 take 105; the error of the impact times did not grow)
 BAND = 100.0  # the implicit phase ends when |v| > BAND * eps (friction slope then < 1e-6 T/eps)
-U_BAND = 1e3  # free flight with |v| < U_BAND * eps, heading for v = 0, runs in s = asinh(v/eps)
+U_BAND = 1e3  # free flight with |v| < U_BAND * eps, heading for v = 0, runs in s = asinh(v/eps) ...
+U_CLOSED = 30.0  # ... and below U_CLOSED * eps where free flight has a closed form (its first-order
+# correction for the regularised friction holds to there: the residual is 6e-4 T at the edge)
 
 
 @njit(cache=True, inline="always")
@@ -117,6 +125,40 @@ def _set_variable(st, field, mode, sgn, s):
     set_piece(st, field, EXPLICIT, mode)
     st[S_SGN] = sgn
     st[S_S] = s
+
+
+@njit(cache=True, inline="always")
+def closed_form_holds(p):
+    """Has free flight outside the friction band a closed form here (impactosc.core.closed_flight)?
+    Constant dry friction (T > 0: without it there is no band, and time steps run smoothly
+    through v = 0) and an underdamped oscillator (c^2 < 4 k m), as model BC."""
+    return p[P_T] > 0.0 and p[P_C] * p[P_C] < 4.0 * p[P_K] * p[P_M]
+
+
+@njit(cache=True, inline="always")
+def band_edge(p):
+    """|v| / eps at the friction band's edge: U_CLOSED where free flight outside has a closed
+    form, else U_BAND (time steps take the friction's curvature no closer)."""
+    return U_CLOSED if closed_form_holds(p) else U_BAND
+
+
+@njit(cache=True)
+def set_free_flight(p, st, slow, v):
+    """The free-flight piece from velocity v: in closed form where it holds and |v| is outside the
+    friction band (its sign fixed, the friction is -T sign(v) there), else in time."""
+    if slow == EXPLICIT and closed_form_holds(p) and abs(v) >= U_CLOSED * p[P_EPS] * (1.0 - 1e-9):
+        set_piece(st, FREE, EXPLICIT, CLOSED)
+        st[S_SGN] = sign(v)
+    else:
+        set_piece(st, FREE, slow, TIME)
+
+
+@njit(cache=True)
+def enter_band(p, st, cnt, d0, t, x, v):
+    """Free flight heading for v = 0 reached the friction band: on in s = sgn asinh(v/eps)."""
+    sgn = -sign(v)
+    _set_variable(st, FREE, UVEL, sgn, sgn * math.asinh(v / p[P_EPS]))
+    start_piece(p, st, cnt, d0, t, x, v, 0.0)
 
 
 @njit(cache=True)
@@ -255,7 +297,7 @@ def apply_event(p, st, cnt, rs, ev, n, kind, t, x, v, direction, dt_step):
             set_piece(st, CUT if cut else CONTACT, slow, TIME)
     elif kind == EV_X_DOWN:  # contact exit
         x = p[P_XI]
-        set_piece(st, FREE, slow, TIME)
+        set_free_flight(p, st, slow, v)
     elif kind in (EV_CUT_ON, EV_CUT_OFF):
         v = onto_cut(p, vcut, v)  # onto the line v = -v_cut where the cut is one
         set_piece(st, CUT if kind == EV_CUT_ON else CONTACT, slow, TIME)
@@ -288,9 +330,7 @@ def after_time_step(p, st, cnt, d0, field, t1, x1, v1, hs):
     elif field == FREE and p[P_T] > 0.0 and v1 * d0[2] < 0.0 and abs(v1) < U_BAND * eps:
         # heading into the friction band of a reversal: continue in s = sgn asinh(v/eps)
         # (without dry friction there is no band, and time stepping is smooth through v = 0)
-        sgn = sign(d0[2])
-        _set_variable(st, FREE, UVEL, sgn, sgn * math.asinh(v1 / eps))
-        start_piece(p, st, cnt, d0, t1, x1, v1, 0.0)
+        enter_band(p, st, cnt, d0, t1, x1, v1)
 
 
 @njit(cache=True, inline="always")  # on every accepted transformed step, as after_time_step
@@ -384,9 +424,10 @@ def _transformed_end(p, st, cnt, rs, ev, n_ev, d0, dt_step):
     ta, x, v = st[S_T], st[S_X], st[S_V]
     new_mode = mode
     h = 0.0  # the next piece chooses its first step
-    if mode == SQRTH:  # s = 0: exit from the obstacle
+    if mode == SQRTH:  # s = 0: exit from the obstacle, into the free flight apply_event chose
         ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_X_DOWN, ta, x, v, 0.0, dt_step)
-        new_mode = TIME
+        start_piece(p, st, cnt, d0, ta, x, v, 0.0)
+        return ev, n_ev
     elif mode == WVEL and sgn > 0.0:  # s = 0: v = 0 at the deepest penetration
         fs = stick_force(p, int(st[S_FIELD]), ta, x)
         ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, ta, x, v, 1.0, dt_step)
@@ -410,8 +451,10 @@ def _transformed_end(p, st, cnt, rs, ev, n_ev, d0, dt_step):
             new_mode = UVEL
         else:
             new_mode = TIME
-    else:  # UVEL out of the friction band
-        new_mode = TIME
+    else:  # UVEL out of the friction band: free flight
+        set_free_flight(p, st, st[S_SLOW], v)
+        start_piece(p, st, cnt, d0, ta, x, v, h)
+        return ev, n_ev
     set_piece(st, st[S_FIELD], st[S_SLOW], new_mode)
     start_piece(p, st, cnt, d0, ta, x, v, h)
     return ev, n_ev

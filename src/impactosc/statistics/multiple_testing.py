@@ -78,18 +78,28 @@ def holm(pvalues, alpha: float = THREE_SD_LEVEL) -> HolmVerdict:
     return HolmVerdict(p, adjusted, adjusted < alpha, float(alpha))
 
 
-def largest_z_bound(n_tests: int, alpha: float = THREE_SD_LEVEL) -> float:
+def largest_z_bound(n_tests: int, alpha: float = THREE_SD_LEVEL, reference_size: int | None = None) -> float:
     """The |z| the largest of ``n_tests`` z-scores must exceed for Holm (whose first step is
     Bonferroni's) to reject anything: the two-sided normal quantile at ``alpha / n_tests``.
 
     Why: a check that reports only its worst |z| (a hard case's row) bounds it by this instead of
     3, and so decides as Holm's procedure on all its tests does (3.0 for one test, 3.6 for ten).
+
+    ``reference_size`` n: each z is a new value against the mean and sample standard deviation of
+    n reference values (not a known sd), so it follows sqrt(1 + 1/n) times Student's t with n - 1
+    degrees of freedom (a prediction interval): the quantile is that one's. With 5 references
+    the normal quantile would reject a true null far more often than alpha.
     """
     n = int(n_tests)
     if n < 1:
         raise ValueError(f"n_tests must be >= 1, got {n_tests}")
     if not 0 < alpha < 1:
         raise ValueError(f"alpha must be in (0, 1), got {alpha}")
-    from scipy import special
+    from scipy import special, stats
 
-    return float(math.sqrt(2.0) * special.erfcinv(alpha / n))
+    if reference_size is None:
+        return float(math.sqrt(2.0) * special.erfcinv(alpha / n))
+    size = int(reference_size)
+    if size < 2:
+        raise ValueError(f"reference_size must be >= 2 (a sample standard deviation), got {reference_size}")
+    return float(math.sqrt(1.0 + 1.0 / size) * stats.t.isf(alpha / (2.0 * n), size - 1))
