@@ -29,7 +29,11 @@ from impactosc.model.parameters import ParameterError
 
 #: The noises, each (unit of its rms, dataset of its samples in a run file's group ``noise``, meaning).
 PROCESSES = {
-    "motor": ("rad/s", "motor_speed", "speed deviation of the motor (its phase phi = w t + theta, theta' an OU process)"),
+    "motor": (
+        "rad/s",
+        "motor_speed",
+        "speed deviation of the motor (its phase phi = w t + theta, theta' an OU process)",
+    ),
     "force": ("N", "cart_force", "random force on the cart (an OU process)"),
 }
 #: Keys of one process, (unit, meaning).
@@ -60,7 +64,9 @@ class NoiseProcess:
             if value is None and key == "grid":
                 continue
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-                raise ParameterError(f"noise.{name}.{key}", f"noise.{name}.{key} must be a finite number, got {shown(value)}")
+                raise ParameterError(
+                    f"noise.{name}.{key}", f"noise.{name}.{key} must be a finite number, got {shown(value)}"
+                )
         if self.rms < 0:
             raise ParameterError(f"noise.{name}.rms", f"noise.{name}.rms must be >= 0, got {self.rms:g}")
         if self.tau <= 0:
@@ -137,11 +143,15 @@ class Noise:
             if sub is None:
                 continue
             if not isinstance(sub, dict):
-                raise ParameterError(f"{where}.{name}", f"{where}.{name} must be a mapping (rms, tau, grid), got {shown(sub)}")
+                raise ParameterError(
+                    f"{where}.{name}", f"{where}.{name} must be a mapping (rms, tau, grid), got {shown(sub)}"
+                )
             _refuse_unknown(sub, PROCESS_KEYS, f"{where}.{name}")
             for key in ("rms", "tau"):
                 if key not in sub:
-                    raise ParameterError(f"{where}.{name}.{key}", f"{where}.{name} needs {key} ({PROCESS_KEYS[key][1]})")
+                    raise ParameterError(
+                        f"{where}.{name}.{key}", f"{where}.{name} needs {key} ({PROCESS_KEYS[key][1]})"
+                    )
             parts[name] = NoiseProcess(rms=sub["rms"], tau=sub["tau"], grid=sub.get("grid"))
         return cls(seed=block.get("seed", 0), **parts)
 
