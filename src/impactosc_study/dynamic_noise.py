@@ -157,7 +157,14 @@ def summary(rows: list[dict]) -> dict:
         merged = next((r for r in ladder if r["pooled_n_maxima"] < 2), None)
         top = ladder[-1]
         first = {}
-        for key in ("cv2_paper", "lv", "serial_correlation_1", "acf_peak_frequency", "n_impacts"):
+        for key in (
+            "penetration_n_modes",
+            "cv2_paper",
+            "lv",
+            "serial_correlation_1",
+            "acf_peak_frequency",
+            "n_impacts",
+        ):
             # the first level at which the statistic left the noise-free value by 10 % (relative; absolute for r(1))
             scale = 1.0 if key == "serial_correlation_1" else abs(base[key]) or 1.0
             moved = next((r for r in ladder[1:] if abs(r[key] - base[key]) / scale > 0.1), None)
@@ -168,6 +175,10 @@ def summary(rows: list[dict]) -> dict:
             "merge_rms": None if merged is None else merged["rms"],
             "largest_rms": top["rms"],
             "moved_10_percent_at": first,
-            "at_largest": {k: (base[k], top[k]) for k in ("cv2_paper", "lv", "serial_correlation_1", "n_impacts")},
+            "at_largest": {
+                k: (base[k], top[k])
+                for k in ("cv2_paper", "lv", "serial_correlation_1", "penetration_n_modes", "n_impacts")
+            },
+            "maxima_s": {f"{r['rms']:g}": r["pooled_maxima_s"] for r in ladder},
         }
     return out

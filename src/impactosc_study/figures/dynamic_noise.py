@@ -25,7 +25,7 @@ def dynamic_noise_figure(ladders: list[dict], found: dict):
     """Top: pooled ISI kernel densities per level (black: no noise); bottom: each statistic at each
     level relative to the noise-free run (r(1): difference), per noise."""
     apply_style()
-    fig, axes = plt.subplots(2, len(ladders), figsize=(DOUBLE, 0.62 * DOUBLE), squeeze=False)
+    fig, axes = plt.subplots(2, len(ladders), figsize=(DOUBLE, 0.62 * DOUBLE), squeeze=False, layout="constrained")
     for col, ladder in enumerate(ladders):
         rows = sorted(ladder["rows"], key=lambda r: r["rms"])
         name, unit = rows[0]["noise"], rows[0]["unit"]
@@ -55,5 +55,4 @@ def dynamic_noise_figure(ladders: list[dict], found: dict):
         bottom.set_ylabel("change from no noise (relative; r(1): difference)")
         bottom.set_title(f"({'cd'[col]}) statistics, ensemble means of {rows[-1]['members']} seeds", fontsize=7)
         bottom.legend(fontsize=5)
-    fig.tight_layout()
     return fig

@@ -163,10 +163,13 @@ def dynamic_noise_finding(summary: dict | None) -> str:
             if s["merge_rms"] is not None
             else f"the ISI maxima stay two up to {s['largest_rms']:g} {s['unit']} rms (the largest tried)"
         )
-        cv2, lv = s["at_largest"]["cv2_paper"], s["at_largest"]["lv"]
+        at = s["at_largest"]
+        cv2, lv, r1 = at["cv2_paper"], at["lv"], at["serial_correlation_1"]
+        first = min(((v, k) for k, v in s["moved_10_percent_at"].items() if v is not None), default=None)
+        moved = f"; first to move by 10 %: {first[1]} at {first[0]:g} {s['unit']}" if first else ""
         parts.append(
-            f"{names.get(name, name)} (tau {s['tau_s']:g} s): {where}; at {s['largest_rms']:g} {s['unit']} "
-            f"C_V^2 {cv2[0]:.4f} -> {cv2[1]:.4f} s, LV {lv[0]:.3f} -> {lv[1]:.3f}"
+            f"{names.get(name, name)} (tau {s['tau_s']:g} s): {where}{moved}; at {s['largest_rms']:g} {s['unit']} "
+            f"C_V^2 {cv2[0]:.4f} -> {cv2[1]:.4f} s, LV {lv[0]:.3f} -> {lv[1]:.3f}, r(1) {r1[0]:+.3f} -> {r1[1]:+.3f}"
         )
     return (
         "Noise in the dynamics: " + "; ".join(parts) + " (results/<study>/tables/dynamic_noise/dynamic_noise_study.csv)"
