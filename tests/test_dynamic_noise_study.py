@@ -37,6 +37,6 @@ def test_merge_is_the_first_level_with_one_maximum_and_statistics_move_by_ten_pe
 
 
 def test_paper_row_says_what_was_found_or_how_to_build_it():
-    assert "snakemake -j2 dynamic_noise" in dynamic_noise_finding(None)
+    assert "snakemake -j2 dynamic_noise_study" in dynamic_noise_finding(None)
     text = dynamic_noise_finding(summary([_row("force", 0.0, 2), _row("force", 1.0, 2)]))
     assert "stay two up to 1 N" in text and "random force" in text

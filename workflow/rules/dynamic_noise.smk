@@ -2,7 +2,7 @@
 # jitter or a random force on the cart merge the two ISI maxima the paper attributes to noise, and
 # which statistics move first? One job per noise (its ladder of intensities, an ensemble of seeds per
 # level; impactosc_study.dynamic_noise), then the table and summary, and the figure.
-# Targets: dynamic_noise (the study), results/<study>/tables/dynamic_noise/dynamic_noise_study.csv.
+# Target: dynamic_noise_study (the table, the summary and the figure).
 DYN_NOISE = config["dynamic_noise"]
 DYN_NOISE_NAMES = [name for name in ("motor", "force") if DYN_NOISE[name]["levels"]]
 
@@ -49,11 +49,6 @@ rule dynamic_noise_study:
         benchmarks("dynamic_noise/dynamic_noise_study")
     script:
         "../scripts/dynamic_noise_study.py"
-
-
-rule dynamic_noise:
-    input:
-        rules.dynamic_noise_study.output,
 
 
 tier_products("beyond", rules.dynamic_noise_study.output)

@@ -36,10 +36,10 @@ def dynamic_noise_figure(ladders: list[dict], found: dict):
             style = {"color": "k", "lw": 1.5} if d["rms"] == 0 else {"color": shades[k - 1], "lw": 0.9}
             top.plot(d["grid"], d["density"], label=f"{d['rms']:g} {unit}", **style)
         merged = found[name]["merge_rms"]
-        verdict = f"maxima merge at {merged:g} {unit}" if merged is not None else "maxima do not merge"
-        top.set_title(f"({'ab'[col]}) {_NAMES[name]}, tau = {rows[0]['tau_s']:g} s: {verdict}", fontsize=7)
+        verdict = f"merge at {merged:g} {unit}" if merged is not None else "no merge"
+        top.set_title(f"({'ab'[col]}) {_NAMES[name]}, tau {rows[0]['tau_s']:g} s: {verdict}", fontsize=6)
         top.set_xlabel("inter-impact interval (s)")
-        top.set_ylabel("density (pooled ensemble)")
+        top.set_ylabel("density (pooled seeds)")
         top.legend(fontsize=5, title="rms", title_fontsize=5)
         base = rows[0]
         levels = [r["rms"] for r in rows[1:]]
@@ -52,7 +52,7 @@ def dynamic_noise_figure(ladders: list[dict], found: dict):
         bottom.axhline(0.0, color="k", lw=0.5)
         bottom.set_xscale("log")
         bottom.set_xlabel(f"{_NAMES[name]} rms ({unit})")
-        bottom.set_ylabel("change from no noise (relative; r(1): difference)")
-        bottom.set_title(f"({'cd'[col]}) statistics, ensemble means of {rows[-1]['members']} seeds", fontsize=7)
+        bottom.set_ylabel("change from no noise")
+        bottom.set_title(f"({'cd'[col]}) means of {rows[-1]['members']} seeds, relative (r(1): difference)", fontsize=6)
         bottom.legend(fontsize=5)
     return fig

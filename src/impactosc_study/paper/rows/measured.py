@@ -154,7 +154,7 @@ def dynamic_noise_finding(summary: dict | None) -> str:
     """What the dynamic-noise study (impactosc_study.dynamic_noise.summary) found about the ISI maxima,
     as a sentence of the noise row; where the beyond tier has not been built, how to build it."""
     if not summary:
-        return "Noise in the dynamics: not built with the paper (snakemake -j2 dynamic_noise, beyond tier)"
+        return "Noise in the dynamics: not built with the paper (snakemake -j2 dynamic_noise_study, beyond tier)"
     names = {"motor": "motor speed jitter", "force": "random force on the cart"}
     parts = []
     for name, s in summary.items():
