@@ -9,7 +9,6 @@ DYN_NOISE_NAMES = [name for name in ("motor", "force") if DYN_NOISE[name]["level
 
 rule dynamic_noise_ladder:
     input:
-        kernels=NUMBA_KERNELS,
         cache=NUMBA_CACHE,
     output:
         json=DYN_NOISE_LADDER_JSON,

@@ -1,5 +1,4 @@
-"""One noise in the dynamics of the chaotic scene at each intensity of its ladder, an ensemble of seeds
-per level.
+"""One noise in the dynamics of the chaotic scene at each intensity of its ladder, a few seeds each.
 
 Reads input.cache, params (ladder {tau, levels}, seeds, scene, model, solver, analysis) and
 wildcards.noise (motor or force); writes output.json (rows and pooled ISI densities) and output.csv.

@@ -1,5 +1,4 @@
-"""The dynamic-noise study's table, summary (the intensity at which the ISI maxima merge, per noise) and
-figure.
+"""The dynamic-noise study's table, summary (where the ISI maxima merge, per noise) and figure.
 
 Reads input.json (one ladder per noise); writes output.csv, output.summary, output.png, output.pdf.
 """
