@@ -63,6 +63,7 @@ GALLERY = [
     ("Contact laws", ["restitution", "fig02_laws", "fig03b_laws"]),
     ("Two parameters (opt-in)", ["map2d", "map2d_curves"]),
     ("Records and identification", ["measured_noise_study", "identify"]),
+    ("Noise in the dynamics", ["dynamic_noise_study"]),
     ("Speed against accuracy", ["work_precision"]),
 ]
 # The Snakemake target that draws a figure, and its caption, where they are not the figure's name

@@ -25,6 +25,7 @@ CORE_SOURCES = (
     "model/slots.py",
     "model/contact_laws/__init__.py",
     "model/contact_laws/kernel.py",
+    "model/noise_kernel.py",
     "model/equations.py",
     *(
         f"core/{name}.py"

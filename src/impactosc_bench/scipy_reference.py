@@ -33,9 +33,10 @@ RESTITUTION_CHI = {
 }
 
 
-def model_forces(p: ModelParams, omega: float, contact_state: dict | None = None):
+def model_forces(p: ModelParams, omega: float, contact_state: dict | None = None, forcing=None):
     """(external(t, x, v), contact(x, v), bracket(x, v)): the forces of the model and its law in
-    plain Python, independent of the numba core, for the SciPy references; the contact force is
+    plain Python, independent of the numba core, for the SciPy references (`forcing(t)`, N, in place
+    of m0e w^2 sin(w t): a noisy run's, :mod:`impactosc_bench.noisy_reference`); the contact force is
     0 where ``bracket`` is negative. A restitution law reads this contact's chi from
     ``contact_state["chi"]`` (set at each onset by the caller); the two-stage law adds its second
     stop's force where ``contact_state["stage"]`` is set (behind h = h1, set by the caller)."""
@@ -43,7 +44,8 @@ def model_forces(p: ModelParams, omega: float, contact_state: dict | None = None
 
     def external(t, x, v):
         fr = p.T * v / math.sqrt(v * v + p.eps * p.eps)
-        return p.m0e * omega * omega * math.sin(omega * t) - p.k * x - p.c * v - fr
+        drive = p.m0e * omega * omega * math.sin(omega * t) if forcing is None else forcing(t)
+        return drive - p.k * x - p.c * v - fr
 
     def bracket(x, v):
         h = max(x - p.xI, 0.0)
@@ -69,12 +71,12 @@ def model_forces(p: ModelParams, omega: float, contact_state: dict | None = None
     return external, contact, bracket
 
 
-def _piece_setups(p: ModelParams, omega: float, method: str, max_nfev) -> dict:
+def _piece_setups(p: ModelParams, omega: float, method: str, max_nfev, forcing=None) -> dict:
     """Right-hand side and events of each piece kind ("free", "contact", "cut") for
     ``solve_ivp``; the right-hand sides count their calls and raise
     :class:`ReferenceBudgetExceeded` past ``max_nfev`` (None: no limit)."""
     state = {"chi": 0.0, "stage": 0}
-    external, contact, bracket = model_forces(p, omega, state)
+    external, contact, bracket = model_forces(p, omega, state, forcing)
     vcut = _cut_velocity(p)
 
     calls = [0]
@@ -185,6 +187,7 @@ def solve_reference(
     max_nfev=None,
     t0=0.0,
     contact_v0=None,
+    forcing=None,
 ):
     """Impact onsets (t, v) and penetrations (t, h) of model BC on [t0, t_end] with SciPy.
 
@@ -195,11 +198,11 @@ def solve_reference(
     right-hand-side evaluations (an explicit method pinned by a stiff creep never ends).
     A run that starts inside a restitution law's contact takes its onset velocity as
     ``contact_v0``; ``final`` is the end state (x, v, onset velocity of the contact it lies in,
-    nan outside one), with ``poincare`` off.
+    nan outside one), with ``poincare`` off. ``forcing(t)`` (N) replaces the unbalance's m0e w^2 sin(w t).
     """
     p = params or ModelParams()
     vcut = _cut_velocity(p)
-    setups = _piece_setups(p, omega, method, max_nfev)
+    setups = _piece_setups(p, omega, method, max_nfev, forcing)
     state = setups["state"]
     cut = setups["contact"][1][1]
 

@@ -218,7 +218,24 @@ def _model_from_file(model: dict) -> dict:
         )
     model.clear()
     model.update(values)
-    return {"file": str(path), "description": description, "covariance": covariance}
+    noise = stated.noise.to_dict() if stated.noise.active else None
+    return {"file": str(path), "description": description, "covariance": covariance, "noise": noise}
+
+
+def _dynamic_noise(block, from_file) -> dict | None:
+    """The noise in the dynamics of every scene: the config's ``noise`` block, else the model file's,
+    else none; refused as the model refuses it (:class:`impactosc.model.noise.Noise`), naming the key."""
+    block = block if block is not None else from_file
+    if block is None:
+        return None
+    from impactosc.model.noise import Noise
+    from impactosc.model.parameters import ParameterError
+
+    try:
+        noise = Noise.from_dict(block)
+    except ParameterError as exc:
+        raise ConfigError(f"invalid configuration:\n  {exc.name}: {exc}") from None
+    return noise.to_dict() if noise.active else None
 
 
 def _check_model(model: dict) -> None:
@@ -327,6 +344,7 @@ def validate_config(config: dict, schema_path, config_files=()) -> dict:
     config["model_source"] = _model_from_file(config.setdefault("model", {}))
     _check_model(config["model"])
     _fill_defaults(schema, config)
+    config["noise"] = _dynamic_noise(config.get("noise"), config["model_source"].pop("noise", None))
     for name, scene in config["scenes"].items():
         win = scene.get("window")
         end = scene["transient"] + scene["duration"]

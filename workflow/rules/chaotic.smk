@@ -43,6 +43,7 @@ if CHAOTIC_MEMBER_NAMES:
                 }
                 for m in CHAOTIC_MEMBER_NAMES
             ],
+            noise=config["noise"],
         # ensemble members are scene runs with their own x0 and tolerances, all in one job (each
         # takes less than a job's start-up)
         script:

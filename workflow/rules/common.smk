@@ -424,6 +424,22 @@ MEAS_NOISE_RATE_JSON = study_path("stats/measured/noise_study/rate{rate}Hz.json"
 MEAS_NOISE_RATE_CSV = study_path("stats/measured/noise_study/rate{rate}Hz.csv")
 MEAS_NOISE_REALISM_JSON = study_path("stats/measured/noise_study/realism.json")
 MEAS_NOISE_REALISM_CSV = study_path("stats/measured/noise_study/realism.csv")
+# the dynamic-noise study (beyond): one ladder per noise in the dynamics, merged into a table and a summary
+DYN_NOISE_LADDER_JSON = study_path("stats/dynamic_noise/ladder_{noise}.json")
+DYN_NOISE_LADDER_CSV = study_path("stats/dynamic_noise/ladder_{noise}.csv")
+DYN_NOISE_TABLE = study_path("tables/dynamic_noise/dynamic_noise_study.csv")
+DYN_NOISE_SUMMARY = study_path("stats/dynamic_noise/summary.json")
+
+
+def dynamic_noise_summary(wildcards=None):
+    """The dynamic-noise study's summary where a build of the beyond tier has made it, else None. A
+    parameter, not an input, of the paper's noise row: the paper's build must not run the study, and a
+    summary that appears or changes reruns the row (Snakemake's params trigger)."""
+    from impactosc.io.files import read_json  # without its provenance: that changes with every build
+
+    return read_json(DYN_NOISE_SUMMARY) if Path(DYN_NOISE_SUMMARY).is_file() else None
+
+
 MEAS_XI_COVERAGE_PART = study_path("stats/measured/x_impact_coverage/level{level}.json")
 MEAS_XI_COVERAGE_TABLE = study_path("tables/measured/x_impact_coverage.csv")
 MEAS_XI_COVERAGE_DRAWS = study_path("tables/measured/x_impact_coverage_draws.csv")

@@ -245,6 +245,7 @@ if MEAS_HOOK_CHAOS:
         params:
             is_surrogate=MEAS["chaos"]["record"] is None,
             command="snakemake -j1 measured_rows",
+            dynamic=dynamic_noise_summary,
         script:
             "../scripts/measured_rows.py"
 

@@ -46,6 +46,7 @@ rule simulate_scene:
         model=config["model"],
         solver=config["solver"],
         scene=lambda wc: scene(wc.scene),
+        noise=config["noise"],
     script:
         "../scripts/simulate_scene.py"
 

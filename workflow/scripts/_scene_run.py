@@ -8,11 +8,13 @@ import logging
 
 from impactosc.core.simulation import Window, simulate
 from impactosc.io.files import write_run
+from impactosc.model.noise import Noise
 from impactosc.model.parameters import ModelParams
 
 
-def run_scene(model: dict, solver: dict, scene: dict, output: str) -> None:
-    """Simulate ``scene`` (a validated config entry) with ``solver``'s tolerances; write ``output``."""
+def run_scene(model: dict, solver: dict, scene: dict, output: str, noise: dict | None = None) -> None:
+    """Simulate ``scene`` (a validated config entry) with ``solver``'s tolerances and the config's
+    noise in the dynamics; write ``output``."""
     window = Window(**scene["window"]) if scene.get("window") else None
 
     def progress(t, t_end, n_imp):
@@ -30,6 +32,7 @@ def run_scene(model: dict, solver: dict, scene: dict, output: str) -> None:
         window=window,
         record=scene["events"],
         progress=progress,
+        noise=Noise.from_dict(noise),
     )
     write_run(output, res.events, res.attrs, res.trajectory)
     logging.info(

@@ -27,6 +27,7 @@ opts = SurrogateOptions(
     mismatch=s["mismatch"],
     seed=s["seed"],
     **{k: s[k] for k in REALISM_FIELDS if k in s},
+    dynamics=s.get("dynamics"),
 )
 params = ModelParams(**p.model)
 t0 = time.perf_counter()

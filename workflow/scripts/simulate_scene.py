@@ -1,6 +1,6 @@
 """Run one configured scene through the core and write its HDF5 run file.
 
-Reads input.cache, params.scene (the scene's config entry), params.solver and params.model; writes
+Reads input.cache, params.scene (the scene's config entry), params.solver, params.model and params.noise; writes
 output.run.
 """
 
@@ -13,4 +13,4 @@ configure_logging(snakemake)
 from _scene_run import run_scene
 
 p = snakemake.params
-run_scene(p.model, p.solver, p.scene, snakemake.output.run)
+run_scene(p.model, p.solver, p.scene, snakemake.output.run, p.noise)

@@ -11,7 +11,7 @@ import warnings
 
 from impactosc.cli.explore import _explore
 from impactosc.cli.identify import _identify
-from impactosc.cli.options import MODEL_NAMES, model_from_args, open_record_args
+from impactosc.cli.options import MODEL_NAMES, model_from_args, noise_from_args, open_record_args
 from impactosc.cli.parser import build_parser
 from impactosc.cli.predict import _predict
 from impactosc.cli.progress import WallTimeForecast
@@ -191,6 +191,7 @@ def _simulate(args) -> int:
     _validate(args.omega, args.transient, args.duration, args.x0, args.v0, args.rtol, args.atol, window)
     check_step_budget(args.step_budget)
     params, source = model_from_args(args)
+    noise = noise_from_args(args)
     jit = warm_up()
     last = [time.perf_counter()]
     forecast = WallTimeForecast("simulate", quiet=args.quiet)
@@ -215,10 +216,17 @@ def _simulate(args) -> int:
         progress=progress,
         step_budget=args.step_budget,
         params=params,
+        noise=noise,
     )
     res.attrs["jit_and_load_time"] = jit
     res.attrs["model_source"] = source
-    write_run(args.output, res.events, res.attrs, res.trajectory)
+    events = res.events
+    if args.write_noise and res.realisation is not None:
+        from impactosc.model.noise_realisation import realisation_datasets
+
+        datasets, rule = realisation_datasets(res.realisation)
+        events, res.attrs = {**events, **datasets}, {**res.attrs, **rule}
+    write_run(args.output, events, res.attrs, res.trajectory)
     n_imp = len(res.events["impacts"]["t"]) if "impacts" in res.events else 0
     print(
         f"{args.output}: {n_imp} impacts in [{args.transient:g}, {args.transient + args.duration:g}] s, "

@@ -151,3 +151,60 @@ def open_record_args(args, omega=None):
     from impactosc.records.streams import open_record_stream
 
     return open_record_stream(args.record, omega=omega, **read_options(args))
+
+
+def add_noise_options(parser) -> None:
+    """Noise in the dynamics (impactosc.model.noise), read by :func:`noise_from_args`: each option
+    replaces the same process of the --model file's noise block."""
+    group = parser.add_argument_group(
+        "noise in the dynamics",
+        "Smooth random processes (Ornstein-Uhlenbeck, drawn exactly on a grid of tau/20 and interpolated by a "
+        "degree-7 spline), integrated as exactly as the noise-free model. RMS 0 (the default) is the noise-free "
+        "model bit for bit. A --model file's noise block is used unless these options replace it.",
+    )
+    group.add_argument(
+        "--motor-jitter",
+        type=finite_number,
+        nargs=2,
+        metavar=("RMS", "TAU"),
+        help="the motor's speed deviation: rms in rad/s and correlation time in s; the phase becomes "
+        "phi = omega t + theta, theta' the deviation, and the unbalance's force m0e (phi'^2 sin phi - phi'' cos phi)",
+    )
+    group.add_argument(
+        "--random-force",
+        type=finite_number,
+        nargs=2,
+        metavar=("RMS", "TAU"),
+        help="a random force on the cart: rms in N and correlation time in s",
+    )
+    group.add_argument(
+        "--noise-seed", type=int, metavar="N", help="seed of the noise's draws (default: the model file's, else 0)"
+    )
+    group.add_argument(
+        "--write-noise",
+        action="store_true",
+        help="also write the noise's draws into the run file (group noise, attribute noise_rule: the rule that "
+        "turns them into the forcing), so that another solver can integrate the very same forcing",
+    )
+
+
+def noise_from_args(args):
+    """The Noise of --model's noise block, with --motor-jitter, --random-force and --noise-seed applied."""
+    from impactosc.model.model_file import read_model_file
+    from impactosc.model.noise import Noise, NoiseProcess
+    from impactosc.model.parameters import ParameterError
+
+    base = read_model_file(args.model).noise if getattr(args, "model", None) else Noise()
+    parts = {"motor": base.motor, "force": base.force}
+    for name, option in (("motor", "motor_jitter"), ("force", "random_force")):
+        given = getattr(args, option)
+        if given is not None:
+            parts[name] = NoiseProcess(*given)
+    seed = base.seed if args.noise_seed is None else args.noise_seed
+    try:
+        return Noise(seed=seed, **parts)
+    except ParameterError as exc:
+        option = {"noise.seed": "--noise-seed"}.get(exc.name)
+        if option is None:
+            option = "--motor-jitter" if exc.name.startswith("noise.motor") else "--random-force"
+        raise ParameterError(option, str(exc)) from None

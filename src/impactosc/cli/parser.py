@@ -10,6 +10,7 @@ from impactosc import __version__
 from impactosc.cli.options import (
     RECORD_FORMATS,
     add_model_options,
+    add_noise_options,
     add_record_options,
     contact_exponent,
     finite_number,
@@ -280,6 +281,7 @@ def _add_simulate_parser(sub) -> None:
     )
     sim.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     add_model_options(sim, "The parameters of the run: model BC's, or those of --model, then each --param.")
+    add_noise_options(sim)
 
 
 def _add_extract_parser(sub) -> None:

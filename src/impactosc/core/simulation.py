@@ -56,6 +56,7 @@ from impactosc.io.memory import shortfall
 from impactosc.model.contact_laws import law_of
 from impactosc.model.contact_laws.kernel import contact_onset
 from impactosc.model.equations import FIELD_NAMES
+from impactosc.model.noise import Noise
 from impactosc.model.parameters import MAX_EXPONENT, P_B, P_CHI, P_CHI_PER, ModelParams, ParameterError, cut_velocity
 
 ALL_EVENTS = EVENT_NAMES
@@ -161,6 +162,8 @@ class SimulationResult:
     trajectory: dict | None
     attrs: dict
     final_state: np.ndarray = field(repr=False)
+    #: the noise in the dynamics as drawn (impactosc.model.noise_realisation), None without noise
+    realisation: object | None = field(default=None, repr=False)
 
     @property
     def impact_times(self) -> np.ndarray:
@@ -304,6 +307,7 @@ def simulate(
     step_budget: float = DEFAULT_STEP_BUDGET,
     progress: Callable[[float, float, int], None] | None = None,
     contact_v0: float | None = None,
+    noise: Noise | None = None,
     _timing_only: bool = False,
 ) -> SimulationResult:
     """Integrate model BC from (x0, v0) at t = 0 to transient + duration.
@@ -321,6 +325,12 @@ def simulate(
     The contact law is ``params.law`` (:mod:`impactosc.model.contact_laws`). A restitution law's
     contact remembers its onset velocity: a run that starts inside one takes it as
     `contact_v0` (a run that ends inside one states it as ``attrs["contact_v0"]``).
+
+    `noise` adds noise in the dynamics (:class:`impactosc.model.noise.Noise`: the motor's speed
+    jitter, a random force), drawn for its seed over the whole run and integrated as exactly as the
+    noise-free model; without it, or with every rms 0, the run is the noise-free model bit for bit.
+    The draws come back as ``result.realisation`` (written out by
+    :func:`impactosc.model.noise_realisation.realisation_datasets`).
     """
     params = params or ModelParams()
     record = tuple(record)
@@ -335,6 +345,12 @@ def simulate(
     vcut = _start_contact(params, p, float(x0), float(v0), contact_v0)
     period = 2.0 * math.pi / omega
     t_end = float(transient) + float(duration)
+    realisation = None
+    if noise is not None and noise.active:
+        from impactosc.model.noise_realisation import pack, realise  # SciPy's splines: only for noisy runs
+
+        realisation = realise(noise, t_end)
+        p = pack(p, realisation)
     st = core.initial_state(p, 0.0, float(x0), float(v0), period, vcut, float(step_budget))
     cnt = np.zeros(N_COUNT, dtype=np.int64)
     ev = np.empty((1024, 4))
@@ -371,6 +387,8 @@ def simulate(
         trajectory = {"t": win_t0 + win_dt * np.arange(window.n), "x": win_x, "v": win_v}
 
     attrs = {f"param_{k}": v for k, v in params.to_dict().items()}
+    if noise is not None:
+        attrs.update(noise.attrs())
     attrs["contact_v0"] = _end_contact_v0(params, p, float(st[S_X]))
     attrs.update(
         omega=float(omega),
@@ -400,4 +418,6 @@ def simulate(
         wall_time=wall,
         recorded=",".join(record),
     )
-    return SimulationResult(events=events, trajectory=trajectory, attrs=attrs, final_state=st.copy())
+    return SimulationResult(
+        events=events, trajectory=trajectory, attrs=attrs, final_state=st.copy(), realisation=realisation
+    )

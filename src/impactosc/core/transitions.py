@@ -17,7 +17,8 @@ checks every number against the constants below). The law's surfaces are residua
     contact onset --v < 0.7 v0, a < 0--> turn [|v|^n3]   (a >= 0: contact [t])
     turn --v = 0 (deepest penetration), net force < 0--> restitution [|v|^n3]
     restitution --|v| = 0.45 v0, x > xI--> exit [sqrt(x - xI)] --x = xI--> free flight [closed form]
-        (T = 0, an overdamped oscillator, or an exit slower than the closed form's edge: free flight [t])
+        (T = 0, an overdamped oscillator, noise in the dynamics, or an exit slower than the closed
+        form's edge: free flight [t])
     free flight [closed form] --x = xI--> as free flight [t] at x = xI
     free flight [closed form] --|v| = 30 eps (the closed form's edge), heading for v = 0--> friction band
         [asinh(v/eps)]
@@ -93,6 +94,7 @@ from impactosc.core.layout import (
 from impactosc.core.pieces import start_piece, store
 from impactosc.model.contact_laws.kernel import behind_stop, contact_onset, has_stop, onto_cut, past_cut
 from impactosc.model.equations import CONTACT, CUT, FREE, STOP, accel, damping_rate, in_contact, stick_force
+from impactosc.model.noise_kernel import harmonic_forcing
 from impactosc.model.parameters import P_B, P_C, P_EPS, P_H1, P_K, P_KI, P_M, P_N2, P_N3, P_T, P_XI
 
 SLOW_FACTOR = 1.5  # v = 0 with |net force| < 1.5 T: stick or slow reversal -> implicit phase
@@ -131,8 +133,9 @@ def _set_variable(st, field, mode, sgn, s):
 def closed_form_holds(p):
     """Has free flight outside the friction band a closed form here (impactosc.core.closed_flight)?
     Constant dry friction (T > 0: without it there is no band, and time steps run smoothly
-    through v = 0) and an underdamped oscillator (c^2 < 4 k m), as model BC."""
-    return p[P_T] > 0.0 and p[P_C] * p[P_C] < 4.0 * p[P_K] * p[P_M]
+    through v = 0), an underdamped oscillator (c^2 < 4 k m), as model BC, and the harmonic
+    forcing (no noise in the dynamics)."""
+    return harmonic_forcing(p) and p[P_T] > 0.0 and p[P_C] * p[P_C] < 4.0 * p[P_K] * p[P_M]
 
 
 @njit(cache=True, inline="always")

@@ -85,6 +85,9 @@ DATASET_UNITS = {
     "fit_start": "s",  # first sample of a measured impact time's fit
     "fit_samples": "1",
     "fit_degree": "1",
+    # noise in the dynamics a run file writes out (group noise; impactosc.model.noise_realisation.RULE)
+    "motor_speed": "rad/s",
+    "cart_force": "N",
     # sweep files (impactosc.dynamics.sweep)
     "omega": "rad/s",
     "poincare_x": "m",

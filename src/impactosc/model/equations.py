@@ -1,6 +1,6 @@
 """Model BC's right-hand side (paper eq. 1), compiled with numba for the core.
 
-    m x'' + k x + c x' + T x'/sqrt(x'^2 + eps^2) + F_I(x, x') = m0e w^2 sin(w t)
+    m x'' + k x + c x' + T x'/sqrt(x'^2 + eps^2) + F_I(x, x') = m0e w^2 sin(w t)   (:func:`forcing`)
     F_I = kI ((x - xI)^n1 + b (x - xI)^n2 sgn(x') |x'|^n3)   if x >= xI and the bracket >= 0
 
 The functions read the parameters from the array ``p`` (indices P_* in
@@ -23,6 +23,7 @@ from impactosc.model.contact_laws.kernel import (
     stop_force,
     stop_slope,
 )
+from impactosc.model.noise_kernel import harmonic_forcing, noisy_forcing
 from impactosc.model.parameters import (
     P_C,
     P_EPS,
@@ -45,11 +46,20 @@ def in_contact(field):
 
 
 @njit(cache=True, inline="always")
+def forcing(p, t):
+    """The unbalance's force m0e w^2 sin(w t); with noise in the dynamics (p longer than the model's
+    parameters) the jittering motor's and the random force (noise_kernel), else today's arithmetic."""
+    if harmonic_forcing(p):
+        w = p[P_OMEGA]
+        return p[P_M0E] * w * w * math.sin(w * t)
+    return noisy_forcing(p, t)
+
+
+@njit(cache=True, inline="always")
 def external_force(p, t, x, v):
     """Everything but the contact: forcing - spring - viscous - regularised dry friction."""
-    w = p[P_OMEGA]
     friction = p[P_T] * v / math.sqrt(v * v + p[P_EPS] * p[P_EPS])
-    return p[P_M0E] * w * w * math.sin(w * t) - p[P_K] * x - p[P_C] * v - friction
+    return forcing(p, t) - p[P_K] * x - p[P_C] * v - friction
 
 
 @njit(cache=True, inline="always")
@@ -84,8 +94,7 @@ def accel_vn(p, field, t, x, v, vn):
 @njit(cache=True)
 def stick_force(p, field, t, x):
     """Net force other than dry friction at v = 0; |.| < T means the cart sticks."""
-    w = p[P_OMEGA]
-    f = p[P_M0E] * w * w * math.sin(w * t) - p[P_K] * x
+    f = forcing(p, t) - p[P_K] * x
     if field == CONTACT:
         f -= contact_force(p, x, 0.0)
     elif field == STOP:

@@ -9,6 +9,8 @@ line, the Python API and the workflow config read it through :func:`read_model_f
     name: rig 3, March                       # free text, optional
     contact: {law: flores, e: 0.7}           # optional: the contact law (model BC's without it);
                                              # a law other than bc has no b, n2, n3 in parameters
+    noise: {seed: 0, motor: {rms: 0.5, tau: 0.2}, force: {rms: 0.05, tau: 0.05}}   # optional: noise in
+                                             # the dynamics (impactosc.model.noise; none without it)
     parameters:                              # each ModelParams field: a number, or a mapping
       m:  {value: 8.735, unit: kg, fixed: true, note: given (mass is not identifiable)}
       k:  {value: 1418.9, unit: N/m, stderr: 3.1}
@@ -51,6 +53,7 @@ from impactosc.io.files import atomic_write, git_commit
 from impactosc.io.names import closest_name, shown, split_assignment
 from impactosc.io.yaml_text import AliasError, DuplicateKeyError, load_yaml, yaml_problem
 from impactosc.model.contact_laws import DEFAULT_LAW, LAWS, law_of
+from impactosc.model.noise import Noise
 from impactosc.model.parameters import PARAM_UNITS, PARAMETERS, ModelParams, unit_of
 
 FORMAT = "impactosc-model/1"
@@ -62,6 +65,7 @@ _TOP_KEYS = (
     "format",
     "name",
     "contact",
+    "noise",
     "parameters",
     "covariance",
     "correlation",
@@ -94,6 +98,11 @@ class ModelFile:
         if cov is None:
             return None
         return list(cov["names"]), list(cov.get("units", [])), _spd(cov["matrix"], len(cov["names"]), self.path)
+
+    @property
+    def noise(self) -> Noise:
+        """The noise in the dynamics the file states (its ``noise`` block; none without one)."""
+        return Noise.from_dict(self.meta.get("noise"))
 
     @property
     def correlation(self) -> tuple[list, np.ndarray] | None:
@@ -177,12 +186,13 @@ def write_model_file(
     records: list[dict] | None = None,
     fit: dict | None = None,
     name: str | None = None,
+    noise: Noise | None = None,
 ) -> Path:
     """Write `params` as a model file (atomically), with each parameter's unit, its standard
     error (`stderr`: name -> value), whether it was held fixed (`fixed`: name -> why), the
     correlation of the fitted quantities (names, matrix) and their covariance (names, units,
     matrix; written at full precision, checked positive definite), the `records` it was identified
-    from, free `fit` diagnostics, and the package version, git commit and time."""
+    from, free `fit` diagnostics, its `noise` in the dynamics, and the package version, git commit and time."""
     stderr, fixed = dict(stderr or {}), dict(fixed or {})
     _check_names(stderr, "stderr")
     _check_names(fixed, "fixed")
@@ -204,6 +214,8 @@ def write_model_file(
     if law.name != DEFAULT_LAW:  # a file without contact is of the default law, model BC's
         doc["contact"] = {"law": law.name, **{key: entry(key) for key in law.own}}
     doc["parameters"] = {key: entry(key) for key in law.family}
+    if noise is not None and noise.active:
+        doc["noise"] = noise.to_dict()
     if covariance is not None:
         names, units, matrix = list(covariance[0]), [str(u) for u in covariance[1]], covariance[2]
         if len(units) != len(names):
@@ -353,6 +365,10 @@ def read_model_file(path) -> ModelFile:
     meta = {k: v for k, v in doc.items() if k not in ("format", "parameters", "contact")}
     _check_covariance(meta.get("covariance"), path)  # here, so a bad block is named when the file is read
     _check_correlation(meta.get("correlation"), path)
+    try:
+        Noise.from_dict(meta.get("noise"))
+    except ValueError as exc:
+        raise ValueError(f"model file {path}: {exc}") from None
     defaulted = tuple(k for k in LAWS[law].family if k not in values)
     return ModelFile(params, stderr, fixed, meta, str(path), defaulted)
 

@@ -22,6 +22,7 @@ import numpy as np
 
 from impactosc.core.simulation import MAX_T_END, Window, end_state, simulate, start_of
 from impactosc.io.memory import shortfall
+from impactosc.model.noise import Noise
 from impactosc.model.parameters import ModelParams, ParameterError
 from impactosc.records.record import MIN_SAMPLES, Record
 from impactosc.records.surrogate_truth import LABEL, surrogate_meta
@@ -75,6 +76,9 @@ class SurrogateOptions:
         white Gaussian) but is stamped t_k.
     quantum : ADC step, m: every sample is rounded to a multiple of it, last (e.g. a 16-bit
         card over a 20 mm range: 20e-3 / 2**16 = 0.31 um).
+    dynamics : noise in the dynamics the rig's model is driven with (a ``noise:`` block or a
+        :class:`impactosc.model.noise.Noise`: the motor's speed jitter, a random force), None: none;
+        the record's label stays the surrogate's, its metadata says which noise.
     """
 
     rate: float = 2000.0
@@ -87,6 +91,7 @@ class SurrogateOptions:
     drift_time: float = 10.0
     clock_jitter: float = 0.0
     quantum: float = 0.0
+    dynamics: Noise | dict | None = None
 
     def __post_init__(self):
         if not math.isfinite(self.rate) or self.rate <= 0:
@@ -113,6 +118,8 @@ class SurrogateOptions:
         if isinstance(self.seed, int) and self.seed < 0:
             raise ParameterError("seed", f"seed must be an integer >= 0, got {self.seed}")
         object.__setattr__(self, "mismatch", dict(self.mismatch or {}))
+        if not isinstance(self.dynamics, Noise):
+            object.__setattr__(self, "dynamics", Noise.from_dict(self.dynamics, "dynamics"))
 
     @property
     def oversample(self) -> int:
@@ -264,6 +271,7 @@ def surrogate_run(
         window=win,
         record=("impacts", "penetrations", "poincare"),
         progress=progress,
+        noise=o.dynamics,
     )
 
 

@@ -44,6 +44,8 @@ def surrogate_meta(o, params: ModelParams, extra=None) -> dict:
         meta["surrogate_clock_jitter_s"] = o.clock_jitter
     if o.quantum > 0:
         meta["surrogate_quantum_m"] = o.quantum
+    if o.dynamics is not None and o.dynamics.active:  # noise in the dynamics (impactosc.model.noise)
+        meta.update({"surrogate_" + k: v for k, v in o.dynamics.attrs().items()})
     meta.update(
         {TRUE_PREFIX + f.name: _true_value(f.name, getattr(params, f.name)) for f in dataclasses.fields(params)}
     )

@@ -14,7 +14,9 @@ from impactosc_study.paper.numbers import MEASURED
 __all__ = ["measured_rows"]
 
 
-def measured_rows(second: dict, model: dict, noise_rows: list[dict], *, is_surrogate: bool, command: str):
+def measured_rows(
+    second: dict, model: dict, noise_rows: list[dict], *, is_surrogate: bool, command: str, dynamic: dict | None = None
+):
     """Rows of the paper-vs-replication table for the experimental panels (Figs 8b, 9b, 10).
 
     ``second`` and ``model`` are :func:`impactosc.statistics.train_analysis.analyse_train` results of the
@@ -110,8 +112,9 @@ def measured_rows(second: dict, model: dict, noise_rows: list[dict], *, is_surro
                     if worst
                     else ""
                 )
-                + f". {finding}; results/<study>/tables/measured/measured_noise_study.csv",
-                "tolerance": "n.a. (beyond the paper: measurement noise on x, not noise in the dynamics)",
+                + f". {finding}; results/<study>/tables/measured/measured_noise_study.csv. "
+                + dynamic_noise_finding(dynamic),
+                "tolerance": "n.a. (beyond the paper: measurement noise on x, and noise in the dynamics)",
                 "agrees": "n.a.",
             }
         )
@@ -145,3 +148,29 @@ def _obstacle_row(at: list[dict], rate: float) -> dict | None:
         "tolerance": "|error| < 3 um at 5-10 um noise, covered by the stated sigma",
         "agrees": "n.a.",
     }
+
+
+def dynamic_noise_finding(summary: dict | None) -> str:
+    """What the dynamic-noise study (impactosc_study.dynamic_noise.summary) found about the ISI maxima,
+    as a sentence of the noise row; where the beyond tier has not been built, how to build it."""
+    if not summary:
+        return "Noise in the dynamics: not built with the paper (snakemake -j2 dynamic_noise_study, beyond tier)"
+    names = {"motor": "motor speed jitter", "force": "random force on the cart"}
+    parts = []
+    for name, s in summary.items():
+        where = (
+            f"the ISI maxima merge at {s['merge_rms']:g} {s['unit']} rms"
+            if s["merge_rms"] is not None
+            else f"the ISI maxima stay two up to {s['largest_rms']:g} {s['unit']} rms (the largest tried)"
+        )
+        at = s["at_largest"]
+        cv2, lv, r1 = at["cv2_paper"], at["lv"], at["serial_correlation_1"]
+        first = min(((v, k) for k, v in s["moved_10_percent_at"].items() if v is not None), default=None)
+        moved = f"; first to move by 10 %: {first[1]} at {first[0]:g} {s['unit']}" if first else ""
+        parts.append(
+            f"{names.get(name, name)} (tau {s['tau_s']:g} s): {where}{moved}; at {s['largest_rms']:g} {s['unit']} "
+            f"C_V^2 {cv2[0]:.4f} -> {cv2[1]:.4f} s, LV {lv[0]:.3f} -> {lv[1]:.3f}, r(1) {r1[0]:+.3f} -> {r1[1]:+.3f}"
+        )
+    return (
+        "Noise in the dynamics: " + "; ".join(parts) + " (results/<study>/tables/dynamic_noise/dynamic_noise_study.csv)"
+    )
