@@ -33,6 +33,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from impactosc.dynamics.basins import FAILED as STOPPED
+from impactosc.dynamics.basins import UNRESOLVED
 from impactosc.statistics.periods import detect_period
 
 __all__ = [
@@ -45,10 +47,8 @@ __all__ = [
     "discover",
 ]
 
-#: label of a start that settled on nothing within max_iterations; attractor k has label k + 1
-UNRESOLVED = 0
-#: label of a start the map could not iterate (the core stopped)
-STOPPED = -1
+# labels as the basin maps': attractor k is k + 1, UNRESOLVED (0) settled on nothing within
+# max_iterations, STOPPED (-1) could not be iterated (the core stopped)
 #: a non-periodic attractor's largest exponent above this (per iteration) calls it chaotic: a finite
 #: run's estimate on a periodic orbit is negative, near a bifurcation within about 1e-2 of zero
 CHAOTIC_EXPONENT = 0.01
@@ -282,7 +282,8 @@ def discover(system, starts, settings: RecurrenceSettings, progress=None, known=
 
     `known`: attractors found before (e.g. at a neighbouring parameter), tried first and kept in
     the result's list whether or not a start reaches them. `progress(done, total, n_attractors)`
-    is called after each start."""
+    is called after each start. The starts left unresolved are run once more at the end, with every
+    attractor known (their iterations count both runs)."""
     s = settings
     starts = np.asarray(starts, dtype=float)
     if starts.ndim != 2 or starts.shape[0] == 0 or starts.shape[1] < s.dim:
@@ -295,16 +296,26 @@ def discover(system, starts, settings: RecurrenceSettings, progress=None, known=
     iterations = np.zeros(n, dtype=np.int64)
     last = np.zeros((n, s.dim))
     for i, y0 in enumerate(starts):
-        label, used, y, found = _settle_one(system, y0, attractors, s)
-        if found is not None:
-            same = next((j for j, a in enumerate(attractors) if _same(a, found, s)), None)
-            if same is None:
-                attractors.append(found)
-                label = len(attractors)
-            else:
-                label = same + 1
-                attractors[same].cells |= found.cells
-        labels[i], iterations[i], last[i] = label, used, y[: s.dim]
+        labels[i], iterations[i], last[i] = _label(system, y0, attractors, s)
         if progress is not None:
             progress(i + 1, n, len(attractors))
+    # a start run before the attractor it heads for was known had only the slow recurrence to
+    # settle by: once more with every attractor known (its result then does not depend on the order)
+    for i in np.flatnonzero(labels == UNRESOLVED):
+        labels[i], used, last[i] = _label(system, starts[i], attractors, s)
+        iterations[i] += used
     return Discovery(attractors, labels, iterations, last)
+
+
+def _label(system, start, attractors: list, s: RecurrenceSettings):
+    """(label, iterations, last point) of one start; a new attractor is appended to `attractors`."""
+    label, used, y, found = _settle_one(system, start, attractors, s)
+    if found is not None:
+        same = next((j for j, a in enumerate(attractors) if _same(a, found, s)), None)
+        if same is None:
+            attractors.append(found)
+            label = len(attractors)
+        else:
+            label = same + 1
+            attractors[same].cells |= found.cells
+    return label, used, np.asarray(y)[: s.dim]

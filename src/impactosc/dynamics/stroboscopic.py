@@ -37,10 +37,10 @@ def oscillator_settings(**counts) -> RecurrenceSettings:
     box 1 um, 20 um/s: the basins' box, measured inside both basins at w = 23.05 (:mod:`.basins`);
     tight 1e-9 m, 1e-7 m/s: a settled orbit repeats to 1e-13 m, and a start repeating to 1e-9 m
     with |mu| <= 0.99 lies within 0.1 um of its orbit; reading 1 um, 0.1 mm/s: the sweeps'
-    reading (config bifurcation.reading); cells 50 um x 2 mm/s: the orbits here span millimetres
-    and 0.1 m/s, so a chaotic set covers some hundreds of cells and recurs within a few hundred
-    periods, while distinct periodic points (70 um and more apart at w = 23.05) fall in different cells."""
-    return RecurrenceSettings(box=(1e-6, 2e-5), tight=(1e-9, 1e-7), reading=(1e-6, 1e-4), cell=(5e-5, 2e-3), **counts)
+    reading (config bifurcation.reading); cells 0.1 mm x 4 mm/s: the chaotic set at w = 40.3
+    spans 9 mm and 0.2 m/s and covers about 250 of them, so a start on it recurs within a few
+    hundred periods (with cells half as wide, 454 and often not within 2000 periods)."""
+    return RecurrenceSettings(box=(1e-6, 2e-5), tight=(1e-9, 1e-7), reading=(1e-6, 1e-4), cell=(1e-4, 4e-3), **counts)
 
 
 class StroboscopicMap:
