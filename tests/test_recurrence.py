@@ -144,3 +144,20 @@ def test_sample_boxes_and_bad_input():
         discover(TwoWells(), np.zeros((0, 2)), RecurrenceSettings(**SETTINGS))
     with pytest.raises(ValueError, match="box must be"):
         RecurrenceSettings(box=(0.0, 1.0), tight=(1, 1), reading=(1, 1), cell=(1, 1))
+
+
+class SlowFlip(_Map):
+    """x -> -0.97 x, y -> y / 2: one stable fixed point whose multiplier is near -1. Iterates
+    approach it alternating sides and repeat every 2 steps long before every step."""
+
+    def step(self, x, y):
+        return -0.97 * x, 0.5 * y
+
+    def jacobian(self, x, y):
+        return np.array([[-0.97, 0.0], [0.0, 0.5]])
+
+
+def test_a_slow_flip_is_period_one_not_two():
+    d = discover(SlowFlip(), [[0.3, 0.2], [-0.2, 0.1]], RecurrenceSettings(**SETTINGS))
+    assert [a.period for a in d.attractors] == [1] and d.labels.tolist() == [1, 1]
+    assert np.abs(d.attractors[0].points).max() < 1e-8  # tight 1e-10 over one step: within 1e-10 / 1.97 / (1 - 0.97)

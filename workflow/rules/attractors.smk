@@ -48,11 +48,11 @@ rule attractors:
         events=ATTRACTORS_TABLES["events"],
         hysteresis=ATTRACTORS_TABLES["hysteresis"],
         png=report(
-            supplementary("attractors", "attractors_along_w")[0],
+            supplementary("attractors", "attractors")[0],
             caption="../report/attractors.rst",
             category=ATTR_REPORT,
         ),
-        pdf=supplementary("attractors", "attractors_along_w")[1],
+        pdf=supplementary("attractors", "attractors")[1],
     log:
         logs("attractors/attractors"),
     benchmark:

@@ -7,10 +7,13 @@ because this map has periodic orbits micrometres from a discontinuity (grazing) 
 millimetres wide:
 
 - a **periodic tail**: the last `confirm` points each repeat the point p iterations before to
-  `tight` (settled orbits repeat to ~1e-13 m; a start still converging does not), p <= max_period;
+  `tight` (settled orbits repeat to ~1e-13 m; a start still converging does not), p <= max_period,
+  and do not repeat with a divisor of p to `reading` (near a period doubling a start converging to
+  the period-1 orbit passes the test with p = 2 first);
 - a **recurrent cloud**: `recur` consecutive points in coarse `cell`s this start visited before;
-  `record` more points then describe it: periodic if they repeat to `reading` (the tolerance the
-  sweeps' reading uses, so both name an attractor alike), else non-periodic.
+  `record` more points then describe it: periodic if the last 3 max_period of them repeat to
+  `reading` (the tolerance the sweeps' reading uses, so both name an attractor alike; the last
+  ones, as a slowly converging start's first ones do not), else non-periodic.
 
 A known attractor catches a later start early: `confirm` consecutive points in the boxes
 (`box`) of a periodic attractor's points, in its order (the box must lie inside the basin, as in
@@ -210,6 +213,14 @@ def _tail_period(history: list, tight: np.ndarray, s: RecurrenceSettings) -> int
     return 0
 
 
+def _coarser(points: list, s: RecurrenceSettings) -> bool:
+    """Whether p points of a tail repeat with a divisor of p to `reading`: a start still converging
+    to an orbit whose multiplier is near -1 repeats sooner with twice its period (the error shrinks
+    by 1 - mu^2 over two periods, by 1 - mu over one), and is not settled yet."""
+    h, p = np.asarray(points), len(points)
+    return any(p % k == 0 and np.all(np.abs(h[k:] - h[:-k]) <= s.reading) for k in range(1, p))
+
+
 def _same(a: FoundAttractor, b: FoundAttractor, s: RecurrenceSettings) -> bool:
     """Whether b, just settled, is the known a (see the module docstring)."""
     if a.period and b.period:
@@ -227,7 +238,7 @@ def _settled(system, state, s: RecurrenceSettings):
     periodic at the reading tolerance or not. Returns (attractor, iterations used, last point)."""
     pts, _ = system.iterate(state, s.record)
     pts = np.asarray(pts, dtype=float)
-    p = detect_period(pts, s.reading, max_period=s.max_period)
+    p = detect_period(pts[-3 * s.max_period :], s.reading, max_period=s.max_period)
     if p:
         return _periodic(system, pts[-p:]), s.record, pts[-1]
     impacts, exponent = system.describe(pts[-1], 0)
@@ -263,7 +274,7 @@ def _settle_one(system, start, known: list, s: RecurrenceSettings):
                 return k + 1, done, y, None
             history.append(y)
             p = _tail_period(history, tight, s)
-            if p:
+            if p and not _coarser(history[-p:], s):
                 return None, done, y, _periodic(system, history[-p:])
             c = _cells([y], s.cell)[0]
             recurrences = recurrences + 1 if c in visited else 0
