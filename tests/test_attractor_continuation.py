@@ -27,8 +27,8 @@ def _survey(omega, attractors, labels):
 
 
 def test_tracks_follow_moving_orbits_and_name_births_deaths_and_mergers():
-    a = lambda w: _orbit((-4e-3 + 1e-5 * w, 0.01))  # moves 10 um per step: one attractor  # noqa: E731
-    b = lambda w: _orbit((-2e-3, -0.05), (-3e-3, 0.02))  # noqa: E731
+    a = lambda w: _orbit((-4e-3 + 1e-5 * w, 0.01))  # moves 10 um per step: one attractor
+    b = lambda w: _orbit((-2e-3, -0.05), (-3e-3, 0.02))
     surveys = [
         _survey(1.0, [a(1)], [1, 1]),
         _survey(2.0, [a(2), b(2)], [1, 2]),  # b born

@@ -11,17 +11,21 @@ millimetres wide:
   and do not repeat with a divisor of p to `reading` (near a period doubling a start converging to
   the period-1 orbit passes the test with p = 2 first);
 - a **recurrent cloud**: `recur` consecutive points in coarse `cell`s this start visited before;
-  `record` more points then describe it: periodic if the last 3 max_period of them repeat to
-  `reading` (the tolerance the sweeps' reading uses, so both name an attractor alike; the last
-  ones, as a slowly converging start's first ones do not), else non-periodic.
+  3 max_period more points are periodic if they repeat to `reading` (the tolerance the sweeps'
+  reading uses, so both name an attractor alike), else `record` points in all describe it,
+  periodic if their last 3 max_period repeat (a slowly converging start's first ones do not),
+  else non-periodic.
 
 A known attractor catches a later start early: `confirm` consecutive points in the boxes
 (`box`) of a periodic attractor's points, in its order (the box must lie inside the basin, as in
 :mod:`.basins`: one point in a box is not enough near a discontinuity), or `confirm_cloud`
-consecutive points in the cells of a non-periodic one (or their neighbours) that visit more than
-max_period distinct cells (a start converging to a periodic orbit inside the cloud visits few).
-A newly settled set that matches a known attractor (same period and every point within
-`reading`, or half of its cells on the known cells) is that attractor. Matching uses the points,
+consecutive points in the cells of a non-periodic one (or their neighbours) that visit at least
+`cloud_cells` distinct cells, or half the set's cells if it has fewer than twice that (a start
+converging to a periodic orbit inside the cloud visits few).
+A newly settled set that matches a known attractor is that attractor: two orbits whose periods
+divide one another and whose points lie within half a cell of the other's (a start still
+converging slowly, read at twice the period, is the orbit; at w = 23.05 the period-1 point lies
+72 um and 3 mm/s from the period-3 orbit's nearest point, the other two 1 mm away), or two non-periodic sets with half the new one's cells on the known cells. Matching uses the points,
 never the impacts: at a grazing the impacts per period change while the points move continuously.
 
 The map is any object with ``iterate(state, n) -> (points (n, d), end state)`` (raising
@@ -76,9 +80,10 @@ class RecurrenceSettings:
     tight: tuple  # a periodic tail repeats to this
     reading: tuple  # a recorded set is periodic if it repeats to this
     cell: tuple  # coarse cells of the recurrence of non-periodic sets
-    max_period: int = 16
+    max_period: int = 33
     confirm: int = 6
     confirm_cloud: int = 50
+    cloud_cells: int = 16
     recur: int = 100
     record: int = 1000
     max_iterations: int = 2000
@@ -88,7 +93,16 @@ class RecurrenceSettings:
         d = len(np.atleast_1d(self.box))
         for name in ("box", "tight", "reading", "cell"):
             object.__setattr__(self, name, tuple(_vector(name, getattr(self, name), d)))
-        for name in ("max_period", "confirm", "confirm_cloud", "recur", "record", "max_iterations", "block"):
+        for name in (
+            "max_period",
+            "confirm",
+            "confirm_cloud",
+            "cloud_cells",
+            "recur",
+            "record",
+            "max_iterations",
+            "block",
+        ):
             value = getattr(self, name)
             if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < 1:
                 raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
@@ -170,6 +184,7 @@ class _Catcher:
         self.streak = [0] * len(attractors)
         self.last = [-1] * len(attractors)
         self.seen = [set() for _ in attractors]
+        self.need = [min(s.cloud_cells, math.ceil(len(a.cells) / 2)) for a in attractors]
 
     def __call__(self, y) -> int:
         """Index of the attractor that caught the start at point y, or -1."""
@@ -194,7 +209,7 @@ class _Catcher:
                     self.seen[i].add(c)
                 else:
                     self.streak[i], self.seen[i] = 0, set()
-                if self.streak[i] >= self.s.confirm_cloud and len(self.seen[i]) > self.s.max_period:
+                if self.streak[i] >= self.s.confirm_cloud and len(self.seen[i]) >= self.need[i]:
                     return i
         return -1
 
@@ -224,25 +239,32 @@ def _coarser(points: list, s: RecurrenceSettings) -> bool:
 def _same(a: FoundAttractor, b: FoundAttractor, s: RecurrenceSettings) -> bool:
     """Whether b, just settled, is the known a (see the module docstring)."""
     if a.period and b.period:
-        if a.period != b.period:
+        if max(a.period, b.period) % min(a.period, b.period):
             return False
-        tol = np.asarray(s.reading)
-        return all(np.any(np.all(np.abs(a.points - y) <= tol, axis=1)) for y in b.points)
+        tol = np.asarray(s.cell) / 2  # a slowly converging start read at twice the period lies this close
+        near = lambda p, q: all(np.any(np.all(np.abs(q - y) <= tol, axis=1)) for y in p)
+        return near(a.points, b.points) and near(b.points, a.points)
     if not a.period and not b.period:
         return len(b.cells & a.near_cells()) >= 0.5 * len(b.cells)
     return False
 
 
 def _settled(system, state, s: RecurrenceSettings):
-    """The attractor a start sits on once its points recur in coarse cells: `record` more points,
-    periodic at the reading tolerance or not. Returns (attractor, iterations used, last point)."""
-    pts, _ = system.iterate(state, s.record)
+    """The attractor a start sits on once its points recur in coarse cells: 3 max_period more
+    points, periodic if they repeat to `reading`, else `record` points in all, periodic or not by
+    their last 3 max_period. Returns (attractor, iterations used, last point)."""
+    n = 3 * s.max_period
+    pts, state = system.iterate(state, n)
     pts = np.asarray(pts, dtype=float)
-    p = detect_period(pts[-3 * s.max_period :], s.reading, max_period=s.max_period)
+    p = detect_period(pts, s.reading, max_period=s.max_period)
+    if not p and s.record > n:
+        more, _ = system.iterate(state, s.record - n)
+        pts = np.concatenate([pts, np.asarray(more, dtype=float)])
+        p = detect_period(pts[-n:], s.reading, max_period=s.max_period)
     if p:
-        return _periodic(system, pts[-p:]), s.record, pts[-1]
+        return _periodic(system, pts[-p:]), pts.shape[0], pts[-1]
     impacts, exponent = system.describe(pts[-1], 0)
-    return FoundAttractor(0, pts, impacts, exponent, set(_cells(pts, s.cell))), s.record, pts[-1]
+    return FoundAttractor(0, pts, impacts, exponent, set(_cells(pts, s.cell))), pts.shape[0], pts[-1]
 
 
 def _periodic(system, points) -> FoundAttractor:

@@ -32,7 +32,8 @@ IMPACT_PERIODS = 60
 
 
 def oscillator_settings(**counts) -> RecurrenceSettings:
-    """Settings in the oscillator's units (m, m/s); `counts` override the iteration counts.
+    """Settings in the oscillator's units (m, m/s); `counts` override the iteration counts
+    (max_period 33: the longest period the sweeps' reading tells in its 100 recorded points).
 
     box 1 um, 20 um/s: the basins' box, measured inside both basins at w = 23.05 (:mod:`.basins`);
     tight 1e-9 m, 1e-7 m/s: a settled orbit repeats to 1e-13 m, and a start repeating to 1e-9 m
