@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import h5py
 import numpy as np
 
-from impactosc.dynamics.attractor_survey import read_survey_group, survey, write_survey_group
+from impactosc.dynamics.attractor_survey import UNITS, read_survey_group, survey, write_survey_group
 from impactosc.dynamics.diagram import classify_sweep, differing_windows
 from impactosc.dynamics.recurrence import discover
 from impactosc.dynamics.shooting import SCALE
@@ -233,7 +233,7 @@ def save_surveys(path, surveys, *, sources=None, **attrs) -> None:
         f.attrs["omegas"] = [s.omega for s in surveys]
         for k, v in attrs.items():
             f.attrs[k] = v
-        stamp_h5(f, sources=sources, units={"starts": "m, m/s", "points": "m, m/s"})
+        stamp_h5(f, sources=sources, units=UNITS)
 
 
 def load_surveys(path) -> list:

@@ -16,7 +16,7 @@ from impactosc_study.figures.style import DOUBLE, apply_style
 __all__ = ["attractors_figure"]
 
 MM = 1e3
-COLORS = plt.get_cmap("tab20").colors
+COLORS = plt.get_cmap("tab10").colors
 #: points drawn per non-periodic attractor and w (its recorded set holds about 1000)
 CLOUD_POINTS = 150
 
@@ -35,8 +35,8 @@ def attractors_figure(surveys, track_ids, differing_omegas):
         n = s.labels.size
         for k, (a, t) in enumerate(zip(s.attractors, ids)):
             pts = a.points[:: max(1, a.points.shape[0] // CLOUD_POINTS)]
-            top.plot(np.full(pts.shape[0], s.omega), pts[:, 0] * MM, ".", ms=1.5 if a.period else 0.6,
-                     color=COLORS[t % len(COLORS)], rasterized=True)  # fmt: skip
+            top.plot(np.full(pts.shape[0], s.omega), pts[:, 0] * MM, ".", ms=3 if a.period else 0.8,
+                     color=COLORS[t % len(COLORS)], zorder=3 if a.period else 2, rasterized=True)  # fmt: skip
             frac[tracks.index(t), i] = np.count_nonzero(s.labels == k + 1) / n
         other[i] = np.count_nonzero(s.labels <= 0) / n
     bottom.stackplot(omegas, *frac, other, colors=[*(COLORS[t % len(COLORS)] for t in tracks), "0.6"], step=None)
