@@ -1,11 +1,15 @@
-"""The attractors command: every attractor at one w found from random starts, without shooting,
-with the share of starts each takes and the basins' entropy (:mod:`impactosc.dynamics.attractor_survey`)."""
+"""The attractors command and its parser: every attractor at one w found from random starts,
+without shooting, with the share of starts each takes and the basins' entropy
+(:mod:`impactosc.dynamics.attractor_survey`)."""
 
 from __future__ import annotations
 
+import argparse
 import math
 import sys
 import time
+
+from impactosc.cli.options import add_model_options, finite_number
 
 
 def _attractors(args) -> int:
@@ -63,3 +67,39 @@ def _attractors(args) -> int:
         f"S_bb {'>' if e.fractal else '<='} log 2)"
     )
     return 0
+
+
+def add_attractors_parser(sub) -> None:
+    """The attractors command: every attractor at one w from random starts, with its basin's share."""
+    att = sub.add_parser(
+        "attractors",
+        help="find every attractor at one w from random starts (no shooting): period, impacts, Lyapunov "
+        "exponent, the share of starts each takes, basin entropy",
+        description="Draw random states (x0, v0) at phase 0 in a rectangle, iterate each on the stroboscopic "
+        "map until its Poincare points recur (a periodic tail repeating to 1 nm, or a recurrent set of "
+        "coarse cells, chaotic or not), and name what it settles on: every attractor with its period, impacts "
+        "per period, largest Lyapunov exponent and one Poincare point; the fraction of starts each takes with "
+        "its binomial standard error; the basin entropy and boundary basin entropy (Daza et al. 2016) on "
+        "boxes of the rectangle, with the log 2 test for a fractal boundary. A start that settles on nothing "
+        "within --max-iterations periods is counted unresolved, one the core cannot integrate as stopped.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="Output (HDF5): starts (x0, v0), labels (k: attractor k; 0 unresolved; -1 stopped), iterations;\n"
+        "points and owner (each attractor's Poincare points), attributes periods, impacts, exponents, entropy_*.\n"
+        "Example (w = 23.05: the period-1 orbit and the period-3 orbit past the grazing, about 12 s):\n"
+        "  impactosc attractors --omega 23.05 --samples 1000 --output attractors_23.05.h5",
+    )
+    att.add_argument("--omega", type=finite_number, required=True, metavar="W", help="forcing frequency, rad/s")
+    att.add_argument("--samples", type=int, default=1000, metavar="N", help="random starts (default 1000)")
+    att.add_argument("--seed", type=int, default=0, help="seed of the random starts (default 0)")
+    att.add_argument("--x-range", type=finite_number, nargs=2, default=[-8e-3, 4e-3], metavar=("LO", "HI"),
+                     help="x0 of the starts, m (default -8e-3 4e-3: the basin grid's)")  # fmt: skip
+    att.add_argument("--v-range", type=finite_number, nargs=2, default=[-0.3, 0.3], metavar=("LO", "HI"),
+                     help="v0 of the starts, m/s (default -0.3 0.3)")  # fmt: skip
+    att.add_argument("--boxes", type=int, default=10, metavar="B",
+                     help="the rectangle is cut into B x B boxes for the basin entropy (default 10: about 10 "
+                     "starts per box of 1000)")  # fmt: skip
+    att.add_argument("--max-iterations", type=int, default=2000, metavar="N",
+                     help="forcing periods a start may take to settle before it counts as unresolved (default 2000)")  # fmt: skip
+    att.add_argument("--output", required=True, metavar="FILE.h5", help="the survey file (HDF5)")
+    att.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    add_model_options(att, "the model whose attractors are found (default model BC)")

@@ -40,8 +40,8 @@ __all__ = [
     "V_RANGE",
 ]
 
-#: the rectangle of starts (m, m/s): the basin grid's (config basins.x0, basins.v0), around every
-#: orbit of Figs 2 and 3b (x from -12 to -2 mm and |v| up to 0.16 m/s at w = 40.3)
+#: the rectangle of starts (m, m/s): the basin grid's (config basins.x0, basins.v0); an attractor may
+#: reach beyond it (the chaotic set at w = 40.3 reaches x = -12 mm), the starts need not cover it
 X_RANGE = (-8e-3, 4e-3)
 V_RANGE = (-0.3, 0.3)
 
