@@ -27,13 +27,14 @@ from impactosc.dynamics.attractor_continuation import (
 from impactosc.dynamics.attractor_survey import survey_rows
 from impactosc.dynamics.sweep import load_sweep
 from impactosc.io.files import write_csv
+from impactosc.model.parameters import ModelParams
 from impactosc_study.figures import save_figure
 from impactosc_study.figures.attractors import attractors_figure
 
 ALONG_W = ["omega", "track", "name", "kind", "period", "impacts", "exponent", "cells", "fraction", "se",
            "median_iterations", "basin_entropy", "boundary_basin_entropy", "boundary_fraction"]  # fmt: skip
 HYSTERESIS = ["omega", "omega_decreasing", "increasing_reads", "decreasing_reads", "attractors", "found",
-              "increasing", "decreasing", "explained"]  # fmt: skip
+              "increasing", "decreasing", "why", "explained"]  # fmt: skip
 
 
 def main(inp, params, out):
@@ -55,12 +56,14 @@ def main(inp, params, out):
         for r in survey_rows(s):
             if r["class"] <= 0 and not r["cells"]:
                 continue
-            along.append({**r, "omega": s.omega, "track": ids[r["class"] - 1] if r["class"] > 0 else "",
+            track_id = ids[r["class"] - 1] if r["class"] > 0 else ""
+            r = {k: v for k, v in r.items() if k in ALONG_W}
+            along.append({**r, "omega": s.omega, "track": track_id,
                           "basin_entropy": e.entropy, "boundary_basin_entropy": e.boundary_entropy,
                           "boundary_fraction": e.boundary_fraction})  # fmt: skip
     write_csv(out.along_w, along, ALONG_W, sources=parts)
     write_csv(out.events, tracks.events, ["omega", "event", "track", "into"], sources=parts)
-    rows = hysteresis_rows(surveys, tracks, increasing, decreasing, differing)
+    rows = hysteresis_rows(surveys, tracks, increasing, decreasing, differing, ModelParams(**params.model))
     write_csv(out.hysteresis, rows, HYSTERESIS, yes_no=True, sources=[*parts, *inp.sweeps])
     save_surveys(out.surveys, surveys, sources=parts, **cpu_attrs)
     fig = attractors_figure(surveys, tracks.ids, [d[0] for d in differing])
@@ -70,10 +73,12 @@ def main(inp, params, out):
     logging.info("%d w, %d tracks, %d events; %.0f CPU s in the surveys", len(surveys),
                  len({t for ids in tracks.ids for t in ids}), len(tracks.events), cpu)  # fmt: skip
     logging.info("the sweeps differ at %d w: %d explained by coexisting attractors", len(rows), explained)
+    for why in sorted({r["why"] for r in rows}):
+        logging.info("%s: %s", why, ", ".join(f"{r['omega']:.3f}" for r in rows if r["why"] == why))
     for r in rows:
         if not r["explained"]:
-            logging.info("not explained at %.3f: up %s, down %s; found %s", r["omega"], r["increasing"],
-                         r["decreasing"], r["found"])  # fmt: skip
+            logging.info("%.3f / %.3f (%s): up %s | down %s | found %s", r["omega"], r["omega_decreasing"], r["why"],
+                         r["increasing"], r["decreasing"], r["found"])  # fmt: skip
 
 
 main(snakemake.input, snakemake.params, snakemake.output)

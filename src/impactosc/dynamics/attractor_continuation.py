@@ -7,15 +7,17 @@ the next w (a forward pass over the grid) and the one before (a backward pass of
 attractor whose basin is too small for the sample is still followed, as a sweep follows it.
 
 Attractors of neighbouring w are matched by the distance of their Poincare sets (Hausdorff, in
-units of SCALE: 1 mm, 0.1 m/s), greedily from the closest pair, up to `max_distance`: never by
+units of SCALE: 1 mm, 0.1 m/s), greedily from the closest pair, up to 0.5 or 8 per rad/s of the
+step, whichever is larger: never by
 their period or impacts, which jump at a grazing where the points do not. A set left unmatched
-at the next w dies there, or merges into the attractor it lies within `max_distance` of; one
+at the next w dies there, or merges into the attractor it lies within that distance of; one
 without a match at the w before is born.
 
 A sweep's attractor at a w is the set of its recorded Poincare points; it is the survey's
-attractor k when every one of its points lies within `on_attractor` of k's points (1 um and
-0.1 mm/s for an orbit, whose points repeat to 1e-13 m; 0.1 mm and 10 mm/s for a non-periodic
-set sampled by `record` points).
+attractor k when its points lie within 1 um and 0.1 mm/s of an orbit's (all of them; a settled
+orbit repeats to 1e-13 m) or 0.1 mm and 10 mm/s of a non-periodic set's (95 % of them: the set is
+a sample of `record` points). Where they lie on none, the sweep's record is a transient, and its
+end state is settled further to say where it was heading.
 """
 
 from __future__ import annotations
@@ -47,8 +49,12 @@ __all__ = [
     "load_surveys",
 ]
 
-#: largest distance (units of SCALE) of two attractors at neighbouring w that are one attractor
+#: largest distance (units of SCALE) of two attractors at neighbouring w that are one attractor:
+#: MAX_DISTANCE, or MAX_DRIFT per rad/s between them if more. The period-1 orbit's point moves by
+#: 4 mm per rad/s between 25 and 27 rad/s (1 mm per grid step of 0.25); two samples of 1000 points
+#: of one chaotic set lie up to about 0.3 apart however close the w
 MAX_DISTANCE = 0.5
+MAX_DRIFT = 8.0
 #: a sweep's point lies on a periodic attractor within (1 um, 0.1 mm/s) / SCALE, on a non-periodic
 #: one within (0.1 mm, 10 mm/s) / SCALE (its recorded set leaves gaps of that size)
 ON_PERIODIC = 1e-3
@@ -109,11 +115,11 @@ def survey_along(omegas, starts, params=None, settings=None, *, boxes: int = 10,
     return out
 
 
-def set_distance(a: np.ndarray, b: np.ndarray, directed: bool = False) -> float:
+def set_distance(a: np.ndarray, b: np.ndarray, directed: bool = False, quantile: float = 1.0) -> float:
     """Hausdorff distance of two point sets (n, 2) in units of SCALE; `directed`: the largest
-    distance from a point of a to the set b."""
+    distance from a point of a to the set b (or that quantile of the distances)."""
     d = np.sqrt((((a[:, None, :] - b[None, :, :]) / SCALE) ** 2).sum(axis=2))
-    forward = float(d.min(axis=1).max())
+    forward = float(np.quantile(d.min(axis=1), quantile))
     return forward if directed else max(forward, float(d.min(axis=0).max()))
 
 
@@ -125,8 +131,9 @@ class Tracks:
     events: list  # dicts: omega, event (born | died | merged), track, into
 
 
-def track(surveys, max_distance: float = MAX_DISTANCE) -> Tracks:
-    """Match attractors of neighbouring w (module docstring) and name births, deaths and mergers."""
+def track(surveys, max_distance: float = MAX_DISTANCE, max_drift: float = MAX_DRIFT) -> Tracks:
+    """Match attractors of neighbouring w (module docstring) and name births, deaths and mergers;
+    two are one within max(max_distance, max_drift |dw|)."""
     ids, events, next_id = [], [], 0
     for i, s in enumerate(surveys):
         if i == 0:
@@ -134,13 +141,14 @@ def track(surveys, max_distance: float = MAX_DISTANCE) -> Tracks:
             next_id = len(s.attractors)
             continue
         prev, prev_ids = surveys[i - 1], ids[-1]
+        limit = max(max_distance, max_drift * abs(s.omega - prev.omega))
         d = np.array([[set_distance(a.points, b.points) for b in s.attractors] for a in prev.attractors])
         d = d.reshape(len(prev.attractors), len(s.attractors))
         mine = [None] * len(s.attractors)
         used = set()
         for flat in np.argsort(d, axis=None):
             p, q = np.unravel_index(flat, d.shape)
-            if d[p, q] > max_distance:
+            if d[p, q] > limit:
                 break
             if p in used or mine[q] is not None:
                 continue
@@ -151,7 +159,7 @@ def track(surveys, max_distance: float = MAX_DISTANCE) -> Tracks:
                 events.append({"omega": s.omega, "event": "born", "track": mine[q], "into": ""})
         for p in set(range(len(prev.attractors))) - used:
             near = int(d[p].argmin()) if d.shape[1] else -1
-            merged = near >= 0 and d[p, near] <= max_distance
+            merged = near >= 0 and d[p, near] <= limit
             events.append(
                 {"omega": s.omega, "event": "merged" if merged else "died", "track": prev_ids[p],
                  "into": mine[near] if merged else ""}
@@ -161,26 +169,55 @@ def track(surveys, max_distance: float = MAX_DISTANCE) -> Tracks:
 
 
 def sweep_attractor(points, attractors) -> int:
-    """Index of the attractor holding a sweep's Poincare points (module docstring), -1 if none."""
+    """Index of the attractor holding a sweep's Poincare points (module docstring), -1 if none:
+    every point on an orbit, 95 % of them on a non-periodic set (a sample of 1000 points leaves
+    thin parts of a chaotic set bare)."""
     best, where = np.inf, -1
     for k, a in enumerate(attractors):
-        d = set_distance(np.asarray(points), a.points, directed=True)
+        d = set_distance(np.asarray(points), a.points, directed=True, quantile=1.0 if a.period else 0.95)
         if d <= (ON_PERIODIC if a.period else ON_CLOUD) and d < best:
             best, where = d, k
     return where
 
 
-def hysteresis_rows(surveys, tracks: Tracks, increasing, decreasing, differing) -> list[dict]:
+#: why two sweeps read different attractors at a w (the `why` of a hysteresis row)
+COEXIST = "coexisting attractors"
+CHANGES = "the attractor changes between the two sweeps' w"
+READ_TWICE = "one attractor, read two ways"
+TRANSIENT = "a sweep's record is a transient"
+
+
+def hysteresis_rows(surveys, tracks: Tracks, increasing, decreasing, differing, params=None, settings=None):
     """One row per w where the sweeps differ (:func:`differing_omegas`): the attractors found there
     (track, name, fraction of starts), each sweep's attractor among them (the increasing sweep's
-    at its w, the decreasing one's at its nearest w), and `explained`: both found, distinct, and
-    both present at one of the two w (two attractors coexist there, and each sweep sits on one)."""
+    at its w, the decreasing one's at its nearest w), and why they differ:
+
+    - COEXIST: both found, distinct, both present at one of the two w (hysteresis);
+    - CHANGES: each on the attractor of its own w, but no w has both, or one attractor followed
+      along w that changes its period between the two w (the grids are up to 0.01 rad/s apart);
+    - READ_TWICE: both on the same attractor at the same w, or on the same track with the same
+      period (a reading at the sweeps' tolerance of a record near a period doubling);
+    - TRANSIENT: a sweep's points lie on no attractor found; its end state is then settled
+      further, and the row says where it lands and after how many periods.
+
+    `explained` is True for COEXIST only."""
     by_w = {round(s.omega, 9): (s, ids) for s, ids in zip(surveys, tracks.ids)}
     rows = []
     for w_up, key_up, w_down, key_down in differing:
         (s_up, ids_up), (s_down, ids_down) = by_w[round(w_up, 9)], by_w[round(w_down, 9)]
-        t_up = _sweep_track(increasing, w_up, s_up, ids_up)
-        t_down = _sweep_track(decreasing, w_down, s_down, ids_down)
+        sides = [
+            _sweep_side(result, w, sv, ids, params, settings)
+            for result, w, sv, ids in ((increasing, w_up, s_up, ids_up), (decreasing, w_down, s_down, ids_down))
+        ]
+        (t_up, text_up, settled_up), (t_down, text_down, settled_down) = sides
+        if not (settled_up and settled_down):
+            why = TRANSIENT
+        elif t_up != t_down and ({t_up, t_down} <= set(ids_up) or {t_up, t_down} <= set(ids_down)):
+            why = COEXIST
+        elif t_up == t_down and (w_up == w_down or text_up == text_down):
+            why = READ_TWICE
+        else:
+            why = CHANGES
         n = s_up.labels.size
         rows.append(
             {
@@ -193,28 +230,35 @@ def hysteresis_rows(surveys, tracks: Tracks, increasing, decreasing, differing) 
                     f"T{t} {a.name} {100 * np.count_nonzero(s_up.labels == k + 1) / n:.1f} %"
                     for k, (a, t) in enumerate(zip(s_up.attractors, ids_up))
                 ),
-                "increasing": _track_text(t_up, s_up, ids_up),
-                "decreasing": _track_text(t_down, s_down, ids_down),
-                "explained": t_up is not None
-                and t_down is not None
-                and t_up != t_down
-                and ({t_up, t_down} <= set(ids_up) or {t_up, t_down} <= set(ids_down)),
+                "increasing": text_up,
+                "decreasing": text_down,
+                "why": why,
+                "explained": why == COEXIST,
             }
         )
     return rows
 
 
-def _sweep_track(result, omega, s, ids):
-    """The track of the survey's attractor that holds the sweep's points at w, or None."""
+def _sweep_side(result, omega, s, ids, params, settings):
+    """(track, text, on an attractor) of a sweep at w: the attractor holding its recorded points,
+    or, for a transient record, where its end state settles (:func:`.recurrence.discover` with
+    the survey's attractors known)."""
     i = int(np.abs(result.omega - omega).argmin())
     if result.status[i] != OK:
-        return None
+        return None, "abandoned", False
     k = sweep_attractor(np.column_stack([result.poincare_x[i], result.poincare_v[i]]), s.attractors)
-    return ids[k] if k >= 0 else None
-
-
-def _track_text(t, s, ids) -> str:
-    return "not found" if t is None else f"T{t} {s.attractors[ids.index(t)].name}"
+    if k >= 0:
+        return ids[k], f"T{ids[k]} {s.attractors[k].name}", True
+    end = np.array([[result.x_end[i], result.v_end[i]]])
+    d = discover(StroboscopicMap(s.omega, params), end, settings or oscillator_settings(), known=list(s.attractors))
+    label, periods = int(d.labels[0]), int(d.iterations[0])
+    if 0 < label <= len(s.attractors):
+        where = f"T{ids[label - 1]} {s.attractors[label - 1].name}"
+    elif label > 0:
+        where = f"a new attractor ({d.attractors[label - 1].name})"
+    else:
+        where = "nothing"
+    return None, f"transient: settles on {where} after {periods} more periods", False
 
 
 def _key_text(key) -> str:

@@ -16,7 +16,7 @@ from impactosc_study.figures.style import DOUBLE, apply_style
 __all__ = ["attractors_figure"]
 
 MM = 1e3
-COLORS = plt.get_cmap("tab10").colors
+COLORS = [c for i, c in enumerate(plt.get_cmap("tab10").colors) if i != 7]  # grey is for the unresolved
 #: points drawn per non-periodic attractor and w (its recorded set holds about 1000)
 CLOUD_POINTS = 150
 
@@ -39,7 +39,7 @@ def attractors_figure(surveys, track_ids, differing_omegas):
                      color=COLORS[t % len(COLORS)], zorder=3 if a.period else 2, rasterized=True)  # fmt: skip
             frac[tracks.index(t), i] = np.count_nonzero(s.labels == k + 1) / n
         other[i] = np.count_nonzero(s.labels <= 0) / n
-    bottom.stackplot(omegas, *frac, other, colors=[*(COLORS[t % len(COLORS)] for t in tracks), "0.6"], step=None)
+    bottom.stackplot(omegas, *frac, other, colors=[*(COLORS[t % len(COLORS)] for t in tracks), "0.6"], step="mid")
     top.set_ylabel("Poincare x (mm)")
     bottom.set_ylabel("fraction of starts")
     bottom.set_xlabel("w (rad/s)")
