@@ -27,21 +27,24 @@ def _survey(omega, attractors, labels):
 
 
 def test_tracks_follow_moving_orbits_and_name_births_deaths_and_mergers():
-    a = lambda w: _orbit((-4e-3 + 1e-5 * w, 0.01))  # moves 10 um per step: one attractor
+    a = lambda w: _orbit((-6e-3 + 1e-3 * w, 0.01))  # moves 10 um per step of 0.01: one attractor
     b = lambda w: _orbit((-2e-3, -0.05), (-3e-3, 0.02))
     surveys = [
-        _survey(1.0, [a(1)], [1, 1]),
-        _survey(2.0, [a(2), b(2)], [1, 2]),  # b born
-        _survey(3.0, [b(3), a(3)], [1, 2]),  # order swapped: the tracks still follow
-        _survey(4.0, [b(4)], [1, 1]),  # a dies (1.3 mm from b: farther than MAX_DISTANCE)
+        _survey(1.00, [a(1.00)], [1, 1]),
+        _survey(1.01, [a(1.01), b(1.01)], [1, 2]),  # b born
+        _survey(1.02, [b(1.02), a(1.02)], [1, 2]),  # order swapped: the tracks still follow
+        _survey(1.03, [b(1.03)], [1, 1]),  # a dies (2 mm from b: beyond 0.5, the limit at this step)
     ]
     t = track(surveys)
     assert t.ids == [[0], [0, 1], [1, 0], [1]]
-    assert [(e["omega"], e["event"], e["track"]) for e in t.events] == [(2.0, "born", 1), (4.0, "died", 0)]
-    # a cloud close to an attractor that continues is absorbed by it: a merger
+    assert [(e["omega"], e["event"], e["track"]) for e in t.events] == [(1.01, "born", 1), (1.03, "died", 0)]
+    # a set close to an attractor that continues is absorbed by it: a merger
     near = _orbit((-2e-3 + 1e-4, -0.05))
-    merged = track([_survey(1.0, [b(1), near], [1, 2]), _survey(2.0, [b(2)], [1, 1])])
-    assert merged.events == [{"omega": 2.0, "event": "merged", "track": 1, "into": 0}]
+    merged = track([_survey(1.0, [b(1), near], [1, 2]), _survey(1.01, [b(1.01)], [1, 1])])
+    assert merged.events == [{"omega": 1.01, "event": "merged", "track": 1, "into": 0}]
+    # an orbit drifting 1 mm per grid step of 0.25 rad/s (the period-1 branch near 26 rad/s) is followed
+    drift = track([_survey(26.0, [_orbit((-10e-3, 0.0))], [1]), _survey(26.25, [_orbit((-11e-3, 0.0))], [1])])
+    assert drift.ids == [[0], [0]] and drift.events == []
 
 
 def test_set_distance_and_a_sweeps_points_on_an_attractor():

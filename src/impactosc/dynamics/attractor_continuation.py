@@ -10,7 +10,8 @@ Attractors of neighbouring w are matched by the distance of their Poincare sets 
 units of SCALE: 1 mm, 0.1 m/s), greedily from the closest pair, up to 0.5 or 8 per rad/s of the
 step, whichever is larger: never by
 their period or impacts, which jump at a grazing where the points do not. A set left unmatched
-at the next w dies there, or merges into the attractor it lies within that distance of; one
+at the next w dies there, or merges into an attractor there that holds its points within that
+distance; one
 without a match at the w before is born.
 
 A sweep's attractor at a w is the set of its recorded Poincare points; it is the survey's
@@ -158,8 +159,11 @@ def track(surveys, max_distance: float = MAX_DISTANCE, max_drift: float = MAX_DR
                 mine[q], next_id = next_id, next_id + 1
                 events.append({"omega": s.omega, "event": "born", "track": mine[q], "into": ""})
         for p in set(range(len(prev.attractors))) - used:
-            near = int(d[p].argmin()) if d.shape[1] else -1
-            merged = near >= 0 and d[p, near] <= limit
+            # merged: it lies within the limit of (inside) an attractor at this w: the distance from
+            # its points to that set, not back (a set that merges into a larger one is part of it)
+            into = [set_distance(prev.attractors[p].points, b.points, directed=True) for b in s.attractors]
+            near = int(np.argmin(into)) if into else -1
+            merged = near >= 0 and into[near] <= limit
             events.append(
                 {"omega": s.omega, "event": "merged" if merged else "died", "track": prev_ids[p],
                  "into": mine[near] if merged else ""}
