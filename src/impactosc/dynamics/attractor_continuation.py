@@ -285,5 +285,6 @@ def save_surveys(path, surveys, *, sources=None, **attrs) -> None:
 
 
 def load_surveys(path) -> list:
+    """The surveys of a file :func:`save_surveys` wrote, in w order."""
     with h5py.File(path, "r") as f:
         return [read_survey_group(f[k]) for k in sorted(k for k in f if k.startswith("w"))]

@@ -192,5 +192,6 @@ def read_survey_group(g) -> Survey:
 
 
 def load_survey(path) -> Survey:
+    """The survey of a file :func:`save_survey` wrote."""
     with h5py.File(path, "r") as f:
         return read_survey_group(f)
