@@ -1,12 +1,12 @@
 """Attractors found by recurrence, their fractions and basin entropy, on maps whose attractors
-and basins are known exactly (impactosc.dynamics.recurrence, impactosc.dynamics.basin_entropy)."""
+and basins are known exactly (impactosc.dynamics.recurrence, impactosc.dynamics.basin_mixing)."""
 
 import math
 
 import numpy as np
 import pytest
 
-from impactosc.dynamics.basin_entropy import basin_entropy, grid_boxes, sample_boxes
+from impactosc.dynamics.basin_mixing import basin_entropy, grid_boxes, sample_boxes
 from impactosc.dynamics.basins import basin_fractions
 from impactosc.dynamics.recurrence import CHAOTIC_EXPONENT, UNRESOLVED, RecurrenceSettings, discover
 

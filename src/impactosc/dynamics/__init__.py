@@ -43,6 +43,6 @@ export(
         "discover": "impactosc.dynamics.recurrence",
         "RecurrenceSettings": "impactosc.dynamics.recurrence",
         "StroboscopicMap": "impactosc.dynamics.stroboscopic",
-        "basin_entropy": "impactosc.dynamics.basin_entropy",
+        "basin_entropy": "impactosc.dynamics.basin_mixing",
     },
 )

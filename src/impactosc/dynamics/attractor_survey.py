@@ -6,7 +6,7 @@ survey per w, :mod:`.attractor_continuation`) do the same thing at each w: draw 
 uniformly in a rectangle at phase 0, settle them (:func:`.recurrence.discover` on
 :class:`.stroboscopic.StroboscopicMap`), count (:func:`.basins.basin_fractions`: fraction and
 binomial standard error) and measure the basins' mixing on boxes of the rectangle
-(:mod:`.basin_entropy`).
+(:mod:`.basin_mixing`).
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from dataclasses import asdict, dataclass
 import h5py
 import numpy as np
 
-from impactosc.dynamics.basin_entropy import BasinEntropy, basin_entropy, sample_boxes
+from impactosc.dynamics.basin_mixing import BasinEntropy, basin_entropy, sample_boxes
 from impactosc.dynamics.basins import basin_fractions
 from impactosc.dynamics.recurrence import STOPPED, UNRESOLVED, FoundAttractor, RecurrenceSettings, discover
 from impactosc.dynamics.stroboscopic import StroboscopicMap, oscillator_settings
