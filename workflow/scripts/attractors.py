@@ -58,9 +58,9 @@ def main(inp, params, out):
                 continue
             track_id = ids[r["class"] - 1] if r["class"] > 0 else ""
             r = {k: v for k, v in r.items() if k in ALONG_W}
-            along.append({**r, "omega": s.omega, "track": track_id,
-                          "basin_entropy": e.entropy, "boundary_basin_entropy": e.boundary_entropy,
-                          "boundary_fraction": e.boundary_fraction})  # fmt: skip
+            mixing = {"basin_entropy": e.entropy, "boundary_basin_entropy": e.boundary_entropy,
+                      "boundary_fraction": e.boundary_fraction} if e else {}  # fmt: skip
+            along.append({**r, "omega": s.omega, "track": track_id, **mixing})
     write_csv(out.along_w, along, ALONG_W, sources=parts)
     write_csv(out.events, tracks.events, ["omega", "event", "track", "into"], sources=parts)
     rows = hysteresis_rows(surveys, tracks, increasing, decreasing, differing, ModelParams(**params.model))

@@ -61,11 +61,14 @@ def _attractors(args) -> int:
             else ""
         )
         print(f"  {r['name']:<34} {r['cells']:>6} starts  {100 * r['fraction']:6.2f} +- {100 * r['se']:.2f} %{what}")
-    print(
-        f"  basin entropy {e.entropy:.4f}, boundary basin entropy {e.boundary_entropy:.4f} on {e.boxes} boxes "
-        f"({100 * e.boundary_fraction:.1f} % on a boundary; {'fractal' if e.fractal else 'not shown fractal'}: "
-        f"S_bb {'>' if e.fractal else '<='} log 2)"
-    )
+    if e is None:
+        print(f"  basin entropy: no box of {args.boxes} x {args.boxes} holds two starts (use fewer --boxes)")
+    else:
+        print(
+            f"  basin entropy {e.entropy:.4f}, boundary basin entropy {e.boundary_entropy:.4f} on {e.boxes} boxes "
+            f"({100 * e.boundary_fraction:.1f} % on a boundary; {'fractal' if e.fractal else 'not shown fractal'}: "
+            f"S_bb {'>' if e.fractal else '<='} log 2)"
+        )
     return 0
 
 

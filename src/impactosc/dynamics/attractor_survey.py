@@ -104,9 +104,9 @@ def survey(
     relabel = {old + 1: new + 1 for new, old in enumerate(keep)}
     labels = np.array([relabel[int(c)] if c > 0 else c for c in d.labels], dtype=np.int64)
     starts = np.asarray(starts, dtype=float)
-    entropy = basin_entropy(
-        labels, sample_boxes(starts[:, :2], (x_range[0], v_range[0]), (x_range[1], v_range[1]), boxes)
-    )
+    box_ids = sample_boxes(starts[:, :2], (x_range[0], v_range[0]), (x_range[1], v_range[1]), boxes)
+    # too few starts for any box to hold two: no entropy (None), the fractions still stand
+    entropy = basin_entropy(labels, box_ids) if np.bincount(box_ids).max() >= 2 else None
     return Survey(
         float(omega), starts[:, :2], labels, d.iterations, [d.attractors[k] for k in keep], entropy,
         time.process_time() - started, tuple(x_range), tuple(v_range),
