@@ -1,10 +1,7 @@
-"""Join the attractors along w, match them from one w to the next, name each sweep's attractor
-where Figs 2 and 3b differ, write the tables and draw the figure (rule attractors).
+"""Join the attractors along w, follow them from w to w, and say why Figs 2 and 3b differ.
 
-Reads input.parts (HDF5 groups of w, in order) and input.sweeps (Fig 2's, Fig 3b's); writes
-output.surveys (joined HDF5), output.along_w (CSV: every attractor at every w with its fraction),
-output.events (CSV: births, deaths, mergers), output.hysteresis (CSV: each w where the sweeps differ),
-output.png, output.pdf.
+Reads input.parts (groups of w, in order) and input.sweeps; writes output.surveys (joined HDF5), output.along_w,
+output.events, output.hysteresis (CSV: fractions per w, births and deaths, the sweeps' differences), output.png, output.pdf.
 """
 
 from _logging import configure_logging, mock_snakemake

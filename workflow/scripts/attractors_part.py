@@ -1,9 +1,7 @@
-"""One job of the attractors along w: a contiguous group of the w values, each surveyed from the
-same random starts and seeded by its neighbours' attractors (rule attractors_part).
+"""One job of the attractors along w: a group of w, each surveyed from the same random starts.
 
-Reads input.sweeps (Fig 2's and Fig 3b's sweeps: the w where they differ join the grid), input.cache and
-params (attractors, basins' rectangle, reading, model, part); writes output.part (HDF5, a group per w,
-impactosc.dynamics.attractor_continuation format) and a log line per w.
+Reads input.sweeps (Figs 2's and 3b's: where they differ joins the grid), input.cache and params;
+writes output.part (HDF5, a group per w, impactosc.dynamics.attractor_continuation) and a line per w.
 """
 
 from _logging import configure_logging, mock_snakemake
