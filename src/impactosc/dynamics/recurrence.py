@@ -14,7 +14,8 @@ millimetres wide:
   3 max_period more points are periodic if they repeat to `reading` (the tolerance the sweeps'
   reading uses, so both name an attractor alike), else `record` points in all describe it,
   periodic if their last 3 max_period repeat (a slowly converging start's first ones do not),
-  else non-periodic.
+  else non-periodic. A periodic reading settles the start only once its tail repeats to `tight`
+  as well; until then the start goes on.
 
 A known attractor catches a later start early: `confirm` consecutive points in the boxes
 (`box`) of a periodic attractor's points, in its order (the box must lie inside the basin, as in
@@ -250,21 +251,27 @@ def _same(a: FoundAttractor, b: FoundAttractor, s: RecurrenceSettings) -> bool:
 
 
 def _settled(system, state, s: RecurrenceSettings):
-    """The attractor a start sits on once its points recur in coarse cells: 3 max_period more
-    points, periodic if they repeat to `reading`, else `record` points in all, periodic or not by
-    their last 3 max_period. Returns (attractor, iterations used, last point)."""
+    """What a start whose points recur in coarse cells sits on: 3 max_period more points, periodic
+    if they repeat to `reading`, else `record` points in all, periodic or not by their last
+    3 max_period. A periodic reading counts only once the tail repeats to `tight` too: near a
+    period doubling a start converging to the period-1 orbit reads as period 2 at the reading's
+    tolerance long before it has settled. Returns (attractor or None: not settled yet, the points,
+    the end state)."""
     n = 3 * s.max_period
     pts, state = system.iterate(state, n)
     pts = np.asarray(pts, dtype=float)
     p = detect_period(pts, s.reading, max_period=s.max_period)
     if not p and s.record > n:
-        more, _ = system.iterate(state, s.record - n)
+        more, state = system.iterate(state, s.record - n)
         pts = np.concatenate([pts, np.asarray(more, dtype=float)])
         p = detect_period(pts[-n:], s.reading, max_period=s.max_period)
     if p:
-        return _periodic(system, pts[-p:]), pts.shape[0], pts[-1]
+        tail = list(pts[-(s.confirm + s.max_period) :])
+        q = _tail_period(tail, np.asarray(s.tight), s)
+        settled = q and not _coarser(tail[-q:], s)
+        return (_periodic(system, tail[-q:]) if settled else None), pts, state
     impacts, exponent = system.describe(pts[-1], 0)
-    return FoundAttractor(0, pts, impacts, exponent, set(_cells(pts, s.cell))), pts.shape[0], pts[-1]
+    return FoundAttractor(0, pts, impacts, exponent, set(_cells(pts, s.cell))), pts, state
 
 
 def _periodic(system, points) -> FoundAttractor:
@@ -303,10 +310,15 @@ def _settle_one(system, start, known: list, s: RecurrenceSettings):
             visited.add(c)
             if recurrences >= s.recur:
                 try:
-                    found, used, y = _settled(system, state, s)
+                    found, record, state = _settled(system, state, s)
                 except Stopped:
                     return STOPPED, done, y, None
-                return None, done + used, y, found
+                done, last = done + record.shape[0], record[-1]
+                if found is not None:
+                    return None, done, last, found
+                history.extend(record)  # periodic to the reading, not yet settled: go on from there
+                recurrences = 0
+                break
     return UNRESOLVED, done, last, None
 
 
