@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 
 from impactosc.cli.main import main
-from impactosc.dynamics.attractor_continuation import set_distance, sweep_attractor, track
+from impactosc.dynamics.attractor_continuation import set_distance, survey_along, sweep_attractor, track
 from impactosc.dynamics.attractor_survey import Survey, load_survey, random_starts, survey, survey_rows
 from impactosc.dynamics.recurrence import FoundAttractor
+from impactosc.dynamics.stroboscopic import oscillator_settings
 
 # the shot orbits at w = 23.05 (config basins.attractors, docs/beyond.md): period 1 with one impact,
 # |mu| = 0.40; period 3 with 4 impacts, |mu| = 0.35 per 3 periods
@@ -111,3 +112,11 @@ def test_fractions_at_23_05_match_the_basin_grid():
     grid, grid_se = 22 / 2009, math.sqrt((22 / 2009) * (1 - 22 / 2009) / 2009)
     p1 = rows["period 1, 1 impact"]
     assert abs(p1["fraction"] - grid) < 2 * math.hypot(p1["se"], grid_se)
+
+
+def test_a_w_where_nothing_settles_leaves_its_starts_unresolved_and_seeds_nothing():
+    # 40 periods cannot settle a start near a period doubling (w = 37.27, 0.01 below it): every
+    # start is unresolved, and the continuation goes on past a w with no attractor
+    settings = oscillator_settings(max_iterations=40, record=99)
+    surveys = survey_along([37.26, 37.27], np.array([[-7.9e-3, -0.13], [-8.0e-3, -0.12]]), settings=settings, boxes=1)
+    assert all(s.attractors == [] and np.all(s.labels == 0) for s in surveys)

@@ -110,8 +110,10 @@ def survey_along(omegas, starts, params=None, settings=None, *, boxes: int = 10,
             progress(i + 1, omegas.size, out[-1])
     settings = settings or oscillator_settings()
     for i in range(omegas.size - 2, -1, -1):  # seeds alone from the w above: an attractor the w below missed
-        s = out[i]
-        d = discover(StroboscopicMap(s.omega, params), _seeds(out[i + 1]), settings, known=list(s.attractors))
+        s, seeds = out[i], _seeds(out[i + 1])
+        if not len(seeds):  # nothing settled at the w above (at a bifurcation every start may be unresolved)
+            continue
+        d = discover(StroboscopicMap(s.omega, params), seeds, settings, known=list(s.attractors))
         s.attractors.extend(d.attractors[len(s.attractors) :])
     return out
 
