@@ -59,6 +59,7 @@ GALLERY = [
         "Periodic orbits, grazing and basins",
         ["grazing", "bifurcation_overlay", "fig02_orbits", "fig03b_orbits", "basins", "basins_fine"],
     ),
+    ("Attractors along w", ["attractors"]),
     ("Lyapunov exponents", ["lyapunov_chaos", "fig02_lyapunov", "fig03b_lyapunov"]),
     ("Contact laws", ["restitution", "fig02_laws", "fig03b_laws"]),
     ("Two parameters (opt-in)", ["map2d", "map2d_curves"]),

@@ -30,6 +30,7 @@ SUPPLEMENTARY = [
     "bifurcation/map2d",
     "two_parameter/map2d_curves",
     "basins/basins",
+    "attractors/attractors",
     "orbits/fig02_orbits",
     "orbits/fig03b_orbits",
     "lyapunov/lyapunov_chaos",

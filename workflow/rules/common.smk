@@ -295,6 +295,11 @@ BASINS_PART = study_path("runs/basins/{grid}/part{chunk}.h5")
 BASINS_MAP = study_path("runs/basins/basins_{grid}.h5")
 BASINS_TABLE = study_path("tables/basins/basins_{grid}.csv")
 
+# attractors group (attractors.smk): every attractor along w by recurrence, chunks of w
+ATTRACTORS_PART = study_path("runs/attractors/part{chunk}.h5")
+ATTRACTORS_ALL = study_path("runs/attractors/attractors.h5")
+ATTRACTORS_TABLES = {kind: study_path(f"tables/attractors/{kind}.csv") for kind in ("along_w", "events", "hysteresis")}
+
 # orbits group (periodic orbits continued in w: one file per branch segment)
 ORBIT_SEGMENT = study_path("runs/orbits/{segment}.json")
 ORBIT_POINTS_TABLE = study_path("tables/orbits/bifurcation_points.csv")

@@ -1,4 +1,4 @@
-"""Command line: ``impactosc simulate|extract|sweep-extract|surrogate|identify|predict|stats|explore ...`` (see ``impactosc <command> --help``)."""
+"""Command line: ``impactosc simulate|extract|sweep-extract|surrogate|identify|predict|stats|explore|attractors ...`` (see ``impactosc <command> --help``)."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ import sys
 import time
 import warnings
 
+from impactosc.cli.attractors import _attractors
 from impactosc.cli.explore import _explore
 from impactosc.cli.identify import _identify
 from impactosc.cli.options import MODEL_NAMES, model_from_args, noise_from_args, open_record_args
@@ -244,6 +245,7 @@ COMMANDS = {
     "predict": _predict,
     "stats": _stats,
     "explore": _explore,
+    "attractors": _attractors,
 }
 
 

@@ -7,6 +7,7 @@ import argparse
 import re
 
 from impactosc import __version__
+from impactosc.cli.attractors import add_attractors_parser
 from impactosc.cli.options import (
     RECORD_FORMATS,
     add_model_options,
@@ -61,6 +62,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_predict_parser(sub)
     _add_stats_parser(sub)
     _add_explore_parser(sub)
+    add_attractors_parser(sub)
     return parser
 
 

@@ -1,5 +1,5 @@
 """What runs the core many times: sweeps and 2-D maps, periodic orbits (shooting, Floquet
-multipliers, continuation, bifurcation points), grazing, Lyapunov exponents and basins."""
+multipliers, continuation, bifurcation points), grazing, Lyapunov exponents, basins and the attractors found by recurrence."""
 
 from impactosc._lazy import export
 
@@ -40,5 +40,9 @@ export(
         "BasinSettings": "impactosc.dynamics.basins",
         "classify_state": "impactosc.dynamics.basins",
         "basin_fractions": "impactosc.dynamics.basins",
+        "discover": "impactosc.dynamics.recurrence",
+        "RecurrenceSettings": "impactosc.dynamics.recurrence",
+        "StroboscopicMap": "impactosc.dynamics.stroboscopic",
+        "basin_entropy": "impactosc.dynamics.basin_mixing",
     },
 )
