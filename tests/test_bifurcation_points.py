@@ -54,7 +54,7 @@ def test_no_sign_change_and_real_pair_are_refused():
 # model BC's period-1 orbit loses stability by period doubling at this w (rad/s), located by
 # locate() with difference steps 1e-3 and 1e-4 of the state's scale: 37.2843239004 and
 # 37.2843239001 (brute-force sweeps read 37.25: near the bifurcation the multiplier is close
-# to -1 and their 200-period transients have not decayed). Tolerance 1e-8 rad/s, the issue's
+# to -1 and their 200-period transients have not decayed). Tolerance 1e-8 rad/s, the required
 # bound; an independent check of the bracket is the time simulation below.
 PD1 = 37.2843239
 

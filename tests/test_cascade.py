@@ -13,7 +13,7 @@ from impactosc.dynamics.cascade import cascade, feigenbaum_ratios
 
 # Located by cascade() (bisection to 1e-9 rad/s, monodromy steps 1e-3 and 1e-4 of the state's
 # scale agree to 4e-10); the sweeps read 37.25 and 38.99-39.01. Tolerance 1e-8 rad/s, the
-# issue's bound; the time simulation below checks the second independently.
+# required bound; the time simulation below checks the second independently.
 PD = (37.2843239, 39.0362941)
 
 

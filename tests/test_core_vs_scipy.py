@@ -40,7 +40,7 @@ def test_impacts_agree_at_tight_tolerance(case):
     omega, t_end, ref = case
     assert len(ref["impacts_t"]) >= 10
     dt, dv, dh = _errors(omega, t_end, ref, 1e-12)
-    assert dt < 1e-9, dt  # the bound on impact times
+    assert dt < 1e-9, dt  # the bound on impact times the core promises
     assert dv < 1e-8, dv  # impact velocities ~0.1-2 m/s: relative 1e-8 or better
     assert dh < 1e-10, dh  # penetrations ~1e-4 m: relative 1e-6 or better
 

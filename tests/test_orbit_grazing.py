@@ -12,7 +12,7 @@ from impactosc.dynamics.grazing import locate_orbit_grazing, orbit_events
 # Located with gap floors 1e-8, 1e-9 and 1e-10 m from two different pairs of starting orbits
 # (23.3 and 23.2, 23.1 and 23.06 rad/s): all six agree to 4e-13 rad/s (floor 1e-6 was 2e-8 off);
 # the workflow's grazing bisection of the branch by time simulation reads 23.04412 (its
-# tolerance 1e-5). Tolerance 1e-9 rad/s: the 1e-8 with room, far above the spread.
+# tolerance 1e-5). Tolerance 1e-9 rad/s: the required 1e-8 with room, far above the spread.
 W_GRAZING = 23.044122336
 
 

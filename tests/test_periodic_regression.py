@@ -125,7 +125,7 @@ def test_grazing_bracket_short_branch(branch, ref):
     # width (1e-4); the decisions are far from ambiguous (gap ~1e-7 m vs errors ~1e-11 m)
     assert branch["midpoint"] == pytest.approx(r["midpoint"], abs=1e-4)
     assert abs(branch["omega_miss"] - branch["omega_contact"]) <= 1e-4
-    # the requirement: the grazing w to 1e-4 rad/s, agreeing with the full workflow
+    # required: the grazing w to 1e-4 rad/s, agreeing with the full workflow
     # branch from 40.86 (full_branch(), stored by make_periodic_reference.py --full; the
     # workflow's results/paper/stats/periodic/grazing.json gives the same 23.0441211)
     assert branch["midpoint"] == pytest.approx(ref["full_branch"]["midpoint"], abs=1e-4)
