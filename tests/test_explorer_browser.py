@@ -221,8 +221,9 @@ def test_explorer_in_browser(browser, server):
     _type(d, "columns", "2000")
     _click(d, "Recompute")
     _wait(lambda: "/ 2000 columns" in _model(d, "status", "text"), "the first columns of 2000")
-    victim = _workers(proc.pid)[0]
-    os.kill(victim, signal.SIGKILL)
+    victims = _workers(proc.pid)
+    for victim in victims:  # every worker: one that had finished its share would not break the
+        os.kill(victim, signal.SIGKILL)  # diagram (2000 columns take ~17 s under load)
     # (the worker named is the one the pool found dead: under load, not always the first listed)
     _wait(
         lambda: "killed by SIGKILL" in _model(d, "status", "text"),
@@ -242,4 +243,4 @@ def test_explorer_in_browser(browser, server):
     _type(d, "columns", "40")
     _click(d, "Recompute")
     _wait(lambda: _diagram_done(d, 36.5, 38.5), "the diagram after the failures")
-    assert proc.poll() is None and victim not in _workers(proc.pid)
+    assert proc.poll() is None and not set(victims) & set(_workers(proc.pid))
