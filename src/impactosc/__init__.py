@@ -37,6 +37,7 @@ CORE_SOURCES = (
             "radau",
             "events",
             "transitions",
+            "turn_series",
             "sampling",
             "pieces",
             "closed_flight",

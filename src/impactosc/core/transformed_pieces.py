@@ -15,7 +15,7 @@ import math
 
 from numba import njit
 
-from impactosc.core import dop853, vector_fields
+from impactosc.core import dop853, turn_series, vector_fields
 from impactosc.core.events import EV_CUT_ON, EV_NONE, EV_X_DOWN, EV_X_UP, record_poincare
 from impactosc.core.layout import (
     C_BY_MODE,
@@ -37,12 +37,15 @@ from impactosc.core.layout import (
     S_REJECTED,
     S_S,
     S_SGN,
+    S_SLOW,
+    S_T,
     S_TAU,
     S_TREF,
     S_V,
     S_V1,
     S_VCUT,
     S_X,
+    EXPLICIT,
     SQRTH,
     WVEL,
 )
@@ -58,7 +61,7 @@ from impactosc.core.transitions import (
 )
 from impactosc.model.contact_laws.kernel import SURFACE_CUT, SURFACE_OBSTACLE, contact_force, past_cut
 from impactosc.model.equations import CONTACT, FREE
-from impactosc.model.parameters import P_M, P_N3, P_XI
+from impactosc.model.parameters import P_M, P_N1, P_N3, P_XI
 
 # Each transformed variable is regular at one end of its stretch and singular at the other
 # (sqrt(h) at v = 0, |v|^n3 at h = 0): stepping away from a singular point is cheap
@@ -67,6 +70,9 @@ from impactosc.model.parameters import P_M, P_N3, P_XI
 MIN_S_STEP = 1e-7  # a transformed step below this fraction of its s-range means degeneration
 MAX_INVALID = 3  # consecutive invalid transformed steps before falling back to time stepping
 
+
+TURN_REACH = 0.4  # the series' window never reaches beyond w = 0.4 (errors ~1e-8 there)
+RESTITUTION_FIRST = 0.3  # DOP853's first step after the series, as a fraction of w
 
 ONSET_FIRST = 0.25  # the onset's first step in sqrt(x - xI): this fraction of the onset piece's range
 ONSET_PROBE = 1e-6  # m: the penetration at which the law's force is read for that range
@@ -110,6 +116,8 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
     s, tref, t, x, v, h = st[S_S], st[S_TREF], st[S_TAU], st[S_X], st[S_V], st[S_H]
     rtol, atol = rs[R_RTOL], rs[R_ATOL]
     s_end = _mode_end(p, st)
+    if mode == WVEL and sgn > 0.0 and s_end == 0.0:
+        s_end = _turn_end(p, st, rs, s, h)
     if h <= 0.0:
         if mode == WVEL and sgn < 0.0:  # starts where every derivative vanishes
             h = 0.1 * s_end
@@ -196,9 +204,85 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
         d0[0], d0[1], d0[2] = vector_fields.deriv(p, mode, field, sgn, q, s1, tref, t1, x1, v1)
         cnt[C_RHS] += 1
     store(st, t1, x1, v1, s1, h_next)
-    return after_transformed_step(
-        p, st, cnt, rs, ev, n_ev, d0, clamped, mode, field, sgn, tref + t1, x1, v1, s1, t1 - t
-    )
+    dt_step = t1 - t
+    if clamped and s1 < 0.0:  # the turn's steps reached the series' window
+        clamped, dt_step = _turn_by_series(p, st, rs, win_x, t1, x1, dt_step)
+        t1, x1, v1, s1 = st[S_TAU], st[S_X], st[S_V], st[S_S]
+    ev, n_ev = after_transformed_step(p, st, cnt, rs, ev, n_ev, d0, clamped, mode, field, sgn, tref + t1, x1, v1, s1, dt_step)
+    if int(st[S_MODE]) == WVEL and st[S_SGN] < 0.0 and st[S_S] == 0.0 and st[S_TAU] == 0.0:
+        _restitution_by_series(p, st, cnt, rs, d0, win_x)
+    return ev, n_ev
+
+
+@njit(cache=True)
+def _series_tol(rs):
+    """Relative error allowed in the time increments the series delivers: the step's rtol,
+    within [1e-13, 1e-12] (below 1e-13 the windows shrink to where DOP853 is cheap anyway)."""
+    return max(min(rs[R_RTOL], 1e-12), 1e-13)
+
+
+@njit(cache=True)
+def _clear(st, rs, win_x, t):
+    """No Poincare time, window sample or end of the run up to absolute time t: a jump of the
+    series to t skips nothing the run must record."""
+    return t < rs[R_T_END] and t < st[S_ISEC] * rs[R_PERIOD] and not window_due(st, rs, win_x, t)
+
+
+@njit(cache=True)
+def _turn_end(p, st, rs, s, h):
+    """Where the turn's DOP853 steps end: at the edge -w_t of the series' window, where the
+    series takes over to v = 0 (0 if it does not apply, or the steps are already inside).
+
+    The window is estimated a priori: the series' levels fall off like w^(2q) n1 / (2 |a| h),
+    so its reach scales as (2 |a| h / n1)^(n3/2); the factor (0.33 at a relative error of
+    1e-12) is the smallest ratio of the true window to that scale over the chaotic scene's turns
+    (0.33-0.40), and the error is checked again once the steps arrive."""
+    if s + h < -TURN_REACH or int(st[S_SLOW]) != EXPLICIT:
+        return 0.0
+    if not turn_series.applies(p, int(st[S_FIELD]) == CONTACT):
+        return 0.0
+    x = st[S_X]
+    alpha, beta = turn_series.frozen(p, 1.0, st[S_T], x)
+    if not turn_series.usable(p, alpha, beta):
+        return 0.0
+    tol = _series_tol(rs)
+    scale = (2.0 * -alpha * (x - p[P_XI]) / (p[P_M] * p[P_N1])) ** (0.5 * p[P_N3])
+    w_t = min(0.33 * (tol / 1e-12) ** 0.055 * scale, TURN_REACH)
+    return -w_t if s < -w_t else 0.0
+
+
+@njit(cache=True)
+def _turn_by_series(p, st, rs, win_x, tau_c, x_c, dt_step):
+    """The turn's steps ended at the window's edge (st, s < 0): find the turn point whose series
+    passes through this state and put the piece there (v = 0, s = 0). Returns (reached the
+    turn, the time step that led there); when the series does not hold, the steps go on."""
+    tref = st[S_TREF]
+    c = turn_series.work()
+    ok, dt1, x_t = turn_series.turn_point(p, tref + tau_c, x_c, -st[S_S], _series_tol(rs), c)
+    if not ok or not _clear(st, rs, win_x, tref + tau_c + dt1):
+        return False, dt_step
+    store(st, tau_c + dt1, x_t, 0.0, 0.0, st[S_H])
+    return True, dt_step + dt1
+
+
+@njit(cache=True)
+def _restitution_by_series(p, st, cnt, rs, d0, win_x):
+    """The restitution piece starts at the turn point (w = 0): the series carries it to the
+    largest w its tolerance allows, and DOP853 goes on from there."""
+    if int(st[S_SLOW]) != EXPLICIT or not turn_series.applies(p, int(st[S_FIELD]) == CONTACT):
+        return
+    tref = st[S_TREF]
+    c = turn_series.work()
+    w_end = st[S_V1] ** p[P_N3]
+    ok, w, tau, xi = turn_series.restitution(p, tref, st[S_X], w_end, _series_tol(rs), c)
+    if not ok or w >= w_end or not _clear(st, rs, win_x, tref + tau):
+        return
+    q = inverse_n3(p)
+    x, v = st[S_X] + xi, -(w**q)
+    # the next step: a fraction of w (DOP853's accepted steps there were 0.3-0.5 w)
+    store(st, tau, x, v, w, RESTITUTION_FIRST * w)
+    d0[0], d0[1], d0[2] = vector_fields.deriv(p, WVEL, int(st[S_FIELD]), -1.0, q, w, tref, tau, x, v)
+    cnt[C_RHS] += 1
 
 
 @njit(cache=True, inline="always")
