@@ -71,7 +71,7 @@ MIN_S_STEP = 1e-7  # a transformed step below this fraction of its s-range means
 MAX_INVALID = 3  # consecutive invalid transformed steps before falling back to time stepping
 
 
-TURN_REACH = 0.4  # the series' window never reaches beyond w = 0.4 (errors ~1e-8 there)
+TURN_REACH = 0.3  # the series' window never reaches beyond w = 0.3 (errors ~1e-9 there)
 RESTITUTION_FIRST = 0.3  # DOP853's first step after the series, as a fraction of w
 
 ONSET_FIRST = 0.25  # the onset's first step in sqrt(x - xI): this fraction of the onset piece's range

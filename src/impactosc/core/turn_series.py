@@ -44,6 +44,8 @@ SAFETY = 4.0  # the error estimate (the next levels from the last two, the tail 
 # was within a factor 2 of the true error on the chaotic scene's turns at w in [0.18, 0.28]
 LAYER_TERMS = 12  # powers of beta |v|^n3 / alpha in the layer's correction; its tail out to w
 # converges like (b w)^k, 0.2^12 ~ 4e-9 of a tail that is itself < 1e-2 of the correction
+LAYER_MOMENTS = 8  # the layer's own terms fall like (b eps^n3)^k = 0.065^k (times moments that grow
+# near s = 1, 7.7 at k = 5): the ninth is < 1e-8 of the first
 LAYER_MIN = 30.0  # the eps-layer's correction to second order in T / |alpha| needs |alpha| > 30 T
 
 
@@ -205,9 +207,12 @@ def layer_shift(p, sig, alpha, beta, w):
         s = k * n3
         # the moment to infinity less the part beyond v (psi0 ~ eps^2 / (2 u^2) there); both
         # continued analytically past s = 1, where their poles cancel
-        first += (k + 1) * (g * _moment(s) - gx / (1.0 - s))
-        if k < 3:
-            second += 0.5 * (k + 1) * (k + 2) * g * (2.0 * _moment(s) - 0.5 * math.pi / math.cos(0.5 * math.pi * s))
+        first -= (k + 1) * gx / (1.0 - s)
+        if k < LAYER_MOMENTS:
+            mom = _moment(s)
+            first += (k + 1) * g * mom
+            if k < 3:
+                second += 0.5 * (k + 1) * (k + 2) * g * (2.0 * mom - 0.5 * math.pi / math.cos(0.5 * math.pi * s))
         g *= r
         gx *= x
     third = 5.0 - 1.5 * math.pi  # int psi0^3 dv / eps
@@ -227,7 +232,8 @@ def turn_point(p, tc, xc, wc, tol, c):
     """The turn point (t1, x1) whose series (side v > 0) passes through (tc, xc) at w = wc.
 
     The series depends on (t1, x1) weakly (relatively ~ n1 (x - x1) / h1): start from the
-    leading terms frozen at (tc, xc), then two fixed-point passes. Returns (ok, t1 - tc, x1)."""
+    leading terms frozen at (tc, xc) (x1 to ~1e-4 of x - x1), build the series there and correct
+    t1 for the guess's error to first order. Returns (ok, t1 - tc, x1)."""
     q = 1.0 / p[P_N3]
     if not tc == tc or xc - p[P_XI] <= 0.0:
         return False, 0.0, xc
@@ -245,15 +251,30 @@ def turn_point(p, tc, xc, wc, tol, c):
         xi += g / (2.0 * q + i)
         g *= rr
     dt1 = -q * z * tau
-    x1 = xc - q * z * z * xi
-    err = math.inf
-    for _ in range(2):
-        alpha, beta = build(p, 1.0, tc + dt1, x1, c)
-        if not usable(p, alpha, beta) or x1 - p[P_XI] <= 0.0:
-            return False, 0.0, xc
-        tau, xi, err = evaluate(c, q, wc)
-        dt1 = -tau
-        x1 = xc - xi
+    x1g = xc - q * z * z * xi
+    alpha, beta = build(p, 1.0, tc + dt1, x1g, c)
+    if not usable(p, alpha, beta) or x1g - p[P_XI] <= 0.0:
+        return False, 0.0, xc
+    tau, xi, err = evaluate(c, q, wc)
+    x1 = xc - xi
+    # the guess's x1 was off by x1 - x1g (~1e-4 of x - x1): t - t1 depends on x1 through alpha
+    # and beta mostly, d/dx1 of m / (alpha + beta w) = -(alpha' + beta' w) m / (alpha + beta w)^2
+    h1 = x1g - p[P_XI]
+    da = -p[P_K] - p[P_KI] * p[P_N1] * h1 ** (p[P_N1] - 1.0)
+    db = beta * p[P_N2] / h1
+    ia = 1.0 / alpha
+    u = 0.0
+    r0 = 0.0
+    acc = 0.0
+    wi = 1.0
+    for i in range(TERMS[0]):
+        r1 = c[2, 0, i]
+        u = ((da * r1 + db * r0) - beta * u) * ia
+        acc += u * wi / (q + i)
+        r0 = r1
+        wi *= wc
+    dtau_dx1 = -q * z * acc
+    dt1 = -tau - dtau_dx1 * (x1 - x1g)
     return err <= tol, dt1 - layer_shift(p, 1.0, alpha, beta, wc), x1
 
 
