@@ -117,7 +117,7 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
     rtol, atol = rs[R_RTOL], rs[R_ATOL]
     s_end = _mode_end(p, st)
     if mode == WVEL and sgn > 0.0 and s_end == 0.0:
-        s_end = _turn_end(p, st, rs, s, h)
+        s_end = _turn_window_end(p, st, rs, s, h)
     if h <= 0.0:
         if mode == WVEL and sgn < 0.0:  # starts where every derivative vanishes
             h = 0.1 * s_end
@@ -204,13 +204,27 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
         d0[0], d0[1], d0[2] = vector_fields.deriv(p, mode, field, sgn, q, s1, tref, t1, x1, v1)
         cnt[C_RHS] += 1
     store(st, t1, x1, v1, s1, h_next)
-    dt_step = t1 - t
-    if clamped and s1 < 0.0:  # the turn's steps reached the series' window
-        clamped, dt_step = _turn_by_series(p, st, rs, win_x, t1, x1, dt_step)
-        t1, x1, v1, s1 = st[S_TAU], st[S_X], st[S_V], st[S_S]
-    ev, n_ev = after_transformed_step(p, st, cnt, rs, ev, n_ev, d0, clamped, mode, field, sgn, tref + t1, x1, v1, s1, dt_step)
+    if mode == WVEL and sgn > 0.0 and clamped:  # the turn's end: v = 0, or the series' window
+        return _turn_ends(p, st, cnt, rs, ev, n_ev, d0, win_x, field, t1 - t)
+    return after_transformed_step(
+        p, st, cnt, rs, ev, n_ev, d0, clamped, mode, field, sgn, tref + t1, x1, v1, s1, t1 - t
+    )
+
+
+@njit(cache=True)
+def _turn_ends(p, st, cnt, rs, ev, n_ev, d0, win_x, field, dt_step):
+    """The turn's steps reached their end: v = 0 (as before), or the edge of the series' window,
+    from which the series takes the turn to v = 0 (when its error there is within the
+    tolerance; else the steps go on). The restitution that starts there begins with the series."""
+    c = turn_series.work()
+    reached = True
+    if st[S_S] < 0.0:
+        reached, dt_step = _turn_by_series(p, st, rs, win_x, dt_step, c)
+    ev, n_ev = after_transformed_step(
+        p, st, cnt, rs, ev, n_ev, d0, reached, WVEL, field, 1.0, st[S_T], st[S_X], st[S_V], st[S_S], dt_step
+    )
     if int(st[S_MODE]) == WVEL and st[S_SGN] < 0.0 and st[S_S] == 0.0 and st[S_TAU] == 0.0:
-        _restitution_by_series(p, st, cnt, rs, d0, win_x)
+        _restitution_by_series(p, st, cnt, rs, d0, win_x, c)
     return ev, n_ev
 
 
@@ -229,7 +243,7 @@ def _clear(st, rs, win_x, t):
 
 
 @njit(cache=True)
-def _turn_end(p, st, rs, s, h):
+def _turn_window_end(p, st, rs, s, h):
     """Where the turn's DOP853 steps end: at the edge -w_t of the series' window, where the
     series takes over to v = 0 (0 if it does not apply, or the steps are already inside).
 
@@ -252,12 +266,11 @@ def _turn_end(p, st, rs, s, h):
 
 
 @njit(cache=True)
-def _turn_by_series(p, st, rs, win_x, tau_c, x_c, dt_step):
+def _turn_by_series(p, st, rs, win_x, dt_step, c):
     """The turn's steps ended at the window's edge (st, s < 0): find the turn point whose series
     passes through this state and put the piece there (v = 0, s = 0). Returns (reached the
     turn, the time step that led there); when the series does not hold, the steps go on."""
-    tref = st[S_TREF]
-    c = turn_series.work()
+    tref, tau_c, x_c = st[S_TREF], st[S_TAU], st[S_X]
     ok, dt1, x_t = turn_series.turn_point(p, tref + tau_c, x_c, -st[S_S], _series_tol(rs), c)
     if not ok or not _clear(st, rs, win_x, tref + tau_c + dt1):
         return False, dt_step
@@ -266,13 +279,12 @@ def _turn_by_series(p, st, rs, win_x, tau_c, x_c, dt_step):
 
 
 @njit(cache=True)
-def _restitution_by_series(p, st, cnt, rs, d0, win_x):
+def _restitution_by_series(p, st, cnt, rs, d0, win_x, c):
     """The restitution piece starts at the turn point (w = 0): the series carries it to the
     largest w its tolerance allows, and DOP853 goes on from there."""
     if int(st[S_SLOW]) != EXPLICIT or not turn_series.applies(p, int(st[S_FIELD]) == CONTACT):
         return
     tref = st[S_TREF]
-    c = turn_series.work()
     w_end = st[S_V1] ** p[P_N3]
     ok, w, tau, xi = turn_series.restitution(p, tref, st[S_X], w_end, _series_tol(rs), c)
     if not ok or w >= w_end or not _clear(st, rs, win_x, tref + tau):

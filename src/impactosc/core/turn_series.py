@@ -65,8 +65,11 @@ def applies(p, field_is_contact):
 
 @njit(cache=True)
 def work():
-    """The coefficient arrays of one series: T, X, m/a, delta, (t-t1)^2, (t-t1)^3, (x-x1)^2."""
-    return np.zeros((7, LEVELS + 1, WIDTH))
+    """The coefficient arrays of one series (T, X, m/a, delta, (t-t1)^2, (t-t1)^3, (x-x1)^2) and
+    the eps-layer's moments (they depend on n3 only: computed once per contact, row 7)."""
+    c = np.zeros((8, LEVELS + 1, WIDTH))
+    c[7, 1, 0] = -1.0  # the moments are not there yet
+    return c
 
 
 @njit(cache=True, inline="always")
@@ -106,7 +109,8 @@ def build(p, sig, t1, x1, c):
     g1 = beta * n2 / h1  # of -sig b kI h^n2 w
     g2 = beta * 0.5 * n2 * (n2 - 1.0) / (h1 * h1)
     tc, xc, r, d, t2, t3, x2 = c[0], c[1], c[2], c[3], c[4], c[5], c[6]
-    c[:, :, :] = 0.0
+    for row in (2, 4, 5, 6):  # the rows sums accumulate into
+        c[row, :, :] = 0.0
     ia = 1.0 / alpha
     for j in range(LEVELS + 1):
         n = TERMS[j]
@@ -188,7 +192,7 @@ def _moment(s):
 
 
 @njit(cache=True)
-def layer_shift(p, sig, alpha, beta, w):
+def layer_shift(p, sig, alpha, beta, w, c):
     """t (regularised friction) - t (T sgn(v)) at w on side sig, both from the same turn point.
 
     The friction differs by T psi(v), psi = sgn(v) - v / sqrt(v^2 + eps^2), over |v| ~ eps, so
@@ -196,6 +200,14 @@ def layer_shift(p, sig, alpha, beta, w):
     M = alpha + beta |v|^n3 expanded in powers of |v|^n3 each term is a moment of psi^n (Beta
     functions; convergent while k n3 < 1), minus the part of psi beyond w (~ eps^2 / (2 v^2))."""
     m, tf, eps, n3 = p[P_M], p[P_T], p[P_EPS], p[P_N3]
+    mom = c[7, 0]
+    if c[7, 1, 0] < 0.0:  # int psi0 u^s du and int psi0^2 u^s du at s = k n3 (u in units of eps)
+        for k in range(LAYER_MOMENTS):
+            s = k * n3
+            mom[k] = _moment(s)
+            if k < 3:
+                mom[LAYER_MOMENTS + k] = 2.0 * mom[k] - 0.5 * math.pi / math.cos(0.5 * math.pi * s)
+        c[7, 1, 0] = 1.0
     v = w ** (1.0 / n3)
     r = -beta * eps**n3 / alpha  # the layer's own terms, ~ b eps^n3
     x = -beta * w / alpha  # and those of its tail out to w, ~ b w
@@ -209,10 +221,9 @@ def layer_shift(p, sig, alpha, beta, w):
         # continued analytically past s = 1, where their poles cancel
         first -= (k + 1) * gx / (1.0 - s)
         if k < LAYER_MOMENTS:
-            mom = _moment(s)
-            first += (k + 1) * g * mom
+            first += (k + 1) * g * mom[k]
             if k < 3:
-                second += 0.5 * (k + 1) * (k + 2) * g * (2.0 * mom - 0.5 * math.pi / math.cos(0.5 * math.pi * s))
+                second += 0.5 * (k + 1) * (k + 2) * g * mom[LAYER_MOMENTS + k]
         g *= r
         gx *= x
     third = 5.0 - 1.5 * math.pi  # int psi0^3 dv / eps
@@ -275,7 +286,7 @@ def turn_point(p, tc, xc, wc, tol, c):
         wi *= wc
     dtau_dx1 = -q * z * acc
     dt1 = -tau - dtau_dx1 * (x1 - x1g)
-    return err <= tol, dt1 - layer_shift(p, 1.0, alpha, beta, wc), x1
+    return err <= tol, dt1 - layer_shift(p, 1.0, alpha, beta, wc, c), x1
 
 
 @njit(cache=True)
@@ -297,4 +308,4 @@ def restitution(p, t1, x1, w_end, tol, c):
         tau, xi, err = evaluate(c, q, w)
     if not err <= tol:
         return False, 0.0, 0.0, 0.0
-    return True, w, tau + layer_shift(p, -1.0, alpha, beta, w), xi
+    return True, w, tau + layer_shift(p, -1.0, alpha, beta, w, c), xi
