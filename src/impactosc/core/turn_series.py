@@ -73,12 +73,13 @@ def work():
 
 
 @njit(cache=True, inline="always")
-def _conv(a, b, out, n):
+def _conv(a, b, out, n, f):
+    """out += f a b, the first n terms."""
     for i in range(n):
         acc = 0.0
         for l in range(i + 1):
             acc += a[l] * b[i - l]
-        out[i] += acc
+        out[i] += f * acc
 
 
 @njit(cache=True)
@@ -117,8 +118,13 @@ def build(p, sig, t1, x1, c):
         rj = r[j]
         if j == 0:
             rj[0] = m
-        for l in range(1, j + 1):
-            _conv(d[l], r[j - l], rj, n)
+        for l in range(1, j):
+            _conv(d[l], r[j - l], rj, n, 1.0)
+        if j > 0:  # d_j r_0 = m d_j / (alpha + beta w): a recurrence, not a convolution
+            y = 0.0
+            for i in range(n):
+                y = (d[j, i] - beta * y) * ia
+                rj[i] += m * y
         y = 0.0
         for i in range(n):  # rj = -(sum of products) / (alpha + beta w), m at level 0
             y = ((rj[i] if j == 0 else -rj[i]) - beta * y) * ia
@@ -131,14 +137,15 @@ def build(p, sig, t1, x1, c):
             tc[jj, i] = sig * q * r[j, i] / (jj * q + i)
             if jj >= 2:
                 xc[jj, i] = q * r[jj - 2, i] / (jj * q + i)
+        # the powers' level jj (products of two levels: each pair once, doubled)
         if jj <= POW_T:
-            for l in range(1, jj):
-                _conv(tc[l], tc[jj - l], t2[jj], nn)
+            for l in range(1, jj // 2 + 1):
+                _conv(tc[l], tc[jj - l], t2[jj], nn, 1.0 if 2 * l == jj else 2.0)
             for l in range(1, jj - 1):
-                _conv(tc[l], t2[jj - l], t3[jj], nn)
+                _conv(tc[l], t2[jj - l], t3[jj], nn, 1.0)
         if jj <= POW_X:
-            for l in range(2, jj - 1):
-                _conv(xc[l], xc[jj - l], x2[jj], nn)
+            for l in range(2, jj // 2 + 1):
+                _conv(xc[l], xc[jj - l], x2[jj], nn, 1.0 if 2 * l == jj else 2.0)
         dj = d[jj]
         for i in range(nn):
             dj[i] = f1 * tc[jj, i] + f2 * t2[jj, i] + f3 * t3[jj, i] + s1 * xc[jj, i] + s2 * x2[jj, i]
