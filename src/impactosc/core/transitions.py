@@ -16,6 +16,7 @@ checks every number against the constants below). The law's surfaces are residua
         surface inside the contact: contact [t])
     contact onset --v < 0.7 v0, a < 0--> turn [|v|^n3]   (a >= 0: contact [t])
     turn --v = 0 (deepest penetration), net force < 0--> restitution [|v|^n3]
+        (next to v = 0 both run as a series in w where it holds: turn_series.py, transformed_pieces.py)
     restitution --|v| = 0.45 v0, x > xI--> exit [sqrt(x - xI)] --x = xI--> free flight [closed form]
         (T = 0, an overdamped oscillator, noise in the dynamics, or an exit slower than the closed
         form's edge: free flight [t])
