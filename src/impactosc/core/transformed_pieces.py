@@ -72,7 +72,7 @@ MAX_INVALID = 3  # consecutive invalid transformed steps before falling back to 
 
 
 TURN_REACH = 0.3  # the series' window never reaches beyond w = 0.3 (errors ~1e-9 there)
-RESTITUTION_FIRST = 0.3  # DOP853's first step after the series, as a fraction of w
+STEP_AFTER_SERIES = 0.3  # DOP853's first step after the series, as a fraction of w
 
 ONSET_FIRST = 0.25  # the onset's first step in sqrt(x - xI): this fraction of the onset piece's range
 ONSET_PROBE = 1e-6  # m: the penetration at which the law's force is read for that range
@@ -292,7 +292,7 @@ def _restitution_by_series(p, st, cnt, rs, d0, win_x, c):
     q = inverse_n3(p)
     x, v = st[S_X] + xi, -(w**q)
     # the next step: a fraction of w (DOP853's accepted steps there were 0.3-0.5 w)
-    store(st, tau, x, v, w, RESTITUTION_FIRST * w)
+    store(st, tau, x, v, w, STEP_AFTER_SERIES * w)
     d0[0], d0[1], d0[2] = vector_fields.deriv(p, WVEL, int(st[S_FIELD]), -1.0, q, w, tref, tau, x, v)
     cnt[C_RHS] += 1
 
