@@ -11,7 +11,22 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from impactosc.core import turn_series as ts
-from impactosc.model.parameters import P_B, P_C, P_EPS, P_K, P_KI, P_M, P_M0E, P_N1, P_N2, P_N3, P_OMEGA, P_T, P_XI, ModelParams
+from impactosc.model.parameters import (
+    P_B,
+    P_C,
+    P_EPS,
+    P_K,
+    P_KI,
+    P_M,
+    P_M0E,
+    P_N1,
+    P_N2,
+    P_N3,
+    P_OMEGA,
+    P_T,
+    P_XI,
+    ModelParams,
+)
 
 W = 40.86  # the chaotic scene
 # turn points (t1, penetration h1) of the chaotic scene's contacts: a fast turn (alpha ~ -660 N),

@@ -7,6 +7,10 @@ A piece's singular end point (impact side, v = 0, exit) is then an exact end of 
 Poincare times and the window come from the interpolant of t(s). :func:`transformed_step`
 takes one step; :mod:`impactosc.core.transitions` picks the piece that follows (at an event,
 at the end of the variable's range, or when the transformation breaks down).
+
+Next to v = 0 the steps in |v|^n3 shrink all the same (t and x hold the powers w^(i + j / n3)):
+there the turn's last steps and the restitution's first are replaced by a series on that
+lattice of exponents (:mod:`impactosc.core.turn_series`, :func:`_turn_ends`).
 """
 
 from __future__ import annotations
@@ -25,6 +29,7 @@ from impactosc.core.layout import (
     C_RHS,
     C_STEPS,
     C_TRANSFORMED,
+    EXPLICIT,
     R_ATOL,
     R_PERIOD,
     R_RTOL,
@@ -45,7 +50,6 @@ from impactosc.core.layout import (
     S_V1,
     S_VCUT,
     S_X,
-    EXPLICIT,
     SQRTH,
     WVEL,
 )

@@ -78,8 +78,8 @@ def _conv(a, b, out, n, f):
     """out += f a b, the first n terms."""
     for i in range(n):
         acc = 0.0
-        for l in range(i + 1):
-            acc += a[l] * b[i - l]
+        for lv in range(i + 1):
+            acc += a[lv] * b[i - lv]
         out[i] += f * acc
 
 
@@ -119,8 +119,8 @@ def build(p, sig, t1, x1, c):
         rj = r[j]
         if j == 0:
             rj[0] = m
-        for l in range(1, j):
-            _conv(d[l], r[j - l], rj, n, 1.0)
+        for lv in range(1, j):
+            _conv(d[lv], r[j - lv], rj, n, 1.0)
         if j > 0:  # d_j r_0 = m d_j / (alpha + beta w): a recurrence, not a convolution
             y = 0.0
             for i in range(n):
@@ -140,13 +140,13 @@ def build(p, sig, t1, x1, c):
                 xc[jj, i] = q * r[jj - 2, i] / (jj * q + i)
         # the powers' level jj (products of two levels: each pair once, doubled)
         if jj <= POW_T:
-            for l in range(1, jj // 2 + 1):
-                _conv(tc[l], tc[jj - l], t2[jj], nn, 1.0 if 2 * l == jj else 2.0)
-            for l in range(1, jj - 1):
-                _conv(tc[l], t2[jj - l], t3[jj], nn, 1.0)
+            for lv in range(1, jj // 2 + 1):
+                _conv(tc[lv], tc[jj - lv], t2[jj], nn, 1.0 if 2 * lv == jj else 2.0)
+            for lv in range(1, jj - 1):
+                _conv(tc[lv], t2[jj - lv], t3[jj], nn, 1.0)
         if jj <= POW_X:
-            for l in range(2, jj // 2 + 1):
-                _conv(xc[l], xc[jj - l], x2[jj], nn, 1.0 if 2 * l == jj else 2.0)
+            for lv in range(2, jj // 2 + 1):
+                _conv(xc[lv], xc[jj - lv], x2[jj], nn, 1.0 if 2 * lv == jj else 2.0)
         dj = d[jj]
         for i in range(nn):
             dj[i] = f1 * tc[jj, i] + f2 * t2[jj, i] + f3 * t3[jj, i] + s1 * xc[jj, i] + s2 * x2[jj, i]
