@@ -138,3 +138,12 @@ def test_the_core_takes_the_turns_by_series():
     res = simulate(W, 0.0, 100.0, rtol=1e-10, atol=1e-12, record=("impacts",))
     periods = 100.0 / (2.0 * math.pi / W)
     assert res.attrs["n_attempts_wvel"] / periods < 27.0
+
+
+def test_the_restitution_series_stops_short_of_the_laws_cut(p):
+    """With b = 8 the bracket h^n1 - b h^n2 w vanishes at w = 1/8, inside the usual window."""
+    q = p.copy()
+    q[P_B] = 8.0
+    t1, h1 = TURNS[0]
+    ok, w, _, _ = ts.restitution(q, t1, q[P_XI] + h1, 0.6, 1e-12, ts.work())
+    assert not ok or w < 0.125

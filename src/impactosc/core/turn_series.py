@@ -320,6 +320,9 @@ def restitution(p, t1, x1, w_end, tol, c):
     alpha, beta = frozen(p, -1.0, t1, x1)
     if not usable(p, alpha, beta):
         return False, 0.0, 0.0, 0.0
+    # the law's cut (its bracket h^n1 - b h^n2 w reaches 0) is an event the series must not
+    # pass: stay below 0.9 of it (x - x1 ~ 1e-8 of h there moves it by far less)
+    w_end = min(w_end, 0.9 * (x1 - p[P_XI]) ** (p[P_N1] - p[P_N2]) / p[P_B])
     delay = layer_shift(p, -1.0, alpha, beta, min(w_end, 0.2), c)
     alpha, beta = build(p, -1.0, t1 + delay, x1, c)
     # the error grows roughly like the next level, ~ w^(6q): aim at tol from a first probe
