@@ -49,7 +49,7 @@ from impactosc.core.layout import (
 from impactosc.core.pieces import accepted_step_factor, inverse_n3, start_piece, store
 from impactosc.core.sampling import bisect, locate_surface, sample_window, window_due
 from impactosc.core.transitions import (
-    CONTACT_SWITCH,
+    ONSET_SWITCH,
     after_transformed_step,
     apply_event,
     band_edge,
@@ -75,14 +75,14 @@ ONSET_PROBE = 1e-6  # m: the penetration at which the law's force is read for th
 @njit(cache=True, inline="always")
 def onset_step(p, v0):
     """The first step of a contact onset in sqrt(x - xI), from the piece's expected range: the
-    penetration h1 at which the contact has taken 1 - CONTACT_SWITCH^2 of the impact's kinetic
+    penetration h1 at which the contact has taken 1 - ONSET_SWITCH^2 of the impact's kinetic
     energy, for a force ~ h^1.5 through the law's force at ONSET_PROBE. Hairer's heuristic there
     starts at ~1e-4 of the range (x's and v's derivatives in s vanish at s = 0) and the steps then
     take 6-8 attempts to grow. 0 if the law pushes nothing at the probe."""
     f1 = contact_force(p, p[P_XI] + ONSET_PROBE, v0)
     if not f1 > 0.0:
         return 0.0
-    work = 0.5 * (1.0 - CONTACT_SWITCH * CONTACT_SWITCH) * p[P_M] * v0 * v0
+    work = 0.5 * (1.0 - ONSET_SWITCH * ONSET_SWITCH) * p[P_M] * v0 * v0
     h1 = (2.5 * work * ONSET_PROBE**1.5 / f1) ** 0.4
     return ONSET_FIRST * math.sqrt(h1)
 
