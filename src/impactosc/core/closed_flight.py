@@ -41,7 +41,6 @@ from impactosc.core.layout import (
     S_WIN,
     S_X,
     TIME,
-    UVEL,
 )
 from impactosc.core.pieces import start_piece, store
 from impactosc.core.sampling import window_due
@@ -338,13 +337,11 @@ def _band(p, st, cnt, rs, ev, n_ev, win_x, d0, t, x, v, t_target):
     """Free flight reached the friction band at (t, x, v): crossed in one go (band_crossing.cross)
     where it applies and nothing the core records falls inside the crossing but its v = 0 (a
     Poincare time, a window sample, the run's end, an impact before the maximum of x), else
-    stepped through in asinh(v/eps). The crossing counts as one step of the band's piece."""
+    stepped through in asinh(v/eps). The crossing is part of this closed-form step (counted as one)."""
     ok, t0, x0, t1, x1, v1 = band_crossing.cross(p, t, x, v)
     if not (ok and t1 < t_target and not window_due(st, rs, win_x, t1) and (v < 0.0 or x0 < p[P_XI])):
         enter_band(p, st, cnt, d0, t, x, v)
         return ev, n_ev
-    cnt[C_BY_MODE + UVEL] += 1
-    cnt[C_STEPS] += 1
     return band_crossed(p, st, cnt, rs, ev, n_ev, d0, sign(v), t0, x0, t1, x1, v1)
 
 
