@@ -69,7 +69,6 @@ def _closed(u, us, C, S, K, c2, eps):
     return t, eps * K * x
 
 
-
 N_NODES = 8  # Gauss-Legendre nodes a half: the remainder to ~1e-10 of itself (6: 1e-7, 10: no better)
 Y, W, Q = _nodes(N_NODES)
 U_EDGE = math.asinh(U_CLOSED)  # u at the band's edge
@@ -149,7 +148,8 @@ def cross(p, t_a, x_a, v_a):
         return False, 0.0, 0.0, 0.0, 0.0, 0.0
     R2 = (Gs - T) * (Gs + T)
     span = 2.0 * m * eps * U_CLOSED * Gs / R2  # the crossing's duration, frozen
-    if abs(f0) * w * span > KAPPA_MAX * (Gs - T) or w * span > WT_MAX:
+    slope = abs(f0) * w * (abs(ca) + w * span)  # |dF/dt| over the crossing at most (|F''| <= f0 w^2)
+    if slope * span > KAPPA_MAX * (Gs - T) or w * span > WT_MAX:
         return False, 0.0, 0.0, 0.0, 0.0, 0.0
     R = math.sqrt(R2)
     us = math.atanh(T / Gs)
