@@ -75,8 +75,8 @@ E_EDGE = U_CLOSED + math.sqrt(U_CLOSED * U_CLOSED + 1.0)  # exp(U_EDGE)
 E2 = np.exp(U_EDGE * Y)  # exp(u) at the second half's nodes (u from 0 to U_EDGE: fixed)
 G_MIN = 1.6  # the frozen net force at entry at least G_MIN T: with KAPPA_MAX it stays above
 # 1.6 T - KAPPA_MAX (1.6 - 1) T = 1.57 T over the crossing, clear of the implicit hand-over at 1.5 T
-KAPPA_MAX = 0.05  # the force's change over the crossing at most this fraction of G - T: Picard's
-# factor (each iteration ~KAPPA_MAX fewer digits wrong; 0.1 still settles in < 20, measured)
+KAPPA_MAX = 0.05  # what the frozen force leaves out at most this fraction of G - T: it bounds
+# Picard's factor (each iteration ~KAPPA_MAX fewer digits wrong) and keeps the remainder small
 WT_MAX = 0.05  # w times the crossing's duration at most this: sin and cos by their Taylor series
 PICARD_TOL = 1e-13  # relative change of the nodes' times that ends the iteration (what is left: ~kappa of it)
 MAX_PICARD = 8  # iterations a half before declining
@@ -155,8 +155,12 @@ def cross(p, t_a, x_a, v_a):
         return False, 0.0, 0.0, 0.0, 0.0, 0.0
     R2 = (Gs - T) * (Gs + T)
     span = 2.0 * m * eps * U_CLOSED * Gs / R2  # the crossing's duration, frozen
-    slope = abs(f0) * w * (abs(ca) + w * span)  # |dF/dt| over the crossing at most (|F''| <= f0 w^2)
-    if slope * span > KAPPA_MAX * (Gs - T) or w * span > WT_MAX:
+    # what the frozen force leaves out, at most: the forcing's change (|dF/dt| over the crossing at
+    # most, as |F''| <= f0 w^2), the spring's over x's excursion on the slow side, and c v's
+    slope = abs(f0) * w * (abs(ca) + w * span)
+    ve = U_CLOSED * eps
+    left_out = slope * span + k * m * ve * ve / (2.0 * (Gs - T)) + p[P_C] * ve
+    if left_out > KAPPA_MAX * (Gs - T) or w * span > WT_MAX:
         return False, 0.0, 0.0, 0.0, 0.0, 0.0
     R = math.sqrt(R2)
     us = math.atanh(T / Gs)
