@@ -39,6 +39,7 @@ CORE_SOURCES = (
             "transitions",
             "sampling",
             "pieces",
+            "band_crossing",
             "closed_flight",
             "time_pieces",
             "transformed_pieces",

@@ -23,7 +23,8 @@ checks every number against the constants below). The law's surfaces are residua
         form's edge: free flight [t])
     free flight [closed form] --x = xI--> as free flight [t] at x = xI
     free flight [closed form] --|v| = 30 eps (the closed form's edge), heading for v = 0--> friction band
-        [asinh(v/eps)]
+        [asinh(v/eps)] (crossed in one go where band_crossing.cross applies: v = 0, then free flight
+        [closed form] from the far edge)
     contact [t] --x = xI, v < 0--> free flight [t]
     contact [t] --the cut--> past the cut [t] --the cut--> contact [t]
     contact [t] --h = h1 (a second stop)--> contact behind it [t] --h = h1--> contact [t]
@@ -174,6 +175,20 @@ def enter_band(p, st, cnt, d0, t, x, v):
     sgn = -sign(v)
     _set_variable(st, FREE, UVEL, sgn, sgn * math.asinh(v / p[P_EPS]))
     start_piece(p, st, cnt, d0, t, x, v, 0.0)
+
+
+@njit(cache=True)
+def band_crossed(p, st, cnt, rs, ev, n_ev, d0, direction, t0, x0, t1, x1, v1):
+    """Free flight in closed form crossed the friction band in one go (band_crossing.cross): v = 0
+    at (t0, x0) (v had the sign `direction` before), as the band piece records it, and closed-form
+    flight from the far edge (t1, x1, v1). Returns (ev, n_ev)."""
+    ev, n_ev, x0, _ = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, t0, x0, 0.0, direction, 0.0)
+    if st[S_SLOW] != EXPLICIT:  # held by dry friction after all: the implicit phase from v = 0
+        start_piece(p, st, cnt, d0, t0, x0, 0.0, 0.0)
+        return ev, n_ev
+    set_free_flight(p, st, EXPLICIT, v1)
+    start_piece(p, st, cnt, d0, t1, x1, v1, 0.0)
+    return ev, n_ev
 
 
 @njit(cache=True)
