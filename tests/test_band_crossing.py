@@ -146,4 +146,5 @@ def test_the_core_records_the_crossings_v_zero_and_lands_on_scipy(core_crossings
         x_ref, v_ref = sol.sol(t1)
         assert abs(x1 - x_ref) < 8e-14  # measured 1.6e-14 m
         assert abs(v1 - v_ref) < 1.3e-11  # measured 2.5e-12 m/s
-    assert maxima >= 1
+    if omega == 23.03:  # the period-4 orbit's near misses recur; the chaotic scene's are rare (none
+        assert maxima >= 1  # in its first 10 s from rest, one in 20 s), so it checks the exits only
