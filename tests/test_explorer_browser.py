@@ -221,7 +221,8 @@ def test_explorer_in_browser(browser, server):
     _type(d, "columns", "2000")
     _click(d, "Recompute")
     _wait(lambda: "/ 2000 columns" in _model(d, "status", "text"), "the first columns of 2000")
-    victims = _workers(proc.pid)
+    # the status can show the first columns before the pool's workers are all up: wait for them
+    victims = _wait(lambda: _workers(proc.pid), "the diagram's worker processes")
     for victim in victims:  # every worker: one that had finished its share would not break the
         os.kill(victim, signal.SIGKILL)  # diagram (2000 columns take ~17 s under load)
     # (the worker named is the one the pool found dead: under load, not always the first listed)
