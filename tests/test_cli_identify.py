@@ -47,15 +47,11 @@ def example(tmp_path_factory):
     return out, run, seconds
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="the standard errors do not cover the truth on this record: m0e 15.1, k 14.2, b 22.9 and "
-    "n3 24.3 standard errors off (converged). The example's motor runs 0.1 % fast with a 0.2 % "
-    "ripple; on the records of the script's noise seeds 1-3 the worst were 19.7, 28.0 and 7.6 "
-    "standard errors off (seed 1 did not converge); on a record an earlier core made all eight were "
-    "within 2.7. Known limitation, measured, not yet explained.",
-)
 def test_identify_standard_errors_cover_model_bc_on_the_example(example):
+    """On this record all eight within 3 standard errors (measured: 2.8 at most, n3). Not on every
+    record of the same script: with its noise seeds 1-3 the worst were 18.7 (n3), 8.4 (k) and 4.9
+    (n3) standard errors off, and records earlier cores made ranged from 2.7 to 24 (the example's
+    motor runs 0.1 % fast with a 0.2 % ripple). Known limitation, measured, not yet explained."""
     out, _run, _seconds = example
     model = read_model_file(out / "m.yaml")
     truth = ModelParams()
@@ -73,11 +69,11 @@ def test_identify_recovers_model_bc_from_the_example(example, capsys):
     assert set(model.stderr) == set(FIELDS)  # all eight fitted
     for field in FIELDS:
         value, se = getattr(model.params, field), model.stderr[field]
-        # a fit that has not gone astray: within 10 % of model BC (measured on this record: n3
-        # 7.2 %, b 4.0 %, c 0.9 %, the others below 0.7 %; on the records of the script's noise seeds
-        # 1-3 n3 6.9, 6.8 and 1.3 %, b at most 3.7 %); whether the standard errors cover the truth is
-        # the test above
-        assert se > 0 and abs(value / getattr(truth, field) - 1) < 0.10, (field, value, se, getattr(truth, field))
+        # a fit that has not gone astray: within 5 % of model BC (measured on this record: n3
+        # 0.7 %, b 0.4 %, the others below 0.3 %; on the records of the script's noise seeds 1-3
+        # n3 4.7 %, T 2.2 % and n3 1.2 % at most); whether the standard errors cover the truth is the
+        # test above
+        assert se > 0 and abs(value / getattr(truth, field) - 1) < 0.05, (field, value, se, getattr(truth, field))
     assert set(model.fixed) == {"m", "eps", "n1", "n2"}
     assert model.params.m == truth.m and "not identifiable" in model.fixed["m"]
     assert model.meta["records"][0]["path"].endswith("record_example.tdms") and model.meta["records"][0]["sha256"]

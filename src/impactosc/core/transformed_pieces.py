@@ -72,7 +72,8 @@ ONSET_FIRST = 0.3  # the onset's first step in sqrt(x - xI): this fraction of th
 ONSET_GROWTH = 0.9  # ... and each next step at most this times the last: they shrink towards the turn's
 # singular point (v ~ sqrt of the distance to it in sqrt(x - xI)); Hairer's growth after the first
 # step was rejected in 93 % of the contacts (chaotic scene, rtol 1e-10). Attempts per forcing period
-# 51.1 -> 49.5 (0.25 and 10 before; 0.3 and 1.0: 49.8, 0.2 and 1.0: 50.4)
+# 51.1 -> 49.5 (0.25 and 10 before; 0.3 and 1.0: 49.8, 0.2 and 1.0: 50.4; measured with v set exactly
+# in |v|^n3, since kept out: with v integrated the onset is the same piece)
 ONSET_PROBE = 1e-6  # m: the penetration at which the law's force is read for that range
 
 
