@@ -72,9 +72,22 @@ def server(tmp_path_factory):
 
 
 def _workers(pid: int) -> list[int]:
-    """The worker processes of the server `pid` (its children that run spawn_main)."""
-    children = Path(f"/proc/{pid}/task/{pid}/children").read_text().split()
-    return [int(c) for c in children if b"spawn_main" in Path(f"/proc/{c}/cmdline").read_bytes()]
+    """The worker processes of the server `pid` (its children that run spawn_main), whichever of
+    its threads started them: a pool replaced or grown from a callback thread has its workers listed
+    under that thread's task, not the main thread's."""
+    found = []
+    for task in Path(f"/proc/{pid}/task").iterdir():
+        try:
+            children = (task / "children").read_text().split()
+        except OSError:  # the thread ended meanwhile
+            continue
+        for c in children:
+            try:
+                if b"spawn_main" in Path(f"/proc/{c}/cmdline").read_bytes():
+                    found.append(int(c))
+            except OSError:  # the child ended meanwhile
+                pass
+    return found
 
 
 def _model(driver, name: str, attr: str):
