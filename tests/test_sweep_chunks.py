@@ -100,13 +100,13 @@ def test_seeds_must_match_the_grid():
 
 
 def test_a_stuck_w_is_abandoned_and_the_sweep_goes_on(monkeypatch):
-    # Budget 120 steps per period, checked every 100 steps: w = 21 needs ~165 per period,
-    # w = 30 about 97 (measured on the default diagrams).
+    # Budget 120 steps per period, checked every 100 steps: w = 16 needs ~177 per period,
+    # w = 30 about 43 (measured with these settings and an unlimited budget).
     monkeypatch.setattr(sweep_mod, "_CHUNK_STEPS", 100)
     monkeypatch.setattr(sweep_mod, "_STALL_PACE", 1e9)  # test the total budget alone
     tight = SweepSettings(n_transient=20, n_record=6, n_initial=20, max_steps_per_period=120)
     messages = []
-    res = continuation([21.0, 30.0, 30.5], tight, on_failure=lambda i, w, m: messages.append((i, m)))
+    res = continuation([16.0, 30.0, 30.5], tight, on_failure=lambda i, w, m: messages.append((i, m)))
     assert res.status.tolist() == [STALLED, OK, OK]
     assert np.all(np.isnan(res.poincare_x[0])) and res.impacts(0).size == 0
     assert res.x_start[1] == tight.x0 and res.x_end[0] == tight.x0  # the next w starts where this one did

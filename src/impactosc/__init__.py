@@ -40,6 +40,7 @@ CORE_SOURCES = (
             "turn_series",
             "sampling",
             "pieces",
+            "band_crossing",
             "closed_flight",
             "time_pieces",
             "transformed_pieces",

@@ -38,7 +38,7 @@ from impactosc_bench.taylor_series import BAND_PIECE, PIECE_NAMES, TIME_PIECE, T
 
 OMEGA = 40.86
 IMPACT_T, IMPACT_V = 0.7086, 0.195  # an impact of the chaotic scene
-TURN_START = 0.7  # v / v0 at which the core's contact turns to |v|^n3 (events.CONTACT_SWITCH)
+TURN_START = 0.7  # v / v0 at which the measured turn piece starts in |v|^n3 (the core's switch when it was measured)
 BAND = 1e3  # |v| / eps of the friction band's edges (pieces.U_BAND)
 REFERENCE = {"method": "DOP853", "rtol": 1e-13, "atol": 1e-16}
 

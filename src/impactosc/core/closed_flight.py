@@ -12,7 +12,7 @@ model BC), (P, Q) the harmonic particular solution and (A, B) fitted to (x0, v0)
 Events of a piece (sign(v) fixed): the impact x = xI (only while v > 0: x is monotone on the
 piece), the band edge |v| = U_CLOSED eps heading for 0, and the Poincare times t = 2 pi i / w
 (just the state there). The near-miss maximum of x lies at v = 0, inside the band: it is the
-band piece's event, not free flight's. Both event functions g (xI - x, and |v| - U_CLOSED eps)
+band's event (crossed in one go by band_crossing.py, or by the band piece), not free flight's. Both event functions g (xI - x, and |v| - U_CLOSED eps)
 are located by safe marching: with |g''| <= G2 from the amplitudes (the k-th derivative of
 the homogeneous part is at most wn^k R exp(-alpha tau), of the particular part w^k (P^2 +
 Q^2)^(1/2)), g(t + h) >= g + g' h - G2 h^2 / 2, and the step to the first zero of that lower
@@ -27,11 +27,24 @@ import math
 import numpy as np
 from numba import njit
 
-from impactosc.core.events import EV_X_UP
-from impactosc.core.layout import C_BY_MODE, C_STEPS, CLOSED, EXPLICIT, R_WIN_DT, R_WIN_T0, S_T, S_V, S_WIN, S_X, TIME
+from impactosc.core import band_crossing
+from impactosc.core.events import EV_X_UP, sign
+from impactosc.core.layout import (
+    C_BY_MODE,
+    C_STEPS,
+    CLOSED,
+    EXPLICIT,
+    R_WIN_DT,
+    R_WIN_T0,
+    S_T,
+    S_V,
+    S_WIN,
+    S_X,
+    TIME,
+)
 from impactosc.core.pieces import start_piece, store
 from impactosc.core.sampling import window_due
-from impactosc.core.transitions import U_CLOSED, apply_event, enter_band, set_piece
+from impactosc.core.transitions import U_CLOSED, apply_event, band_crossed, enter_band, set_piece
 from impactosc.model.equations import FREE
 from impactosc.model.parameters import P_C, P_EPS, P_K, P_M, P_M0E, P_OMEGA, P_T, P_XI
 
@@ -97,8 +110,10 @@ def _eval(w, alpha, wd, P, Q, xs, A, B, t0, t):
 
 @njit(cache=True, inline="always")
 def _safe_step(g, g1, g2max):
-    """Largest h with g + g1 h - g2max h^2 / 2 >= 0 (g >= 0): no root of g before t + h."""
-    if g <= 0.0:
+    """Largest h with g + g1 h - g2max h^2 / 2 >= 0 (g >= 0): no root of g before t + h. On the
+    root (g = 0) and leaving it (g1 > 0, the band's far edge where a crossing ends), up to the
+    bound's next root."""
+    if g < 0.0 or (g == 0.0 and g1 <= 0.0):
         return 0.0
     disc = math.sqrt(g1 * g1 + 2.0 * g2max * g)
     if g1 <= 0.0:
@@ -310,11 +325,24 @@ def closed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
         ev, n_ev, x, v = apply_event(p, st, cnt, rs, ev, n_ev, EV_X_UP, t, x, v, 1.0, 0.0)
         start_piece(p, st, cnt, d0, t, x, v, 0.0)
     elif kind == EV_BAND:
-        enter_band(p, st, cnt, d0, t, x, v)
+        ev, n_ev = _band(p, st, cnt, rs, ev, n_ev, win_x, d0, t, x, v, t_target)
     else:
         set_piece(st, FREE, EXPLICIT, TIME)
         start_piece(p, st, cnt, d0, t, x, v, 0.0)
     return ev, n_ev
+
+
+@njit(cache=True)
+def _band(p, st, cnt, rs, ev, n_ev, win_x, d0, t, x, v, t_target):
+    """Free flight reached the friction band at (t, x, v): crossed in one go (band_crossing.cross)
+    where it applies and nothing the core records falls inside the crossing but its v = 0 (a
+    Poincare time, a window sample, the run's end, an impact before the maximum of x), else
+    stepped through in asinh(v/eps). The crossing is part of this closed-form step (counted as one)."""
+    ok, t0, x0, t1, x1, v1 = band_crossing.cross(p, t, x, v)
+    if not (ok and t1 < t_target and not window_due(st, rs, win_x, t1) and (v < 0.0 or x0 < p[P_XI])):
+        enter_band(p, st, cnt, d0, t, x, v)
+        return ev, n_ev
+    return band_crossed(p, st, cnt, rs, ev, n_ev, d0, sign(v), t0, x0, t1, x1, v1)
 
 
 @njit(cache=True)

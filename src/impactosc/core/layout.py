@@ -50,8 +50,10 @@ MODE_KEYS = ("time", "sqrth", "wvel", "uvel", "closed")  # the same, as names of
     S_REJECTED,  # 1 after a rejected explicit step: the next accepted one may not grow (Hairer)
     S_HACC,  # last accepted explicit step on this piece (0: none yet) ...
     S_ERRACC,  # ... and its error norm: the predictive step controller's memory
-) = range(27)
-N_STATE = 27
+    S_MIDDLE,  # a contact's middle in time: 1 on the way in (to |v|^n3 at v = S_V1), -1 on the way out, else 0
+    S_EXIT_DEPTH,  # ... out: the penetration x - xI below which sqrt(x - xI) takes the rest of it
+) = range(29)
+N_STATE = 29
 
 # --- settings of a run: index into the array rs (core.run_settings) ------------------------
 (

@@ -14,15 +14,18 @@ checks every number against the constants below). The law's surfaces are residua
     free flight [t] --x = xI, not past the cut, v0 > 1e3 eps--> contact onset [sqrt(x - xI)]
         (a slower impact: the turn [|v|^n3], or contact [t]; b = 0, n3 >= 1 or a law with a
         surface inside the contact: contact [t])
-    contact onset --v < 0.7 v0, a < 0--> turn [|v|^n3]   (a >= 0: contact [t])
+    contact onset --v < 0.95 v0--> the contact's middle [t] --v < 0.3 v0, a < 0--> turn [|v|^n3]
+        (a >= 0: contact [t])
     turn --v = 0 (deepest penetration), net force < 0--> restitution [|v|^n3]
         (next to v = 0 both run as a series in w where it holds: turn_series.py, transformed_pieces.py)
-    restitution --|v| = 0.45 v0, x > xI--> exit [sqrt(x - xI)] --x = xI--> free flight [closed form]
+    restitution --|v| = 0.3 v0, x > xI--> the contact's middle [t] --x - xI < 0.3 of the deepest
+        penetration--> exit [sqrt(x - xI)] --x = xI--> free flight [closed form]
         (T = 0, an overdamped oscillator, noise in the dynamics, or an exit slower than the closed
         form's edge: free flight [t])
     free flight [closed form] --x = xI--> as free flight [t] at x = xI
     free flight [closed form] --|v| = 30 eps (the closed form's edge), heading for v = 0--> friction band
-        [asinh(v/eps)]
+        [asinh(v/eps)] (crossed in one go where band_crossing.cross applies: v = 0, then free flight
+        [closed form] from the far edge)
     contact [t] --x = xI, v < 0--> free flight [t]
     contact [t] --the cut--> past the cut [t] --the cut--> contact [t]
     contact [t] --h = h1 (a second stop)--> contact behind it [t] --h = h1--> contact [t]
@@ -70,8 +73,10 @@ from impactosc.core.layout import (
     R_FLAGS,
     R_T_RECORD,
     RECORD_IMPACTS,
+    S_EXIT_DEPTH,
     S_FIELD,
     S_H,
+    S_MIDDLE,
     S_MODE,
     S_PDIR,
     S_PT,
@@ -103,10 +108,16 @@ STIFF_ENTER = 4.0  # h |da/dv| above this: explicit steps are held by stability,
 STIFF_EXIT = 1.0  # ... and the implicit phase that takes over ends once h |da/dv| is below this
 # (DOP853 is stable to h |da/dv| ~ 6 on the negative real axis; the gap is a hysteresis.)
 SQRTH_ONSET = 1e3  # an impact faster than 1e3 eps starts the contact in sqrt(x - xI)
-CONTACT_SWITCH = 0.7  # in contact, sqrt(x - xI) while v > 0.7 v_onset, then |v|^n3 ...
-RESTITUTION_SWITCH = 0.45  # ... until |v| = 0.45 v_onset on the way out, then sqrt(x - xI)
-# (chosen by the work they cost on the chaotic scene: 0.95 / 0.2 took 116 step attempts per
-# forcing period, 0.7 / 0.45 take 105; the error of the impact times did not grow)
+ONSET_SWITCH = 0.95  # in contact, sqrt(x - xI) while v > 0.95 v_onset, then time ...
+TURN_SWITCH = 0.3  # ... while v > 0.3 v_onset, then |v|^n3 to v = 0 and on ...
+RESTITUTION_SWITCH = 0.3  # ... until |v| = 0.3 v_onset on the way out, then time ...
+EXIT_SWITCH = 0.3  # ... until x - xI < 0.3 of the deepest penetration, then sqrt(x - xI) to the exit
+# Why four: each variable is smooth at one singular point of the contact and has the others near
+# (sqrt(x - xI): the turn's; |v|^n3, which squeezes |v| from 0.3 v0 to v0 into the last fifth of
+# its range: onset and exit), while time, between them, has both far. Chosen by the step attempts
+# of the chaotic scene (rtol 1e-10): sqrt / |v|^n3 / sqrt at 0.7 / 0.45 took 72.7 per forcing
+# period, with the middle in time 67.1 at 0.95 / 0.3 / 0.3 / 0.3 (0.2 or 0.4 for any of the last
+# three: 67.2-68.8); the impact times' error against SciPy did not grow.
 BAND = 100.0  # the implicit phase ends when |v| > BAND * eps (friction slope then < 1e-6 T/eps)
 U_BAND = 1e3  # free flight with |v| < U_BAND * eps, heading for v = 0, runs in s = asinh(v/eps) ...
 U_CLOSED = 30.0  # ... and below U_CLOSED * eps where free flight has a closed form (its first-order
@@ -116,7 +127,9 @@ U_CLOSED = 30.0  # ... and below U_CLOSED * eps where free flight has a closed f
 @njit(cache=True, inline="always")
 def set_piece(st, field, slow, mode):
     """The kind of the next piece: its vector field (FREE / CONTACT / CUT), why the implicit
-    solver runs (EXPLICIT: it does not) and the variable of its explicit steps."""
+    solver runs (EXPLICIT: it does not) and the variable of its explicit steps. It is no contact's
+    middle unless the caller says so after this (a change of piece ends the middle)."""
+    st[S_MIDDLE] = 0.0
     st[S_FIELD] = field
     st[S_SLOW] = slow
     st[S_MODE] = mode
@@ -163,6 +176,20 @@ def enter_band(p, st, cnt, d0, t, x, v):
     sgn = -sign(v)
     _set_variable(st, FREE, UVEL, sgn, sgn * math.asinh(v / p[P_EPS]))
     start_piece(p, st, cnt, d0, t, x, v, 0.0)
+
+
+@njit(cache=True)
+def band_crossed(p, st, cnt, rs, ev, n_ev, d0, direction, t0, x0, t1, x1, v1):
+    """Free flight in closed form crossed the friction band in one go (band_crossing.cross): v = 0
+    at (t0, x0) (v had the sign `direction` before), as the band piece records it, and closed-form
+    flight from the far edge (t1, x1, v1). Returns (ev, n_ev)."""
+    ev, n_ev, x0, _ = apply_event(p, st, cnt, rs, ev, n_ev, EV_V, t0, x0, 0.0, direction, 0.0)
+    if st[S_SLOW] != EXPLICIT:  # held by dry friction after all: the implicit phase from v = 0
+        start_piece(p, st, cnt, d0, t0, x0, 0.0, 0.0)
+        return ev, n_ev
+    set_free_flight(p, st, EXPLICIT, v1)
+    start_piece(p, st, cnt, d0, t1, x1, v1, 0.0)
+    return ev, n_ev
 
 
 @njit(cache=True)
@@ -252,10 +279,11 @@ def _contact_piece(p, st, t, x, v):
         set_piece(st, CONTACT, EXPLICIT, TIME)
         return
     a = accel(p, CONTACT, t, x, v)
-    st[S_V1] = CONTACT_SWITCH * v
     if x - p[P_XI] <= 0.0 and v > SQRTH_ONSET * p[P_EPS]:
+        st[S_V1] = ONSET_SWITCH * v
         _set_variable(st, CONTACT, SQRTH, 1.0, 0.0)
     elif a < 0.0:
+        st[S_V1] = TURN_SWITCH * v
         _set_variable(st, CONTACT, WVEL, 1.0, -(v ** p[P_N3]))
     else:
         set_piece(st, CONTACT, EXPLICIT, TIME)
@@ -324,8 +352,11 @@ def apply_event(p, st, cnt, rs, ev, n, kind, t, x, v, direction, dt_step):
 def after_time_step(p, st, cnt, d0, field, t1, x1, v1, hs):
     """An accepted time step without events ended at (t1, x1, v1): the implicit phase takes
     over where dry friction can hold the cart or the step was held by stability, the
-    friction band's variable where free flight heads for v = 0."""
+    friction band's variable where free flight heads for v = 0, and the contact's middle hands over
+    to the turn's or the exit's variable."""
     eps = p[P_EPS]
+    if st[S_MIDDLE] != 0.0 and _middle_ends(p, st, cnt, d0, field, t1, x1, v1):
+        return
     if abs(v1) < BAND * eps and goes_implicit(p, field, t1, x1):
         enter_slow(p, st, cnt, t1, x1, v1, sign(v1))
     elif (in_contact(field) or abs(v1) < BAND * eps) and stiff(p, field, x1, v1, hs):
@@ -351,14 +382,31 @@ def after_transformed_step(p, st, cnt, rs, ev, n_ev, d0, clamped, mode, field, s
         # crossed 0: the cost of each stick grew like 1/eps.)
         enter_slow(p, st, cnt, ta, x1, v1, sign(v1))
         start_piece(p, st, cnt, d0, ta, x1, v1, 0.0)
-    elif mode == SQRTH and sgn > 0.0 and v1 < st[S_V1]:  # slower: |v|^n3 on to v = 0
-        if accel(p, field, ta, x1, v1) < 0.0:
-            _set_variable(st, field, WVEL, 1.0, -(v1 ** p[P_N3]))
-            _switch_variable(p, st, cnt, d0, ta, x1, v1)
-        else:
-            set_piece(st, field, EXPLICIT, TIME)
-            start_piece(p, st, cnt, d0, ta, x1, v1, 0.0)
+    elif mode == SQRTH and sgn > 0.0 and v1 < st[S_V1]:  # past the onset: the contact's middle in time
+        st[S_V1] *= TURN_SWITCH / ONSET_SWITCH
+        set_piece(st, field, EXPLICIT, TIME)
+        st[S_MIDDLE] = 1.0
+        _switch_variable(p, st, cnt, d0, ta, x1, v1)
     return ev, n_ev
+
+
+@njit(cache=True)
+def _middle_ends(p, st, cnt, d0, field, t1, x1, v1):
+    """After a time step in a contact's middle: on the way in, slow enough for |v|^n3 on to v = 0
+    (while decelerating; else time goes on); on the way out, shallow enough for sqrt(x - xI) on to
+    the exit. True if the piece changed."""
+    if st[S_MIDDLE] > 0.0 and 0.0 < v1 < st[S_V1]:
+        st[S_MIDDLE] = 0.0
+        if accel(p, field, t1, x1, v1) < 0.0:
+            _set_variable(st, field, WVEL, 1.0, -(v1 ** p[P_N3]))
+            _switch_variable(p, st, cnt, d0, t1, x1, v1)
+            return True
+    elif st[S_MIDDLE] < 0.0 and v1 < 0.0 and x1 - p[P_XI] < st[S_EXIT_DEPTH]:
+        st[S_MIDDLE] = 0.0
+        _set_variable(st, field, SQRTH, -1.0, -math.sqrt(x1 - p[P_XI]))
+        _switch_variable(p, st, cnt, d0, t1, x1, v1)
+        return True
+    return False
 
 
 @njit(cache=True, inline="always")  # on every implicit step
@@ -440,8 +488,14 @@ def _transformed_end(p, st, cnt, rs, ev, n_ev, d0, dt_step):
             new_mode = WVEL
             st[S_SGN] = -1.0
             st[S_S] = 0.0
-            st[S_V1] = RESTITUTION_SWITCH * st[S_V1] / CONTACT_SWITCH
-    elif mode == WVEL:  # |v| = V1 on the way out: sqrt(h) takes over to the exit
+            st[S_V1] *= RESTITUTION_SWITCH / TURN_SWITCH
+            st[S_EXIT_DEPTH] = EXIT_SWITCH * (x - p[P_XI])
+    elif mode == WVEL:  # |v| = V1 on the way out: the contact's middle in time, or sqrt(h) to the exit
+        if x - p[P_XI] > st[S_EXIT_DEPTH]:
+            set_piece(st, st[S_FIELD], EXPLICIT, TIME)
+            st[S_MIDDLE] = -1.0
+            _switch_variable(p, st, cnt, d0, ta, x, v)
+            return ev, n_ev
         if x > p[P_XI]:
             _set_variable(st, st[S_FIELD], SQRTH, -1.0, -math.sqrt(x - p[P_XI]))
             _switch_variable(p, st, cnt, d0, ta, x, v)
