@@ -13,7 +13,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 from test_config import CONFIG, SCHEMA  # tests/ is on sys.path (pytest's prepend import mode)
 
-from impactosc.core.driver import initial_state, resume, run_settings, step_piece
+from impactosc.core.driver import initial_state, resume, run_settings, step_piece, workspace
 from impactosc.core.layout import N_COUNT, S_FIELD, S_V, S_X
 from impactosc.core.simulation import Window, simulate
 from impactosc.model.contact_laws import LAWS
@@ -116,7 +116,7 @@ def test_kelvin_voigt_cut_is_located_on_its_line():
     p = params.as_array(10.0)
     st = initial_state(p, 0.0, -1e-6, 0.2, 2.0 * math.pi / 10.0, math.inf)
     rs = run_settings(0.02, math.inf, 1e-10, 1e-12, 0, 2.0 * math.pi / 10.0)
-    ws = (np.zeros((16, 3)), np.zeros((7, 3)), np.zeros((8, 6)), np.zeros(3))
+    ws = workspace()
     cnt = np.zeros(N_COUNT, dtype=np.int64)
     ev, win = np.empty((16, 4)), np.empty(0)
     resume(p, st, cnt, ws[3])

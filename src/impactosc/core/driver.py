@@ -48,7 +48,7 @@ import math
 import numpy as np
 from numba import njit
 
-from impactosc.core import closed_flight, implicit, pieces, time_pieces, transformed_pieces, vector_fields
+from impactosc.core import closed_flight, implicit, pieces, time_pieces, transformed_pieces, turn_series, vector_fields
 from impactosc.core.events import record_poincare
 from impactosc.core.layout import (
     C_ATTEMPTS,
@@ -160,6 +160,14 @@ def step_piece(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_sec):
 
 
 @njit(cache=True)
+def workspace():
+    """The steppers' scratch arrays, made once a run: DOP853's stages K and dense output F, the
+    implicit step's work, the derivatives d0 at the current state, and the turn's series (whose
+    eps-layer moments depend on n3 only: computed at the run's first turn)."""
+    return np.zeros((16, 3)), np.zeros((7, 3)), np.zeros((8, 6)), np.zeros(3), turn_series.work()
+
+
+@njit(cache=True)
 def run(p, st, cnt, rs, ev, n_ev, win_x, win_v, max_steps):
     """Integrate from the state ``st`` towards rs[R_T_END]; events at t >= rs[R_T_RECORD] go to ``ev``.
 
@@ -168,7 +176,7 @@ def run(p, st, cnt, rs, ev, n_ev, win_x, win_v, max_steps):
     updated in place so the next call continues the same trajectory; the window samples go
     to win_x / win_v. Returns (ev, n_ev) (ev may be reallocated).
     """
-    ws = (np.zeros((16, 3)), np.zeros((7, 3)), np.zeros((8, 6)), np.zeros(3))  # K, F, work, d0
+    ws = workspace()
     resume(p, st, cnt, ws[3])
     period = rs[R_PERIOD]
     steps = 0

@@ -66,7 +66,7 @@ def implicit_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     """One Radau step (error from step doubling) of the implicit phase: sticking, slow
     reversal or stiff creep. Locates obstacle crossings and reversals inside it by re-stepping,
     and ends the phase once |v| leaves the friction band (or the stiffness is gone)."""
-    _, _, work, d0 = ws
+    _, _, work, d0, _ = ws
     field = int(st[S_FIELD])
     t, x, v, h = st[S_TAU], st[S_X], st[S_V], st[S_H]
     rtol, atol = rs[R_RTOL], rs[R_ATOL]

@@ -85,7 +85,7 @@ def _step_in_time(stop, p, st, cnt, rs, ws, ev, n_ev, win_x, win_v, t_target):
     stop (dop853's ``*_stop``): model BC's time step carries no test of it (a test of it in every
     stage's right-hand side cost the chaotic scene 7-10 %). (The first step's guess,
     initial_step, leaves the second stop's force out: its controller corrects the guess.)"""
-    K, F, _, d0 = ws
+    K, F, _, d0, _ = ws
     field = int(st[S_FIELD])
     t, x, v, h = st[S_TAU], st[S_X], st[S_V], st[S_H]
     rtol, atol = rs[R_RTOL], rs[R_ATOL]

@@ -120,7 +120,7 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
     """One DOP853 step of a transformed piece in its variable s; t is a component (measured
     from st[S_TREF]). Invalid steps (the map degenerates) shrink, and after MAX_INVALID in a
     row the piece falls back to time stepping."""
-    K, F, _, d0 = ws
+    K, F, _, d0, series = ws
     mode, field, sgn, q = int(st[S_MODE]), int(st[S_FIELD]), st[S_SGN], inverse_n3(p)
     s, tref, t, x, v, h = st[S_S], st[S_TREF], st[S_TAU], st[S_X], st[S_V], st[S_H]
     rtol, atol = rs[R_RTOL], rs[R_ATOL]
@@ -216,18 +216,17 @@ def transformed_step(p, st, cnt, rs, ws, ev, n_ev, win_x, win_v):
         cnt[C_RHS] += 1
     store(st, t1, x1, v1, s1, h_next)
     if mode == WVEL and sgn > 0.0 and clamped:  # the turn's end: v = 0, or the series' window
-        return _turn_ends(p, st, cnt, rs, ev, n_ev, d0, win_x, field, t1 - t)
+        return _turn_ends(p, st, cnt, rs, ev, n_ev, d0, win_x, field, t1 - t, series)
     return after_transformed_step(
         p, st, cnt, rs, ev, n_ev, d0, clamped, mode, field, sgn, tref + t1, x1, v1, s1, t1 - t
     )
 
 
 @njit(cache=True)
-def _turn_ends(p, st, cnt, rs, ev, n_ev, d0, win_x, field, dt_step):
+def _turn_ends(p, st, cnt, rs, ev, n_ev, d0, win_x, field, dt_step, c):
     """The turn's steps reached their end: v = 0 (as before), or the edge of the series' window,
     from which the series takes the turn to v = 0 (when its error there is within the
     tolerance; else the steps go on). The restitution that starts there begins with the series."""
-    c = turn_series.work()
     reached = True
     if st[S_S] < 0.0:
         reached, dt_step = _turn_by_series(p, st, rs, win_x, dt_step, c)
