@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from impactosc.core.driver import initial_state, on_section, resume, run_settings, step_piece
+from impactosc.core.driver import initial_state, on_section, resume, run_settings, step_piece, workspace
 from impactosc.core.events import record_poincare
 from impactosc.core.layout import (
     C_BY_MODE,
@@ -94,7 +94,7 @@ def _collect(p, st, rs, t_end, starts, codes, ends, n_att, att_t, att_v, att_pie
     in ends and its step attempts in n_att; every attempt its start time, velocity and piece in
     att_*. by_mode: the core's own counters of explicit attempts per variable (C_BY_MODE).
     Returns (pieces, attempts), or -1 for both when an array is too short."""
-    ws = (np.zeros((16, 3)), np.zeros((7, 3)), np.zeros((8, 6)), np.zeros(3))
+    ws = workspace()
     cnt = np.zeros(N_COUNT, dtype=np.int64)
     ev = np.empty((16, 4))
     win = np.empty(0)
@@ -133,7 +133,7 @@ def replay(p, rs, starts, which, t_end):
     """The core's own step functions over the pieces starts[which == 1], each from its saved
     state until the piece's kind changes (or t_end): the work the timing measures. Returns
     (attempts, sum of the end times: a result the compiler cannot drop)."""
-    ws = (np.zeros((16, 3)), np.zeros((7, 3)), np.zeros((8, 6)), np.zeros(3))
+    ws = workspace()
     cnt = np.zeros(N_COUNT, dtype=np.int64)
     ev = np.empty((16, 4))
     win = np.empty(0)
