@@ -315,6 +315,38 @@ def test_a_killed_worker_is_replaced_and_the_next_request_runs(pool):
     assert kind == "ok" and result["period"] >= 0
 
 
+def test_a_worker_killed_between_requests_is_replaced_at_once(pool):
+    """A worker killed while idle (no request holds it) is replaced without waiting for a request:
+    its death is known and logged when it happens, and the next request runs on the new workers."""
+    s = sched.Scheduler(2, pool=pool)
+    assert _attractor(s, 35.0)[0] == "ok"  # the pool is up and idle
+    restarts, victim = pool.restarts, pool.pids()[0]
+    os.kill(victim, signal.SIGKILL)
+    deadline = time.monotonic() + 30
+    while pool.restarts == restarts and time.monotonic() < deadline:
+        time.sleep(0.02)
+    assert pool.restarts == restarts + 1 and pool.last_death == f"worker {victim} killed by SIGKILL"
+    assert victim not in pool.pids()
+    kind, result = _attractor(s, 35.0)
+    assert kind == "ok" and result["omega"] == 35.0
+
+
+def test_a_broken_pool_names_the_worker_that_died_not_those_it_stopped():
+    """A broken executor stops its other workers with SIGTERM: seen ended together, the cause is
+    the one that ended otherwise; a worker that was itself sent SIGTERM is named so."""
+
+    class Ended:  # a worker process seen ended
+        def __init__(self, pid: int, code: int):
+            self.pid, self.exitcode = pid, code
+
+        def join(self, timeout=None):
+            pass
+
+    dead = [Ended(11, -signal.SIGTERM), Ended(12, -signal.SIGKILL)]
+    assert sched._death(None, None, dead) == "worker 12 killed by SIGKILL"
+    assert sched._death(None, None, dead[:1]) == "worker 11 killed by SIGTERM"
+
+
 # ---------------------------------------------------------------------- records
 
 

@@ -16,8 +16,9 @@ results are handed on with their generation so that the page can drop them
 drawn over a new one.
 
 Why a pool that heals (:class:`WorkerPool`): a worker that dies (killed, out of memory) breaks a
-ProcessPoolExecutor for good, for every page. The first request that fails so replaces it; the
-page that asked is told why, and the next request runs on the new workers.
+ProcessPoolExecutor for good, for every page. The pool is replaced as soon as a worker dies, busy
+or idle; the page whose request failed so is told why, and the next request runs on the new
+workers.
 
 Why a process of its own for a record (:class:`OneShot`): reading a file may take long and cannot
 be stopped inside a shared worker; a process of its own is killed when its page closes, when a
@@ -56,6 +57,8 @@ RECORD_TIMEOUT = 120.0
 FIRST_BATCH, BATCH = 3, 8
 #: Periods recorded for the attractor panel (the diagram's n_record is shorter, for speed)
 ATTRACTOR_RECORD = 60
+#: Seconds between the pool's looks at which workers it has (they are started on demand)
+WATCH_PERIOD = 0.5
 
 
 def lane_plan(n: int, lanes: int) -> list[tuple[int, int]]:
@@ -89,16 +92,31 @@ def _exit_reason(code: int) -> str:
     return f"exit code {code}"
 
 
-def _death(executor: ProcessPoolExecutor, exc: BaseException | None) -> str:
-    """Why a pool broke, in a few words: the worker that ended and how, or the last line of the
-    cause the pool gives (a result it could not read back)."""
-    procs = dict(getattr(executor, "_processes", None) or {})
-    ended = multiprocessing.connection.wait([p.sentinel for p in procs.values()], timeout=0)
-    for pid, proc in procs.items():
-        if proc.sentinel in ended:
-            proc.join(1.0)  # its end is seen before it can be reaped: wait for its exit code
-            if proc.exitcode:
-                return f"worker {pid} {_exit_reason(proc.exitcode)}"
+def _exit_code(proc, timeout: float = 1.0) -> int | None:
+    """The exit code of a process whose end was seen. Its end is seen before it is reaped, and the
+    executor's own thread may reap it meanwhile (then this thread's wait finds no child until that
+    one has stored the code): wait for it a little."""
+    deadline = time.monotonic() + timeout
+    proc.join(timeout)
+    while proc.exitcode is None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    return proc.exitcode
+
+
+def _death(executor: ProcessPoolExecutor, exc: BaseException | None, dead=None) -> str:
+    """Why a pool broke, in a few words: the worker that ended (among `dead`, the processes seen
+    ending, if given) and how, or the last line of the cause the pool gives (a result it could not
+    read back). A broken executor stops its other workers with SIGTERM: when several are seen
+    ended, the one that ended otherwise is the cause."""
+    if dead is None:
+        procs = list((getattr(executor, "_processes", None) or {}).values())
+        ended = multiprocessing.connection.wait([p.sentinel for p in procs], timeout=0)
+        dead = [p for p in procs if p.sentinel in ended]
+    codes = [(proc.pid, code) for proc in dead if (code := _exit_code(proc))]
+    codes.sort(key=lambda pc: pc[1] == -signal.SIGTERM)  # a stable sort: the others first, in order
+    if codes:
+        pid, code = codes[0]
+        return f"worker {pid} {_exit_reason(code)}"
     cause = getattr(exc, "__cause__", None)
     lines = [line.strip() for line in str(cause or "").splitlines() if line.strip().strip("'")]
     return lines[-1] if lines else "a worker process ended abruptly"
@@ -112,9 +130,10 @@ class WorkerPool:
     """The worker processes every page shares, replaced when they break.
 
     Why: a dead worker breaks a ProcessPoolExecutor for good (every pending future fails with
-    BrokenProcessPool and every later submit raises it). The first future that fails so (or a
-    submit that finds the pool broken) replaces that executor by a new one, warmed; the other
-    failures of the same break find it replaced already. :attr:`last_death` says why it broke."""
+    BrokenProcessPool and every later submit raises it). The first future that fails so, a submit
+    that finds the pool broken, or the watcher that sees a worker end (:meth:`_watch`) replaces
+    that executor by a new one, warmed; the others find it replaced already. :attr:`last_death`
+    says why it broke."""
 
     def __init__(self, workers: int = 2):
         self.workers = int(workers)
@@ -123,6 +142,7 @@ class WorkerPool:
         self._lock = threading.Lock()
         self._closed = False
         self._executor = make_pool(self.workers)
+        threading.Thread(target=self._watch, name="impactosc-pool-watch", daemon=True).start()
 
     def submit(self, fn, *args) -> Future:
         """fn(*args) on a worker; PoolClosed once :meth:`shutdown` was called."""
@@ -143,11 +163,33 @@ class WorkerPool:
             with self._lock:
                 self._replace(executor, future.exception())
 
-    def _replace(self, broken: ProcessPoolExecutor, exc: BaseException | None) -> ProcessPoolExecutor:
+    def _watch(self) -> None:
+        """Replace the executor as soon as one of its workers ends, busy or idle.
+
+        Why: the executor fails only the futures it holds when a worker dies. One that dies
+        between requests (killed, out of memory) would leave a broken pool, said nowhere, until a
+        request finds it and waits for new workers; watched, the pool is replaced (and the death
+        logged) when it happens. A worker started since the last look is watched from the next."""
+        while True:
+            with self._lock:
+                if self._closed:
+                    return
+                executor = self._executor
+                procs = list((getattr(executor, "_processes", None) or {}).values())
+            if not procs:
+                time.sleep(WATCH_PERIOD)
+                continue
+            # the Process objects held here keep their sentinels open while they are waited on
+            ended = multiprocessing.connection.wait([p.sentinel for p in procs], timeout=WATCH_PERIOD)
+            if ended:
+                with self._lock:
+                    self._replace(executor, None, [p for p in procs if p.sentinel in ended])
+
+    def _replace(self, broken: ProcessPoolExecutor, exc: BaseException | None, dead=None) -> ProcessPoolExecutor:
         """The new executor, made unless `broken` was replaced already (lock held); its workers
-        load the core before the requests queued after them run."""
+        load the core before the requests queued after them run. `dead`: the workers seen ending."""
         if self._executor is broken and not self._closed:
-            self.last_death = _death(broken, exc)
+            self.last_death = _death(broken, exc, dead)
             self.restarts += 1
             log.warning("impactosc explore: %s; workers restarted (%d so far)", self.last_death, self.restarts)
             self._executor = make_pool(self.workers)
