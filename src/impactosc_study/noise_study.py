@@ -20,6 +20,7 @@ from impactosc.core.simulation import Window, simulate
 from impactosc.records.extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
 from impactosc.records.impact_times import crossing_time_crb
 from impactosc.records.record import Record
+from impactosc.records.surrogate_truth import depths_at_impacts
 from impactosc.records.surrogate import (
     REALISM_FIELDS,
     SurrogateOptions,
@@ -127,7 +128,7 @@ def _extraction_row(rec, x_impact, truth, opts: ExtractOptions, noise=None) -> t
     timed at its bound).  Penetration: median error and median |error| of the depths of the
     matched impacts.
     """
-    T, V, Ht = truth["impacts"]["t"], truth["impacts"]["v"], truth["penetrations"]["h"]
+    T, V, Ht = truth["impacts"]["t"], truth["impacts"]["v"], depths_at_impacts(truth)
     ev, at = extract_events(rec, x_impact, opts)
     imp = ev["impacts"]
     E, s = imp["t"], imp["sigma_t"]
@@ -162,8 +163,9 @@ def _extraction_row(rec, x_impact, truth, opts: ExtractOptions, noise=None) -> t
                 timing_crb_rms_s=float(np.sqrt(np.mean(bound[ok] ** 2))),
                 timing_crb_ratio=float(np.sqrt(np.mean((err[ok] / bound[ok]) ** 2))),
             )
-    if Ht.size == T.size and ti.size:
-        dh = ev["penetrations"]["h"][fi] - Ht[ti]
+    dh = ev["penetrations"]["h"][fi] - Ht[ti]
+    dh = dh[np.isfinite(dh)]  # an impact whose contact's deepest point lies past the record's end
+    if dh.size:
         row.update(penetration_bias_m=float(np.median(dh)), penetration_err_median_m=float(np.median(np.abs(dh))))
     return row, E
 

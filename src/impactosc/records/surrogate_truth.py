@@ -9,9 +9,11 @@ from __future__ import annotations
 
 import dataclasses
 
+import numpy as np
+
 from impactosc.model.parameters import ModelParams
 
-__all__ = ["LABEL", "TRUE_PREFIX", "record_truth", "surrogate_meta"]
+__all__ = ["LABEL", "TRUE_PREFIX", "depths_at_impacts", "record_truth", "surrogate_meta"]
 
 #: The label every surrogate record carries (never "measured")
 LABEL = "surrogate (model + noise)"
@@ -75,3 +77,18 @@ def _true_value(name: str, value):
     if name == "law":
         return value.decode() if isinstance(value, bytes) else str(value)
     return float(value)
+
+
+def depths_at_impacts(events) -> np.ndarray:
+    """The deepest penetration of each impact's contact, from a run's (a surrogate's truth's) events:
+    the first penetration at or after the impact, paired by time, not by index (a record that starts
+    inside a contact holds that contact's penetration but not its impact). NaN where none follows."""
+    t_imp = np.asarray(events["impacts"]["t"], float)
+    t_pen, h_pen = np.asarray(events["penetrations"]["t"], float), np.asarray(events["penetrations"]["h"], float)
+    i = np.searchsorted(t_pen, t_imp)
+    out = np.full(t_imp.size, np.nan)
+    ok = i < t_pen.size
+    nxt = np.append(t_imp[1:], np.inf)  # the penetration must come before the next impact
+    ok[ok] &= t_pen[i[ok]] < nxt[ok]
+    out[ok] = h_pen[i[ok]]
+    return out
