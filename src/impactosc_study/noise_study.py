@@ -20,7 +20,6 @@ from impactosc.core.simulation import Window, simulate
 from impactosc.records.extract import ExtractOptions, estimate_noise, estimate_x_impact, extract_events
 from impactosc.records.impact_times import crossing_time_crb
 from impactosc.records.record import Record
-from impactosc.records.surrogate_truth import depths_at_impacts
 from impactosc.records.surrogate import (
     REALISM_FIELDS,
     SurrogateOptions,
@@ -29,6 +28,7 @@ from impactosc.records.surrogate import (
     surrogate_meta,
     surrogate_record,
 )
+from impactosc.records.surrogate_truth import depths_at_impacts
 from impactosc.statistics.impact_train import ImpactTrain
 from impactosc.statistics.train_analysis import analyse_train
 
